@@ -1,0 +1,33 @@
+#include "cli/commands.hpp"
+
+#include <filesystem>
+#include <unistd.h>
+
+namespace sdfgen::cli {
+
+void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
+    command.add_option("--res", settings.res, "Voxels along the longest side of the padded bounding box")
+        ->check(CLI::Range(1, 1 << 16))
+        ->capture_default_str();
+    command.add_option("--rays", settings.rays, "Rays cast per sample")->check(CLI::Range(1, 65536))->capture_default_str();
+    command.add_option("--padding", settings.padding, "Margin around the mesh, as a fraction of its longest side")
+        ->check(CLI::Range(0.0f, 100.0f))
+        ->capture_default_str();
+    command.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+}
+
+std::string defaultMeshPath() {
+    // Next to the source tree the binary was built from, or beside an installed binary.
+    const std::filesystem::path built = std::filesystem::path(SDFGEN_SOURCE_DIR) / "assets" / "bunny.obj";
+    if (std::filesystem::exists(built)) return built.string();
+    char self[4096];
+    const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
+    if (n > 0) {
+        self[n] = '\0';
+        const std::filesystem::path beside = std::filesystem::path(self).parent_path() / "assets" / "bunny.obj";
+        if (std::filesystem::exists(beside)) return beside.string();
+    }
+    return built.string();
+}
+
+} // namespace sdfgen::cli

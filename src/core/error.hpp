@@ -1,0 +1,19 @@
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace sdfgen {
+
+// A user-facing failure. The message is one line naming the file (when there is one) and the problem.
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Thrown by long-running work when its cancel flag is raised.
+class Cancelled : public Error {
+public:
+    Cancelled() : Error("cancelled") {}
+};
+
+} // namespace sdfgen

@@ -1,0 +1,51 @@
+#include "core/grid.hpp"
+#include "core/error.hpp"
+
+#include <glm/common.hpp>
+#include <algorithm>
+#include <cmath>
+#include <unistd.h>
+
+namespace sdfgen {
+
+std::uint64_t physicalMemoryBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long pageSize = sysconf(_SC_PAGESIZE);
+    return pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : 0;
+}
+
+Grid makeGrid(const Bounds& bounds, int res, float padding) {
+    if (res < 1) throw Error("grid resolution must be at least 1 (got " + std::to_string(res) + ")");
+    if (!(padding >= 0.0f) || !std::isfinite(padding)) {
+        throw Error("padding must be a finite number >= 0 (got " + std::to_string(padding) + ")");
+    }
+    const glm::vec3 extent = bounds.extent();
+    const float longest = std::max(extent.x, std::max(extent.y, extent.z));
+    if (!(longest > 0.0f) || !std::isfinite(longest)) throw Error("the mesh has no extent: all vertices coincide");
+    const glm::vec3 pad(padding * longest);
+    const glm::vec3 paddedMin = bounds.min - pad;
+    const glm::vec3 paddedExtent = extent + 2.0f * pad;
+    const double paddedLongest = std::max(paddedExtent.x, std::max(paddedExtent.y, paddedExtent.z));
+
+    Grid grid;
+    grid.origin = paddedMin;
+    const double voxel = paddedLongest / res;
+    grid.voxel = float(voxel);
+    double samples = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        // The longest axis gets exactly res voxels; the 1e-9 keeps exact multiples from rounding up.
+        const double cells = std::ceil(double(paddedExtent[a]) / voxel - 1e-9);
+        grid.dims[a] = int(std::clamp(cells, 1.0, double(res)));
+        samples *= grid.dims[a];
+    }
+    const double bytes = samples * sizeof(float);
+    const std::uint64_t memory = physicalMemoryBytes();
+    if (memory > 0 && bytes > double(memory)) {
+        throw Error("grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" +
+                    std::to_string(grid.dims.z) + " needs " + std::to_string(std::uint64_t(bytes / (1 << 20))) +
+                    " MiB but this machine has " + std::to_string(memory >> 20) + " MiB");
+    }
+    return grid;
+}
+
+} // namespace sdfgen

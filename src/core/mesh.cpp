@@ -1,0 +1,145 @@
+#include "core/mesh.hpp"
+#include "core/error.hpp"
+
+#include <tiny_obj_loader.h>
+
+#include <glm/geometric.hpp>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+
+namespace sdfgen {
+
+namespace {
+
+std::string firstLine(const std::string& text) {
+    std::string line = text.substr(0, text.find('\n'));
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    return line;
+}
+
+// tinyobjloader reads "nan", "inf" and overflowing numbers as 0 or inf without complaint, so
+// vertex lines are checked here first: every coordinate must be a finite number.
+void checkVertexLines(const std::string& path, std::istream& in) {
+    std::string line;
+    std::size_t lineNumber = 0;
+    while (std::getline(in, line)) {
+        ++lineNumber;
+        const char* p = line.c_str();
+        while (*p == ' ' || *p == '\t') ++p;
+        if (p[0] != 'v' || (p[1] != ' ' && p[1] != '\t')) continue;
+        p += 2;
+        for (int axis = 0; axis < 3; ++axis) {
+            char* end = nullptr;
+            const double value = std::strtod(p, &end);
+            if (end == p) {
+                throw Error(path + ":" + std::to_string(lineNumber) + ": vertex has fewer than 3 coordinates");
+            }
+            // Overflow gives inf here; values beyond float range would become inf later.
+            if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max()) {
+                throw Error(path + ":" + std::to_string(lineNumber) + ": vertex coordinate '" +
+                            std::string(p, std::size_t(end - p)) + "' is not a finite number");
+            }
+            p = end;
+        }
+    }
+}
+
+} // namespace
+
+Mesh buildMesh(std::string source, std::vector<glm::vec3> positions, std::vector<glm::uvec3> triangles) {
+    Mesh mesh;
+    mesh.source = std::move(source);
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        const glm::vec3& p = positions[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            throw Error(mesh.source + ": vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
+        }
+    }
+    mesh.triangles.reserve(triangles.size());
+    mesh.faceNormals.reserve(triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const glm::uvec3& tri = triangles[t];
+        for (int c = 0; c < 3; ++c) {
+            if (tri[c] >= positions.size()) {
+                throw Error(mesh.source + ": triangle " + std::to_string(t + 1) + " uses vertex " +
+                            std::to_string(std::size_t(tri[c]) + 1) + " but there are only " +
+                            std::to_string(positions.size()) + " vertices");
+            }
+        }
+        // Double precision so that thin but valid triangles keep an accurate normal.
+        const glm::dvec3 a(positions[tri[0]]), b(positions[tri[1]]), c(positions[tri[2]]);
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        const double length = glm::length(n);
+        if (!(length > 0.0) || !std::isfinite(length)) {
+            ++mesh.droppedDegenerate;
+            continue;
+        }
+        mesh.triangles.push_back(tri);
+        mesh.faceNormals.push_back(glm::vec3(n / length));
+    }
+    if (mesh.triangles.empty()) {
+        throw Error(mesh.source + ": no triangles" +
+                    (mesh.droppedDegenerate ? " (all " + std::to_string(mesh.droppedDegenerate) + " have zero area)"
+                                            : std::string(" (only points, lines or nothing)")));
+    }
+    mesh.bounds.min = glm::vec3(std::numeric_limits<float>::max());
+    mesh.bounds.max = glm::vec3(-std::numeric_limits<float>::max());
+    for (const glm::uvec3& tri : mesh.triangles) {
+        for (int c = 0; c < 3; ++c) {
+            mesh.bounds.min = glm::min(mesh.bounds.min, positions[tri[c]]);
+            mesh.bounds.max = glm::max(mesh.bounds.max, positions[tri[c]]);
+        }
+    }
+    mesh.positions = std::move(positions);
+    return mesh;
+}
+
+Mesh loadObj(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+    checkVertexLines(path, file);
+    file.clear();
+    file.seekg(0);
+
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warning, error;
+    // No material reader: a missing .mtl must not fail a geometry-only load.
+    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warning, &error, &file, nullptr,
+                                     /*triangulate=*/true);
+    if (file.bad()) throw Error(path + ": read error");
+    if (!ok) throw Error(path + ": " + (error.empty() ? "not a valid OBJ file" : firstLine(error)));
+
+    const std::size_t vertexCount = attrib.vertices.size() / 3;
+    std::vector<glm::vec3> positions(vertexCount);
+    std::memcpy(positions.data(), attrib.vertices.data(), vertexCount * sizeof(glm::vec3));
+
+    std::vector<glm::uvec3> triangles;
+    for (const tinyobj::shape_t& shape : shapes) {
+        const auto& indices = shape.mesh.indices;
+        std::size_t offset = 0;
+        for (const unsigned char faceSize : shape.mesh.num_face_vertices) {
+            if (faceSize == 3) {
+                glm::uvec3 tri;
+                for (int c = 0; c < 3; ++c) {
+                    const int index = indices[offset + c].vertex_index;
+                    if (index < 0 || std::size_t(index) >= vertexCount) {
+                        throw Error(path + ": face refers to vertex " + std::to_string(index + 1) +
+                                    " but the file has " + std::to_string(vertexCount) + " vertices");
+                    }
+                    tri[c] = unsigned(index);
+                }
+                triangles.push_back(tri);
+            }
+            offset += faceSize;
+        }
+    }
+    return buildMesh(path, std::move(positions), std::move(triangles));
+}
+
+} // namespace sdfgen

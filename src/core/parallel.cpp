@@ -1,0 +1,44 @@
+#include "core/parallel.hpp"
+#include "core/error.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <mutex>
+
+namespace sdfgen {
+
+void parallelFor(std::size_t count, const RunControl& control, const std::function<void(std::size_t)>& body) {
+    const int threads = control.threads > 0 ? control.threads : tbb::this_task_arena::max_concurrency();
+    std::atomic<std::size_t> finished{0};
+    std::atomic<bool> stopped{false};
+    std::mutex progressMutex;
+    // About 200 reports in all: enough for a smooth bar, few enough to cost nothing.
+    const std::size_t reportEvery = std::max<std::size_t>(1, count / 200);
+    auto cancelled = [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); };
+
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                if (stopped.load(std::memory_order_relaxed)) return;
+                if (cancelled()) {
+                    stopped = true;
+                    return;
+                }
+                body(i);
+                const std::size_t done = finished.fetch_add(1, std::memory_order_relaxed) + 1;
+                if (control.progress && done % reportEvery == 0 && progressMutex.try_lock()) {
+                    control.progress(double(done) / double(count));
+                    progressMutex.unlock();
+                }
+            }
+        });
+    });
+    if (stopped || cancelled()) throw Cancelled();
+    if (control.progress) control.progress(1.0);
+}
+
+} // namespace sdfgen
