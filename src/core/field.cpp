@@ -72,7 +72,7 @@ public:
     }
 
     [[noreturn]] void fail(const std::string& problem) const {
-        throw Error(path_ + ":" + std::to_string(line_) + ": " + problem);
+        throw Error(path_ + ":" + std::to_string(std::max<std::size_t>(line_, 1)) + ": " + problem);
     }
 
 private:
@@ -95,6 +95,14 @@ void saveFieldText(const Field& field, const std::string& path) {
     if (field.values.size() != field.grid.sampleCount()) {
         throw Error(path + ": field has " + std::to_string(field.values.size()) + " values for a grid of " +
                     std::to_string(field.grid.sampleCount()));
+    }
+    if (field.grid.dims.x < 1 || field.grid.dims.y < 1 || field.grid.dims.z < 1) throw Error(path + ": grid has no samples");
+    if (!(field.grid.voxel > 0.0f) || !std::isfinite(field.grid.voxel) || !std::isfinite(field.grid.origin.x) ||
+        !std::isfinite(field.grid.origin.y) || !std::isfinite(field.grid.origin.z)) {
+        throw Error(path + ": grid origin or voxel size is not a finite (positive) number");
+    }
+    for (std::size_t i = 0; i < field.values.size(); ++i) {
+        if (!std::isfinite(field.values[i])) throw Error(path + ": value " + std::to_string(i) + " is not finite");
     }
     if (field.source.find_first_of("\r\n") != std::string::npos) throw Error(path + ": source name has a line break");
     if (!isToken(field.method)) throw Error(path + ": method name '" + field.method + "' is not a single word");
@@ -228,6 +236,8 @@ Field loadFieldText(const std::string& path) {
         reader.next("");
         reader.fail("unexpected content after the last of " + std::to_string(count) + " values");
     }
+    // Every line the writer makes ends in a line break: without one the last value may be cut short.
+    if (text.back() != '\n') reader.fail("the file ends in the middle of the last value (truncated?)");
     return field;
 }
 

@@ -29,6 +29,7 @@ Grid makeGrid(const Bounds& bounds, int res, float padding) {
 
     Grid grid;
     grid.origin = paddedMin;
+    if (!std::isfinite(paddedLongest)) throw Error("padding " + std::to_string(padding) + " makes the grid too large");
     const double voxel = paddedLongest / res;
     grid.voxel = float(voxel);
     double samples = 1.0;
@@ -42,7 +43,7 @@ Grid makeGrid(const Bounds& bounds, int res, float padding) {
     const std::uint64_t memory = physicalMemoryBytes();
     if (memory > 0 && bytes > double(memory)) {
         throw Error("grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" +
-                    std::to_string(grid.dims.z) + " needs " + std::to_string(std::uint64_t(bytes / (1 << 20))) +
+                    std::to_string(grid.dims.z) + " needs " + std::to_string(std::llround(std::min(bytes / (1 << 20), 9e18))) +
                     " MiB but this machine has " + std::to_string(memory >> 20) + " MiB");
     }
     return grid;

@@ -3,6 +3,7 @@
 #include "core/ray.hpp"
 #include "core/simd.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +26,13 @@ struct RayPacket {
     simd::i8 backFace;     // out: all ones where the nearest hit is a back face
 };
 
+// Eight query points (neighbouring samples) looking for their nearest triangles.
+struct PointPacket {
+    simd::f8 px, py, pz;
+    simd::f8 bestSquared; // in: squared distance to beat (a known upper bound, or inf); out: the nearest found
+    simd::i8 triangle;    // out: the nearest triangle, where one beat the bound
+};
+
 // The acceleration structure over a mesh's triangles: a tree of axis-aligned bounding boxes in
 // which every inner node splits its triangles along one axis (an object-partitioning kd-tree, a.k.a.
 // BVH), built with the binned surface area heuristic and stored as a flat depth-first node array.
@@ -39,6 +47,16 @@ public:
     bool intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const;
     // The same for a packet of eight rays with a common direction.
     void intersect(RayPacket& packet) const;
+
+    // Nearest triangles of eight points, by nearest-first traversal pruned by each point's best
+    // distance so far. Distances are computed in float; callers re-measure the winner in double.
+    void nearest(PointPacket& packet) const;
+    // Squared distances from eight points to one triangle (a Mesh index), e.g. to seed `nearest`.
+    simd::f8 distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, std::uint32_t triangle) const;
+
+    // Calls visit(triangle) for every triangle whose bounding box overlaps `box`.
+    template <class Visit>
+    void forEachOverlap(const Bounds& box, Visit&& visit) const;
 
     std::size_t nodeCount() const { return nodes_.size(); }
     int depth() const { return depth_; }
@@ -58,10 +76,48 @@ private:
                         const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth);
 
     std::vector<Node> nodes_;
+    // A triangle set up for branch-free point distance: corner a, edges, unit normal, the in-plane
+    // normals of its edges (pointing inwards) and the inverse squared edge lengths.
+    struct DistanceTriangle {
+        glm::vec3 a, ab, ac, normal, inAB, inBC, inCA;
+        float invAB, invBC, invCA;
+    };
+    simd::f8 distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, const DistanceTriangle& tri) const;
+
     std::vector<PreparedTriangle> triangles_; // in leaf order
+    std::vector<DistanceTriangle> distanceTriangles_; // in leaf order
+    std::vector<std::uint32_t> leafSlot_;     // Mesh triangle index -> leaf order
     std::vector<std::uint32_t> triangleIds_;  // leaf order -> Mesh triangle index
     Bounds bounds_;
     int depth_ = 0;
 };
+
+template <class Visit>
+void KdTree::forEachOverlap(const Bounds& box, Visit&& visit) const {
+    auto overlaps = [&](const float* lo, const float* hi) {
+        return lo[0] <= box.max.x && hi[0] >= box.min.x && lo[1] <= box.max.y && hi[1] >= box.min.y &&
+               lo[2] <= box.max.z && hi[2] >= box.min.z;
+    };
+    std::uint32_t stack[kMaxDepth + 2];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const std::uint32_t index = stack[--top];
+        const Node& node = nodes_[index];
+        if (!overlaps(node.min, node.max)) continue;
+        if (node.count == 0) {
+            stack[top++] = node.index;
+            stack[top++] = index + 1;
+            continue;
+        }
+        for (std::uint32_t i = node.index; i < node.index + node.count; ++i) {
+            const PreparedTriangle& t = triangles_[i];
+            const glm::vec3 p1 = t.v0 + t.e1, p2 = t.v0 + t.e2;
+            const float lo[3] = {std::min({t.v0.x, p1.x, p2.x}), std::min({t.v0.y, p1.y, p2.y}), std::min({t.v0.z, p1.z, p2.z})};
+            const float hi[3] = {std::max({t.v0.x, p1.x, p2.x}), std::max({t.v0.y, p1.y, p2.y}), std::max({t.v0.z, p1.z, p2.z})};
+            if (overlaps(lo, hi)) visit(triangleIds_[i]);
+        }
+    }
+}
 
 } // namespace sdfgen

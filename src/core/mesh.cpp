@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 
@@ -99,6 +100,8 @@ Mesh buildMesh(std::string source, std::vector<glm::vec3> positions, std::vector
 }
 
 Mesh loadObj(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not an OBJ file");
     std::ifstream file(path, std::ios::binary);
     if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     checkVertexLines(path, file);
@@ -114,10 +117,14 @@ Mesh loadObj(const std::string& path) {
                                      /*triangulate=*/true);
     if (file.bad()) throw Error(path + ": read error");
     if (!ok) throw Error(path + ": " + (error.empty() ? "not a valid OBJ file" : firstLine(error)));
+    // tinyobjloader only warns about, and silently skips, polygons with vertex indices out of range.
+    if (warning.find("Face with invalid vertex index") != std::string::npos) {
+        throw Error(path + ": a face refers to a vertex that does not exist");
+    }
 
     const std::size_t vertexCount = attrib.vertices.size() / 3;
     std::vector<glm::vec3> positions(vertexCount);
-    std::memcpy(positions.data(), attrib.vertices.data(), vertexCount * sizeof(glm::vec3));
+    if (vertexCount > 0) std::memcpy(positions.data(), attrib.vertices.data(), vertexCount * sizeof(glm::vec3));
 
     std::vector<glm::uvec3> triangles;
     for (const tinyobj::shape_t& shape : shapes) {

@@ -1,0 +1,106 @@
+-- premake5.lua: premake5 description of the sdfgen build, for Visual Studio, Xcode and gmake users.
+--
+-- CMakeLists.txt is the real build; this file mirrors it (same projects, sources, flags and system
+-- libraries) and tests/premake/check.lua keeps the two in step (ctest runs it). Library names and
+-- paths are those of the Debian packages in extern/debian-packages.txt; on other systems, point your
+-- IDE at equivalent libraries.
+--
+--   premake5 gmake2 && make -C build-premake/gmake2 config=release -j2
+--   premake5 --no-native vs2022
+--
+-- Generated projects and all build output go to build-premake/ (ignored by git).
+
+newoption {
+   trigger = "no-native",
+   description = "Leave out -march=native, for portable binaries (CMake: -DSDFGEN_NATIVE=OFF)",
+}
+newoption {
+   trigger = "sanitize",
+   description = "Build with AddressSanitizer and UndefinedBehaviorSanitizer (CMake: -DSDFGEN_SANITIZE=ON)",
+}
+newoption {
+   trigger = "no-tests",
+   description = "Leave out the GoogleTest suite (CMake: -DSDFGEN_BUILD_TESTS=OFF)",
+}
+
+SDFGEN_ROOT = _MAIN_SCRIPT_DIR or os.getcwd()
+SDFGEN_BUILD_DIR = SDFGEN_ROOT .. "/build-premake"
+SDFGEN_OBJ_DIR = SDFGEN_BUILD_DIR .. "/obj"
+
+-- System libraries a program linking sdfgen_core needs (CMake: sdfgen::tbb, and
+-- tinyobjloader::tinyobjloader, which on Debian is a shared library, libtinyobjloader.so, not
+-- header-only; glm is header-only). Premake does not pass a static library's links on to the
+-- programs that use it, so every program that links sdfgen_core lists these itself, through
+-- sdfgen_use_core().
+SDFGEN_CORE_LINKS = { "tbb", "tinyobjloader" }
+
+-- The compile flags CMake's sdfgen_flags target gives sdfgen's own code (not the extern/ glue).
+function sdfgen_flags()
+   warnings "Extra"
+   filter "toolset:not msc*"
+      if not _OPTIONS["no-native"] then
+         buildoptions { "-march=native" }
+      end
+      if _OPTIONS["sanitize"] then
+         buildoptions { "-fsanitize=address,undefined", "-fno-omit-frame-pointer", "-fno-sanitize-recover=all" }
+         linkoptions { "-fsanitize=address,undefined" }
+      end
+   filter {}
+end
+
+-- What linking sdfgen_core brings along (CMake: its PUBLIC include directory and link libraries).
+function sdfgen_use_core()
+   includedirs { SDFGEN_ROOT .. "/src" }
+   links { "sdfgen_core" }
+   links(SDFGEN_CORE_LINKS)
+end
+
+workspace "sdfgen"
+   location (SDFGEN_BUILD_DIR .. "/" .. (_ACTION or ""))
+   configurations { "Release", "Debug" }   -- Release first: the default, as in CMakeLists.txt
+   startproject "sdfgen"
+   language "C++"
+   cppdialect "C++17"
+   targetdir (SDFGEN_BUILD_DIR .. "/bin/%{cfg.buildcfg}")
+   objdir (SDFGEN_OBJ_DIR .. "/%{cfg.buildcfg}/%{prj.name}")
+
+   filter "configurations:Release"
+      optimize "Speed"   -- -O3
+      defines { "NDEBUG" }
+   filter "configurations:Debug"
+      symbols "On"
+   filter {}
+
+   include "extern"
+
+-- Core library: mesh, tree, generators, field I/O. No OpenGL here.
+project "sdfgen_core"
+   kind "StaticLib"
+   files { "src/core/**.cpp", "src/core/**.hpp" }
+   includedirs { "src" }
+   sdfgen_flags()
+
+-- Command line front end.
+project "sdfgen"
+   kind "ConsoleApp"
+   files { "src/cli/**.cpp", "src/cli/**.hpp" }
+   defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
+   sdfgen_use_core()
+   sdfgen_flags()
+
+if not _OPTIONS["no-tests"] then
+   -- GoogleTest suite (tests/CMakeLists.txt), from Debian's libgtest-dev: static libgtest.a and
+   -- libgtest_main.a. CMake's GTest::gtest brings GTEST_HAS_PTHREAD=1 and Threads::Threads, which
+   -- is pthread (empty on glibc 2.34 and later, where libpthread is part of libc).
+   project "sdfgen_tests"
+      kind "ConsoleApp"
+      files { "tests/*.cpp", "tests/support/*.cpp", "tests/support/*.hpp" }
+      includedirs { "tests" }
+      defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"', "GTEST_HAS_PTHREAD=1" }
+      sdfgen_use_core()
+      links { "gtest_main", "gtest" }
+      filter "system:not windows"
+         links { "pthread" }
+      filter {}
+      sdfgen_flags()
+end

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# End-to-end checks of the sdfgen command line: usage: test_cli.sh SDFGEN_BINARY REPO_ROOT
+set -u
+sdfgen=$1
+root=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+
+# expect CODE PATTERN -- COMMAND...: the command exits with CODE (or any non-zero for "fail")
+# and its combined output matches the extended regex PATTERN.
+expect() {
+  local code=$1 pattern=$2
+  shift 3
+  local out rc
+  out=$("$@" 2>&1)
+  rc=$?
+  if { [ "$code" = fail ] && [ $rc -ne 0 ]; } || [ "$code" = "$rc" ]; then
+    if grep -qE -- "$pattern" <<<"$out"; then
+      passed=$((passed + 1))
+      return
+    fi
+  fi
+  failed=$((failed + 1))
+  echo "FAILED: $* (exit $rc, wanted $code, pattern '$pattern')"
+  echo "$out" | sed 's/^/    /' | head -20
+}
+
+bunny=$root/assets/bunny.obj
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tet.obj"
+
+expect 0 'bake' -- "$sdfgen" --help
+for option in --res --rays --padding --threads --output; do
+  expect 0 "$option" -- "$sdfgen" bake --help
+done
+expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 --rays 16
+expect 0 '^sdfgen-text 1$' -- head -1 "$work/tet.sdf"
+expect 0 '^method rays rays=16 res=8 padding=0.1$' -- sed -n 6p "$work/tet.sdf"
+# On a pipe: the summary line alone, no progress bar.
+expect 0 '^[^[]*4 triangles, 8x8x8 voxels, 16 rays, [0-9]+ threads, [0-9.]+ s, [0-9]+ voxels/s$' -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 --rays 16
+expect 0 '1 threads' -- "$sdfgen" bake "$bunny" -o "$work/bunny.sdf" --res 16 --rays 8 --threads 1
+expect 0 'voxels/s' -- "$sdfgen" bench "$work/tet.obj" --res 8 --rays 8
+
+# Bad arguments: clear message, non-zero exit.
+expect fail 'res.*0' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res 0
+expect fail 'rays' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --rays 0
+expect fail 'padding' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --padding -1
+expect fail 'threads' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --threads -2
+expect fail 'frobnicate' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --frobnicate
+expect fail 'output' -- "$sdfgen" bake "$work/tet.obj"
+expect fail 'subcommand' -- "$sdfgen"
+# Bad input files: one line naming the file, exit 1, nothing written.
+expect 1 "^sdfgen: $work/missing.obj: cannot open" -- "$sdfgen" bake "$work/missing.obj" -o "$work/x.sdf"
+printf 'v 0 0 0\nv 1 0 0\nl 1 2\n' >"$work/lines.obj"
+expect 1 "lines.obj: no triangles" -- "$sdfgen" bake "$work/lines.obj" -o "$work/x.sdf"
+printf 'v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$work/nan.obj"
+expect 1 "nan.obj:1: .*not a finite number" -- "$sdfgen" bake "$work/nan.obj" -o "$work/x.sdf"
+expect 1 "grid .* needs .* MiB" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res 60000
+expect fail '' -- test -e "$work/x.sdf"
+expect 1 "$work/nodir/x.sdf: cannot create" -- "$sdfgen" bake "$work/tet.obj" -o "$work/nodir/x.sdf" --res 4
+
+echo "cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -1,0 +1,116 @@
+// The kd-tree's nearest hit equals brute force over every triangle.
+#include "core/kdtree.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <limits>
+#include <random>
+
+namespace sdfgen {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+bool bruteForce(const Mesh& mesh, const glm::vec3& o, const glm::vec3& d, RayHit& best) {
+    bool found = false;
+    for (std::size_t i = 0; i < mesh.triangleCount(); ++i) {
+        const PreparedTriangle tri = prepareTriangle(mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2));
+        float t = 0;
+        bool back = false;
+        if (intersectTriangle(o.x, o.y, o.z, d, tri, found ? best.t : kInf, t, back)) {
+            best = {t, std::uint32_t(i), back};
+            found = true;
+        }
+    }
+    return found;
+}
+
+float hitDistance(const Mesh& mesh, std::uint32_t triangle, const glm::vec3& o, const glm::vec3& d) {
+    const PreparedTriangle tri = prepareTriangle(mesh.vertex(triangle, 0), mesh.vertex(triangle, 1), mesh.vertex(triangle, 2));
+    float t = kInf;
+    bool back = false;
+    intersectTriangle(o.x, o.y, o.z, d, tri, kInf * 1.0f, t, back);
+    return t;
+}
+
+void expectTreeMatchesBruteForce(const Mesh& mesh, int rays, unsigned seed) {
+    const KdTree tree(mesh);
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> gauss;
+    const glm::vec3 lo = mesh.bounds.min - 0.2f * mesh.bounds.extent();
+    const glm::vec3 hi = mesh.bounds.max + 0.2f * mesh.bounds.extent();
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    int hits = 0;
+    for (int r = 0; r < rays; ++r) {
+        const glm::vec3 o = lo + glm::vec3(unit(rng), unit(rng), unit(rng)) * (hi - lo);
+        const glm::vec3 d = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
+        RayHit expected, actual;
+        const bool bruteHit = bruteForce(mesh, o, d, expected);
+        const bool treeHit = tree.intersect(o, d, kInf, actual);
+        ASSERT_EQ(treeHit, bruteHit) << "ray " << r;
+        if (!bruteHit) continue;
+        ++hits;
+        if (actual.triangle == expected.triangle) {
+            EXPECT_EQ(actual.t, expected.t) << "ray " << r;
+            EXPECT_EQ(actual.backFace, expected.backFace) << "ray " << r;
+        } else {
+            // Only a tie may pick another triangle: a ray through a shared edge or vertex.
+            EXPECT_NEAR(actual.t, expected.t, 1e-6f * expected.t) << "ray " << r;
+            EXPECT_NEAR(hitDistance(mesh, actual.triangle, o, d), expected.t, 1e-6f * expected.t) << "ray " << r;
+        }
+    }
+    EXPECT_GT(hits, rays / 10) << "too few hits to test anything";
+}
+
+TEST(KdTree, NearestHitMatchesBruteForceOnTheBunny) {
+    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    expectTreeMatchesBruteForce(mesh, 3000, 1);
+}
+
+TEST(KdTree, NearestHitMatchesBruteForceOnGeneratedShapes) {
+    expectTreeMatchesBruteForce(test::icosphere(1.0f, 3), 2000, 2);
+    expectTreeMatchesBruteForce(test::torus(1.0f, 0.3f, 48, 24), 2000, 3);
+    expectTreeMatchesBruteForce(test::box({1.0f, 0.5f, 0.25f}), 2000, 4);
+}
+
+TEST(KdTree, AxisAlignedRaysAndRaysFromInside) {
+    // Zero direction components take the slab test's special path.
+    const Mesh mesh = test::box({1.0f, 1.0f, 1.0f});
+    const KdTree tree(mesh);
+    const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (const glm::vec3& d : axes) {
+        RayHit hit;
+        ASSERT_TRUE(tree.intersect({0.1f, 0.2f, 0.3f}, d, kInf, hit));
+        EXPECT_TRUE(hit.backFace);
+        EXPECT_NEAR(hit.t, 1.0f - glm::dot(glm::vec3(0.1f, 0.2f, 0.3f), d), 1e-6f);
+        ASSERT_TRUE(tree.intersect(-3.0f * d, d, kInf, hit));
+        EXPECT_FALSE(hit.backFace);
+        EXPECT_FLOAT_EQ(hit.t, 2.0f);
+        EXPECT_FALSE(tree.intersect(-3.0f * d, d, 1.5f, hit)); // tMax stops short of the box
+    }
+}
+
+TEST(KdTree, BoundedLeavesAndDepth) {
+    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    const KdTree tree(mesh);
+    EXPECT_LE(tree.depth(), KdTree::kMaxDepth);
+    EXPECT_LT(tree.nodeCount(), 2 * mesh.triangleCount());
+    EXPECT_EQ(tree.bounds().min, mesh.bounds.min);
+    EXPECT_EQ(tree.bounds().max, mesh.bounds.max);
+}
+
+TEST(KdTree, CoincidentTrianglesStillSplit) {
+    // 1000 copies of one triangle: no plane separates them, yet leaves stay bounded and rays still hit.
+    std::vector<glm::vec3> positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    std::vector<glm::uvec3> triangles(1000, glm::uvec3(0, 1, 2));
+    const Mesh mesh = buildMesh("stack", positions, triangles);
+    const KdTree tree(mesh);
+    EXPECT_LE(tree.depth(), KdTree::kMaxDepth);
+    RayHit hit;
+    ASSERT_TRUE(tree.intersect({0.2f, 0.2f, 1.0f}, {0, 0, -1}, kInf, hit));
+    EXPECT_FLOAT_EQ(hit.t, 1.0f);
+}
+
+} // namespace
+} // namespace sdfgen
