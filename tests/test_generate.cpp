@@ -27,7 +27,8 @@ Baked bakeMesh(Mesh mesh, int res, int rays, int threads = 0) {
     BakeSettings settings;
     settings.res = res;
     settings.rays = rays;
-    Field field = bake(mesh, tree, settings, control);
+    settings.method = DistanceMethod::Rays;
+    Field field = bake(mesh, tree, settings, control).field;
     return {std::move(mesh), std::move(field)};
 }
 

@@ -29,19 +29,21 @@ void runBake(const BakeArgs& args) {
     const KdTree tree(mesh);
     RunControl control;
     control.threads = args.threads;
-    Field field;
+    BakeResult result;
     {
         ProgressBar bar;
         control.progress = bar.callback();
-        field = bake(mesh, tree, args.settings, control);
+        result = bake(mesh, tree, args.settings, control);
     }
-    saveFieldText(field, args.output);
+    saveFieldText(result.field, args.output);
     const double seconds = total.seconds();
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
-    const Grid& g = field.grid;
-    std::printf("%s -> %s: %zu triangles, %dx%dx%d voxels, %d rays, %d threads, %.3f s, %.0f voxels/s\n",
+    const Grid& g = result.field.grid;
+    std::printf("%s -> %s: %zu triangles, %dx%dx%d voxels, method %s, sign %s, %d threads, %.3f s, %.0f voxels/s\n",
                 args.mesh.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
-                args.settings.rays, threads, seconds, double(g.sampleCount()) / seconds);
+                (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
+                result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
+    if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
 }
 
 } // namespace

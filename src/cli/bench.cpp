@@ -1,4 +1,4 @@
-// `sdfgen bench`: throughput of the whole bake (load, tree, generate, save) on given meshes.
+// `sdfgen bench`: throughput of the whole bake (load, tree, distances, signs, save) on given meshes.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "core/field.hpp"
@@ -6,7 +6,6 @@
 #include "core/mesh.hpp"
 
 #include <tbb/task_arena.h>
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -18,35 +17,49 @@ namespace {
 
 struct BenchArgs {
     std::vector<std::string> meshes;
-    BakeSettings settings{128, 0.1f, 64};
+    BakeSettings settings = [] {
+        BakeSettings s;
+        s.res = 128;
+        return s;
+    }();
     int threads = 0;
     int repeat = 1;
 };
 
 struct Timing {
-    double load = 0, tree = 0, generate = 0, save = 0;
-    double total() const { return load + tree + generate + save; }
+    double load = 0, tree = 0, distance = 0, sign = 0, save = 0;
+    double total() const { return load + tree + distance + sign + save; }
 };
 
-Timing timeOnce(const std::string& path, const BenchArgs& args, const std::string& scratch, std::size_t& triangles, Grid& grid) {
+struct Run {
     Timing timing;
+    std::size_t triangles = 0;
+    Grid grid;
+    std::string sign;
+    bool rays = false;
+};
+
+Run runOnce(const std::string& path, const BenchArgs& args, const std::string& scratch) {
+    Run run;
     Stopwatch watch;
     const Mesh mesh = loadObj(path);
-    timing.load = watch.seconds();
+    run.timing.load = watch.seconds();
     watch = Stopwatch();
     const KdTree tree(mesh);
-    timing.tree = watch.seconds();
-    watch = Stopwatch();
+    run.timing.tree = watch.seconds();
     RunControl control;
     control.threads = args.threads;
-    const Field field = bake(mesh, tree, args.settings, control);
-    timing.generate = watch.seconds();
+    const BakeResult result = bake(mesh, tree, args.settings, control);
+    run.timing.distance = result.distanceSeconds;
+    run.timing.sign = result.signSeconds;
     watch = Stopwatch();
-    saveFieldText(field, scratch);
-    timing.save = watch.seconds();
-    triangles = mesh.triangleCount();
-    grid = field.grid;
-    return timing;
+    saveFieldText(result.field, scratch);
+    run.timing.save = watch.seconds();
+    run.triangles = mesh.triangleCount();
+    run.grid = result.field.grid;
+    run.sign = result.field.parameter("sign");
+    run.rays = !result.field.parameter("rays").empty();
+    return run;
 }
 
 void runBench(const BenchArgs& args) {
@@ -54,27 +67,31 @@ void runBench(const BenchArgs& args) {
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const std::string scratch =
         (std::filesystem::temp_directory_path() / ("sdfgen-bench-" + std::to_string(getpid()) + ".sdf")).string();
-    std::printf("sdfgen bench: method rays, res %d, %d rays, padding %g, %d threads, best of %d\n", args.settings.res,
-                args.settings.rays, double(args.settings.padding), threads, args.repeat);
-    std::printf("%-28s %9s %13s %7s %7s %8s %7s %8s %12s %12s %12s\n", "mesh", "triangles", "dims", "load s", "tree s",
-                "generate s", "save s", "total s", "voxels/s", "gen voxels/s", "rays/s");
+    std::printf("sdfgen bench: method %s, sign %s, res %d, %d rays, padding %g, %d threads, best of %d\n",
+                toString(args.settings.method), toString(args.settings.sign), args.settings.res, args.settings.rays,
+                double(args.settings.padding), threads, args.repeat);
+    std::printf("%-22s %9s %13s %-22s %6s %6s %9s %7s %6s %8s %11s %11s %10s\n", "mesh", "triangles", "dims", "sign",
+                "load", "tree", "distance", "sign", "save", "total s", "voxels/s", "gen vox/s", "rays/s");
     for (const std::string& path : meshes) {
-        Timing best;
-        std::size_t triangles = 0;
-        Grid grid;
+        Run best;
         for (int r = 0; r < args.repeat; ++r) {
-            const Timing t = timeOnce(path, args, scratch, triangles, grid);
-            if (r == 0 || t.total() < best.total()) best = t;
+            const Run run = runOnce(path, args, scratch);
+            if (r == 0 || run.timing.total() < best.timing.total()) best = run;
         }
         std::filesystem::remove(scratch);
-        const double samples = double(grid.sampleCount());
-        const std::string dims = std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" + std::to_string(grid.dims.z);
-        std::printf("%-28s %9zu %13s %7.3f %7.3f %10.3f %7.3f %8.3f %12.0f %12.0f %12.3g\n",
-                    std::filesystem::path(path).filename().string().c_str(), triangles, dims.c_str(), best.load, best.tree,
-                    best.generate, best.save, best.total(), samples / best.total(), samples / best.generate,
-                    samples * args.settings.rays / best.generate);
+        const Timing& t = best.timing;
+        const double samples = double(best.grid.sampleCount());
+        const std::string dims = std::to_string(best.grid.dims.x) + "x" + std::to_string(best.grid.dims.y) + "x" +
+                                 std::to_string(best.grid.dims.z);
+        char rays[32] = "-";
+        if (best.rays) std::snprintf(rays, sizeof(rays), "%.3g", samples * args.settings.rays / t.distance);
+        std::printf("%-22s %9zu %13s %-22s %6.3f %6.3f %9.3f %7.3f %6.3f %8.3f %11.0f %11.0f %10s\n",
+                    std::filesystem::path(path).filename().string().c_str(), best.triangles, dims.c_str(), best.sign.c_str(),
+                    t.load, t.tree, t.distance, t.sign, t.save, t.total(), samples / t.total(),
+                    samples / (t.distance + t.sign), rays);
     }
-    std::puts("voxels/s counts the whole process (load + tree + generate + save); gen voxels/s and rays/s the generation alone.");
+    std::puts("Seconds per phase; voxels/s counts the whole process, gen vox/s distances + signs; rays/s (ray method) "
+              "counts the rays of the distance phase.");
 }
 
 } // namespace

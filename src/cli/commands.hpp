@@ -10,6 +10,7 @@ namespace sdfgen::cli {
 // Each command adds its subcommand and options to the app and runs when it is chosen.
 void addBakeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
 
 // The options every generating command shares (--res, --rays, --padding, --threads).
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);

@@ -9,6 +9,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     sdfgen::cli::addBakeCommand(app);
     sdfgen::cli::addBenchCommand(app);
+    sdfgen::cli::addCompareCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

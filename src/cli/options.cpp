@@ -1,6 +1,7 @@
 #include "cli/commands.hpp"
 
 #include <filesystem>
+#include <map>
 #include <unistd.h>
 
 namespace sdfgen::cli {
@@ -9,7 +10,21 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
     command.add_option("--res", settings.res, "Voxels along the longest side of the padded bounding box")
         ->check(CLI::Range(1, 1 << 16))
         ->capture_default_str();
-    command.add_option("--rays", settings.rays, "Rays cast per sample")->check(CLI::Range(1, 65536))->capture_default_str();
+    const std::map<std::string, DistanceMethod> methods = {
+        {"exact", DistanceMethod::Exact}, {"rays", DistanceMethod::Rays}, {"brute", DistanceMethod::Brute}};
+    command.add_option("--method", settings.method, "Distance: exact (nearest triangle), rays (the report's ray sampling) or brute (reference, slow)")
+        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case))
+        ->default_str("exact");
+    const std::map<std::string, SignMethod> signs = {{"auto", SignMethod::Auto},
+                                                     {"rays", SignMethod::Rays},
+                                                     {"pseudonormal", SignMethod::Pseudonormal},
+                                                     {"winding", SignMethod::Winding}};
+    command.add_option("--sign", settings.sign,
+                       "Inside test: auto (pseudonormal when the mesh check proves it right, else winding), winding "
+                       "(generalized winding number), pseudonormal, or rays (majority of back faces). Default: rays "
+                       "for --method rays, auto otherwise")
+        ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
+    command.add_option("--rays", settings.rays, "Rays per sample for --method rays and --sign rays")->check(CLI::Range(1, 65536))->capture_default_str();
     command.add_option("--padding", settings.padding, "Margin around the mesh, as a fraction of its longest side")
         ->check(CLI::Range(0.0f, 100.0f))
         ->capture_default_str();

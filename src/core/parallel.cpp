@@ -10,6 +10,12 @@
 
 namespace sdfgen {
 
+RunControl RunControl::phase(double from, double to) const {
+    RunControl part = *this;
+    if (progress) part.progress = [report = progress, from, to](double f) { report(from + (to - from) * f); };
+    return part;
+}
+
 void parallelFor(std::size_t count, const RunControl& control, const std::function<void(std::size_t)>& body) {
     const int threads = control.threads > 0 ? control.threads : tbb::this_task_arena::max_concurrency();
     std::atomic<std::size_t> finished{0};

@@ -36,10 +36,25 @@ for option in --res --rays --padding --threads --output; do
 done
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 --rays 16
 expect 0 '^sdfgen-text 1$' -- head -1 "$work/tet.sdf"
-expect 0 '^method rays rays=16 res=8 padding=0.1$' -- sed -n 6p "$work/tet.sdf"
+expect 0 '^method exact sign=auto/pseudonormal res=8 padding=0.1$' -- sed -n 6p "$work/tet.sdf"
 # On a pipe: the summary line alone, no progress bar.
-expect 0 '^[^[]*4 triangles, 8x8x8 voxels, 16 rays, [0-9]+ threads, [0-9.]+ s, [0-9]+ voxels/s$' -- \
-  "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 --rays 16
+expect 0 '^[^[]*4 triangles, 8x8x8 voxels, method rays \(16 rays\), sign rays, [0-9]+ threads, [0-9.]+ s, [0-9]+ voxels/s$' -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 --rays 16 --method rays
+expect 0 '^method rays rays=16 sign=rays res=8 padding=0.1$' -- sed -n 6p "$work/tet.sdf"
+expect 0 'sign: auto chose pseudonormal' -- "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8
+# An open mesh (the tetrahedron without its base): auto falls back to the winding number.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/open.obj"
+expect 0 'mesh check: 3 boundary edges' -- "$sdfgen" bake "$work/open.obj" -o "$work/open.sdf" --res 8
+expect 0 'auto chose winding: the mesh has holes' -- "$sdfgen" bake "$work/open.obj" -o "$work/open.sdf" --res 8
+expect 0 'method brute, sign winding' -- "$sdfgen" bake "$work/tet.obj" -o "$work/brute.sdf" --res 8 --method brute
+expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/tet.sdf"
+expect 0 'max [0-9.e-]+ \([0-9.e-]+ voxels\)' -- "$sdfgen" compare "$work/brute.sdf" "$work/tet.sdf" --band 1
+expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/coarse.sdf" --res 6
+expect 1 'different grids' -- "$sdfgen" compare "$work/brute.sdf" "$work/coarse.sdf"
+expect 1 "$work/missing.sdf: cannot open" -- "$sdfgen" compare "$work/brute.sdf" "$work/missing.sdf"
+expect fail 'sign' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --sign sideways
+expect fail 'method' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method magic
+expect 1 'brute method signs by the exact winding number' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method brute --sign rays
 expect 0 '1 threads' -- "$sdfgen" bake "$bunny" -o "$work/bunny.sdf" --res 16 --rays 8 --threads 1
 expect 0 'voxels/s' -- "$sdfgen" bench "$work/tet.obj" --res 8 --rays 8
 

@@ -1,0 +1,86 @@
+#include "core/exact.hpp"
+#include "core/geometry.hpp"
+#include "core/parallel.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace sdfgen {
+
+NearestField computeNearest(const Mesh& mesh, const KdTree& tree, const Grid& grid, const RunControl& control) {
+    using namespace simd;
+    NearestField result;
+    result.distance.resize(grid.sampleCount());
+    result.triangle.resize(grid.sampleCount());
+    const int nx = grid.dims.x;
+    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+    parallelFor(rows, control, [&](std::size_t row) {
+        const int j = int(row % std::size_t(grid.dims.y));
+        const int k = int(row / std::size_t(grid.dims.y));
+        i8 previous = splat(-1); // triangles found by the previous eight samples of this row
+        for (int i0 = 0; i0 < nx; i0 += 8) {
+            const int lanes = std::min(8, nx - i0);
+            PointPacket packet;
+            for (int lane = 0; lane < 8; ++lane) {
+                const glm::vec3 p = grid.sample(i0 + std::min(lane, lanes - 1), j, k);
+                packet.px[lane] = p.x;
+                packet.py[lane] = p.y;
+                packet.pz[lane] = p.z;
+            }
+            packet.bestSquared = splat(std::numeric_limits<float>::infinity());
+            packet.triangle = splat(0);
+            for (int lane = 0; lane < 8; ++lane) {
+                const std::int32_t seed = previous[lane];
+                if (seed < 0 || (lane > 0 && seed == previous[lane - 1])) continue;
+                const f8 d = tree.distanceSquared(packet.px, packet.py, packet.pz, std::uint32_t(seed));
+                const i8 closer = d < packet.bestSquared;
+                packet.bestSquared = select(closer, d, packet.bestSquared);
+                packet.triangle = select(closer, splat(seed), packet.triangle);
+            }
+            // The seeds are real triangles, so their distance bounds the search. Widened by a few
+            // ulps, a float-rounded seed never hides a triangle that is nearer in exact terms; where
+            // nothing beats the bound, the seed stays the answer.
+            packet.bestSquared *= 1.000001f;
+            tree.nearest(packet);
+            previous = packet.triangle;
+            for (int lane = 0; lane < lanes; ++lane) {
+                const std::uint32_t t = std::uint32_t(packet.triangle[lane]);
+                const glm::dvec3 p(grid.sample(i0 + lane, j, k));
+                const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)),
+                                                                    glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+                const std::size_t index = grid.index(i0 + lane, j, k);
+                result.distance[index] = float(std::sqrt(closest.distanceSquared));
+                result.triangle[index] = t;
+            }
+        }
+    });
+    return result;
+}
+
+Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& control) {
+    Field field;
+    field.source = mesh.source;
+    field.grid = grid;
+    field.values.resize(grid.sampleCount());
+    std::vector<glm::dvec3> corners(3 * mesh.triangleCount());
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        for (int c = 0; c < 3; ++c) corners[3 * t + std::size_t(c)] = glm::dvec3(mesh.vertex(t, c));
+    }
+    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+    parallelFor(rows, control, [&](std::size_t row) {
+        const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
+        for (int i = 0; i < grid.dims.x; ++i) {
+            const glm::dvec3 p(grid.sample(i, j, k));
+            double nearest = std::numeric_limits<double>::infinity(), angle = 0.0;
+            for (std::size_t c = 0; c < corners.size(); c += 3) {
+                nearest = std::min(nearest, closestPointOnTriangle(p, corners[c], corners[c + 1], corners[c + 2]).distanceSquared);
+                angle += solidAngle(p, corners[c], corners[c + 1], corners[c + 2]);
+            }
+            const double distance = std::sqrt(nearest);
+            field.values[grid.index(i, j, k)] = float(angle / (4.0 * M_PI) > 0.5 ? -distance : distance);
+        }
+    });
+    return field;
+}
+
+} // namespace sdfgen

@@ -1,0 +1,92 @@
+#include "core/geometry.hpp"
+
+#include <glm/geometric.hpp>
+#include <cmath>
+
+namespace sdfgen {
+
+ClosestPoint closestPointOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    auto result = [&](const glm::dvec3& q, TriangleFeature f) {
+        const glm::dvec3 d = p - q;
+        return ClosestPoint{q, glm::dot(d, d), f};
+    };
+    const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= 0.0 && d2 <= 0.0) return result(a, TriangleFeature::VertexA);
+    const glm::dvec3 bp = p - b;
+    const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= 0.0 && d4 <= d3) return result(b, TriangleFeature::VertexB);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0) {
+        return result(a + ab * (d1 / (d1 - d3)), TriangleFeature::EdgeAB);
+    }
+    const glm::dvec3 cp = p - c;
+    const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= 0.0 && d5 <= d6) return result(c, TriangleFeature::VertexC);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0) {
+        return result(a + ac * (d2 / (d2 - d6)), TriangleFeature::EdgeCA);
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0) {
+        return result(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))), TriangleFeature::EdgeBC);
+    }
+    const double sum = va + vb + vc;
+    if (sum > 0.0) {
+        const double v = vb / sum, w = vc / sum;
+        return result(a + ab * v + ac * w, TriangleFeature::Face);
+    }
+    // Degenerate (zero-area) triangle whose regions did not resolve: take the nearest edge.
+    ClosestPoint best = result(a, TriangleFeature::VertexA);
+    const glm::dvec3 corners[3] = {a, b, c};
+    const TriangleFeature edges[3] = {TriangleFeature::EdgeAB, TriangleFeature::EdgeBC, TriangleFeature::EdgeCA};
+    for (int e = 0; e < 3; ++e) {
+        const glm::dvec3 s = corners[e], d = corners[(e + 1) % 3] - s;
+        const double len2 = glm::dot(d, d);
+        const double t = len2 > 0.0 ? glm::clamp(glm::dot(p - s, d) / len2, 0.0, 1.0) : 0.0;
+        const ClosestPoint candidate = result(s + d * t, edges[e]);
+        if (candidate.distanceSquared < best.distanceSquared) best = candidate;
+    }
+    return best;
+}
+
+double solidAngle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 ra = a - p, rb = b - p, rc = c - p;
+    const double la = glm::length(ra), lb = glm::length(rb), lc = glm::length(rc);
+    const double det = glm::dot(ra, glm::cross(rb, rc));
+    const double denominator = la * lb * lc + glm::dot(ra, rb) * lc + glm::dot(rb, rc) * la + glm::dot(rc, ra) * lb;
+    // det > 0 when p is behind the triangle (on the side opposite its normal).
+    return 2.0 * std::atan2(det, denominator);
+}
+
+int orientation2d(const glm::dvec2& u, const glm::dvec2& v, double& area) {
+    area = u.y * v.x - u.x * v.y;
+    if (area > 0.0) return 1;
+    if (area < 0.0) return -1;
+    // Exactly zero: perturb symbolically. Antisymmetric in (u, v), so each edge's tie is decided
+    // the same way for both triangles sharing it.
+    if (v.y > u.y) return 1;
+    if (v.y < u.y) return -1;
+    if (u.x > v.x) return 1;
+    if (u.x < v.x) return -1;
+    return 0;
+}
+
+bool pointInTriangle2d(const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c,
+                       int& orientation, glm::dvec3& weights) {
+    const glm::dvec2 pa = a - q, pb = b - q, pc = c - q;
+    double wa, wb, wc;
+    const int sa = orientation2d(pb, pc, wa);
+    if (sa == 0) return false;
+    const int sb = orientation2d(pc, pa, wb);
+    if (sb != sa) return false;
+    const int sc = orientation2d(pa, pb, wc);
+    if (sc != sa) return false;
+    const double sum = wa + wb + wc;
+    if (sum == 0.0) return false; // zero-area projection: the line grazes the triangle edge-on
+    weights = glm::dvec3(wa, wb, wc) / sum;
+    orientation = -sa; // orientation2d measures clockwise-positive (u.y v.x - u.x v.y)
+    return true;
+}
+
+} // namespace sdfgen

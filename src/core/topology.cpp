@@ -1,0 +1,223 @@
+#include "core/topology.hpp"
+
+#include <glm/geometric.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <unordered_map>
+
+namespace sdfgen {
+
+namespace {
+
+struct PositionHash {
+    std::size_t operator()(const glm::vec3& p) const {
+        std::uint32_t bits[3];
+        std::memcpy(bits, &p, sizeof(bits));
+        return (std::size_t(bits[0]) * 73856093u) ^ (std::size_t(bits[1]) * 19349663u) ^ (std::size_t(bits[2]) * 83492791u);
+    }
+};
+
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+// Sign of the volume of tetrahedron (a, b, c, d): which side of plane abc d lies on.
+int orient3d(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+    const double v = glm::dot(glm::cross(b - a, c - a), d - a);
+    return (v > 0.0) - (v < 0.0);
+}
+
+// Whether segment pq passes through the interior of triangle abc (touching does not count).
+bool segmentCrossesTriangle(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b,
+                            const glm::dvec3& c) {
+    const int sp = orient3d(a, b, c, p), sq = orient3d(a, b, c, q);
+    if (sp == 0 || sq == 0 || sp == sq) return false;
+    const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
+    return s1 != 0 && s1 == s2 && s2 == s3;
+}
+
+} // namespace
+
+std::string MeshCheck::describe() const {
+    return std::to_string(boundaryEdges) + " boundary edges, " + std::to_string(nonManifoldEdges) + " non-manifold edges, " +
+           std::to_string(inconsistentEdges) + " inconsistently oriented edges, " + std::to_string(nonManifoldVertices) +
+           " non-manifold vertices, " + std::to_string(selfIntersections) + " self-intersecting triangle pairs";
+}
+
+MeshTopology::MeshTopology(const Mesh& mesh) {
+    // Merge vertices with identical coordinates (-0 and +0 alike).
+    std::unordered_map<glm::vec3, std::uint32_t, PositionHash> merged;
+    std::vector<std::uint32_t> remap(mesh.positions.size());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const glm::vec3 p = mesh.positions[i] + glm::vec3(0.0f);
+        const auto [it, added] = merged.emplace(p, std::uint32_t(positions_.size()));
+        if (added) positions_.emplace_back(p);
+        remap[i] = it->second;
+    }
+    const std::size_t n = mesh.triangleCount();
+    corners_.resize(n);
+    faceNormals_.resize(n);
+    for (std::size_t t = 0; t < n; ++t) {
+        for (int c = 0; c < 3; ++c) corners_[t][c] = remap[mesh.triangles[t][c]];
+        faceNormals_[t] = glm::dvec3(mesh.faceNormals[t]);
+    }
+
+    // Every triangle edge as (low vertex, high vertex, triangle, which edge, runs low->high).
+    struct EdgeUse {
+        std::uint32_t lo, hi, triangle;
+        std::uint8_t edge;
+        bool forward;
+    };
+    std::vector<EdgeUse> uses;
+    uses.reserve(3 * n);
+    for (std::uint32_t t = 0; t < n; ++t) {
+        for (std::uint8_t e = 0; e < 3; ++e) {
+            const std::uint32_t u = corners_[t][e], v = corners_[t][(e + 1) % 3];
+            if (u == v) continue; // collapsed by merging
+            uses.push_back({std::min(u, v), std::max(u, v), t, e, u < v});
+        }
+    }
+    std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+        return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
+    });
+
+    edgeNormals_.resize(3 * n);
+    for (std::size_t t = 0; t < n; ++t) {
+        for (int e = 0; e < 3; ++e) edgeNormals_[3 * t + e] = faceNormals_[t];
+    }
+    // Corners (3 per triangle) around a vertex are joined across manifold edges; more than one
+    // group at a vertex means its triangles form separate fans.
+    std::vector<std::uint32_t> parent(3 * n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto cornerOf = [&](std::uint32_t t, std::uint32_t vertex) {
+        for (std::uint32_t c = 0; c < 3; ++c) {
+            if (corners_[t][c] == vertex) return 3 * t + c;
+        }
+        return 3 * t;
+    };
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary; // directed, with multiplicity
+    for (std::size_t begin = 0; begin < uses.size();) {
+        std::size_t end = begin;
+        int net = 0;
+        while (end < uses.size() && uses[end].lo == uses[begin].lo && uses[end].hi == uses[begin].hi) {
+            net += uses[end].forward ? 1 : -1;
+            ++end;
+        }
+        const std::size_t count = end - begin;
+        const EdgeUse& first = uses[begin];
+        if (count == 1) ++edgeCheck_.boundaryEdges;
+        if (count > 2) ++edgeCheck_.nonManifoldEdges;
+        if (count == 2) {
+            const EdgeUse& second = uses[begin + 1];
+            if (first.forward == second.forward) ++edgeCheck_.inconsistentEdges;
+            // The edge's pseudonormal is the sum of its two face normals (each face's angle is π).
+            const glm::dvec3 sum = faceNormals_[first.triangle] + faceNormals_[second.triangle];
+            edgeNormals_[3 * first.triangle + first.edge] = sum;
+            edgeNormals_[3 * second.triangle + second.edge] = sum;
+            for (std::uint32_t vertex : {first.lo, first.hi}) {
+                const std::uint32_t a = findRoot(parent, cornerOf(first.triangle, vertex));
+                const std::uint32_t b = findRoot(parent, cornerOf(second.triangle, vertex));
+                parent[a] = b;
+            }
+        }
+        for (int k = 0; k < std::abs(net); ++k) {
+            boundary.emplace_back(net > 0 ? first.lo : first.hi, net > 0 ? first.hi : first.lo);
+        }
+        begin = end;
+    }
+
+    // Angle-weighted vertex normals, and the fans around each vertex.
+    vertexNormals_.assign(positions_.size(), glm::dvec3(0.0));
+    std::vector<std::uint32_t> fanRoot(positions_.size(), UINT32_MAX);
+    std::vector<bool> pinched(positions_.size(), false);
+    for (std::uint32_t t = 0; t < n; ++t) {
+        for (std::uint32_t c = 0; c < 3; ++c) {
+            const std::uint32_t v = corners_[t][c];
+            const glm::dvec3 e1 = positions_[corners_[t][(c + 1) % 3]] - positions_[v];
+            const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
+            const double l1 = glm::length(e1), l2 = glm::length(e2);
+            if (l1 > 0.0 && l2 > 0.0) {
+                vertexNormals_[v] += std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) * faceNormals_[t];
+            }
+            const std::uint32_t root = findRoot(parent, 3 * t + c);
+            if (fanRoot[v] == UINT32_MAX) fanRoot[v] = root;
+            else if (fanRoot[v] != root) pinched[v] = true;
+        }
+    }
+    edgeCheck_.nonManifoldVertices = std::size_t(std::count(pinched.begin(), pinched.end(), true));
+
+    // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
+    std::sort(boundary.begin(), boundary.end());
+    std::vector<bool> used(boundary.size(), false);
+    auto firstOut = [&](std::uint32_t vertex) {
+        return std::size_t(std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(vertex, 0u)) - boundary.begin());
+    };
+    for (std::size_t start = 0; start < boundary.size(); ++start) {
+        if (used[start]) continue;
+        std::vector<std::uint32_t> loop;
+        std::size_t edge = start;
+        while (true) {
+            used[edge] = true;
+            loop.push_back(boundary[edge].first);
+            const std::uint32_t head = boundary[edge].second;
+            if (head == boundary[start].first) break;
+            std::size_t next = firstOut(head);
+            while (next < boundary.size() && boundary[next].first == head && used[next]) ++next;
+            if (next >= boundary.size() || boundary[next].first != head) break; // cannot happen for a cycle
+            edge = next;
+        }
+        loops_.push_back(std::move(loop));
+    }
+}
+
+MeshCheck MeshTopology::check(const Mesh& mesh, const KdTree& tree) const {
+    MeshCheck result = edgeCheck_;
+    const std::size_t n = mesh.triangleCount();
+    for (std::uint32_t t = 0; t < n; ++t) {
+        Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
+                   glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
+        tree.forEachOverlap(box, [&](std::uint32_t u) {
+            if (u <= t) return;
+            const glm::uvec3 a = corners_[t], b = corners_[u];
+            int shared = 0;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
+            if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
+            const glm::dvec3 pa[3] = {positions_[a[0]], positions_[a[1]], positions_[a[2]]};
+            const glm::dvec3 pb[3] = {positions_[b[0]], positions_[b[1]], positions_[b[2]]};
+            bool crossing = false;
+            // An edge that touches the shared vertex cannot cross the other triangle's interior
+            // (it starts on it), so only edges away from a shared vertex are tested.
+            for (int e = 0; e < 3 && !crossing; ++e) {
+                const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
+                if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
+                    crossing = segmentCrossesTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+                }
+                const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
+                if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
+                    crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
+                }
+            }
+            result.selfIntersections += crossing;
+        });
+    }
+    return result;
+}
+
+glm::dvec3 MeshTopology::pseudonormal(std::uint32_t triangle, TriangleFeature feature) const {
+    switch (feature) {
+    case TriangleFeature::Face: return faceNormals_[triangle];
+    case TriangleFeature::EdgeAB: return edgeNormals_[3 * triangle + 0];
+    case TriangleFeature::EdgeBC: return edgeNormals_[3 * triangle + 1];
+    case TriangleFeature::EdgeCA: return edgeNormals_[3 * triangle + 2];
+    case TriangleFeature::VertexA: return vertexNormals_[corners_[triangle][0]];
+    case TriangleFeature::VertexB: return vertexNormals_[corners_[triangle][1]];
+    case TriangleFeature::VertexC: return vertexNormals_[corners_[triangle][2]];
+    }
+    return faceNormals_[triangle];
+}
+
+} // namespace sdfgen
