@@ -2,6 +2,7 @@
 #include "core/geometry.hpp"
 #include "core/parallel.hpp"
 
+#include <glm/common.hpp>
 #include <cmath>
 #include <limits>
 
@@ -12,17 +13,21 @@ NearestField computeNearest(const Mesh& mesh, const KdTree& tree, const Grid& gr
     NearestField result;
     result.distance.resize(grid.sampleCount());
     result.triangle.resize(grid.sampleCount());
-    const int nx = grid.dims.x;
-    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
-    parallelFor(rows, control, [&](std::size_t row) {
-        const int j = int(row % std::size_t(grid.dims.y));
-        const int k = int(row / std::size_t(grid.dims.y));
-        i8 previous = splat(-1); // triangles found by the previous eight samples of this row
-        for (int i0 = 0; i0 < nx; i0 += 8) {
-            const int lanes = std::min(8, nx - i0);
+    const glm::ivec3 dims = grid.dims;
+    // A packet is a 2x2x2 block of samples (lane bits: x, y, z), the most compact set of eight;
+    // a work item is a column of blocks along x.
+    const int blocksY = (dims.y + 1) / 2, blocksZ = (dims.z + 1) / 2;
+    parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control, [&](std::size_t column) {
+        const int j0 = 2 * int(column % std::size_t(blocksY));
+        const int k0 = 2 * int(column / std::size_t(blocksY));
+        i8 previous = splat(-1); // triangles found by the previous block of this column
+        for (int i0 = 0; i0 < dims.x; i0 += 2) {
+            glm::ivec3 cell[8];
             PointPacket packet;
             for (int lane = 0; lane < 8; ++lane) {
-                const glm::vec3 p = grid.sample(i0 + std::min(lane, lanes - 1), j, k);
+                // Lanes past the grid's end repeat the last sample; they are not stored.
+                cell[lane] = glm::min(glm::ivec3(i0 + (lane & 1), j0 + ((lane >> 1) & 1), k0 + (lane >> 2)), dims - 1);
+                const glm::vec3 p = grid.sample(cell[lane].x, cell[lane].y, cell[lane].z);
                 packet.px[lane] = p.x;
                 packet.py[lane] = p.y;
                 packet.pz[lane] = p.z;
@@ -43,12 +48,14 @@ NearestField computeNearest(const Mesh& mesh, const KdTree& tree, const Grid& gr
             packet.bestSquared *= 1.000001f;
             tree.nearest(packet);
             previous = packet.triangle;
-            for (int lane = 0; lane < lanes; ++lane) {
+            for (int lane = 0; lane < 8; ++lane) {
+                const glm::ivec3 c = cell[lane];
+                if (c != glm::ivec3(i0 + (lane & 1), j0 + ((lane >> 1) & 1), k0 + (lane >> 2))) continue;
                 const std::uint32_t t = std::uint32_t(packet.triangle[lane]);
-                const glm::dvec3 p(grid.sample(i0 + lane, j, k));
+                const glm::dvec3 p(grid.sample(c.x, c.y, c.z));
                 const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)),
                                                                     glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
-                const std::size_t index = grid.index(i0 + lane, j, k);
+                const std::size_t index = grid.index(c.x, c.y, c.z);
                 result.distance[index] = float(std::sqrt(closest.distanceSquared));
                 result.triangle[index] = t;
             }
