@@ -10,13 +10,10 @@ namespace sdfgen {
 
 namespace {
 
-struct Triangle {
-    glm::dvec3 a, b, c;
-};
-
 // A fan closing one boundary loop, with what bounds its winding number from afar.
+// Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so mesh + fans is closed.
 struct Cap {
-    std::vector<Triangle> triangles;
+    std::vector<glm::dvec3> loop;
     glm::dvec3 centre;
     double radius = 0; // every point of the fan is within this of centre
     double area = 0;
@@ -32,14 +29,53 @@ std::vector<Cap> makeCaps(const MeshTopology& topology) {
         for (std::size_t i = 0; i < loop.size(); ++i) {
             const glm::dvec3& from = topology.position(loop[i]);
             const glm::dvec3& to = topology.position(loop[(i + 1) % loop.size()]);
-            // Reversed edge: the fan's boundary cancels the mesh's, so mesh + fans is closed.
-            cap.triangles.push_back({to, from, cap.centre});
+            cap.loop.push_back(from);
             cap.radius = std::max(cap.radius, glm::length(from - cap.centre));
             cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
         }
         caps.push_back(std::move(cap));
     }
     return caps;
+}
+
+// The fan's solid angle with a single atan2: each triangle contributes 2·arg(den + i·det) (Van
+// Oosterom & Strackee), args add when the complex numbers multiply, and every crossing of the
+// negative real axis is counted so that no turn is lost.
+double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
+    // Triangle (a, b, c) = (loop[i + 1], loop[i], centre): lengths and dot products with the
+    // centre are shared by neighbouring triangles, so each loop vertex is measured once.
+    const glm::dvec3 rc = cap.centre - p;
+    const double lc = glm::length(rc);
+    const std::size_t n = cap.loop.size();
+    glm::dvec3 rb = cap.loop[0] - p;
+    double lb = glm::length(rb), bc = glm::dot(rb, rc);
+    double re = 1.0, im = 0.0;
+    int turns = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 ra = cap.loop[(i + 1) % n] - p;
+        const double la = glm::length(ra), ac = glm::dot(ra, rc);
+        const double det = glm::dot(ra, glm::cross(rb, rc));
+        const double den = la * lb * lc + glm::dot(ra, rb) * lc + bc * la + ac * lb;
+        const double nextRe = re * den - im * det, nextIm = re * det + im * den;
+        // Each factor turns by less than π, so a sign change of the imaginary part in the turning
+        // direction means the product passed -1.
+        if (det > 0.0 && im >= 0.0 && nextIm < 0.0) ++turns;
+        else if (det < 0.0 && im < 0.0 && nextIm >= 0.0) --turns;
+        const double scale = std::max(std::fabs(nextRe), std::fabs(nextIm));
+        if (scale == 0.0) return 0.0; // p lies on a fan edge: the angle is undefined there
+        re = nextRe / scale;
+        im = nextIm / scale;
+        rb = ra;
+        lb = la;
+        bc = ac;
+    }
+    return 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
+}
+
+// Upper bound of |winding number| of a fan seen from p: area / (4π d²), d the distance to the fan.
+double fanBound(const glm::dvec3& p, const Cap& cap) {
+    const double d = glm::length(p - cap.centre) - cap.radius;
+    return d > 0.0 ? cap.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
 }
 
 } // namespace
@@ -87,7 +123,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         addTriangle(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
     }
     for (const Cap& cap : caps) {
-        for (const Triangle& tri : cap.triangles) addTriangle(tri.a, tri.b, tri.c);
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) addTriangle(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
     }
 
     // 2. Per row: the closed surface's winding number is the signed count of crossings ahead (+x);
@@ -102,20 +138,26 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         for (int i = nx - 1; i >= 0; --i) {
             const glm::dvec3 p(grid.sample(i, j, k));
             while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
-            // |w(fans)| <= area / (4π d²) with d the distance to the fan; below 1/2 it cannot flip
-            // the integer's verdict (inside iff ahead >= 1).
-            double bound = 0.0;
-            for (const Cap& cap : caps) {
-                const double d = glm::length(p - cap.centre) - cap.radius;
-                bound += d > 0.0 ? cap.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
-                if (bound >= 0.45) break;
-            }
+            // The fans' winding number is subtracted only where it could reach 1/2: near fans
+            // exactly, far ones within their bounds, and all exactly when the bounds leave doubt.
             bool in = ahead >= 1;
-            if (bound >= 0.45) {
-                double fans = 0.0;
-                for (const Cap& cap : caps)
-                    for (const Triangle& tri : cap.triangles) fans += solidAngle(p, tri.a, tri.b, tri.c);
-                in = double(ahead) - fans / (4.0 * M_PI) > 0.5;
+            double far = 0.0;
+            for (const Cap& cap : caps) far += fanBound(p, cap);
+            if (far >= 0.45) {
+                double near = 0.0;
+                far = 0.0;
+                for (const Cap& cap : caps) {
+                    const double bound = fanBound(p, cap);
+                    if (bound < 0.02) far += bound;
+                    else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
+                }
+                double w = double(ahead) - near;
+                if (std::fabs(w - 0.5) <= far) {
+                    for (const Cap& cap : caps) {
+                        if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+                    }
+                }
+                in = w > 0.5;
             }
             inside[grid.index(i, j, k)] = in;
         }
