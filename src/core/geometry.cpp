@@ -31,12 +31,13 @@ ClosestPoint closestPointOnTriangle(const glm::dvec3& p, const glm::dvec3& a, co
     if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0) {
         return result(b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))), TriangleFeature::EdgeBC);
     }
-    const double sum = va + vb + vc;
-    if (sum > 0.0) {
-        const double v = vb / sum, w = vc / sum;
-        return result(a + ab * v + ac * w, TriangleFeature::Face);
+    // Inside the face region: project onto the plane. The region tests above are rounding noise
+    // for a (nearly) zero-area triangle, whose nearest point is then on one of its edges.
+    const glm::dvec3 n = glm::cross(ab, ac);
+    const double nn = glm::dot(n, n);
+    if (nn > 1e-24 * glm::dot(ab, ab) * glm::dot(ac, ac)) {
+        return result(p - n * (glm::dot(ap, n) / nn), TriangleFeature::Face);
     }
-    // Degenerate (zero-area) triangle whose regions did not resolve: take the nearest edge.
     ClosestPoint best = result(a, TriangleFeature::VertexA);
     const glm::dvec3 corners[3] = {a, b, c};
     const TriangleFeature edges[3] = {TriangleFeature::EdgeAB, TriangleFeature::EdgeBC, TriangleFeature::EdgeCA};
@@ -60,9 +61,12 @@ double solidAngle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
 }
 
 int orientation2d(const glm::dvec2& u, const glm::dvec2& v, double& area) {
-    area = u.y * v.x - u.x * v.y;
-    if (area > 0.0) return 1;
-    if (area < 0.0) return -1;
+    // The sign comes from comparing the two rounded products, never from their difference: a
+    // compiler may fuse the subtraction into an FMA, which would break the exact antisymmetry.
+    const double left = u.y * v.x, right = u.x * v.y;
+    area = left - right;
+    if (left > right) return 1;
+    if (left < right) return -1;
     // Exactly zero: perturb symbolically. Antisymmetric in (u, v), so each edge's tie is decided
     // the same way for both triangles sharing it.
     if (v.y > u.y) return 1;
