@@ -15,7 +15,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build-peers
 out=$build/peers-out
 
-usage() { sed -n '2,3p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,/^set -e/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//'; }
 res=128
 meshes=()
 while [ $# -gt 0 ]; do
