@@ -80,11 +80,31 @@ project "sdfgen_core"
    includedirs { "src" }
    sdfgen_flags()
 
+-- Renderers (OpenGL 4.5 through glad) and the OSMesa headless context. Shaders are read at run
+-- time from shaders/, beside the binary or in this source tree (SDFGEN_SOURCE_DIR).
+project "sdfgen_render"
+   kind "StaticLib"
+   files { "src/render/**.cpp", "src/render/**.hpp", "shaders/*" }
+   includedirs { "src", GLAD_DIR .. "/include" }
+   defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
+   sdfgen_flags()
+
+-- System libraries a program linking sdfgen_render needs (CMake: sdfgen::osmesa, which is OSMesa,
+-- and sdfgen::stb, Debian's libstb.so with the stb_image and stb_image_write implementations).
+SDFGEN_RENDER_LINKS = { "OSMesa", "stb" }
+
+function sdfgen_use_render()
+   links { "sdfgen_render" }
+   links(SDFGEN_RENDER_LINKS)
+   sdfgen_use_glad()
+end
+
 -- Command line front end.
 project "sdfgen"
    kind "ConsoleApp"
    files { "src/cli/**.cpp", "src/cli/**.hpp" }
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
+   sdfgen_use_render()
    sdfgen_use_core()
    sdfgen_flags()
 

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBakeCommand(app);
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
+    sdfgen::cli::addRenderCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
