@@ -123,4 +123,18 @@ if not _OPTIONS["no-tests"] then
          links { "pthread" }
       filter {}
       sdfgen_flags()
+
+   -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
+   project "sdfgen_render_tests"
+      kind "ConsoleApp"
+      files { "tests/render/*.cpp", "tests/support/*.cpp", "tests/support/*.hpp" }
+      includedirs { "tests" }
+      defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"', "GTEST_HAS_PTHREAD=1" }
+      sdfgen_use_render()
+      sdfgen_use_core()
+      links { "gtest_main", "gtest" }
+      filter "system:not windows"
+         links { "pthread" }
+      filter {}
+      sdfgen_flags()
 end

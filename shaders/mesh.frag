@@ -19,5 +19,5 @@ void main() {
     vec3 base = vec3(0.85, 0.62, 0.42);
     float key = max(dot(n, lightDirection), 0.0);
     float fill = 0.5 + 0.5 * n.y; // hemisphere ambient: sky above, ground below
-    colour = vec4(base * (0.75 * key + 0.3 * fill), 1.0);
+    colour = vec4(base * (0.05 + 0.75 * key + 0.3 * fill), 1.0); // never black
 }

@@ -88,7 +88,7 @@ void main() {
     }
     vec3 base = vec3(0.72, 0.78, 0.86);
     float sky = 0.5 + 0.5 * n.y;
-    colour = vec4(base * (0.8 * light * shadow + 0.35 * sky * occlusion), 1.0);
+    colour = vec4(base * (0.05 + 0.8 * light * shadow + 0.35 * sky * occlusion), 1.0); // never black
     vec4 clip = viewProjection * vec4(p, 1.0);
     gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
 }
