@@ -99,11 +99,20 @@ function sdfgen_use_render()
    sdfgen_use_glad()
 end
 
+-- The viewer: GLFW window context, Dear ImGui panel, background generation.
+project "sdfgen_app"
+   kind "StaticLib"
+   files { "src/app/**.cpp", "src/app/**.hpp" }
+   includedirs { "src", GLAD_DIR .. "/include", IMGUI_INCLUDE_DIR, IMGUI_INCLUDE_DIR .. "/backends" }
+   sdfgen_flags()
+
 -- Command line front end.
 project "sdfgen"
    kind "ConsoleApp"
    files { "src/cli/**.cpp", "src/cli/**.hpp" }
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
+   links { "sdfgen_app" }
+   sdfgen_use_imgui()
    sdfgen_use_render()
    sdfgen_use_core()
    sdfgen_flags()
