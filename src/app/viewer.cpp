@@ -26,13 +26,24 @@ namespace sdfgen::app {
 
 namespace {
 
-struct DropBox {
-    std::vector<std::string> paths;
+// Events taken straight from GLFW's callbacks (installed before ImGui's, which chain to them): a
+// key pressed and released within one frame still counts, and dropped files arrive here.
+struct Inbox {
+    std::vector<std::string> drops;
+    int screenshotRequests = 0;
+    bool quit = false;
 };
 
 void onDrop(GLFWwindow* window, int count, const char** paths) {
-    auto* box = static_cast<DropBox*>(glfwGetWindowUserPointer(window));
-    for (int i = 0; i < count; ++i) box->paths.emplace_back(paths[i]);
+    auto* inbox = static_cast<Inbox*>(glfwGetWindowUserPointer(window));
+    for (int i = 0; i < count; ++i) inbox->drops.emplace_back(paths[i]);
+}
+
+void onKey(GLFWwindow* window, int key, int, int action, int mods) {
+    auto* inbox = static_cast<Inbox*>(glfwGetWindowUserPointer(window));
+    if (action != GLFW_PRESS) return;
+    if (key == GLFW_KEY_F12) ++inbox->screenshotRequests;
+    if (key == GLFW_KEY_Q && (mods & GLFW_MOD_CONTROL)) inbox->quit = true;
 }
 
 void copyPath(char* buffer, std::size_t size, const std::string& text) {
@@ -41,7 +52,7 @@ void copyPath(char* buffer, std::size_t size, const std::string& text) {
 
 class Viewer {
 public:
-    explicit Viewer(GlfwContext& context) : context_(context) {}
+    Viewer(GlfwContext& context, Inbox& inbox) : context_(context), inbox_(inbox) {}
 
     void loadMesh(const std::string& path) {
         try {
@@ -56,17 +67,16 @@ public:
             camera_.frame(mesh_->bounds);
             error_.clear();
             status_ = "loaded " + std::to_string(mesh_->triangleCount()) + " triangles";
+            loadSavedField(path);
         } catch (const std::exception& e) {
             error_ = e.what();
         }
     }
 
     int run() {
-        DropBox drops;
-        glfwSetWindowUserPointer(context_.window(), &drops);
-        glfwSetDropCallback(context_.window(), onDrop);
         const char* screenshotDir = std::getenv("SDFGEN_SCREENSHOT_DIR");
-        int screenshots = 0;
+        int screenshots = 0, screenshotIn = 0;
+        bool announced = false;
         auto last = std::chrono::steady_clock::now();
         while (!glfwWindowShouldClose(context_.window())) {
             glfwPollEvents();
@@ -74,8 +84,9 @@ public:
             const float dt = std::chrono::duration<float>(now - last).count();
             last = now;
             frameMs_ = 0.9f * frameMs_ + 0.1f * dt * 1000.0f;
-            for (const std::string& path : drops.paths) loadMesh(path);
-            drops.paths.clear();
+            for (const std::string& path : inbox_.drops) loadMesh(path);
+            inbox_.drops.clear();
+            if (inbox_.quit) glfwSetWindowShouldClose(context_.window(), GLFW_TRUE);
             collectGeneration();
 
             ImGui_ImplOpenGL3_NewFrame();
@@ -87,23 +98,57 @@ public:
 
             const glm::ivec2 size = context_.framebufferSize();
             scene_.draw(camera_, size, 0);
+            // For the GUI test (SDFGEN_SCREENSHOT_DIR set): F12 saves the scene alone (scene-N.png)
+            // and the whole window (window-N.png) two frames later, so that a click sent just before
+            // it (press and release may arrive in one frame; ImGui acts on the release) is shown.
+            if (screenshotDir && inbox_.screenshotRequests > 0 && screenshotIn == 0) {
+                --inbox_.screenshotRequests;
+                screenshotIn = 2;
+            }
+            const bool shoot = screenshotIn > 0 && --screenshotIn == 0;
+            const std::string name = std::to_string(screenshots);
+            glReadBuffer(GL_BACK);
+            if (shoot) render::savePng(render::readFramebuffer(size.x, size.y), std::string(screenshotDir) + "/scene-" + name + ".png");
             glViewport(0, 0, size.x, size.y);
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-            if (screenshotDir && ImGui::IsKeyPressed(GLFW_KEY_F12, false)) {
-                // For the GUI test: the whole window as drawn, named in order.
-                const std::string path = std::string(screenshotDir) + "/shot-" + std::to_string(screenshots++) + ".png";
-                glReadBuffer(GL_BACK);
-                render::savePng(render::readFramebuffer(size.x, size.y), path);
-                std::printf("screenshot %s\n", path.c_str());
+            if (shoot) {
+                render::savePng(render::readFramebuffer(size.x, size.y), std::string(screenshotDir) + "/window-" + name + ".png");
+                const render::Views& v = scene_.views;
+                std::printf("screenshot %d: Grid=%d Polygon=%d Coloured_Model=%d SDF_volume=%d Ray-marched=%d Slice=%d\n",
+                            screenshots++, v.grid, v.wire, v.mesh, v.volume, v.raymarch, v.slice);
                 std::fflush(stdout);
             }
             context_.present();
+            if (screenshotDir && !announced) {
+                std::printf("viewer ready\n"); // the GUI test waits for this before sending input
+                std::fflush(stdout);
+                announced = true;
+            }
         }
         generation_.stop();
         return 0;
     }
 
 private:
+    // A field saved next to the model (MODEL.sdf) is shown at once instead of being regenerated,
+    // when it was made from a file of the same name and is newer than the model; otherwise
+    // (stale or unreadable) it is ignored.
+    void loadSavedField(const std::string& meshPath) {
+        namespace fs = std::filesystem;
+        const fs::path saved = fs::path(meshPath).replace_extension(".sdf");
+        std::error_code ec;
+        if (!fs::exists(saved, ec) || fs::last_write_time(saved, ec) < fs::last_write_time(meshPath, ec)) return;
+        try {
+            Field field = loadFieldText(saved.string());
+            if (fs::path(field.source).filename() != fs::path(meshPath).filename()) return;
+            scene_.setField(field);
+            field_ = std::move(field);
+            status_ += "; field " + saved.filename().string() + " loaded";
+        } catch (const std::exception&) {
+            // A broken saved field is not an error for loading the model: generate a new one.
+        }
+    }
+
     void collectGeneration() {
         std::optional<Field> field;
         std::string error;
@@ -130,7 +175,6 @@ private:
 
     void handleInput(float dt) {
         ImGuiIO& io = ImGui::GetIO();
-        if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_Q, false)) glfwSetWindowShouldClose(context_.window(), GLFW_TRUE);
         if (!io.WantCaptureMouse) {
             const float height = std::max(io.DisplaySize.y, 1.0f);
             if (ImGui::IsMouseDown(ImGuiMouseButton_Right)) camera_.rotate(-io.MouseDelta.x * 0.3f, io.MouseDelta.y * 0.3f);
@@ -153,7 +197,7 @@ private:
         ImGui::SetNextWindowSize(ImVec2(400, 700), ImGuiCond_FirstUseEver);
         ImGui::Begin("sdfgen");
         ImGui::PushItemWidth(-140.0f);
-        ImGui::Text("%.1f ms/frame", double(frameMs_));
+        if (!std::getenv("SDFGEN_SCREENSHOT_DIR")) ImGui::Text("%.1f ms/frame", double(frameMs_));
         if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "%s", error_.c_str());
         if (!status_.empty()) ImGui::TextColored(ImVec4(0.5f, 0.9f, 0.5f, 1.0f), "%s", status_.c_str());
 
@@ -259,6 +303,7 @@ private:
     }
 
     GlfwContext& context_;
+    Inbox& inbox_;
     render::Scene scene_;
     render::OrbitCamera camera_;
     std::shared_ptr<const Mesh> mesh_;
@@ -280,6 +325,10 @@ int runViewer(const std::string& meshPath) {
         throw Error("no display (DISPLAY and WAYLAND_DISPLAY are unset): the viewer needs one; `sdfgen render` draws PNGs without");
     }
     GlfwContext context(1280, 720, "sdfgen");
+    Inbox inbox;
+    glfwSetWindowUserPointer(context.window(), &inbox);
+    glfwSetDropCallback(context.window(), onDrop);
+    glfwSetKeyCallback(context.window(), onKey);
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini dropped in the working folder
@@ -288,7 +337,7 @@ int runViewer(const std::string& meshPath) {
     ImGui_ImplOpenGL3_Init("#version 450 core");
     int code = 0;
     {
-        Viewer viewer(context);
+        Viewer viewer(context, inbox);
         if (!meshPath.empty()) viewer.loadMesh(meshPath);
         code = viewer.run();
     }
