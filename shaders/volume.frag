@@ -38,15 +38,16 @@ void main() {
     }
     if (span.x >= span.y) discard;
 
+    // Steps of 0.75 voxel through the shell and inside; far outside, where only the faint haze
+    // contributes, steps grow with the distance (up to 8x), each weighted by its own length.
     float stepLength = 0.75 * voxel;
-    int steps = min(int((span.y - span.x) / stepLength) + 1, 1024);
     float longest = max(max(boxSize.x, boxSize.y), boxSize.z);
     vec3 sum = vec3(0.0);
     float alpha = 0.0;
-    for (int i = 0; i < steps && alpha < 0.98; ++i) {
-        float t = span.x + (float(i) + 0.5) * stepLength;
-        vec3 p = eye + t * dir;
-        float d = texture(field, (p - boxMin) / boxSize).r;
+    float t = span.x;
+    for (int i = 0; i < 2048 && t < span.y && alpha < 0.98; ++i) {
+        float d = texture(field, (eye + (t + 0.5 * stepLength) * dir - boxMin) / boxSize).r;
+        float ds = min(d > 0.0 ? clamp(0.5 * (d - 3.0 * band), stepLength, 8.0 * stepLength) : stepLength, span.y - t);
         float shell = exp(-(d * d) / (band * band));
         vec3 rgb;
         float sigma; // extinction per unit length
@@ -58,9 +59,10 @@ void main() {
             rgb = vec3(0.2, 1.0, 0.3);
             sigma = (14.0 * shell + 1.5 * haze) / longest;
         }
-        float a = 1.0 - exp(-sigma * density * stepLength);
+        float a = 1.0 - exp(-sigma * density * ds);
         sum += (1.0 - alpha) * a * rgb;
         alpha += (1.0 - alpha) * a;
+        t += ds;
     }
     colour = vec4(sum, alpha);
 }
