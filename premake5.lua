@@ -80,11 +80,40 @@ project "sdfgen_core"
    includedirs { "src" }
    sdfgen_flags()
 
+-- Renderers (OpenGL 4.5 through glad) and the OSMesa headless context. Shaders are read at run
+-- time from shaders/, beside the binary or in this source tree (SDFGEN_SOURCE_DIR).
+project "sdfgen_render"
+   kind "StaticLib"
+   files { "src/render/**.cpp", "src/render/**.hpp", "shaders/*" }
+   includedirs { "src", GLAD_DIR .. "/include" }
+   defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
+   sdfgen_flags()
+
+-- System libraries a program linking sdfgen_render needs (CMake: sdfgen::osmesa, which is OSMesa,
+-- and sdfgen::stb, Debian's libstb.so with the stb_image and stb_image_write implementations).
+SDFGEN_RENDER_LINKS = { "OSMesa", "stb" }
+
+function sdfgen_use_render()
+   links { "sdfgen_render" }
+   links(SDFGEN_RENDER_LINKS)
+   sdfgen_use_glad()
+end
+
+-- The viewer: GLFW window context, Dear ImGui panel, background generation.
+project "sdfgen_app"
+   kind "StaticLib"
+   files { "src/app/**.cpp", "src/app/**.hpp" }
+   includedirs { "src", GLAD_DIR .. "/include", IMGUI_INCLUDE_DIR, IMGUI_INCLUDE_DIR .. "/backends" }
+   sdfgen_flags()
+
 -- Command line front end.
 project "sdfgen"
    kind "ConsoleApp"
    files { "src/cli/**.cpp", "src/cli/**.hpp" }
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
+   links { "sdfgen_app" }
+   sdfgen_use_imgui()
+   sdfgen_use_render()
    sdfgen_use_core()
    sdfgen_flags()
 
@@ -97,6 +126,20 @@ if not _OPTIONS["no-tests"] then
       files { "tests/*.cpp", "tests/support/*.cpp", "tests/support/*.hpp" }
       includedirs { "tests" }
       defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"', "GTEST_HAS_PTHREAD=1" }
+      sdfgen_use_core()
+      links { "gtest_main", "gtest" }
+      filter "system:not windows"
+         links { "pthread" }
+      filter {}
+      sdfgen_flags()
+
+   -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
+   project "sdfgen_render_tests"
+      kind "ConsoleApp"
+      files { "tests/render/*.cpp", "tests/support/*.cpp", "tests/support/*.hpp" }
+      includedirs { "tests" }
+      defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"', "GTEST_HAS_PTHREAD=1" }
+      sdfgen_use_render()
       sdfgen_use_core()
       links { "gtest_main", "gtest" }
       filter "system:not windows"

@@ -1,17 +1,24 @@
-// sdfgen command line: a thin front end over the core library.
+// sdfgen command line: a thin front end over the core library. With no command, or `view`, it
+// opens the viewer window.
+#include "app/viewer.hpp"
 #include "cli/commands.hpp"
 #include "core/error.hpp"
 
 #include <cstdio>
 
 int main(int argc, char** argv) {
-    CLI::App app{"sdfgen: signed distance fields from triangle meshes"};
-    app.require_subcommand(1);
+    CLI::App app{"sdfgen: signed distance fields from triangle meshes. With no command, opens the viewer."};
+    app.require_subcommand(0, 1);
     sdfgen::cli::addBakeCommand(app);
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
+    sdfgen::cli::addRenderCommand(app);
+    std::string viewMesh;
+    CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
+    view->add_option("mesh", viewMesh, "Mesh to open (Wavefront OBJ)");
     try {
         app.parse(argc, argv);
+        if (app.get_subcommands().empty() || view->parsed()) return sdfgen::app::runViewer(viewMesh);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const sdfgen::Error& e) {

@@ -1,0 +1,23 @@
+#version 450 core
+// Flat-shaded Lambert ("Coloured Model") or a plain line colour for the wireframe ("Polygon").
+in vec3 vPosition;
+in vec3 vNormal;
+out vec4 colour;
+
+uniform vec3 eye;
+uniform int wire;
+
+const vec3 lightDirection = normalize(vec3(0.45, 0.8, 0.35));
+
+void main() {
+    if (wire != 0) {
+        colour = vec4(0.1, 0.95, 0.85, 0.9);
+        return;
+    }
+    vec3 n = normalize(vNormal);
+    if (dot(n, eye - vPosition) < 0.0) n = -n; // back faces of open meshes lit from the viewer's side
+    vec3 base = vec3(0.85, 0.62, 0.42);
+    float key = max(dot(n, lightDirection), 0.0);
+    float fill = 0.5 + 0.5 * n.y; // hemisphere ambient: sky above, ground below
+    colour = vec4(base * (0.05 + 0.75 * key + 0.3 * fill), 1.0); // never black
+}

@@ -1,0 +1,94 @@
+#version 450 core
+// Sphere tracing of the field stored as a 3D texture (trilinear). Outside the field's box the ray
+// jumps straight to the box (the distance to the box is exact there); inside, it steps by the
+// sampled distance. At a hit: normal from the field's gradient (central differences), Lambert
+// light, soft shadows (a second march towards the light, penumbra from the closest approach)
+// and ambient occlusion (the field sampled along the normal). Writes the hit's depth.
+in vec2 vNdc;
+out vec4 colour;
+
+uniform mat4 inverseViewProjection;
+uniform mat4 viewProjection;
+uniform vec3 eye;
+uniform sampler3D field;
+uniform vec3 boxMin;
+uniform vec3 boxSize;
+uniform float voxel;
+uniform int shadows;
+
+const vec3 lightDirection = normalize(vec3(0.45, 0.8, 0.35));
+
+vec2 boxHits(vec3 origin, vec3 dir) {
+    vec3 inv = 1.0 / dir;
+    vec3 a = (boxMin - origin) * inv, b = (boxMin + boxSize - origin) * inv;
+    vec3 lo = min(a, b), hi = max(a, b);
+    return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
+}
+
+float sdf(vec3 p) { return texture(field, (p - boxMin) / boxSize).r; }
+
+vec3 gradient(vec3 p) {
+    float h = 0.5 * voxel;
+    return vec3(sdf(p + vec3(h, 0, 0)) - sdf(p - vec3(h, 0, 0)),
+                sdf(p + vec3(0, h, 0)) - sdf(p - vec3(0, h, 0)),
+                sdf(p + vec3(0, 0, h)) - sdf(p - vec3(0, 0, h)));
+}
+
+float softShadow(vec3 p, vec3 n) {
+    vec3 origin = p + n * (2.0 * voxel);
+    vec2 span = boxHits(origin, lightDirection);
+    float result = 1.0;
+    float t = 0.0;
+    for (int i = 0; i < 96 && t < span.y; ++i) {
+        float d = sdf(origin + t * lightDirection);
+        if (d < 0.1 * voxel) return 0.0;
+        result = min(result, 10.0 * d / max(t, voxel));
+        t += max(d, 0.5 * voxel);
+    }
+    return clamp(result, 0.0, 1.0);
+}
+
+float ambientOcclusion(vec3 p, vec3 n) {
+    float occlusion = 0.0, weight = 1.0;
+    for (int i = 1; i <= 5; ++i) {
+        float h = 1.5 * voxel * float(i * i);
+        occlusion += weight * max(h - sdf(p + n * h), 0.0) / h;
+        weight *= 0.6;
+    }
+    return clamp(1.0 - 0.8 * occlusion, 0.0, 1.0);
+}
+
+void main() {
+    vec4 nearPoint = inverseViewProjection * vec4(vNdc, -1.0, 1.0);
+    vec4 farPoint = inverseViewProjection * vec4(vNdc, 1.0, 1.0);
+    vec3 dir = normalize(farPoint.xyz / farPoint.w - nearPoint.xyz / nearPoint.w);
+    vec2 span = boxHits(eye, dir);
+    if (span.x >= span.y || span.y <= 0.0) discard;
+
+    float t = max(span.x, 0.0); // outside the box: jump by the distance to it
+    float eps = 0.02 * voxel;
+    bool hit = false;
+    for (int i = 0; i < 512 && t < span.y; ++i) {
+        float d = sdf(eye + t * dir);
+        if (d < eps) {
+            hit = true;
+            break;
+        }
+        t += max(d, 0.05 * voxel);
+    }
+    if (!hit) discard;
+
+    vec3 p = eye + t * dir;
+    vec3 n = normalize(gradient(p) + vec3(1e-9));
+    float light = max(dot(n, lightDirection), 0.0);
+    float shadow = 1.0, occlusion = 1.0;
+    if (shadows != 0) {
+        if (light > 0.0) shadow = softShadow(p, n);
+        occlusion = ambientOcclusion(p, n);
+    }
+    vec3 base = vec3(0.72, 0.78, 0.86);
+    float sky = 0.5 + 0.5 * n.y;
+    colour = vec4(base * (0.05 + 0.8 * light * shadow + 0.35 * sky * occlusion), 1.0); // never black
+    vec4 clip = viewProjection * vec4(p, 1.0);
+    gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
+}

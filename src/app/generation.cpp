@@ -1,0 +1,61 @@
+#include "app/generation.hpp"
+#include "core/error.hpp"
+#include "core/kdtree.hpp"
+
+namespace sdfgen::app {
+
+void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, int threads) {
+    stop();
+    cancel_ = false;
+    finished_ = false;
+    progress_ = 0.0;
+    field_.reset();
+    error_.clear();
+    started_ = std::chrono::steady_clock::now();
+    thread_ = std::thread([this, mesh, settings, threads] {
+        std::optional<Field> field;
+        std::string error;
+        try {
+            const KdTree tree(*mesh);
+            RunControl control;
+            control.threads = threads;
+            control.cancel = &cancel_;
+            control.progress = [this](double fraction) { progress_ = fraction; };
+            field = bake(*mesh, tree, settings, control).field;
+        } catch (const Cancelled&) {
+            error = "generation cancelled";
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        field_ = std::move(field);
+        error_ = error;
+        seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+        finished_ = true;
+    });
+}
+
+void Generation::stop() {
+    if (!thread_.joinable()) return;
+    cancel_ = true;
+    thread_.join();
+}
+
+double Generation::elapsed() const {
+    if (finished_) return seconds_;
+    if (!thread_.joinable()) return 0.0;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+}
+
+bool Generation::collect(std::optional<Field>& field, std::string& error, double& seconds) {
+    if (!thread_.joinable() || !finished_) return false;
+    thread_.join();
+    std::lock_guard<std::mutex> lock(mutex_);
+    field = std::move(field_);
+    field_.reset();
+    error = error_;
+    seconds = seconds_;
+    return true;
+}
+
+} // namespace sdfgen::app

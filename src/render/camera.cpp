@@ -1,0 +1,44 @@
+#include "render/camera.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <algorithm>
+#include <cmath>
+
+namespace sdfgen::render {
+
+glm::vec3 OrbitCamera::eye() const {
+    const float y = glm::radians(yaw), p = glm::radians(pitch);
+    return target + distance * glm::vec3(std::cos(p) * std::sin(y), std::sin(p), std::cos(p) * std::cos(y));
+}
+
+glm::mat4 OrbitCamera::view() const { return glm::lookAt(eye(), target, glm::vec3(0, 1, 0)); }
+
+glm::mat4 OrbitCamera::projection(float aspect) const {
+    const float nearPlane = std::max(distance - 4.0f * sceneRadius, distance * 0.01f);
+    const float farPlane = distance + 50.0f * sceneRadius;
+    return glm::perspective(glm::radians(fovY), aspect, nearPlane, farPlane);
+}
+
+void OrbitCamera::frame(const Bounds& bounds, float zoomFactor) {
+    target = 0.5f * (bounds.min + bounds.max);
+    sceneRadius = std::max(0.5f * glm::length(bounds.extent()), 1e-6f);
+    distance = zoomFactor * sceneRadius / std::sin(glm::radians(0.5f * fovY)) * 1.05f;
+}
+
+void OrbitCamera::rotate(float yawDegrees, float pitchDegrees) {
+    yaw = std::fmod(yaw + yawDegrees, 360.0f);
+    pitch = std::clamp(pitch + pitchDegrees, -89.0f, 89.0f);
+}
+
+void OrbitCamera::pan(float dxFraction, float dyFraction) {
+    const glm::mat4 v = view();
+    const glm::vec3 right(v[0][0], v[1][0], v[2][0]);
+    const glm::vec3 up(v[0][1], v[1][1], v[2][1]);
+    const float viewHeight = 2.0f * distance * std::tan(glm::radians(0.5f * fovY));
+    target += (-dxFraction * right + dyFraction * up) * viewHeight;
+}
+
+void OrbitCamera::zoom(float steps) { distance = std::max(distance * std::pow(0.9f, steps), 1e-4f); }
+
+} // namespace sdfgen::render

@@ -1,0 +1,18 @@
+#pragma once
+#include <glm/vec2.hpp>
+
+namespace sdfgen::render {
+
+// An OpenGL 4.5 core context with a default framebuffer to draw into: a GLFW window (src/app) or
+// an OSMesa offscreen buffer (osmesa_context.hpp). Renderers never see which one it is.
+class GlContext {
+public:
+    virtual ~GlContext() = default;
+    virtual void makeCurrent() = 0;
+    // Size of the default framebuffer in pixels.
+    virtual glm::ivec2 framebufferSize() const = 0;
+    // Shows what was drawn (swaps buffers in a window; finishes the frame offscreen).
+    virtual void present() = 0;
+};
+
+} // namespace sdfgen::render

@@ -1,0 +1,242 @@
+// Render tests under OSMesa (Mesa llvmpipe, no display): screenshots of every view compared with
+// reference images, checks that need no reference (not blank, toggling a view changes the image),
+// and the ray-marched silhouette against the rasterised one.
+//
+// Reference images: tests/render/reference/<model>_<view>.png. To (re)create them after an
+// intended change in how a view looks, run
+//     SDFGEN_UPDATE_REFERENCES=1 build/sdfgen_render_tests
+// and look at the images before committing them. A failing comparison writes the image it got
+// beside the test binary (render-actual/), to compare by eye.
+#include "core/error.hpp"
+#include "core/generate.hpp"
+#include "core/kdtree.hpp"
+#include "core/mesh.hpp"
+#include "render/image.hpp"
+#include "render/osmesa_context.hpp"
+#include "render/scene.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace sdfgen::render {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Small images keep the suite fast on llvmpipe with two cores.
+constexpr glm::ivec2 kSize{256, 192};
+
+// One context, scene and set of baked models for the whole suite.
+struct Model {
+    Mesh mesh;
+    Field field;
+};
+
+class RenderTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        context_ = createOsMesaContext(kSize).release();
+        scene_ = new Scene();
+        models_ = new std::map<std::string, Model>();
+        // The generated torus at res 64; the bundled bunny at res 128, as in the silhouette test.
+        addModel("torus", test::torus(1.0f, 0.4f, 48, 24), 64);
+        addModel("bunny", loadObj(test::bundledBunnyPath()), 128);
+    }
+    static void TearDownTestSuite() {
+        delete models_;
+        delete scene_;
+        delete context_;
+    }
+    static void addModel(const std::string& name, Mesh mesh, int res) {
+        const KdTree tree(mesh);
+        BakeSettings settings;
+        settings.res = res;
+        Field field = bake(mesh, tree, settings, RunControl{}).field;
+        (*models_)[name] = Model{std::move(mesh), std::move(field)};
+    }
+
+    // Draws `views` of a model with a fixed camera and background.
+    static Image draw(const std::string& model, const Views& views, float yaw = 30.0f, float pitch = 20.0f,
+                      glm::vec3 background = glm::vec3(0.16f, 0.17f, 0.19f), bool shadows = true) {
+        const Model& m = models_->at(model);
+        scene_->setMesh(m.mesh);
+        scene_->setField(m.field);
+        scene_->views = views;
+        scene_->background = background;
+        scene_->shadows = shadows;
+        scene_->sliceAxis = 2;
+        scene_->slicePosition = 0.5f;
+        OrbitCamera camera;
+        camera.yaw = yaw;
+        camera.pitch = pitch;
+        camera.frame(m.mesh.bounds);
+        scene_->draw(camera, kSize);
+        context_->present();
+        return readFramebuffer(kSize.x, kSize.y);
+    }
+
+    static GlContext* context_;
+    static Scene* scene_;
+    static std::map<std::string, Model>* models_;
+};
+GlContext* RenderTest::context_ = nullptr;
+Scene* RenderTest::scene_ = nullptr;
+std::map<std::string, Model>* RenderTest::models_ = nullptr;
+
+Views only(const std::string& list) { return Views::parse(list); }
+
+// Pixels whose largest channel difference exceeds `threshold`.
+std::size_t differingPixels(const Image& a, const Image& b, int threshold, int* largest = nullptr) {
+    std::size_t count = 0;
+    int maxDiff = 0;
+    for (std::size_t i = 0; i < a.rgba.size(); i += 4) {
+        int d = 0;
+        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])));
+        maxDiff = std::max(maxDiff, d);
+        if (d > threshold) ++count;
+    }
+    if (largest) *largest = maxDiff;
+    return count;
+}
+
+std::size_t pixelCount(const Image& image) { return std::size_t(image.width) * std::size_t(image.height); }
+
+// Pixels that differ from the background colour at all.
+std::vector<bool> coverage(const Image& image) {
+    std::vector<bool> mask(pixelCount(image));
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        const std::uint8_t* p = &image.rgba[i * 4];
+        mask[i] = p[0] != 0 || p[1] != 0 || p[2] != 0;
+    }
+    return mask;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Screenshots against references.
+
+struct Shot {
+    std::string model;
+    std::string view;
+};
+std::string shotName(const ::testing::TestParamInfo<Shot>& info) { return info.param.model + "_" + info.param.view; }
+
+class Screenshot : public RenderTest, public ::testing::WithParamInterface<Shot> {};
+
+TEST_P(Screenshot, MatchesReference) {
+    const Shot& shot = GetParam();
+    const Image image = draw(shot.model, only(shot.view));
+    const std::string name = shot.model + "_" + shot.view + ".png";
+    const fs::path reference = fs::path(SDFGEN_SOURCE_DIR) / "tests/render/reference" / name;
+    if (const char* update = std::getenv("SDFGEN_UPDATE_REFERENCES"); update && std::string(update) == "1") {
+        savePng(image, reference.string());
+        GTEST_SKIP() << "wrote " << reference;
+    }
+    ASSERT_TRUE(fs::exists(reference)) << reference << " is missing; create it with SDFGEN_UPDATE_REFERENCES=1";
+    const Image expected = loadPng(reference.string());
+    ASSERT_EQ(expected.width, image.width);
+    ASSERT_EQ(expected.height, image.height);
+    // Tolerance. llvmpipe's results vary a little between Mesa versions and CPUs (vector width,
+    // FMA contraction, rasterisation and texture-filtering precision): shading moves by a few
+    // levels, and edges, wireframe lines and contours move by about a pixel. So a pixel counts as
+    // different only when a channel moves by more than 24 of 255 (shading drift stays well below
+    // that; a wrong colour map, light or transfer function does not), and up to 1.5% of the
+    // pixels (737 of 49152) may differ: about a one-pixel shift along every silhouette and line of
+    // these images. A missing or misplaced view, a wrong camera or a broken field changes far more.
+    int largest = 0;
+    const std::size_t differing = differingPixels(image, expected, 24, &largest);
+    const std::size_t budget = pixelCount(image) * 15 / 1000;
+    if (differing > budget) {
+        const fs::path actual = fs::path("render-actual") / name;
+        fs::create_directories(actual.parent_path());
+        savePng(image, actual.string());
+        ADD_FAILURE() << name << ": " << differing << " pixels differ by more than 24 levels (budget " << budget
+                      << ", largest difference " << largest << "); got " << fs::absolute(actual);
+    }
+}
+
+std::vector<Shot> allShots() {
+    std::vector<Shot> shots;
+    for (const char* model : {"torus", "bunny"}) {
+        for (const char* view : {"grid", "mesh", "wire", "volume", "raymarch", "slice"}) shots.push_back({model, view});
+    }
+    return shots;
+}
+INSTANTIATE_TEST_SUITE_P(Views, Screenshot, ::testing::ValuesIn(allShots()), shotName);
+
+// ---------------------------------------------------------------------------------------------
+// Checks without references.
+
+TEST_F(RenderTest, EveryViewDrawsSomething) {
+    const Image empty = draw("bunny", only("none"));
+    for (const char* view : {"grid", "mesh", "wire", "volume", "raymarch", "slice"}) {
+        const Image image = draw("bunny", only(view));
+        const std::size_t changed = differingPixels(image, empty, 8);
+        EXPECT_GT(changed, pixelCount(image) / 50) << view << " leaves the image (nearly) blank";
+    }
+}
+
+TEST_F(RenderTest, TogglingAViewChangesTheImage) {
+    const Image base = draw("torus", only("grid,mesh"));
+    for (const char* extra : {"wire", "volume", "raymarch", "slice"}) {
+        const Image image = draw("torus", only(std::string("grid,mesh,") + extra));
+        EXPECT_GT(differingPixels(image, base, 8), pixelCount(image) / 100) << "turning on " << extra;
+    }
+    EXPECT_GT(differingPixels(draw("torus", only("grid")), base, 8), pixelCount(base) / 50) << "turning off mesh";
+    EXPECT_GT(differingPixels(draw("torus", only("mesh")), base, 8), pixelCount(base) / 50) << "turning off grid";
+}
+
+TEST_F(RenderTest, ModelOccludesGridAndRaymarchCompositesWithMesh) {
+    // The mesh drawn alone and with the grid must agree where the mesh is: the grid never shows
+    // through it. Likewise the ray-marched surface (which writes depth) hides the grid.
+    const glm::vec3 black(0.0f);
+    for (const char* view : {"mesh", "raymarch"}) {
+        const Image alone = draw("bunny", only(view), 30.0f, 20.0f, black);
+        const Image withGrid = draw("bunny", only(std::string(view) + ",grid"), 30.0f, 20.0f, black);
+        const std::vector<bool> mask = coverage(alone);
+        std::size_t covered = 0, changed = 0;
+        for (std::size_t i = 0; i < mask.size(); ++i) {
+            if (!mask[i]) continue;
+            ++covered;
+            int d = 0;
+            for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(alone.rgba[i * 4 + c]) - int(withGrid.rgba[i * 4 + c])));
+            if (d > 8) ++changed;
+        }
+        ASSERT_GT(covered, 1000u);
+        EXPECT_LT(changed, covered / 100) << view << ": the grid shows through the model";
+    }
+}
+
+// The set of pixels the sphere tracer hits must match the rasterised mesh's: this checks the
+// generator, the texture upload, the mapping of the field's box and the marcher together.
+TEST_F(RenderTest, RaymarchedSilhouetteMatchesMesh) {
+    const glm::vec3 black(0.0f);
+    for (const auto& [yaw, pitch] : std::vector<std::pair<float, float>>{{30, 20}, {120, 5}, {210, 45}, {300, -25}, {0, 85}}) {
+        const std::vector<bool> mesh = coverage(draw("bunny", only("mesh"), yaw, pitch, black, false));
+        const std::vector<bool> marched = coverage(draw("bunny", only("raymarch"), yaw, pitch, black, false));
+        std::size_t both = 0, either = 0;
+        for (std::size_t i = 0; i < mesh.size(); ++i) {
+            both += mesh[i] && marched[i];
+            either += mesh[i] || marched[i];
+        }
+        ASSERT_GT(either, 1000u);
+        const double iou = double(both) / double(either);
+        EXPECT_GE(iou, 0.95) << "camera yaw " << yaw << ", pitch " << pitch;
+        RecordProperty("iou_" + std::to_string(int(yaw)), std::to_string(iou));
+    }
+}
+
+TEST_F(RenderTest, FieldLargerThanTheTextureLimitIsAnError) {
+    Field field;
+    field.grid.dims = glm::ivec3(100000, 1, 1);
+    field.values.assign(100000, 1.0f);
+    EXPECT_THROW(scene_->setField(field), Error);
+}
+
+} // namespace
+} // namespace sdfgen::render
