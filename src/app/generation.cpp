@@ -9,11 +9,11 @@ void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& set
     cancel_ = false;
     finished_ = false;
     progress_ = 0.0;
-    field_.reset();
+    result_.reset();
     error_.clear();
     started_ = std::chrono::steady_clock::now();
     thread_ = std::thread([this, mesh, settings, threads] {
-        std::optional<Field> field;
+        std::optional<BakeResult> result;
         std::string error;
         try {
             const KdTree tree(*mesh);
@@ -21,14 +21,14 @@ void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& set
             control.threads = threads;
             control.cancel = &cancel_;
             control.progress = [this](double fraction) { progress_ = fraction; };
-            field = bake(*mesh, tree, settings, control).field;
+            result = bake(*mesh, tree, settings, control);
         } catch (const Cancelled&) {
             error = "generation cancelled";
         } catch (const std::exception& e) {
             error = e.what();
         }
         std::lock_guard<std::mutex> lock(mutex_);
-        field_ = std::move(field);
+        result_ = std::move(result);
         error_ = error;
         seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
         finished_ = true;
@@ -47,12 +47,12 @@ double Generation::elapsed() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
 }
 
-bool Generation::collect(std::optional<Field>& field, std::string& error, double& seconds) {
+bool Generation::collect(std::optional<BakeResult>& result, std::string& error, double& seconds) {
     if (!thread_.joinable() || !finished_) return false;
     thread_.join();
     std::lock_guard<std::mutex> lock(mutex_);
-    field = std::move(field_);
-    field_.reset();
+    result = std::move(result_);
+    result_.reset();
     error = error_;
     seconds = seconds_;
     return true;

@@ -25,9 +25,9 @@ public:
     bool running() const { return thread_.joinable() && !finished_; }
     double progress() const { return progress_; }
     double elapsed() const;
-    // When the job has finished since the last call: joins it, hands over the field (empty on
+    // When the job has finished since the last call: joins it, hands over the result (empty on
     // failure, with the message in `error`) and returns true. False while running or idle.
-    bool collect(std::optional<Field>& field, std::string& error, double& seconds);
+    bool collect(std::optional<BakeResult>& result, std::string& error, double& seconds);
 
 private:
     std::thread thread_;
@@ -37,7 +37,7 @@ private:
     std::chrono::steady_clock::time_point started_;
     double seconds_ = 0.0;
     std::mutex mutex_;
-    std::optional<Field> field_;
+    std::optional<BakeResult> result_;
     std::string error_;
 };
 

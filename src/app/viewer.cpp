@@ -141,8 +141,16 @@ private:
         try {
             Field field = loadFieldText(saved.string());
             if (fs::path(field.source).filename() != fs::path(meshPath).filename()) return;
+            // Made with other settings than the panel's: stale, generate anew instead.
+            char padding[32];
+            std::snprintf(padding, sizeof(padding), "%g", double(settings_.padding));
+            if (field.method != toString(settings_.method) || field.parameter("res") != std::to_string(settings_.res) ||
+                field.parameter("padding") != padding) {
+                return;
+            }
             scene_.setField(field);
             field_ = std::move(field);
+            signSummary_ = "sign: " + field_->parameter("sign");
             status_ += "; field " + saved.filename().string() + " loaded";
         } catch (const std::exception&) {
             // A broken saved field is not an error for loading the model: generate a new one.
@@ -150,18 +158,20 @@ private:
     }
 
     void collectGeneration() {
-        std::optional<Field> field;
+        std::optional<BakeResult> result;
         std::string error;
         double seconds = 0.0;
-        if (!generation_.collect(field, error, seconds)) return;
-        if (!field) {
+        if (!generation_.collect(result, error, seconds)) return;
+        if (!result) {
             error_ = error;
             status_.clear();
             return;
         }
         try {
-            scene_.setField(*field);
-            field_ = std::move(field);
+            scene_.setField(result->field);
+            field_ = std::move(result->field);
+            signSummary_ = "sign: " + field_->parameter("sign");
+            if (result->checked) signSummary_ += " (" + result->signReason + ")\nmesh check: " + result->check.describe();
             const Grid& g = field_->grid;
             lastSeconds_ = seconds;
             lastRate_ = double(g.sampleCount()) / std::max(seconds, 1e-9);
@@ -271,6 +281,7 @@ private:
             } else if (field_) {
                 const Grid& g = field_->grid;
                 ImGui::Text("%dx%dx%d voxels, %.2f s, %.0f voxels/s", g.dims.x, g.dims.y, g.dims.z, lastSeconds_, lastRate_);
+                if (!signSummary_.empty()) ImGui::TextWrapped("%s", signSummary_.c_str());
             }
         }
         if (ImGui::CollapsingHeader("Field", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -291,6 +302,7 @@ private:
                     Field field = loadFieldText(fieldPath_);
                     scene_.setField(field);
                     field_ = std::move(field);
+                    signSummary_ = "sign: " + field_->parameter("sign");
                     status_ = std::string("loaded ") + fieldPath_;
                     error_.clear();
                 } catch (const std::exception& e) {
@@ -314,6 +326,7 @@ private:
     char meshPath_[1024] = "";
     char fieldPath_[1024] = "";
     std::string error_, status_;
+    std::string signSummary_; // the last bake's sign method, auto's reason and the mesh check
     float frameMs_ = 16.0f;
     double lastSeconds_ = 0.0, lastRate_ = 0.0;
 };

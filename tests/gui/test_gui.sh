@@ -26,7 +26,7 @@ until_ok() {
 
 # The bunny with its field saved beside it, so that the viewer loads both at once.
 cp "$root/assets/bunny.obj" "$work/bunny.obj"
-"$sdfgen" bake "$work/bunny.obj" -o "$work/bunny.sdf" --res 48 >/dev/null
+"$sdfgen" bake "$work/bunny.obj" -o "$work/bunny.sdf" >/dev/null  # the panel's default settings, so the viewer takes it as current
 mkdir "$work/shots"
 SDFGEN_SCREENSHOT_DIR="$work/shots" "$sdfgen" view "$work/bunny.obj" >"$work/log" 2>&1 &
 pid=$!
