@@ -3,6 +3,8 @@
 #include "core/error.hpp"
 #include "core/field.hpp"
 
+#include "support/checks.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -22,25 +24,9 @@
 namespace sdfgen {
 namespace {
 
+using test::errorFrom;
+
 namespace fs = std::filesystem;
-
-#define EXPECT_CONTAINS(text, part)                                                                  \
-    EXPECT_NE(std::string(text).find(part), std::string::npos)                                       \
-        << "expected to find '" << (part) << "' in '" << (text) << "'"
-
-template <class F>
-std::string errorFrom(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "expected sdfgen::Error, got another exception: " << e.what();
-        return "";
-    }
-    ADD_FAILURE() << "expected sdfgen::Error, nothing was thrown";
-    return "";
-}
 
 std::uint32_t bits(float f) {
     std::uint32_t u;
@@ -71,28 +57,8 @@ std::string join(const std::vector<std::string>& lines) {
     return text;
 }
 
-class FieldText : public ::testing::Test {
+class FieldText : public test::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        static std::atomic<int> counter{0};
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("sdfgen-test-field-" + std::string(info->name()) + "-" +
-                                            std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(dir_);
-        ASSERT_TRUE(fs::create_directories(dir_));
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    std::string write(const std::string& name, const std::string& contents) {
-        const fs::path path = dir_ / name;
-        std::ofstream out(path, std::ios::binary);
-        out << contents;
-        EXPECT_TRUE(out.good());
-        return path.string();
-    }
 
     // Loading `contents` must fail with "PATH:LINE: ..." mentioning `word`.
     void expectLineError(const std::string& contents, int line, const std::string& word) {
@@ -125,7 +91,6 @@ protected:
         for (const std::string& name : folderContents()) EXPECT_EQ(name.find(".tmp-"), std::string::npos) << name;
     }
 
-    fs::path dir_;
 };
 
 Field smallField() {

@@ -2,6 +2,8 @@
 #include "core/error.hpp"
 #include "core/grid.hpp"
 
+#include "support/checks.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,23 +15,7 @@
 namespace sdfgen {
 namespace {
 
-#define EXPECT_CONTAINS(text, part)                                                                  \
-    EXPECT_NE(std::string(text).find(part), std::string::npos)                                       \
-        << "expected to find '" << (part) << "' in '" << (text) << "'"
-
-template <class F>
-std::string errorFrom(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "expected sdfgen::Error, got another exception: " << e.what();
-        return "";
-    }
-    ADD_FAILURE() << "expected sdfgen::Error, nothing was thrown";
-    return "";
-}
+using test::errorFrom;
 
 Bounds box(glm::vec3 min, glm::vec3 max) {
     Bounds b;

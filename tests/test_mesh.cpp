@@ -3,6 +3,8 @@
 #include "core/error.hpp"
 #include "core/mesh.hpp"
 
+#include "support/checks.hpp"
+
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
@@ -19,55 +21,17 @@
 namespace sdfgen {
 namespace {
 
+using test::errorFrom;
+
 namespace fs = std::filesystem;
-
-#define EXPECT_CONTAINS(text, part)                                                                  \
-    EXPECT_NE(std::string(text).find(part), std::string::npos)                                       \
-        << "expected to find '" << (part) << "' in '" << (text) << "'"
-
-// The message of the sdfgen::Error that f throws; a test failure when it throws nothing or another type.
-template <class F>
-std::string errorFrom(F&& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    } catch (const std::exception& e) {
-        ADD_FAILURE() << "expected sdfgen::Error, got another exception: " << e.what();
-        return "";
-    }
-    ADD_FAILURE() << "expected sdfgen::Error, nothing was thrown";
-    return "";
-}
 
 std::string lower(std::string text) {
     for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
     return text;
 }
 
-// A fresh directory under the system temp folder for each test, removed afterwards.
-class LoadObj : public ::testing::Test {
+class LoadObj : public test::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        static std::atomic<int> counter{0};
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("sdfgen-test-mesh-" + std::string(info->name()) + "-" +
-                                            std::to_string(getpid()) + "-" + std::to_string(counter++));
-        fs::remove_all(dir_);
-        ASSERT_TRUE(fs::create_directories(dir_));
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    std::string write(const std::string& name, const std::string& contents) {
-        const fs::path path = dir_ / name;
-        std::ofstream out(path, std::ios::binary);
-        out << contents;
-        EXPECT_TRUE(out.good());
-        return path.string();
-    }
 
     // Loads `contents` and returns the Error's message, checking that it names the file.
     std::string loadError(const std::string& contents) {
@@ -77,7 +41,6 @@ protected:
         return message;
     }
 
-    fs::path dir_;
 };
 
 const char* kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";

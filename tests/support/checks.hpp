@@ -1,0 +1,62 @@
+#pragma once
+// Test helpers shared by the suites: error messages, and a scratch folder per test.
+#include "core/error.hpp"
+
+#include <gtest/gtest.h>
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#define EXPECT_CONTAINS(text, part)                                                                  \
+    EXPECT_NE(std::string(text).find(part), std::string::npos)                                       \
+        << "expected to find '" << (part) << "' in '" << (text) << "'"
+
+namespace sdfgen::test {
+
+// The message of the sdfgen::Error that f throws; a test failure when it throws nothing or another type.
+template <class F>
+std::string errorFrom(F&& f) {
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "expected sdfgen::Error, got another exception: " << e.what();
+        return "";
+    }
+    ADD_FAILURE() << "expected sdfgen::Error, nothing was thrown";
+    return "";
+}
+
+// A fixture with a fresh folder under the system temp folder for each test, removed afterwards.
+class ScratchFolderTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        static std::atomic<int> counter{0};
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = std::filesystem::temp_directory_path() /
+               ("sdfgen-test-" + std::string(info->test_suite_name()) + "-" + std::string(info->name()) + "-" +
+                std::to_string(getpid()) + "-" + std::to_string(counter++));
+        std::filesystem::remove_all(dir_);
+        ASSERT_TRUE(std::filesystem::create_directories(dir_));
+    }
+    void TearDown() override {
+        std::error_code ec;
+        std::filesystem::remove_all(dir_, ec);
+    }
+
+    // Writes `contents` to a file in the folder and returns its path.
+    std::string write(const std::string& name, const std::string& contents) {
+        const std::filesystem::path path = dir_ / name;
+        std::ofstream out(path, std::ios::binary);
+        out << contents;
+        EXPECT_TRUE(out.good());
+        return path.string();
+    }
+
+    std::filesystem::path dir_;
+};
+
+} // namespace sdfgen::test
