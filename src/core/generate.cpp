@@ -137,7 +137,7 @@ BakeResult bake(const Mesh& mesh, const KdTree& tree, const BakeSettings& settin
             distance.resize(rayField.values.size());
             for (std::size_t i = 0; i < distance.size(); ++i) distance[i] = std::fabs(rayField.values[i]);
         }
-        if (settings.method == DistanceMethod::Exact || sign == SignMethod::Pseudonormal || sign == SignMethod::Auto) {
+        if (settings.method == DistanceMethod::Exact || sign == SignMethod::Pseudonormal) {
             nearest = computeNearest(mesh, tree, grid, control.phase(usesRays ? 0.5 : 0.0, 0.8));
             if (settings.method == DistanceMethod::Exact) distance = std::move(nearest.distance);
         }
@@ -167,6 +167,9 @@ BakeResult bake(const Mesh& mesh, const KdTree& tree, const BakeSettings& settin
                     }
                     result.signReason = "winding: the mesh has " + problems;
                 }
+            }
+            if (sign == SignMethod::Pseudonormal && nearest.triangle.empty()) {
+                nearest = computeNearest(mesh, tree, grid, control.phase(0.5, 0.8)); // ray distances, auto chose pseudonormal
             }
             inside = sign == SignMethod::Pseudonormal ? insideByPseudonormal(mesh, topology, grid, nearest, control.phase(0.8, 1.0))
                                                       : insideByWinding(mesh, topology, grid, control.phase(0.8, 1.0));
