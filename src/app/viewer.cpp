@@ -346,6 +346,13 @@ int runViewer(const std::string& meshPath) {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini dropped in the working folder
     ImGui::StyleColorsDark();
+    // High-DPI monitors: scale the panel with the monitor's content scale (1 on ordinary ones).
+    float scaleX = 1.0f, scaleY = 1.0f;
+    glfwGetWindowContentScale(context.window(), &scaleX, &scaleY);
+    if (scaleX > 1.0f) {
+        ImGui::GetStyle().ScaleAllSizes(scaleX);
+        ImGui::GetIO().FontGlobalScale = scaleX;
+    }
     ImGui_ImplGlfw_InitForOpenGL(context.window(), true);
     ImGui_ImplOpenGL3_Init("#version 450 core");
     int code = 0;
