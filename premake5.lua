@@ -118,32 +118,34 @@ project "sdfgen"
    sdfgen_flags()
 
 if not _OPTIONS["no-tests"] then
+   -- A GoogleTest program: its own sources plus the shared test support, run from the repo root.
+   function sdfgen_gtest_program(sources)
+      kind "ConsoleApp"
+      files { sources, "tests/support/*.cpp", "tests/support/*.hpp" }
+      includedirs { "tests" }
+      defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"', "GTEST_HAS_PTHREAD=1" }
+   end
+
+   -- Links gtest after the project's own libraries, then our warning and tuning flags.
+   function sdfgen_use_gtest()
+      links { "gtest_main", "gtest" }
+      filter "system:not windows"
+         links { "pthread" }
+      filter {}
+      sdfgen_flags()
+   end
    -- GoogleTest suite (tests/CMakeLists.txt), from Debian's libgtest-dev: static libgtest.a and
    -- libgtest_main.a. CMake's GTest::gtest brings GTEST_HAS_PTHREAD=1 and Threads::Threads, which
    -- is pthread (empty on glibc 2.34 and later, where libpthread is part of libc).
    project "sdfgen_tests"
-      kind "ConsoleApp"
-      files { "tests/*.cpp", "tests/support/*.cpp", "tests/support/*.hpp" }
-      includedirs { "tests" }
-      defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"', "GTEST_HAS_PTHREAD=1" }
+      sdfgen_gtest_program("tests/*.cpp")
       sdfgen_use_core()
-      links { "gtest_main", "gtest" }
-      filter "system:not windows"
-         links { "pthread" }
-      filter {}
-      sdfgen_flags()
+      sdfgen_use_gtest()
 
    -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
    project "sdfgen_render_tests"
-      kind "ConsoleApp"
-      files { "tests/render/*.cpp", "tests/support/*.cpp", "tests/support/*.hpp" }
-      includedirs { "tests" }
-      defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"', "GTEST_HAS_PTHREAD=1" }
+      sdfgen_gtest_program("tests/render/*.cpp")
       sdfgen_use_render()
       sdfgen_use_core()
-      links { "gtest_main", "gtest" }
-      filter "system:not windows"
-         links { "pthread" }
-      filter {}
-      sdfgen_flags()
+      sdfgen_use_gtest()
 end

@@ -8,6 +8,7 @@
 #include "core/geometry.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
+#include "support/checks.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -140,15 +141,12 @@ MeshCheck checkMesh(const Mesh& mesh) {
 }
 
 BakeResult bakeWith(const Mesh& mesh, int res, DistanceMethod method, SignMethod sign, int threads = 0, int rays = 64) {
-    const KdTree tree(mesh);
-    RunControl control;
-    control.threads = threads;
     BakeSettings settings;
     settings.res = res;
     settings.method = method;
     settings.sign = sign;
     settings.rays = rays;
-    return bake(mesh, tree, settings, control);
+    return test::bakeMesh(mesh, settings, threads);
 }
 
 // The brute-force field of a named mesh at a resolution, computed once per test run (the bunny's

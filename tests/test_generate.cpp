@@ -2,6 +2,7 @@
 #include "core/directions.hpp"
 #include "core/error.hpp"
 #include "core/generate.hpp"
+#include "support/checks.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -20,15 +21,13 @@ struct Baked {
     Field field;
 };
 
+// A ray-method field of `mesh`, kept together with the mesh.
 Baked bakeMesh(Mesh mesh, int res, int rays, int threads = 0) {
-    const KdTree tree(mesh);
-    RunControl control;
-    control.threads = threads;
     BakeSettings settings;
     settings.res = res;
     settings.rays = rays;
     settings.method = DistanceMethod::Rays;
-    Field field = bake(mesh, tree, settings, control).field;
+    Field field = test::bakeMesh(mesh, settings, threads).field;
     return {std::move(mesh), std::move(field)};
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Test helpers shared by the suites: error messages, and a scratch folder per test.
 #include "core/error.hpp"
+#include "core/generate.hpp"
+#include "core/kdtree.hpp"
 
 #include <gtest/gtest.h>
 #include <atomic>
@@ -28,6 +30,14 @@ std::string errorFrom(F&& f) {
     }
     ADD_FAILURE() << "expected sdfgen::Error, nothing was thrown";
     return "";
+}
+
+// Bakes `mesh` with `settings` on `threads` threads (0 = all), building its tree.
+inline BakeResult bakeMesh(const Mesh& mesh, const BakeSettings& settings, int threads = 0) {
+    const KdTree tree(mesh);
+    RunControl control;
+    control.threads = threads;
+    return bake(mesh, tree, settings, control);
 }
 
 // A fixture with a fresh folder under the system temp folder for each test, removed afterwards.
