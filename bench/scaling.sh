@@ -8,7 +8,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 meshes=("$root/assets/bunny.obj")
-for m in cow fandisk rocker-arm stanford-bunny; do
+for m in suzanne cow fandisk rocker-arm stanford-bunny; do
   [ -f "$root/../shared/meshes/$m.obj" ] && meshes+=("$root/../shared/meshes/$m.obj")
 done
 if [ -f "$root/../shared/meshes/stanford-bunny.obj" ]; then
