@@ -50,7 +50,7 @@ end
 
 -- What linking sdfgen_core brings along (CMake: its PUBLIC include directory and link libraries).
 function sdfgen_use_core()
-   includedirs { SDFGEN_ROOT .. "/src" }
+   includedirs { SDFGEN_ROOT .. "/include", SDFGEN_ROOT .. "/src" }
    links { "sdfgen_core" }
    links(SDFGEN_CORE_LINKS)
 end
@@ -76,8 +76,8 @@ workspace "sdfgen"
 -- Core library: mesh, tree, generators, field I/O. No OpenGL here.
 project "sdfgen_core"
    kind "StaticLib"
-   files { "src/core/**.cpp", "src/core/**.hpp" }
-   includedirs { "src" }
+   files { "src/core/**.cpp", "src/core/**.hpp", "include/sdfgen/**.hpp" }
+   includedirs { "include", "src" }
    sdfgen_flags()
 
 -- Renderers (OpenGL 4.5 through glad) and the OSMesa headless context. Shaders are read at run
@@ -85,7 +85,7 @@ project "sdfgen_core"
 project "sdfgen_render"
    kind "StaticLib"
    files { "src/render/**.cpp", "src/render/**.hpp", "shaders/*" }
-   includedirs { "src", GLAD_DIR .. "/include" }
+   includedirs { "include", "src", GLAD_DIR .. "/include" }
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
    sdfgen_flags()
 
@@ -103,7 +103,7 @@ end
 project "sdfgen_app"
    kind "StaticLib"
    files { "src/app/**.cpp", "src/app/**.hpp" }
-   includedirs { "src", GLAD_DIR .. "/include", IMGUI_INCLUDE_DIR, IMGUI_INCLUDE_DIR .. "/backends" }
+   includedirs { "include", "src", GLAD_DIR .. "/include", IMGUI_INCLUDE_DIR, IMGUI_INCLUDE_DIR .. "/backends" }
    sdfgen_flags()
 
 -- Command line front end.

@@ -2,10 +2,10 @@
 // a stopwatch, and sdfgen's own mesh loading, grid and field saving, so that a peer's field has
 // exactly sdfgen's samples and can be compared value for value with `sdfgen bake`.
 #pragma once
-#include "core/error.hpp"
-#include "core/field.hpp"
-#include "core/grid.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/grid.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <CLI/CLI.hpp>
 #include <chrono>

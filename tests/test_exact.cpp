@@ -1,10 +1,10 @@
 // Exact distances, the sign methods, the mesh check and the brute-force reference: the geometric
 // primitives against their definitions, the fast paths against the reference, and the ray mode's
 // error measured against the exact field.
-#include "core/compare.hpp"
-#include "core/error.hpp"
+#include "sdfgen/compare.hpp"
+#include "sdfgen/error.hpp"
 #include "core/exact.hpp"
-#include "core/generate.hpp"
+#include "core/bake.hpp"
 #include "core/geometry.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
@@ -136,7 +136,7 @@ double signedVolume(const Mesh& mesh) {
 }
 
 MeshCheck checkMesh(const Mesh& mesh) {
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     return MeshTopology(mesh).check(mesh, tree);
 }
 
@@ -561,7 +561,7 @@ TEST(ExactDistance, EqualsBruteForceOnClosedMeshes) {
 TEST(ExactDistance, EqualsBruteForceOnOpenMeshes) {
     for (const Shape& shape : openShapes()) {
         const Field& brute = bruteField(shape.name, shape.mesh, shape.res);
-        const NearestField nearest = computeNearest(shape.mesh, KdTree(shape.mesh), brute.grid, RunControl{});
+        const NearestField nearest = computeNearest(shape.mesh, Bvh(shape.mesh), brute.grid, RunControl{});
         const double tolerance = 1e-5 * brute.grid.voxel * glm::length(glm::vec3(brute.grid.dims));
         double worst = 0;
         for (std::size_t i = 0; i < brute.values.size(); ++i) {
@@ -642,7 +642,7 @@ TEST(Signs, WindingInsideMatchesTheReferenceWindingNumberExactly) {
     const Mesh mesh = twoShells(true);
     const Grid grid = makeGrid(mesh.bounds, 20, 0.1f);
     const std::vector<std::uint8_t> inside = insideByWinding(mesh, MeshTopology(mesh), grid, RunControl{});
-    const NearestField nearest = computeNearest(mesh, KdTree(mesh), grid, RunControl{});
+    const NearestField nearest = computeNearest(mesh, Bvh(mesh), grid, RunControl{});
     std::size_t regions[3] = {0, 0, 0};
     for (int k = 0; k < grid.dims.z; ++k)
         for (int j = 0; j < grid.dims.y; ++j)
@@ -916,7 +916,7 @@ TEST(ExactBake, BitIdenticalForAnyThreadCount) {
 
 TEST(ExactBake, HonoursCancelFromTheProgressCallback) {
     const Mesh mesh = test::icosphere(1.0f, 2);
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     struct Case {
         DistanceMethod method;
         SignMethod sign;

@@ -1,7 +1,7 @@
 // The sdfgen-text field format: exact round trips, line-numbered errors for every kind of bad
 // file, and atomic saving that never leaves a half-written or temporary file behind.
-#include "core/error.hpp"
-#include "core/field.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/field.hpp"
 
 #include "support/checks.hpp"
 

@@ -1,7 +1,8 @@
 // The ray-sampling generator against analytic fields, the naive definition, and itself.
 #include "core/directions.hpp"
-#include "core/error.hpp"
-#include "core/generate.hpp"
+#include "sdfgen/error.hpp"
+#include "core/bake.hpp"
+#include "core/ray_generator.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
 
@@ -165,7 +166,7 @@ TEST(RayGenerator, ErrorShrinksWithMoreRays) {
 TEST(RayGenerator, EqualsTheNaiveDefinition) {
     // Every ray traced in full, one at a time: the generator's packets and early vote must agree exactly.
     const Mesh mesh = loadObj(test::bundledBunnyPath());
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     const int rays = 24;
     const Grid grid = makeGrid(mesh.bounds, 10, 0.1f);
     const Field field = generateRayField(mesh, tree, grid, rays, RunControl{});
@@ -199,7 +200,7 @@ TEST(RayGenerator, BitIdenticalForAnyThreadCount) {
 TEST(RayGenerator, SamplesWhoseRaysAllMissGetTheFarCornerDistance) {
     // One flat triangle and one ray direction, (1, 0, 0), in its plane: nothing is ever hit.
     const Mesh mesh = buildMesh("flat", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     const Grid grid = makeGrid(mesh.bounds, 6, 0.1f);
     const Field field = generateRayField(mesh, tree, grid, 1, RunControl{});
     for (int k = 0; k < grid.dims.z; ++k)
@@ -213,7 +214,7 @@ TEST(RayGenerator, SamplesWhoseRaysAllMissGetTheFarCornerDistance) {
 
 TEST(RayGenerator, ReportsProgressAndHonoursCancel) {
     const Mesh mesh = test::icosphere(1.0f, 2);
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     const Grid grid = makeGrid(mesh.bounds, 16, 0.1f);
     RunControl control;
     std::vector<double> seen;
@@ -232,7 +233,7 @@ TEST(RayGenerator, ReportsProgressAndHonoursCancel) {
 
 TEST(RayGenerator, RejectsImpossibleSettings) {
     const Mesh mesh = test::icosphere(1.0f, 1);
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     BakeSettings settings;
     settings.rays = 0;
     EXPECT_THROW(bake(mesh, tree, settings, RunControl{}), Error);

@@ -1,6 +1,6 @@
 // makeGrid: the padded box, voxel size and dims, and clear errors for impossible requests.
-#include "core/error.hpp"
-#include "core/grid.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/grid.hpp"
 
 #include "support/checks.hpp"
 

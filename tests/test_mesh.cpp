@@ -1,7 +1,7 @@
 // OBJ loading and mesh building: every kind of bad input is an Error naming the file and the
 // problem; valid polygons are triangulated, degenerate triangles dropped, normals and bounds right.
-#include "core/error.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include "support/checks.hpp"
 

@@ -1,6 +1,6 @@
 #include "app/generation.hpp"
-#include "core/error.hpp"
-#include "core/kdtree.hpp"
+#include "sdfgen/error.hpp"
+#include "core/bvh.hpp"
 
 namespace sdfgen::app {
 
@@ -16,7 +16,7 @@ void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& set
         std::optional<BakeResult> result;
         std::string error;
         try {
-            const KdTree tree(*mesh);
+            const Bvh tree(*mesh);
             RunControl control;
             control.threads = threads;
             control.cancel = &cancel_;

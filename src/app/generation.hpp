@@ -1,7 +1,7 @@
 #pragma once
-#include "core/field.hpp"
-#include "core/generate.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/field.hpp"
+#include "core/bake.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <atomic>
 #include <chrono>

@@ -1,5 +1,5 @@
 #include "app/glfw_context.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 #include "render/gl.hpp"
 
 #include <GLFW/glfw3.h>

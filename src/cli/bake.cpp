@@ -1,9 +1,9 @@
 // `sdfgen bake`: mesh in, field file out.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
-#include "core/field.hpp"
-#include "core/kdtree.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/field.hpp"
+#include "core/bvh.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <tbb/task_arena.h>
 #include <cstdio>
@@ -26,7 +26,7 @@ void runBake(const BakeArgs& args) {
     if (mesh.droppedDegenerate > 0) {
         std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", args.mesh.c_str(), mesh.droppedDegenerate);
     }
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     RunControl control;
     control.threads = args.threads;
     BakeResult result;

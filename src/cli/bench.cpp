@@ -1,9 +1,9 @@
 // `sdfgen bench`: throughput of the whole bake (load, tree, distances, signs, save) on given meshes.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
-#include "core/field.hpp"
-#include "core/kdtree.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/field.hpp"
+#include "core/bvh.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <tbb/task_arena.h>
 #include <cstdio>
@@ -45,7 +45,7 @@ Run runOnce(const std::string& path, const BenchArgs& args, const std::string& s
     const Mesh mesh = loadObj(path);
     run.timing.load = watch.seconds();
     watch = Stopwatch();
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     run.timing.tree = watch.seconds();
     RunControl control;
     control.threads = args.threads;

@@ -1,5 +1,5 @@
 #pragma once
-#include "core/generate.hpp"
+#include "core/bake.hpp"
 
 #include <CLI/CLI.hpp>
 #include <string>

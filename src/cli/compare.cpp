@@ -1,8 +1,8 @@
 // `sdfgen compare`: how far two fields on the same grid are apart.
 #include "cli/commands.hpp"
-#include "core/compare.hpp"
-#include "core/error.hpp"
-#include "core/field.hpp"
+#include "sdfgen/compare.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/field.hpp"
 
 #include <cstdio>
 #include <memory>

@@ -2,7 +2,7 @@
 // opens the viewer window.
 #include "app/viewer.hpp"
 #include "cli/commands.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 
 #include <cstdio>
 

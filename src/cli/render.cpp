@@ -2,10 +2,10 @@
 // renderers as the viewer window.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
-#include "core/error.hpp"
-#include "core/field.hpp"
-#include "core/kdtree.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/field.hpp"
+#include "core/bvh.hpp"
+#include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
 #include "render/osmesa_context.hpp"
 #include "render/scene.hpp"
@@ -70,7 +70,7 @@ void runRender(const RenderArgs& args) {
     if (!args.sdf.empty()) {
         field = loadFieldText(args.sdf);
     } else if (needField) {
-        const KdTree tree(mesh);
+        const Bvh tree(mesh);
         RunControl control;
         control.threads = args.threads;
         ProgressBar bar;

@@ -1,5 +1,5 @@
-#include "core/compare.hpp"
-#include "core/error.hpp"
+#include "sdfgen/compare.hpp"
+#include "sdfgen/error.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>

@@ -8,7 +8,7 @@
 
 namespace sdfgen {
 
-NearestField computeNearest(const Mesh& mesh, const KdTree& tree, const Grid& grid, const RunControl& control) {
+NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control) {
     using namespace simd;
     NearestField result;
     result.distance.resize(grid.sampleCount());

@@ -1,8 +1,8 @@
 #pragma once
-#include "core/field.hpp"
-#include "core/grid.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/grid.hpp"
 #include "core/parallel.hpp"
-#include "core/kdtree.hpp"
+#include "core/bvh.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -19,7 +19,7 @@ struct NearestField {
 // from the exact distance to the triangles the previous eight found (the field is 1-Lipschitz, so
 // a neighbour's triangle is nearly always the answer or close to it and prunes most of the tree).
 // The winner is re-measured in double precision. Independent of the thread count.
-NearestField computeNearest(const Mesh& mesh, const KdTree& tree, const Grid& grid, const RunControl& control);
+NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control);
 
 // The reference: for every sample, the distance to every triangle and the winding number summed
 // over every triangle, all in double (inside where it exceeds 1/2). O(samples x triangles).

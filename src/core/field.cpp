@@ -1,5 +1,5 @@
-#include "core/field.hpp"
-#include "core/error.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/error.hpp"
 
 #include <charconv>
 #include <cerrno>

@@ -1,5 +1,5 @@
-#include "core/grid.hpp"
-#include "core/error.hpp"
+#include "sdfgen/grid.hpp"
+#include "sdfgen/error.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>

@@ -1,5 +1,5 @@
-#include "core/mesh.hpp"
-#include "core/error.hpp"
+#include "sdfgen/mesh.hpp"
+#include "sdfgen/error.hpp"
 
 #include <tiny_obj_loader.h>
 

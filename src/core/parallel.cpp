@@ -1,5 +1,5 @@
 #include "core/parallel.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -1,7 +1,7 @@
 #pragma once
 #include "core/exact.hpp"
-#include "core/grid.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/grid.hpp"
+#include "sdfgen/mesh.hpp"
 #include "core/topology.hpp"
 
 #include <cstdint>

@@ -173,7 +173,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
     }
 }
 
-MeshCheck MeshTopology::check(const Mesh& mesh, const KdTree& tree) const {
+MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
     MeshCheck result = edgeCheck_;
     const std::size_t n = mesh.triangleCount();
     for (std::uint32_t t = 0; t < n; ++t) {

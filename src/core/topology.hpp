@@ -1,7 +1,8 @@
 #pragma once
 #include "core/geometry.hpp"
-#include "core/kdtree.hpp"
-#include "core/mesh.hpp"
+#include "core/bvh.hpp"
+#include "sdfgen/mesh.hpp"
+#include "sdfgen/mesh_check.hpp"
 
 #include <glm/vec3.hpp>
 #include <cstdint>
@@ -10,28 +11,13 @@
 
 namespace sdfgen {
 
-// What a mesh check found. Pseudonormal signs are provably right only when every count is zero.
-struct MeshCheck {
-    std::size_t boundaryEdges = 0;       // edges with one triangle: the mesh has holes
-    std::size_t nonManifoldEdges = 0;    // edges with three or more triangles
-    std::size_t inconsistentEdges = 0;   // edges whose two triangles run the same way: flipped faces
-    std::size_t nonManifoldVertices = 0; // vertices whose triangles form several fans (pinches)
-    std::size_t selfIntersections = 0;   // pairs of triangles that cross each other
-
-    bool closedAndClean() const {
-        return boundaryEdges + nonManifoldEdges + inconsistentEdges + nonManifoldVertices + selfIntersections == 0;
-    }
-    // "12 boundary edges, 0 non-manifold edges, ..." for summaries and the panel.
-    std::string describe() const;
-};
-
 // Connectivity of a mesh whose coincident vertices are merged (OBJ files often repeat positions).
 class MeshTopology {
 public:
     explicit MeshTopology(const Mesh& mesh);
 
-    // Counts of the problems above; self-intersections are found with the tree.
-    MeshCheck check(const Mesh& mesh, const KdTree& tree) const;
+    // The counts MeshCheck lists; self-intersections are found with the tree.
+    MeshCheck check(const Mesh& mesh, const Bvh& tree) const;
 
     // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.

@@ -1,5 +1,5 @@
 #pragma once
-#include "core/mesh.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>

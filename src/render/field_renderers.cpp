@@ -1,5 +1,5 @@
 #include "render/renderers.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>

@@ -1,5 +1,5 @@
 #include "render/gl.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 
 #include <cstdio>
 

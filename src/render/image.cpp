@@ -1,5 +1,5 @@
 #include "render/image.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 #include "render/gl.hpp"
 
 #include <stb/stb_image.h>

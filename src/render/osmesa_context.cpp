@@ -1,5 +1,5 @@
 #include "render/osmesa_context.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 #include "render/gl.hpp"
 
 #include <GL/osmesa.h>

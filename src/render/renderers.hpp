@@ -1,8 +1,8 @@
 #pragma once
 // One renderer per view. Each draws into whatever framebuffer is bound, with the camera of the
 // frame; none knows whether that is a window or an offscreen buffer (Scene composes them).
-#include "core/field.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/mesh.hpp"
 #include "render/gl.hpp"
 #include "render/shader.hpp"
 

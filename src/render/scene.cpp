@@ -1,5 +1,5 @@
 #include "render/scene.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <sstream>

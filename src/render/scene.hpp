@@ -1,6 +1,6 @@
 #pragma once
-#include "core/field.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/mesh.hpp"
 #include "render/camera.hpp"
 #include "render/renderers.hpp"
 

@@ -1,5 +1,5 @@
 #include "render/shader.hpp"
-#include "core/error.hpp"
+#include "sdfgen/error.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 #include <cstdlib>

@@ -7,10 +7,10 @@
 //     SDFGEN_UPDATE_REFERENCES=1 build/sdfgen_render_tests
 // and look at the images before committing them. A failing comparison writes the image it got
 // beside the test binary (render-actual/), to compare by eye.
-#include "core/error.hpp"
-#include "core/generate.hpp"
-#include "core/kdtree.hpp"
-#include "core/mesh.hpp"
+#include "sdfgen/error.hpp"
+#include "core/bake.hpp"
+#include "core/bvh.hpp"
+#include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
 #include "render/osmesa_context.hpp"
 #include "render/scene.hpp"
@@ -54,7 +54,7 @@ protected:
         delete context_;
     }
     static void addModel(const std::string& name, Mesh mesh, int res) {
-        const KdTree tree(mesh);
+        const Bvh tree(mesh);
         BakeSettings settings;
         settings.res = res;
         Field field = bake(mesh, tree, settings, RunControl{}).field;

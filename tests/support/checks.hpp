@@ -1,8 +1,8 @@
 #pragma once
 // Test helpers shared by the suites: error messages, and a scratch folder per test.
-#include "core/error.hpp"
-#include "core/generate.hpp"
-#include "core/kdtree.hpp"
+#include "sdfgen/error.hpp"
+#include "core/bake.hpp"
+#include "core/bvh.hpp"
 
 #include <gtest/gtest.h>
 #include <atomic>
@@ -34,7 +34,7 @@ std::string errorFrom(F&& f) {
 
 // Bakes `mesh` with `settings` on `threads` threads (0 = all), building its tree.
 inline BakeResult bakeMesh(const Mesh& mesh, const BakeSettings& settings, int threads = 0) {
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     RunControl control;
     control.threads = threads;
     return bake(mesh, tree, settings, control);

@@ -1,6 +1,6 @@
 #pragma once
 // Generated test meshes whose true signed distance is known in closed form.
-#include "core/mesh.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <glm/vec3.hpp>
 

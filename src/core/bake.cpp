@@ -1,89 +1,15 @@
-#include "core/generate.hpp"
-#include "core/directions.hpp"
-#include "core/error.hpp"
+#include "core/bake.hpp"
 #include "core/exact.hpp"
+#include "core/ray_generator.hpp"
 #include "core/sign.hpp"
-#include "core/parallel.hpp"
+#include "core/topology.hpp"
+#include "sdfgen/error.hpp"
 
-#include <glm/geometric.hpp>
 #include <chrono>
 #include <cmath>
-#include <limits>
+#include <cstdio>
 
 namespace sdfgen {
-
-namespace {
-
-// Distance from p to the farthest corner of b: an upper bound on the distance to anything in b.
-float farthestCornerDistance(const glm::vec3& p, const Bounds& b) {
-    const glm::vec3 far = glm::max(glm::abs(p - b.min), glm::abs(p - b.max));
-    return glm::length(far);
-}
-
-} // namespace
-
-Field generateRayField(const Mesh& mesh, const KdTree& tree, const Grid& grid, int rays, const RunControl& control) {
-    using namespace simd;
-    if (rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(rays) + ")");
-    const std::vector<glm::vec3> directions = sphereDirections(rays);
-    const float infinity = std::numeric_limits<float>::infinity();
-    const int nx = grid.dims.x;
-
-    Field field;
-    field.source = mesh.source;
-    field.method = "rays";
-    field.parameters = {{"rays", std::to_string(rays)}};
-    field.grid = grid;
-    field.values.resize(grid.sampleCount());
-
-    // One work item is one x row; within it, eight neighbouring samples trace each direction
-    // together as a packet (parallel rays a voxel apart take nearly the same path through the tree).
-    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
-    parallelFor(rows, control, [&](std::size_t row) {
-        const int j = int(row % std::size_t(grid.dims.y));
-        const int k = int(row / std::size_t(grid.dims.y));
-        for (int i0 = 0; i0 < nx; i0 += 8) {
-            const int lanes = std::min(8, nx - i0);
-            RayPacket packet;
-            i8 active = splat(0);
-            for (int lane = 0; lane < 8; ++lane) {
-                packet.ox[lane] = grid.sample(i0 + std::min(lane, lanes - 1), j, k).x;
-                active[lane] = lane < lanes ? -1 : 0;
-            }
-            const glm::vec3 rowSample = grid.sample(i0, j, k);
-            packet.oy = splat(rowSample.y);
-            packet.oz = splat(rowSample.z);
-
-            f8 nearest = splat(infinity);
-            i8 hits = splat(0), backs = splat(0);
-            i8 decided = ~active; // idle lanes never need a vote
-            for (int r = 0; r < rays; ++r) {
-                // Once a lane's vote cannot change, only hits closer than its nearest so far matter,
-                // which prunes most of the tree; the result is the same as tracing every ray fully.
-                packet.direction = directions[std::size_t(r)];
-                packet.tMax = select(active, select(decided, nearest, splat(infinity)), splat(-1.0f));
-                tree.intersect(packet);
-                nearest = select(packet.hit, min(nearest, packet.tMax), nearest);
-                const i8 voting = packet.hit & ~decided;
-                hits -= voting;  // masks are -1 where true
-                backs -= voting & packet.backFace;
-                const i8 fronts = hits - backs;
-                const i8 remaining = splat(rays - r - 1);
-                decided |= (backs > fronts + remaining) | (fronts >= backs + remaining);
-            }
-            for (int lane = 0; lane < lanes; ++lane) {
-                const std::size_t index = grid.index(i0 + lane, j, k);
-                if (hits[lane] == 0) {
-                    field.values[index] = farthestCornerDistance(grid.sample(i0 + lane, j, k), mesh.bounds);
-                } else {
-                    const bool inside = backs[lane] > hits[lane] - backs[lane];
-                    field.values[index] = inside ? -nearest[lane] : nearest[lane];
-                }
-            }
-        }
-    });
-    return field;
-}
 
 const char* toString(DistanceMethod method) {
     switch (method) {
@@ -105,7 +31,7 @@ const char* toString(SignMethod sign) {
     return "?";
 }
 
-BakeResult bake(const Mesh& mesh, const KdTree& tree, const BakeSettings& settings, const RunControl& control) {
+BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
     const Grid grid = makeGrid(mesh.bounds, settings.res, settings.padding);
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
     BakeResult result;

@@ -1,5 +1,5 @@
 #pragma once
-#include "core/mesh.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <glm/vec3.hpp>
 #include <cstddef>

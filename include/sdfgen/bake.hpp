@@ -1,9 +1,6 @@
 #pragma once
-#include "core/field.hpp"
-#include "core/kdtree.hpp"
-#include "core/mesh.hpp"
-#include "core/parallel.hpp"
-#include "core/topology.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/mesh_check.hpp"
 
 #include <string>
 
@@ -46,16 +43,5 @@ struct BakeResult {
     double signSeconds = 0;     // time spent on the mesh check and the sign
 };
 
-// The ray-sampling generator. For each sample, `rays` rays leave in the directions of
-// sphereDirections(rays); the distance is the nearest hit of any ray (an upper bound of the true
-// distance), and the sample is inside (negative) when more than half of the rays that hit anything
-// first hit a back face. A sample whose rays all miss lies outside, and gets the distance to the
-// farthest corner of the mesh's bounding box: finite, positive and still an upper bound.
-// The result does not depend on the thread count.
-Field generateRayField(const Mesh& mesh, const KdTree& tree, const Grid& grid, int rays, const RunControl& control);
-
-// Grid + distances + signs + the field's recorded method line, in one call; the method line reads
-// e.g. "exact sign=auto/winding res=128 padding=0.1". Throws Error for bad settings.
-BakeResult bake(const Mesh& mesh, const KdTree& tree, const BakeSettings& settings, const RunControl& control);
 
 } // namespace sdfgen

@@ -1,5 +1,5 @@
 #pragma once
-#include "core/grid.hpp"
+#include "sdfgen/grid.hpp"
 
 #include <string>
 #include <utility>

@@ -1,5 +1,5 @@
-// The kd-tree's nearest hit equals brute force over every triangle.
-#include "core/kdtree.hpp"
+// The BVH's nearest hit equals brute force over every triangle.
+#include "core/bvh.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -35,7 +35,7 @@ float hitDistance(const Mesh& mesh, std::uint32_t triangle, const glm::vec3& o, 
 }
 
 void expectTreeMatchesBruteForce(const Mesh& mesh, int rays, unsigned seed) {
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     std::mt19937 rng(seed);
     std::normal_distribution<float> gauss;
     const glm::vec3 lo = mesh.bounds.min - 0.2f * mesh.bounds.extent();
@@ -63,21 +63,21 @@ void expectTreeMatchesBruteForce(const Mesh& mesh, int rays, unsigned seed) {
     EXPECT_GT(hits, rays / 10) << "too few hits to test anything";
 }
 
-TEST(KdTree, NearestHitMatchesBruteForceOnTheBunny) {
+TEST(Bvh, NearestHitMatchesBruteForceOnTheBunny) {
     const Mesh mesh = loadObj(test::bundledBunnyPath());
     expectTreeMatchesBruteForce(mesh, 3000, 1);
 }
 
-TEST(KdTree, NearestHitMatchesBruteForceOnGeneratedShapes) {
+TEST(Bvh, NearestHitMatchesBruteForceOnGeneratedShapes) {
     expectTreeMatchesBruteForce(test::icosphere(1.0f, 3), 2000, 2);
     expectTreeMatchesBruteForce(test::torus(1.0f, 0.3f, 48, 24), 2000, 3);
     expectTreeMatchesBruteForce(test::box({1.0f, 0.5f, 0.25f}), 2000, 4);
 }
 
-TEST(KdTree, AxisAlignedRaysAndRaysFromInside) {
+TEST(Bvh, AxisAlignedRaysAndRaysFromInside) {
     // Zero direction components take the slab test's special path.
     const Mesh mesh = test::box({1.0f, 1.0f, 1.0f});
-    const KdTree tree(mesh);
+    const Bvh tree(mesh);
     const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (const glm::vec3& d : axes) {
         RayHit hit;
@@ -91,22 +91,22 @@ TEST(KdTree, AxisAlignedRaysAndRaysFromInside) {
     }
 }
 
-TEST(KdTree, BoundedLeavesAndDepth) {
+TEST(Bvh, BoundedLeavesAndDepth) {
     const Mesh mesh = loadObj(test::bundledBunnyPath());
-    const KdTree tree(mesh);
-    EXPECT_LE(tree.depth(), KdTree::kMaxDepth);
+    const Bvh tree(mesh);
+    EXPECT_LE(tree.depth(), Bvh::kMaxDepth);
     EXPECT_LT(tree.nodeCount(), 2 * mesh.triangleCount());
     EXPECT_EQ(tree.bounds().min, mesh.bounds.min);
     EXPECT_EQ(tree.bounds().max, mesh.bounds.max);
 }
 
-TEST(KdTree, CoincidentTrianglesStillSplit) {
+TEST(Bvh, CoincidentTrianglesStillSplit) {
     // 1000 copies of one triangle: no plane separates them, yet leaves stay bounded and rays still hit.
     std::vector<glm::vec3> positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     std::vector<glm::uvec3> triangles(1000, glm::uvec3(0, 1, 2));
     const Mesh mesh = buildMesh("stack", positions, triangles);
-    const KdTree tree(mesh);
-    EXPECT_LE(tree.depth(), KdTree::kMaxDepth);
+    const Bvh tree(mesh);
+    EXPECT_LE(tree.depth(), Bvh::kMaxDepth);
     RayHit hit;
     ASSERT_TRUE(tree.intersect({0.2f, 0.2f, 1.0f}, {0, 0, -1}, kInf, hit));
     EXPECT_FLOAT_EQ(hit.t, 1.0f);

@@ -1,4 +1,4 @@
-#include "core/kdtree.hpp"
+#include "core/bvh.hpp"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -27,7 +27,7 @@ float halfArea(const Bounds& b) {
 
 } // namespace
 
-KdTree::KdTree(const Mesh& mesh) {
+Bvh::Bvh(const Mesh& mesh) {
     const std::size_t n = mesh.triangleCount();
     std::vector<Bounds> boxes(n);
     std::vector<glm::vec3> centroids(n);
@@ -62,7 +62,7 @@ KdTree::KdTree(const Mesh& mesh) {
     }
 }
 
-std::uint32_t KdTree::build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
+std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
                             const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth) {
     depth_ = std::max(depth_, depth);
     Bounds box = emptyBounds(), centroidBox = emptyBounds();
@@ -149,7 +149,7 @@ std::uint32_t KdTree::build(std::vector<std::uint32_t>& order, std::size_t begin
     return nodeIndex;
 }
 
-void KdTree::intersect(RayPacket& packet) const {
+void Bvh::intersect(RayPacket& packet) const {
     using namespace simd;
     const glm::vec3 d = packet.direction;
     // A zero component becomes a tiny one so slab distances stay finite (no 0 * inf).
@@ -209,7 +209,7 @@ void KdTree::intersect(RayPacket& packet) const {
     packet.backFace = backFace;
 }
 
-bool KdTree::intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const {
+bool Bvh::intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const {
     RayPacket packet;
     packet.ox = simd::splat(origin.x);
     packet.oy = simd::splat(origin.y);
@@ -226,7 +226,7 @@ bool KdTree::intersect(const glm::vec3& origin, const glm::vec3& direction, floa
 }
 
 
-simd::f8 KdTree::distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, const DistanceTriangle& t) const {
+simd::f8 Bvh::distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, const DistanceTriangle& t) const {
     using namespace simd;
     auto dot = [](const f8& x, const f8& y, const f8& z, const glm::vec3& v) { return x * v.x + y * v.y + z * v.z; };
     auto clamp01 = [](const f8& x) { return min(max(x, splat(0.0f)), splat(1.0f)); };
@@ -248,11 +248,11 @@ simd::f8 KdTree::distanceSquared(const simd::f8& px, const simd::f8& py, const s
     return select(inside, height * height, edges);
 }
 
-simd::f8 KdTree::distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, std::uint32_t triangle) const {
+simd::f8 Bvh::distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, std::uint32_t triangle) const {
     return distanceSquared(px, py, pz, distanceTriangles_[leafSlot_[triangle]]);
 }
 
-void KdTree::nearest(PointPacket& packet) const {
+void Bvh::nearest(PointPacket& packet) const {
     using namespace simd;
     const f8 px = packet.px, py = packet.py, pz = packet.pz;
     f8 best = packet.bestSquared;

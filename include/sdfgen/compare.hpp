@@ -1,5 +1,5 @@
 #pragma once
-#include "core/field.hpp"
+#include "sdfgen/field.hpp"
 
 #include <cstddef>
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "core/mesh.hpp"
+#include "sdfgen/mesh.hpp"
 #include "core/ray.hpp"
 #include "core/simd.hpp"
 
@@ -33,15 +33,15 @@ struct PointPacket {
     simd::i8 triangle;    // out: the nearest triangle, where one beat the bound
 };
 
-// The acceleration structure over a mesh's triangles: a tree of axis-aligned bounding boxes in
-// which every inner node splits its triangles along one axis (an object-partitioning kd-tree, a.k.a.
-// BVH), built with the binned surface area heuristic and stored as a flat depth-first node array.
-class KdTree {
+// The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of
+// axis-aligned boxes (each inner node splits its triangles along one axis), built with the binned
+// surface area heuristic and stored as a flat depth-first node array.
+class Bvh {
 public:
     static constexpr int kMaxLeafSize = 8;
     static constexpr int kMaxDepth = 48;
 
-    explicit KdTree(const Mesh& mesh);
+    explicit Bvh(const Mesh& mesh);
 
     // Nearest hit with 0 <= t < tMax along origin + t * direction; false when there is none.
     bool intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const;
@@ -93,7 +93,7 @@ private:
 };
 
 template <class Visit>
-void KdTree::forEachOverlap(const Bounds& box, Visit&& visit) const {
+void Bvh::forEachOverlap(const Bounds& box, Visit&& visit) const {
     auto overlaps = [&](const float* lo, const float* hi) {
         return lo[0] <= box.max.x && hi[0] >= box.min.x && lo[1] <= box.max.y && hi[1] >= box.min.y &&
                lo[2] <= box.max.z && hi[2] >= box.min.z;

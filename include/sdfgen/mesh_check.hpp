@@ -1,0 +1,22 @@
+#pragma once
+#include <cstddef>
+#include <string>
+
+namespace sdfgen {
+
+// What a mesh check found. Pseudonormal signs are provably right only when every count is zero.
+struct MeshCheck {
+    std::size_t boundaryEdges = 0;       // edges with one triangle: the mesh has holes
+    std::size_t nonManifoldEdges = 0;    // edges with three or more triangles
+    std::size_t inconsistentEdges = 0;   // edges whose two triangles run the same way: flipped faces
+    std::size_t nonManifoldVertices = 0; // vertices whose triangles form several fans (pinches)
+    std::size_t selfIntersections = 0;   // pairs of triangles that cross each other
+
+    bool closedAndClean() const {
+        return boundaryEdges + nonManifoldEdges + inconsistentEdges + nonManifoldVertices + selfIntersections == 0;
+    }
+    // "12 boundary edges, 0 non-manifold edges, ..." for summaries and the panel.
+    std::string describe() const;
+};
+
+} // namespace sdfgen
