@@ -1,0 +1,26 @@
+#pragma once
+#include "sdfgen/field.hpp"
+
+#include <string>
+#include <vector>
+
+namespace sdfgen {
+
+// How a field is written; formats ignore what does not apply to them.
+struct SaveOptions {
+    // .vdb: keep only voxels within this many voxels of the surface (inactive background +-band*h,
+    // as OpenVDB level sets do); 0 writes every sample (dense).
+    double band = 0;
+};
+
+// Saves `field` in the format its extension names (.sdf, .npy, .npz, .vdb, .nrrd), atomically.
+// An unknown extension is an Error naming the path and the known extensions.
+void saveField(const Field& field, const std::string& path, const SaveOptions& options = {});
+
+// Loads a field in any of those formats, validated as strictly as the text format.
+Field loadField(const std::string& path);
+
+// The extensions saveField and loadField accept, with the dot (".sdf", ...).
+std::vector<std::string> fieldFormatExtensions();
+
+} // namespace sdfgen

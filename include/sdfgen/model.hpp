@@ -1,0 +1,63 @@
+#pragma once
+#include "sdfgen/bake.hpp"
+#include "sdfgen/mesh.hpp"
+#include "sdfgen/mesh_check.hpp"
+#include "sdfgen/run_control.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sdfgen {
+
+// Where point queries write. Every pointer may be null (that output is not computed); each
+// non-null one holds `count` entries (closestPoint: 3 * count, x y z interleaved).
+struct PointQueryOutputs {
+    float* signedDistance = nullptr;   // negative inside, by the query's sign method
+    float* unsignedDistance = nullptr; // distance to the nearest triangle
+    double* closestPoint = nullptr;    // world coordinates of the nearest surface point
+    std::int64_t* triangle = nullptr;  // index of the nearest triangle in mesh().triangles
+    double* windingNumber = nullptr;   // generalized winding number, computed exactly
+};
+
+// A mesh made ready for baking and point queries: the mesh, its bounding volume hierarchy (built
+// once), and its topology and mesh check (built on first use). Const member functions may be
+// called from several threads at once. Moving is cheap; copies are not allowed.
+class Model {
+public:
+    // Loads a mesh file (format from the extension, see loadMesh) and builds the tree.
+    static Model load(const std::string& path, const RunControl& control = {});
+    explicit Model(Mesh mesh, const RunControl& control = {});
+    ~Model();
+    Model(Model&&) noexcept;
+    Model& operator=(Model&&) noexcept;
+
+    const Mesh& mesh() const;
+
+    // The mesh check (holes, non-manifold edges and vertices, flipped faces, self-intersections,
+    // orientation), computed once and cached.
+    const MeshCheck& check(const RunControl& control = {}) const;
+
+    // A field on the grid that `settings` describes (see makeGrid). Throws Error for bad settings
+    // or a grid that does not fit in memory, Cancelled when control.cancel is raised.
+    BakeResult bake(const BakeSettings& settings, const RunControl& control = {}) const;
+
+    // Exact queries at `count` points (world coordinates, x y z interleaved), in parallel. At a
+    // baked grid's sample positions (Field::position) they give exactly the baked values.
+    // `sign` is Auto, Winding or Pseudonormal (Auto decides as bake does).
+    void query(const double* points, std::size_t count, const PointQueryOutputs& outputs,
+               SignMethod sign = SignMethod::Auto, const RunControl& control = {}) const;
+
+    // Conveniences over query().
+    std::vector<float> signedDistance(const std::vector<glm::dvec3>& points, const RunControl& control = {}) const;
+    std::vector<float> unsignedDistance(const std::vector<glm::dvec3>& points, const RunControl& control = {}) const;
+
+    struct Impl;
+
+private:
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace sdfgen
