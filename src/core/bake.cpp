@@ -36,8 +36,8 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     const DistanceMethodInfo& method = distanceMethod(settings.method);
     SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
     if (method.fixedSign && sign != SignMethod::Auto && sign != method.defaultSign) {
-        throw Error(std::string("the ") + method.name + " method signs by " + toString(method.defaultSign) + "; --sign " +
-                    toString(sign) + " does not apply");
+        throw Error(std::string("the ") + method.name + " method signs by the exact winding number; --sign " + toString(sign) +
+                    " does not apply");
     }
 
     BakeResult result;
