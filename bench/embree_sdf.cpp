@@ -108,7 +108,7 @@ void reportError(void*, RTCError code, const char* message) {
 
 int run(const peer::Options& options) {
     peer::Stopwatch clock;
-    const Mesh mesh = loadObj(options.mesh);
+    const Mesh mesh = loadMesh(options.mesh);
     const Grid grid = makeGrid(mesh.bounds, options.res, options.padding);
     const std::vector<glm::vec3> directions = sphereDirections(options.rays);
     clock.lap();

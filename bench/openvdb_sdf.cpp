@@ -48,7 +48,7 @@ float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid) {
 
 int run(const peer::Options& options) {
     peer::Stopwatch clock;
-    const Mesh mesh = loadObj(options.mesh);
+    const Mesh mesh = loadMesh(options.mesh);
     const Grid grid = makeGrid(mesh.bounds, options.res, options.padding);
 
     openvdb::initialize();

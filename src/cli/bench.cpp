@@ -2,6 +2,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
 #include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 
@@ -42,7 +43,7 @@ struct Run {
 Run runOnce(const std::string& path, const BenchArgs& args, const std::string& scratch) {
     Run run;
     Stopwatch watch;
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     run.timing.load = watch.seconds();
     watch = Stopwatch();
     const Bvh tree(mesh);
@@ -53,7 +54,7 @@ Run runOnce(const std::string& path, const BenchArgs& args, const std::string& s
     run.timing.distance = result.distanceSeconds;
     run.timing.sign = result.signSeconds;
     watch = Stopwatch();
-    saveFieldText(result.field, scratch);
+    saveField(result.field, scratch);
     run.timing.save = watch.seconds();
     run.triangles = mesh.triangleCount();
     run.grid = result.field.grid;
