@@ -13,9 +13,10 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
     sdfgen::cli::addRenderCommand(app);
+    sdfgen::cli::addSurfaceCommand(app);
     std::string viewMesh;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
-    view->add_option("mesh", viewMesh, "Mesh to open (Wavefront OBJ)");
+    view->add_option("mesh", viewMesh, "Mesh to open (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)");
     try {
         app.parse(argc, argv);
         if (app.get_subcommands().empty() || view->parsed()) return sdfgen::app::runViewer(viewMesh);
