@@ -1,13 +1,16 @@
 // `sdfgen bake`: mesh in, field file out.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 #include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <tbb/task_arena.h>
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 namespace sdfgen::cli {
@@ -24,6 +27,11 @@ struct BakeArgs {
 
 void runBake(const BakeArgs& args) {
     Stopwatch total;
+    std::string extension = std::filesystem::path(args.output).extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (args.save.band > 0 && extension != ".vdb") {
+        throw Error("--band applies to .vdb output only (" + args.output + ")");
+    }
     const Mesh mesh = loadMesh(args.mesh);
     if (mesh.droppedDegenerate > 0) {
         std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", args.mesh.c_str(), mesh.droppedDegenerate);

@@ -92,6 +92,7 @@ for ext in npz vdb nrrd; do
   expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/tet.$ext"
 done
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.vdb" --res 8 --band 2
+expect 1 '^sdfgen: --band applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
 expect 1 "x.xyz: unknown field format '.xyz'; known: .sdf, .npy, .npz, .vdb, .nrrd" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.xyz" --res 4
 expect fail '' -- test -e "$work/x.xyz"
 printf 'not numpy' >"$work/bad.npy"

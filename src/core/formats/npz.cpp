@@ -35,8 +35,16 @@ std::string zipProblem(zip_error_t* error) {
     return text;
 }
 
+// One .npy member: its header (or whole small array) and, for the field, the values after it.
+struct Member {
+    std::string name;
+    std::string head;
+    const void* data = nullptr;
+    std::size_t size = 0;
+};
+
 // The archive in memory, as numpy.savez lays it out.
-std::string buildArchive(const std::vector<std::pair<std::string, std::string>>& members, const std::string& path) {
+std::string buildArchive(const std::vector<Member>& members, const std::string& path) {
     zip_error_t error;
     zip_error_init(&error);
     std::unique_ptr<zip_source_t, ZipSourceFree> buffer(zip_source_buffer_create(nullptr, 0, 0, &error));
@@ -44,14 +52,18 @@ std::string buildArchive(const std::vector<std::pair<std::string, std::string>>&
     zip_t* archive = zip_open_from_source(buffer.get(), ZIP_CREATE | ZIP_TRUNCATE, &error);
     if (!archive) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
     zip_source_keep(buffer.get()); // the archive releases its reference on close; the bytes stay here
-    for (const auto& [name, bytes] : members) {
-        zip_source_t* member = zip_source_buffer(archive, bytes.data(), bytes.size(), 0);
-        const zip_int64_t index = member ? zip_file_add(archive, name.c_str(), member, ZIP_FL_ENC_UTF_8) : -1;
+    for (const Member& m : members) {
+        // The field's values go in as they are, behind their header (libzip only reads fragments).
+        const zip_buffer_fragment_t fragments[2] = {
+            {reinterpret_cast<zip_uint8_t*>(const_cast<char*>(m.head.data())), m.head.size()},
+            {static_cast<zip_uint8_t*>(const_cast<void*>(m.data)), m.size}};
+        zip_source_t* member = zip_source_buffer_fragment(archive, fragments, m.size > 0 ? 2 : 1, 0);
+        const zip_int64_t index = member ? zip_file_add(archive, m.name.c_str(), member, ZIP_FL_ENC_UTF_8) : -1;
         if (index < 0) {
             if (member) zip_source_free(member);
             const std::string problem = zip_strerror(archive);
             zip_discard(archive);
-            throw Error(path + ": cannot add " + name + " to the archive (" + problem + ")");
+            throw Error(path + ": cannot add " + m.name + " to the archive (" + problem + ")");
         }
         zip_set_file_compression(archive, zip_uint64_t(index), ZIP_CM_STORE, 0);
     }
@@ -142,10 +154,8 @@ private:
 void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const Grid& g = field.grid;
-    std::string sdf = npyFieldHeader(field);
-    sdf.append(reinterpret_cast<const char*>(field.values.data()), field.values.size() * sizeof(float));
-    const std::vector<std::pair<std::string, std::string>> members = {
-        {"sdf.npy", std::move(sdf)},
+    const std::vector<Member> members = {
+        {"sdf.npy", npyFieldHeader(field), field.values.data(), field.values.size() * sizeof(float)},
         {"origin.npy", npyFloat64Array({double(g.origin.x), double(g.origin.y), double(g.origin.z)}, false)},
         {"voxel_size.npy", npyFloat64Array({double(g.voxel)}, true)},
         {"dims.npy", npyInt64Array({g.dims.x, g.dims.y, g.dims.z})},

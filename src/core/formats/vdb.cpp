@@ -107,7 +107,9 @@ void saveVdb(const Field& field, const std::string& path, const SaveOptions& opt
     writeFieldFile(path, [&](std::ostream& out) {
         try {
             openvdb::io::Stream stream(out);
-            stream.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
+            // Blosc pays off on a narrow band's few leaves; a dense grid of distances hardly
+            // compresses (about 20%) and saves three times faster without it.
+            stream.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK | (options.band > 0 ? openvdb::io::COMPRESS_BLOSC : 0));
             stream.write(openvdb::GridCPtrVec{grid});
         } catch (const openvdb::Exception& e) {
             throw Error(path + ": " + e.what());
