@@ -239,7 +239,7 @@ int run(const peer::Options& options) {
 
     rtcReleaseScene(scene);
     rtcReleaseDevice(device);
-    saveFieldText(field, options.output);
+    saveField(field, options.output);
     std::printf("embree: %.3f s (scene %.3f, distance %.3f, sign %.3f)\n", clock.seconds(), sceneSeconds,
                 distanceSeconds, signSeconds);
     return 0;

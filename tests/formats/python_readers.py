@@ -1,11 +1,12 @@
 #!/usr/bin/python3
-"""Fields written by `sdfgen bake` read by the programs users read them with: numpy (.npy, .npz)
-or pyopenvdb (.vdb), compared with the sdfgen-text file of the same bake.
+"""Fields written by `sdfgen bake` read by the programs users read them with: numpy (.npy, .npz),
+pyopenvdb (.vdb) or teem's unu (.nrrd), compared with the sdfgen-text file of the same bake.
 
-Usage: python_readers.py numpy|openvdb SDFGEN_BINARY SOURCE_DIR
-Exits 77 (ctest's skip code) when numpy or pyopenvdb is not installed.
+Usage: python_readers.py numpy|openvdb|teem SDFGEN_BINARY SOURCE_DIR
+Exits 77 (ctest's skip code) when numpy, pyopenvdb or teem-unu is not installed.
 """
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -17,6 +18,9 @@ try:
         import pyopenvdb as vdb
 except ImportError as missing:
     print(f"skipped: {missing}")
+    sys.exit(77)
+if mode == "teem" and not shutil.which("teem-unu"):
+    print("skipped: teem-unu (Debian teem-apps) is not installed")
     sys.exit(77)
 
 MESH = os.path.join(root, "assets", "bunny.obj")
@@ -76,6 +80,16 @@ with tempfile.TemporaryDirectory() as folder:
         i, j, k = 3, 5, 7
         check(np.allclose(positions[i, j, k], ref["origin"] + (np.array([i, j, k]) + 0.5) * h, rtol=0, atol=tolerance), "position of sample (3, 5, 7)")
         print(f"numpy reads .npy and .npz: {nx}x{ny}x{nz} samples equal the text file's")
+    elif mode == "teem":
+        nrrd = bake("f.nrrd")
+        header = subprocess.run(["teem-unu", "head", nrrd], check=True, capture_output=True, text=True).stdout
+        check(f"sizes: {nx} {ny} {nz}" in header, f"unu head: {header}")
+        flat = subprocess.run(["teem-unu", "reshape", "-i", nrrd, "-s", str(nx * ny * nz)], check=True, capture_output=True).stdout
+        text = subprocess.run(["teem-unu", "save", "-f", "text"], input=flat, check=True, capture_output=True).stdout.decode()
+        values = np.array(text.split(), dtype=np.float32)  # x fastest, printed with 8 significant digits
+        expected = ref["field"].transpose(2, 1, 0).ravel()
+        check(values.shape == expected.shape and np.allclose(values, expected, rtol=1e-6, atol=1e-6 * h), "unu's values equal the text file's")
+        print(f"teem's unu reads .nrrd: {nx}x{ny}x{nz} samples equal the text file's")
     else:
         grid = vdb.read(bake("f.vdb"), "surface")
         check(grid.gridClass == vdb.GridClass.LEVEL_SET, f"grid class {grid.gridClass}")
