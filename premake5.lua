@@ -32,10 +32,18 @@ SDFGEN_OBJ_DIR = SDFGEN_BUILD_DIR .. "/obj"
 
 -- System libraries a program linking sdfgen_core needs (CMake: sdfgen::tbb, and
 -- tinyobjloader::tinyobjloader, which on Debian is a shared library, libtinyobjloader.so, not
--- header-only; glm is header-only). Premake does not pass a static library's links on to the
--- programs that use it, so every program that links sdfgen_core lists these itself, through
--- sdfgen_use_core().
-SDFGEN_CORE_LINKS = { "tbb", "tinyobjloader" }
+-- header-only; glm is header-only; sdfgen::openvdb, which is OpenVDB::openvdb with the Boost
+-- iostreams and Imath libraries its headers need; sdfgen::libzip; sdfgen::assimp). Premake does
+-- not pass a static library's links on to the programs that use it, so every program that links
+-- sdfgen_core lists these itself, through sdfgen_use_core().
+SDFGEN_CORE_LINKS = { "tbb", "tinyobjloader", "openvdb", "boost_iostreams", "Imath-3_1", "zip", "assimp" }
+
+-- What code including OpenVDB's headers needs (CMake: OpenVDB::openvdb's include directories and
+-- compile definitions): the core (the .vdb format, iso-surfaces) and the tests that read VDBs.
+function sdfgen_openvdb_headers()
+   includedirs { "/usr/include/Imath" }
+   defines { "OPENVDB_ABI_VERSION_NUMBER=10", "OPENVDB_USE_DELAYED_LOADING", "BOOST_ALL_NO_LIB", "BOOST_IOSTREAMS_DYN_LINK" }
+end
 
 -- The compile flags CMake's sdfgen_flags target gives sdfgen's own code (not the extern/ glue).
 function sdfgen_flags()
@@ -81,6 +89,7 @@ project "sdfgen_core"
    kind "StaticLib"
    files { "src/core/**.cpp", "src/core/**.hpp", "include/sdfgen/**.hpp" }
    includedirs { "include", "src" }
+   sdfgen_openvdb_headers()
    sdfgen_flags()
 
 -- Renderers (OpenGL 4.5 through glad) and the OSMesa headless context. Shaders are read at run
@@ -142,6 +151,7 @@ if not _OPTIONS["no-tests"] then
    -- is pthread (empty on glibc 2.34 and later, where libpthread is part of libc).
    project "sdfgen_tests"
       sdfgen_gtest_program("tests/*.cpp")
+      sdfgen_openvdb_headers()
       sdfgen_use_core()
       sdfgen_use_gtest()
 

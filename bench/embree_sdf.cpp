@@ -108,7 +108,7 @@ void reportError(void*, RTCError code, const char* message) {
 
 int run(const peer::Options& options) {
     peer::Stopwatch clock;
-    const Mesh mesh = loadObj(options.mesh);
+    const Mesh mesh = loadMesh(options.mesh);
     const Grid grid = makeGrid(mesh.worldBounds(), options.res, options.padding);
     const std::vector<glm::vec3> directions = sphereDirections(options.rays);
     clock.lap();
@@ -239,7 +239,7 @@ int run(const peer::Options& options) {
 
     rtcReleaseScene(scene);
     rtcReleaseDevice(device);
-    saveFieldText(field, options.output);
+    saveField(field, options.output);
     std::printf("embree: %.3f s (scene %.3f, distance %.3f, sign %.3f)\n", clock.seconds(), sceneSeconds,
                 distanceSeconds, signSeconds);
     return 0;

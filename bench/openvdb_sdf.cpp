@@ -48,7 +48,7 @@ float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid) {
 
 int run(const peer::Options& options) {
     peer::Stopwatch clock;
-    const Mesh mesh = loadObj(options.mesh);
+    const Mesh mesh = loadMesh(options.mesh);
     const Grid grid = makeGrid(mesh.worldBounds(), options.res, options.padding);
 
     openvdb::initialize();
@@ -113,7 +113,7 @@ int run(const peer::Options& options) {
         exteriorBand = std::min(2.0f * exteriorBand, largestBand);
     }
 
-    saveFieldText(field, options.output);
+    saveField(field, options.output);
     std::printf("openvdb: %.3f s (convert %.3f, sample %.3f)\n", clock.seconds(), convertSeconds, sampleSeconds);
     return 0;
 }

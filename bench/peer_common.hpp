@@ -4,6 +4,7 @@
 #pragma once
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
 

@@ -64,7 +64,7 @@ void expectTreeMatchesBruteForce(const Mesh& mesh, int rays, unsigned seed) {
 }
 
 TEST(Bvh, NearestHitMatchesBruteForceOnTheBunny) {
-    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    const Mesh mesh = loadMesh(test::bundledBunnyPath());
     expectTreeMatchesBruteForce(mesh, 3000, 1);
 }
 
@@ -92,7 +92,7 @@ TEST(Bvh, AxisAlignedRaysAndRaysFromInside) {
 }
 
 TEST(Bvh, BoundedLeavesAndDepth) {
-    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    const Mesh mesh = loadMesh(test::bundledBunnyPath());
     const Bvh tree(mesh);
     EXPECT_LE(tree.depth(), Bvh::kMaxDepth);
     EXPECT_LT(tree.nodeCount(), 2 * mesh.triangleCount());

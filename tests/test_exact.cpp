@@ -172,7 +172,7 @@ std::vector<Shape> closedShapes() {
     return {{"icosphere", test::icosphere(1.0f, 2), 24},
             {"box", test::box({1.0f, 0.6f, 0.4f}), 24},
             {"torus", test::torus(1.0f, 0.3f, 24, 12), 24},
-            {"bunny", loadObj(test::bundledBunnyPath()), 16}};
+            {"bunny", loadMesh(test::bundledBunnyPath()), 16}};
 }
 
 std::vector<Shape> openShapes() {
@@ -796,7 +796,7 @@ TEST(MeshCheck, VerticesDuplicatedPerTriangleAreMerged) {
 // 4. The ray mode's error, measured against the exact field.
 
 TEST(RaysVsExact, ErrorShrinksWithRaysAndRaysNeverUndercut) {
-    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    const Mesh mesh = loadMesh(test::bundledBunnyPath());
     const int res = 24;
     const Field exact = bakeWith(mesh, res, DistanceMethod::Exact, SignMethod::Auto).field;
     const double voxel = exact.grid.voxel;
@@ -899,7 +899,7 @@ TEST(CompareFields, IdenticalNegatedBandAndMismatch) {
 // 6. Determinism.
 
 TEST(ExactBake, BitIdenticalForAnyThreadCount) {
-    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    const Mesh mesh = loadMesh(test::bundledBunnyPath());
     for (SignMethod sign : {SignMethod::Winding, SignMethod::Pseudonormal}) {
         const Field one = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 1).field;
         const Field many = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 5).field;

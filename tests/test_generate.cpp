@@ -165,7 +165,7 @@ TEST(RayGenerator, ErrorShrinksWithMoreRays) {
 
 TEST(RayGenerator, EqualsTheNaiveDefinition) {
     // Every ray traced in full, one at a time: the generator's packets and early vote must agree exactly.
-    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    const Mesh mesh = loadMesh(test::bundledBunnyPath());
     const Bvh tree(mesh);
     const int rays = 24;
     const Grid grid = makeGrid(mesh.worldBounds(), 10, 0.1f);
@@ -192,7 +192,7 @@ TEST(RayGenerator, EqualsTheNaiveDefinition) {
 }
 
 TEST(RayGenerator, BitIdenticalForAnyThreadCount) {
-    const Mesh mesh = loadObj(test::bundledBunnyPath());
+    const Mesh mesh = loadMesh(test::bundledBunnyPath());
     const Field one = bakeMesh(mesh, 28, 32, 1).field;
     const Field many = bakeMesh(mesh, 28, 32, 5).field;
     ASSERT_EQ(one.values.size(), many.values.size());

@@ -36,7 +36,7 @@ protected:
     // Loads `contents` and returns the Error's message, checking that it names the file.
     std::string loadError(const std::string& contents) {
         const std::string path = write("bad.obj", contents);
-        const std::string message = errorFrom([&] { loadObj(path); });
+        const std::string message = errorFrom([&] { loadMesh(path); });
         EXPECT_CONTAINS(message, path);
         return message;
     }
@@ -49,7 +49,7 @@ const char* kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
 
 TEST_F(LoadObj, MissingFileIsAnError) {
     const std::string path = (dir_ / "does-not-exist.obj").string();
-    const std::string message = errorFrom([&] { loadObj(path); });
+    const std::string message = errorFrom([&] { loadMesh(path); });
     EXPECT_CONTAINS(message, path);
     EXPECT_CONTAINS(message, "cannot open");
     EXPECT_CONTAINS(message, "No such file");
@@ -57,7 +57,7 @@ TEST_F(LoadObj, MissingFileIsAnError) {
 
 TEST_F(LoadObj, DirectoryIsAnError) {
     const std::string path = dir_.string();
-    const std::string message = errorFrom([&] { loadObj(path); });
+    const std::string message = errorFrom([&] { loadMesh(path); });
     EXPECT_CONTAINS(message, path);
     EXPECT_CONTAINS(message, "is a directory");
 }
@@ -148,7 +148,7 @@ TEST_F(LoadObj, BinaryBytesAreAnError) {
 
 TEST_F(LoadObj, SingleTriangle) {
     const std::string path = write("tri.obj", std::string(kTriangle) + "f 1 2 3\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     EXPECT_EQ(mesh.source, path);
     ASSERT_EQ(mesh.triangleCount(), 1u);
     EXPECT_EQ(mesh.triangles[0], glm::uvec3(0, 1, 2));
@@ -159,7 +159,7 @@ TEST_F(LoadObj, SingleTriangle) {
 TEST_F(LoadObj, CrLfLineEndingsAndSlashedIndices) {
     const std::string path =
         write("crlf.obj", "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nvt 0 0\r\nvn 0 0 1\r\nf 1/1/1 2/1/1 3//1\r\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     ASSERT_EQ(mesh.triangleCount(), 1u);
     EXPECT_EQ(mesh.triangles[0], glm::uvec3(0, 1, 2));
 }
@@ -174,7 +174,7 @@ float totalArea(const Mesh& mesh) {
 
 TEST_F(LoadObj, QuadBecomesTwoTriangles) {
     const std::string path = write("quad.obj", "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 0 1 0\nf 1 2 3 4\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     ASSERT_EQ(mesh.triangleCount(), 2u);
     EXPECT_FLOAT_EQ(totalArea(mesh), 2.0f);
     for (const glm::vec3& n : mesh.faceNormals) EXPECT_EQ(n, glm::vec3(0, 0, 1)); // winding kept
@@ -183,7 +183,7 @@ TEST_F(LoadObj, QuadBecomesTwoTriangles) {
 TEST_F(LoadObj, PentagonBecomesThreeTriangles) {
     // A convex pentagon in the z = 1 plane, counter-clockwise seen from +z.
     const std::string path = write("pentagon.obj", "v 0 0 1\nv 2 0 1\nv 3 1 1\nv 1 2 1\nv -1 1 1\nf 1 2 3 4 5\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     ASSERT_EQ(mesh.triangleCount(), 3u);
     // Shoelace area of the pentagon: 5.
     EXPECT_FLOAT_EQ(totalArea(mesh), 5.0f);
@@ -193,7 +193,7 @@ TEST_F(LoadObj, PentagonBecomesThreeTriangles) {
 TEST_F(LoadObj, ConcavePolygonIsTriangulatedInsideItsOutline) {
     // An arrowhead: the corner (2, 1) points inwards, so a plain fan from corner 1 would cover too much.
     const std::string path = write("concave.obj", "v 0 0 0\nv 4 0 0\nv 4 4 0\nv 2 1 0\nv 0 4 0\nf 1 2 3 4 5\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     ASSERT_EQ(mesh.triangleCount(), 3u);
     EXPECT_FLOAT_EQ(totalArea(mesh), 10.0f); // shoelace area
     for (const glm::vec3& n : mesh.faceNormals) EXPECT_EQ(n, glm::vec3(0, 0, 1));
@@ -206,7 +206,7 @@ TEST_F(LoadObj, DegenerateTrianglesAreDroppedAndCounted) {
                                    "f 1 2 4\n"  // collinear
                                    "f 1 1 3\n"  // repeated index
                                    "f 3 2 1\n"); // fine (back facing)
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     ASSERT_EQ(mesh.triangleCount(), 2u);
     EXPECT_EQ(mesh.droppedDegenerate, 2u);
     EXPECT_EQ(mesh.triangles[0], glm::uvec3(0, 1, 2));
@@ -227,7 +227,7 @@ TEST_F(LoadObj, NegativeIndicesAreRelative) {
                                    "v 9 9 9\n"
                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n"
                                    "v 0 0 1\nf -4 -1 -3\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     ASSERT_EQ(mesh.triangleCount(), 2u);
     EXPECT_EQ(mesh.triangles[0], glm::uvec3(1, 2, 3));
     EXPECT_EQ(mesh.triangles[1], glm::uvec3(1, 4, 2));
@@ -238,7 +238,7 @@ TEST_F(LoadObj, TetrahedronNormalsAreUnitAndOutward) {
     const std::string path = write("tetra.obj",
                                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
                                    "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     ASSERT_EQ(mesh.triangleCount(), 4u);
     ASSERT_EQ(mesh.faceNormals.size(), 4u);
     const glm::vec3 centre(mesh.toLocal(glm::dvec3(0.25)));
@@ -261,7 +261,7 @@ TEST_F(LoadObj, BoundsCoverUsedVerticesOnly) {
                                    "v -1 2 0.5\nv 3 -4 0.5\nv 0 0 -2\n"
                                    "v -50 -50 -50\n"   // unused
                                    "f 2 3 4\n");
-    const Mesh mesh = loadObj(path);
+    const Mesh mesh = loadMesh(path);
     EXPECT_EQ(mesh.positions.size(), 5u);
     EXPECT_EQ(mesh.worldBounds().min, glm::dvec3(-1, -4, -2));
     EXPECT_EQ(mesh.worldBounds().max, glm::dvec3(3, 2, 0.5));

@@ -66,4 +66,11 @@ Mesh buildMesh(std::string source, const std::vector<glm::vec3>& positions, std:
 // Loads a Wavefront OBJ (polygons are triangulated). Throws Error("PATH: problem") on any bad input.
 Mesh loadObj(const std::string& path);
 
+// Loads a mesh file in the format its extension names: .obj through loadObj; .stl (ASCII or
+// binary), .ply, .off, .gltf, .glb, .fbx and the other formats Assimp reads through Assimp.
+// Node transforms are applied and all meshes of the file form one mesh; polygons are
+// triangulated, points and lines ignored. Throws Error("PATH: problem") for a file that cannot be
+// parsed or holds no triangles.
+Mesh loadMesh(const std::string& path);
+
 } // namespace sdfgen

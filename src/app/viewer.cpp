@@ -4,6 +4,7 @@
 #include "app/glfw_context.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/camera.hpp"
 #include "render/image.hpp"
@@ -57,7 +58,7 @@ public:
 
     void loadMesh(const std::string& path) {
         try {
-            auto mesh = std::make_shared<Mesh>(loadObj(path));
+            auto mesh = std::make_shared<Mesh>(sdfgen::loadMesh(path));
             generation_.stop();
             scene_.setMesh(*mesh);
             scene_.clearField();
@@ -290,7 +291,7 @@ private:
             if (ImGui::Button("Save")) {
                 try {
                     if (!field_) throw Error("no field to save: Generate one first");
-                    saveFieldText(*field_, fieldPath_);
+                    saveField(*field_, fieldPath_);
                     status_ = std::string("saved ") + fieldPath_;
                     error_.clear();
                 } catch (const std::exception& e) {
@@ -300,7 +301,7 @@ private:
             ImGui::SameLine();
             if (ImGui::Button("Load##field")) {
                 try {
-                    Field field = loadFieldText(fieldPath_);
+                    Field field = loadField(fieldPath_);
                     scene_.setField(field);
                     field_ = std::move(field);
                     signSummary_ = "sign: " + field_->parameter("sign");

@@ -2,11 +2,15 @@
 #include "cli/commands.hpp"
 #include "sdfgen/model.hpp"
 #include "cli/progress.hpp"
+#include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <tbb/task_arena.h>
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 namespace sdfgen::cli {
@@ -17,11 +21,17 @@ struct BakeArgs {
     std::string mesh;
     std::string output;
     BakeSettings settings;
+    SaveOptions save;
     int threads = 0;
 };
 
 void runBake(const BakeArgs& args) {
     Stopwatch total;
+    std::string extension = std::filesystem::path(args.output).extension().string();
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (args.save.band > 0 && extension != ".vdb") {
+        throw Error("--band applies to .vdb output only (" + args.output + ")");
+    }
     const Model model = Model::load(args.mesh);
     const Mesh& mesh = model.mesh();
     if (mesh.droppedDegenerate > 0) {
@@ -36,7 +46,7 @@ void runBake(const BakeArgs& args) {
         control.progress = bar.callback();
         result = model.bake(args.settings, control);
     }
-    saveFieldText(result.field, args.output);
+    saveField(result.field, args.output, args.save);
     const double seconds = total.seconds();
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const Grid& g = result.field.grid;
@@ -51,9 +61,12 @@ void runBake(const BakeArgs& args) {
 
 void addBakeCommand(CLI::App& app) {
     auto args = std::make_shared<BakeArgs>();
-    CLI::App* bake = app.add_subcommand("bake", "Generate a signed distance field from an OBJ mesh and save it as text");
-    bake->add_option("mesh", args->mesh, "Input mesh (Wavefront OBJ)")->required();
-    bake->add_option("-o,--output", args->output, "Output field file (sdfgen-text, see docs/field-format.md)")->required();
+    CLI::App* bake = app.add_subcommand("bake", "Generate a signed distance field from a mesh and save it (format from the extension)");
+    bake->add_option("mesh", args->mesh, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)")->required();
+    bake->add_option("-o,--output", args->output, "Output field file: " + fieldFormatList() + " (docs/field-format.md)")->required();
+    bake->add_option("--band", args->save.band, "For .vdb: keep only voxels within this many voxels of the surface (0 = dense)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     addBakeOptions(*bake, args->settings, args->threads);
     bake->footer("The summary line counts the whole process: load, tree, generation and save.");
     bake->callback([args] { runBake(*args); });

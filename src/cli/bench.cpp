@@ -3,6 +3,7 @@
 #include "sdfgen/model.hpp"
 #include "cli/progress.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <tbb/task_arena.h>
@@ -42,7 +43,7 @@ struct Run {
 Run runOnce(const std::string& path, const BenchArgs& args, const std::string& scratch) {
     Run run;
     Stopwatch watch;
-    Mesh loaded = loadObj(path);
+    Mesh loaded = loadMesh(path);
     run.timing.load = watch.seconds();
     watch = Stopwatch();
     const Model model(std::move(loaded));
@@ -54,7 +55,7 @@ Run runOnce(const std::string& path, const BenchArgs& args, const std::string& s
     run.timing.distance = result.distanceSeconds;
     run.timing.sign = result.signSeconds;
     watch = Stopwatch();
-    saveFieldText(result.field, scratch);
+    saveField(result.field, scratch);
     run.timing.save = watch.seconds();
     run.triangles = mesh.triangleCount();
     run.grid = result.field.grid;

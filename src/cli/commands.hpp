@@ -12,9 +12,13 @@ void addBakeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addSurfaceCommand(CLI::App& app);
 
 // The options every generating command shares (--res, --rays, --padding, --threads).
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);
+
+// The field file extensions, for help texts: ".sdf, .npy, ...".
+std::string fieldFormatList();
 
 // The mesh the project ships, used when a command is given none.
 std::string defaultMeshPath();

@@ -3,6 +3,7 @@
 #include "sdfgen/compare.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
 
 #include <cstdio>
 #include <memory>
@@ -17,8 +18,8 @@ struct CompareArgs {
 };
 
 void runCompare(const CompareArgs& args) {
-    const Field a = loadFieldText(args.first);
-    const Field b = loadFieldText(args.second);
+    const Field a = loadField(args.first);
+    const Field b = loadField(args.second);
     FieldDifference d;
     try {
         d = compareFields(a, b, args.band);
@@ -38,7 +39,7 @@ void runCompare(const CompareArgs& args) {
 void addCompareCommand(CLI::App& app) {
     auto args = std::make_shared<CompareArgs>();
     CLI::App* compare = app.add_subcommand("compare", "Compare two fields on the same grid: distance error and sign disagreements");
-    compare->add_option("first", args->first, "A field file (e.g. the reference)")->required();
+    compare->add_option("first", args->first, "A field file (e.g. the reference): " + fieldFormatList())->required();
     compare->add_option("second", args->second, "A field file on the same grid")->required();
     compare->add_option("--band", args->band, "Ignore samples within this many voxels of the surface in either field")
         ->check(CLI::NonNegativeNumber)

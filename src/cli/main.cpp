@@ -14,11 +14,12 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBakeCommand(app);
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
+    sdfgen::cli::addSurfaceCommand(app);
 #if SDFGEN_HAS_VIEWER
     sdfgen::cli::addRenderCommand(app);
     std::string viewMesh;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
-    view->add_option("mesh", viewMesh, "Mesh to open (Wavefront OBJ)");
+    view->add_option("mesh", viewMesh, "Mesh to open (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)");
 #else
     app.footer("This sdfgen was built without the viewer (-DSDFGEN_VIEWER=OFF): no view or render command.");
 #endif

@@ -1,4 +1,5 @@
 #include "cli/commands.hpp"
+#include "sdfgen/formats.hpp"
 
 #include <filesystem>
 #include <map>
@@ -29,6 +30,12 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
         ->check(CLI::Range(0.0f, 100.0f))
         ->capture_default_str();
     command.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+}
+
+std::string fieldFormatList() {
+    std::string list;
+    for (const std::string& extension : fieldFormatExtensions()) list += (list.empty() ? "" : ", ") + extension;
+    return list;
 }
 
 std::string defaultMeshPath() {

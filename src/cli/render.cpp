@@ -5,6 +5,7 @@
 #include "cli/progress.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
 #include "render/osmesa_context.hpp"
@@ -69,7 +70,7 @@ void runRender(const RenderArgs& args) {
     Field field;
     const bool needField = views.volume || views.raymarch || views.slice;
     if (!args.sdf.empty()) {
-        field = loadFieldText(args.sdf);
+        field = loadField(args.sdf);
     } else if (needField) {
         RunControl control;
         control.threads = args.threads;
@@ -114,7 +115,7 @@ void runRender(const RenderArgs& args) {
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* render = app.add_subcommand("render", "Render views of a mesh and its field to a PNG, headless (OSMesa, no display needed)");
-    render->add_option("mesh", args->mesh, "Input mesh (Wavefront OBJ)")->required();
+    render->add_option("mesh", args->mesh, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)")->required();
     render->add_option("-o,--output", args->output, "Output PNG file")->required();
     render->add_option("--sdf", args->sdf, "Field file to show (default: bake one from the mesh when a view needs it)");
     render->add_option("--view", args->views, "Comma-separated views: grid, mesh, wire, volume, raymarch, slice (or all, none)")

@@ -44,7 +44,7 @@ private:
     mutable std::vector<Cap> caps_;
 };
 
-Model Model::load(const std::string& path, const RunControl& control) { return Model(loadObj(path), control); }
+Model Model::load(const std::string& path, const RunControl& control) { return Model(loadMesh(path), control); }
 
 Model::Model(Mesh mesh, const RunControl&) : impl_(std::make_unique<Impl>(std::move(mesh))) {}
 Model::~Model() = default;

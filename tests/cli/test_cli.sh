@@ -88,5 +88,37 @@ expect 1 "grid .* needs .* MiB" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sd
 expect fail '' -- test -e "$work/x.sdf"
 expect 1 "$work/nodir/x.sdf: cannot create" -- "$sdfgen" bake "$work/tet.obj" -o "$work/nodir/x.sdf" --res 4
 
+# Formats by extension: every one bakes, compares equal to the text file, and renders' loader reads it.
+for ext in npy npz vdb nrrd; do
+  expect 0 "tet.obj -> $work/tet.$ext" -- "$sdfgen" bake "$work/tet.obj" -o "$work/tet.$ext" --res 8
+done
+expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8
+for ext in npz vdb nrrd; do
+  expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/tet.$ext"
+done
+expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.vdb" --res 8 --band 2
+expect 1 '^sdfgen: --band applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
+expect 1 "x.xyz: unknown field format '.xyz'; known: .sdf, .npy, .npz, .vdb, .nrrd" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.xyz" --res 4
+expect fail '' -- test -e "$work/x.xyz"
+printf 'not numpy' >"$work/bad.npy"
+expect 1 "^sdfgen: $work/bad.npy: not a NumPy .npy file" -- "$sdfgen" compare "$work/bad.npy" "$work/tet.npy"
+# Meshes in other formats (assimp-utils writes them when installed).
+if command -v assimp >/dev/null; then
+  assimp export "$work/tet.obj" "$work/tet.stl" -fstlb >/dev/null 2>&1
+  expect 0 '4 triangles' -- "$sdfgen" bake "$work/tet.stl" -o "$work/tet-stl.sdf" --res 8
+  expect 0 'max 0 \(0 voxels\)' -- "$sdfgen" compare "$work/tet.sdf" "$work/tet-stl.sdf"
+fi
+printf 'solid broken\n facet normal 0 0 1\n' >"$work/broken.stl"
+expect 1 "^sdfgen: $work/broken.stl: " -- "$sdfgen" bake "$work/broken.stl" -o "$work/x.sdf" --res 4
+cp "$work/tet.obj" "$work/tet.xyz"
+expect 1 "unknown mesh format '.xyz'" -- "$sdfgen" bake "$work/tet.xyz" -o "$work/x.sdf" --res 4
+# surface: a closed manifold mesh from an open one, from a mesh or a saved field.
+expect 0 'mesh check of the output: 0 boundary edges, 0 non-manifold edges, 0 inconsistently oriented edges, 0 non-manifold vertices' -- \
+  "$sdfgen" surface "$work/open.obj" -o "$work/open-surface.obj" --res 16
+expect 0 'triangles' -- "$sdfgen" surface "$work/tet.npz" -o "$work/tet-surface.ply"
+expect 0 '^ply$' -- head -1 "$work/tet-surface.ply"
+expect 1 'padding' -- "$sdfgen" surface "$work/tet.obj" -o "$work/x.obj" --padding 0
+expect 1 "x.stl: unknown surface format" -- "$sdfgen" surface "$work/tet.obj" -o "$work/x.stl" --res 8
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

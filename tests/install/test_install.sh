@@ -14,7 +14,7 @@ cmake --install "$build" --prefix "$scratch/prefix" >"$scratch/install.log" || {
 for f in bin/sdfgen include/sdfgen/sdfgen.hpp include/sdfgen/model.hpp lib/cmake/sdfgen/sdfgenConfig.cmake share/sdfgen/assets/bunny.obj; do
   [ -e "$scratch/prefix/$f" ] || fail "not installed: $f"
 done
-ls "$scratch/prefix"/lib*/libsdfgen.a >/dev/null 2>&1 || ls "$scratch/prefix"/lib/*/libsdfgen.a >/dev/null 2>&1 || fail "libsdfgen.a not installed"
+ls "$scratch/prefix"/lib/libsdfgen.so* >/dev/null 2>&1 || fail "libsdfgen.so not installed"
 if grep -rq -- "-march=native\|fsanitize" "$scratch/prefix/lib"*/cmake/sdfgen/ 2>/dev/null; then fail "private flags leaked into the package"; fi
 
 cmake -S "$source/tests/install/consumer" -B "$scratch/consumer" -G Ninja -DCMAKE_PREFIX_PATH="$scratch/prefix" >"$scratch/configure.log" 2>&1 \

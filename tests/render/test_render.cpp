@@ -46,7 +46,7 @@ protected:
         models_ = new std::map<std::string, Model>();
         // The generated torus at res 64; the bundled bunny at res 128, as in the silhouette test.
         addModel("torus", test::torus(1.0f, 0.4f, 48, 24), 64);
-        addModel("bunny", loadObj(test::bundledBunnyPath()), 128);
+        addModel("bunny", loadMesh(test::bundledBunnyPath()), 128);
     }
     static void TearDownTestSuite() {
         delete models_;

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
         sdfgen::BakeSettings settings;
         settings.res = 16;
         const sdfgen::BakeResult result = model.bake(settings);
-        sdfgen::saveFieldText(result.field, argv[2]);
+        sdfgen::saveField(result.field, argv[2]);
         const sdfgen::WorldBounds box = model.mesh().worldBounds();
         const glm::dvec3 centre = 0.5 * (box.min + box.max);
         const float inside = model.signedDistance({centre})[0];

@@ -1,5 +1,6 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/error.hpp"
+#include "core/formats/format.hpp"
 
 #include <charconv>
 #include <cerrno>
@@ -243,3 +244,10 @@ Field loadFieldText(const std::string& path) {
 }
 
 } // namespace sdfgen
+
+namespace sdfgen::formats {
+
+void saveText(const Field& field, const std::string& path, const SaveOptions&) { saveFieldText(field, path); }
+Field loadText(const std::string& path) { return loadFieldText(path); }
+
+} // namespace sdfgen::formats

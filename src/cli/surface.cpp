@@ -1,0 +1,92 @@
+// `sdfgen surface`: a closed, manifold triangle mesh from a mesh (baked with exact distances and
+// the automatic sign, so holes and self-intersections do not leak) or from a saved field.
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "core/surface.hpp"
+#include "core/topology.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/formats.hpp"
+#include "sdfgen/mesh.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace sdfgen::cli {
+
+namespace {
+
+struct SurfaceArgs {
+    std::string input;
+    std::string output;
+    BakeSettings settings;
+    int threads = 0;
+    double iso = 0.0;
+    double adaptivity = 0.0;
+};
+
+bool isFieldFile(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::vector<std::string> fields = fieldFormatExtensions();
+    return std::find(fields.begin(), fields.end(), extension) != fields.end();
+}
+
+void runSurface(const SurfaceArgs& args) {
+    Stopwatch total;
+    Field field;
+    if (isFieldFile(args.input)) {
+        field = loadField(args.input);
+    } else {
+        if (!(args.settings.padding > 0.0)) throw Error("--padding must be above 0: the surface must stay inside the grid to be closed");
+        const Model model = Model::load(args.input);
+        RunControl control;
+        control.threads = args.threads;
+        ProgressBar bar;
+        control.progress = bar.callback();
+        field = model.bake(args.settings, control).field;
+    }
+    SurfaceMesh surface;
+    try {
+        surface = extractSurface(field, args.iso, args.adaptivity);
+    } catch (const Error& e) {
+        throw Error(args.input + ": " + e.what());
+    }
+    saveSurface(surface, args.output);
+    const double seconds = total.seconds();
+
+    const Mesh result = buildMesh(args.output, surface.positions, surface.triangles);
+    const MeshCheck check = MeshTopology(result).check(result, Bvh(result));
+    const Grid& g = field.grid;
+    std::printf("%s -> %s: %zu vertices, %zu triangles, iso %g, adaptivity %g, grid %dx%dx%d, %.3f s\n", args.input.c_str(),
+                args.output.c_str(), surface.positions.size(), surface.triangles.size(), args.iso, args.adaptivity, g.dims.x,
+                g.dims.y, g.dims.z, seconds);
+    std::printf("mesh check of the output: %s\n", check.describe().c_str());
+}
+
+} // namespace
+
+void addSurfaceCommand(CLI::App& app) {
+    auto args = std::make_shared<SurfaceArgs>();
+    CLI::App* surface = app.add_subcommand("surface", "Extract a closed, manifold iso-surface (OBJ or PLY) from a mesh or a field");
+    surface->add_option("input", args->input, "A mesh (baked first: exact distances, automatic sign) or a field file (" + fieldFormatList() + ")")
+        ->required();
+    surface->add_option("-o,--output", args->output, "Output mesh: .obj or .ply (binary)")->required();
+    surface->add_option("--iso", args->iso, "Distance of the surface: 0 is the mesh's surface, > 0 an offset outwards")->capture_default_str();
+    surface->add_option("--adaptivity", args->adaptivity, "0 (uniform triangles) to 1 (fewer, larger triangles where the surface is flat)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    surface->add_option("--res", args->settings.res, "For a mesh: voxels along the longest side of the padded bounding box")
+        ->check(CLI::Range(1, 1 << 16))
+        ->capture_default_str();
+    surface->add_option("--padding", args->settings.padding, "For a mesh: margin around it, as a fraction of its longest side (> 0)")
+        ->check(CLI::Range(0.0f, 100.0f))
+        ->capture_default_str();
+    surface->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    surface->footer("The surface is OpenVDB's volumeToMesh of the field; it is closed when it stays inside the grid.");
+    surface->callback([args] { runSurface(*args); });
+}
+
+} // namespace sdfgen::cli

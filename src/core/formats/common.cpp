@@ -1,0 +1,130 @@
+// What every field format shares: the atomic write, the checks on saved and loaded fields, and
+// the method line.
+#include "core/formats/format.hpp"
+#include "sdfgen/error.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <limits>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace sdfgen::formats {
+
+namespace {
+
+bool isToken(const std::string& s) {
+    return !s.empty() && s.find_first_of(" \t\r\n=") == std::string::npos;
+}
+
+void checkGrid(const Grid& grid, const std::string& path) {
+    if (grid.dims.x < 1 || grid.dims.y < 1 || grid.dims.z < 1) throw Error(path + ": grid has no samples");
+    if (!(grid.voxel > 0) || !std::isfinite(grid.voxel) || !std::isfinite(grid.origin.x) ||
+        !std::isfinite(grid.origin.y) || !std::isfinite(grid.origin.z)) {
+        throw Error(path + ": grid origin or voxel size is not a finite (positive) number");
+    }
+}
+
+void checkValuesAndNames(const Field& field, const std::string& path) {
+    if (field.values.size() != field.grid.sampleCount()) {
+        throw Error(path + ": field has " + std::to_string(field.values.size()) + " values for a grid of " +
+                    std::to_string(field.grid.sampleCount()));
+    }
+    for (std::size_t i = 0; i < field.values.size(); ++i) {
+        if (!std::isfinite(field.values[i])) throw Error(path + ": value " + std::to_string(i) + " is not finite");
+    }
+    if (field.source.find_first_of("\r\n") != std::string::npos) throw Error(path + ": source name has a line break");
+    if (!isToken(field.method)) throw Error(path + ": method name '" + field.method + "' is not a single word");
+    for (const auto& [key, value] : field.parameters) {
+        if (!isToken(key) || !isToken(value)) throw Error(path + ": bad method parameter '" + key + "=" + value + "'");
+    }
+}
+
+} // namespace
+
+void writeFieldFile(const std::string& path, const std::function<void(std::ostream&)>& write) {
+    std::string tempPath = path + ".tmp-XXXXXX";
+    const int fd = mkstemp(tempPath.data());
+    if (fd < 0) throw Error(path + ": cannot create a temporary file beside it (" + std::strerror(errno) + ")");
+    fchmod(fd, 0644); // mkstemp makes the file private; a saved field is an ordinary document
+    close(fd);
+    auto removeTemp = [&] { std::remove(tempPath.c_str()); };
+    try {
+        {
+            std::ofstream out(tempPath, std::ios::binary | std::ios::trunc);
+            if (!out) throw Error(path + ": cannot open the temporary file (" + std::strerror(errno) + ")");
+            write(out);
+            out.flush();
+            if (!out) throw Error(path + ": write failed (" + std::strerror(errno) + ")");
+        }
+        const int syncFd = open(tempPath.c_str(), O_RDONLY);
+        const bool synced = syncFd >= 0 && fsync(syncFd) == 0;
+        const std::string reason = std::strerror(errno);
+        if (syncFd >= 0) close(syncFd);
+        if (!synced) throw Error(path + ": write failed (" + reason + ")");
+        if (std::rename(tempPath.c_str(), path.c_str()) != 0) {
+            throw Error(path + ": cannot replace the file (" + std::strerror(errno) + ")");
+        }
+    } catch (...) {
+        removeTemp();
+        throw;
+    }
+}
+
+void checkField(const Field& field, const std::string& path) {
+    checkGrid(field.grid, path);
+    checkValuesAndNames(field, path);
+}
+
+void checkDimsFit(const std::uint64_t dims[3], const std::string& path) {
+    double samples = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        if (dims[a] < 1) throw Error(path + ": dimensions must be at least 1");
+        if (dims[a] > std::uint64_t(std::numeric_limits<int>::max())) {
+            throw Error(path + ": dimension " + std::to_string(dims[a]) + " is too large");
+        }
+        samples *= double(dims[a]);
+    }
+    const std::uint64_t memory = physicalMemoryBytes();
+    if (samples * sizeof(float) > (memory > 0 ? double(memory) : 0x1p62)) {
+        throw Error(path + ": dimensions " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                    std::to_string(dims[2]) + " too large for this machine's memory");
+    }
+}
+
+std::string methodLine(const Field& field) {
+    std::string line = field.method;
+    for (const auto& [key, value] : field.parameters) line += " " + key + "=" + value;
+    return line;
+}
+
+void parseMethodLine(const std::string& line, Field& field, const std::string& path) {
+    field.parameters.clear();
+    std::size_t pos = 0;
+    bool first = true;
+    while (pos < line.size()) {
+        const std::size_t end = std::min(line.find(' ', pos), line.size());
+        const std::string item = line.substr(pos, end - pos);
+        pos = end + 1;
+        if (item.empty()) continue;
+        if (first) {
+            if (item.find('=') != std::string::npos) throw Error(path + ": method line '" + line + "' has no method name");
+            field.method = item;
+            first = false;
+            continue;
+        }
+        const std::size_t eq = item.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == item.size() || item.find('=', eq + 1) != std::string::npos) {
+            throw Error(path + ": method parameter '" + item + "' is not key=value");
+        }
+        field.parameters.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+    }
+    if (first) throw Error(path + ": missing method name");
+    if (line.find_first_of("\t\r\n") != std::string::npos) throw Error(path + ": method line has a tab or line break");
+}
+
+} // namespace sdfgen::formats

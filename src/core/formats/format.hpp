@@ -1,0 +1,57 @@
+#pragma once
+// Field file formats as plug-ins: each format is one file in src/core/formats/ that defines its
+// save and load functions, plus one line in the table in registry.cpp.
+#include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sdfgen::formats {
+
+struct FieldFormat {
+    const char* extension;   // with the dot, lower case
+    const char* description; // for help texts and the unknown-extension error
+    void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
+    Field (*load)(const std::string& path);
+};
+
+// Every registered format, in the order the help texts list them.
+const std::vector<FieldFormat>& fieldFormats();
+
+// Writes the bytes `write` produces to `path` atomically (temporary file beside it, fsync, rename);
+// every binary format's final write goes through here. Throws Error("PATH: problem").
+void writeFieldFile(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+// The rules every writer checks before writing anything and every reader checks on what it read:
+// values match the grid, the grid is valid, values are finite, source and method fit on one line
+// (the text format's rules). Throws Error naming `path`.
+void checkField(const Field& field, const std::string& path);
+
+// Throws Error naming `path` when a grid of these dimensions cannot be held in memory, before
+// anything is allocated for it. Every dimension must be at least 1 and fit in an int.
+void checkDimsFit(const std::uint64_t dims[3], const std::string& path);
+
+// The method line of the text format without the keyword: "exact sign=auto/winding res=64 ...".
+std::string methodLine(const Field& field);
+// Splits a method line into the field's method and parameters; Error naming `path` when malformed.
+void parseMethodLine(const std::string& line, Field& field, const std::string& path);
+
+// The sdfgen-text format (text.cpp).
+void saveText(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadText(const std::string& path);
+// NumPy .npy (npy.cpp) and .npz (npz.cpp), OpenVDB (vdb.cpp), NRRD (nrrd.cpp).
+void saveNpy(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadNpy(const std::string& path);
+void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadNpz(const std::string& path);
+void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadVdb(const std::string& path);
+void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadNrrd(const std::string& path);
+
+} // namespace sdfgen::formats

@@ -1,0 +1,202 @@
+// NumPy .npz: a zip archive (stored, uncompressed, as numpy.savez writes it) of .npy members:
+// sdf (the values, as in .npy), origin (3, float64), voxel_size (float64 scalar), dims (3, int64),
+// method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k).
+#include "core/formats/format.hpp"
+#include "core/formats/npy.hpp"
+#include "sdfgen/error.hpp"
+
+#include <zip.h>
+
+#include <cerrno>
+#include <cmath>
+#include <fstream>
+#include <cstring>
+#include <memory>
+
+namespace sdfgen::formats {
+
+namespace {
+
+constexpr zip_uint64_t kMaxMetadataBytes = 1 << 20; // origin, dims, method, source: small arrays
+
+struct ZipCloser {
+    void operator()(zip_t* archive) const { zip_discard(archive); }
+};
+struct ZipFileCloser {
+    void operator()(zip_file_t* file) const { zip_fclose(file); }
+};
+struct ZipSourceFree {
+    void operator()(zip_source_t* source) const { zip_source_free(source); }
+};
+
+std::string zipProblem(zip_error_t* error) {
+    std::string text = zip_error_strerror(error);
+    zip_error_fini(error);
+    return text;
+}
+
+// One .npy member: its header (or whole small array) and, for the field, the values after it.
+struct Member {
+    std::string name;
+    std::string head;
+    const void* data = nullptr;
+    std::size_t size = 0;
+};
+
+// The archive in memory, as numpy.savez lays it out.
+std::string buildArchive(const std::vector<Member>& members, const std::string& path) {
+    zip_error_t error;
+    zip_error_init(&error);
+    std::unique_ptr<zip_source_t, ZipSourceFree> buffer(zip_source_buffer_create(nullptr, 0, 0, &error));
+    if (!buffer) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
+    zip_t* archive = zip_open_from_source(buffer.get(), ZIP_CREATE | ZIP_TRUNCATE, &error);
+    if (!archive) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
+    zip_source_keep(buffer.get()); // the archive releases its reference on close; the bytes stay here
+    for (const Member& m : members) {
+        // The field's values go in as they are, behind their header (libzip only reads fragments).
+        const zip_buffer_fragment_t fragments[2] = {
+            {reinterpret_cast<zip_uint8_t*>(const_cast<char*>(m.head.data())), m.head.size()},
+            {static_cast<zip_uint8_t*>(const_cast<void*>(m.data)), m.size}};
+        zip_source_t* member = zip_source_buffer_fragment(archive, fragments, m.size > 0 ? 2 : 1, 0);
+        const zip_int64_t index = member ? zip_file_add(archive, m.name.c_str(), member, ZIP_FL_ENC_UTF_8) : -1;
+        if (index < 0) {
+            if (member) zip_source_free(member);
+            const std::string problem = zip_strerror(archive);
+            zip_discard(archive);
+            throw Error(path + ": cannot add " + m.name + " to the archive (" + problem + ")");
+        }
+        zip_set_file_compression(archive, zip_uint64_t(index), ZIP_CM_STORE, 0);
+    }
+    if (zip_close(archive) != 0) {
+        const std::string problem = zip_strerror(archive);
+        zip_discard(archive);
+        throw Error(path + ": cannot write the archive (" + problem + ")");
+    }
+    zip_stat_t stat;
+    if (zip_source_stat(buffer.get(), &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE) || zip_source_open(buffer.get()) != 0) {
+        throw Error(path + ": cannot read back the archive built in memory");
+    }
+    std::string bytes(stat.size, '\0');
+    const zip_int64_t n = zip_source_read(buffer.get(), bytes.data(), stat.size);
+    zip_source_close(buffer.get());
+    if (n != zip_int64_t(stat.size)) throw Error(path + ": cannot read back the archive built in memory");
+    return bytes;
+}
+
+class ArchiveReader {
+public:
+    explicit ArchiveReader(const std::string& path) : path_(path) {
+        if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+        int code = 0;
+        archive_.reset(zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code));
+        if (!archive_) {
+            zip_error_t error;
+            zip_error_init_with_code(&error, code);
+            throw Error(path + ": not a valid .npz (zip) archive: " + zipProblem(&error));
+        }
+    }
+
+    bool has(const std::string& name) const { return zip_name_locate(archive_.get(), name.c_str(), 0) >= 0; }
+
+    // A member opened for reading, and its uncompressed size.
+    std::unique_ptr<zip_file_t, ZipFileCloser> open(const std::string& name, zip_uint64_t& size) const {
+        const zip_int64_t index = zip_name_locate(archive_.get(), name.c_str(), 0);
+        if (index < 0) throw Error(path_ + ": the archive has no '" + name + "'");
+        zip_stat_t stat;
+        if (zip_stat_index(archive_.get(), zip_uint64_t(index), 0, &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE)) {
+            throw Error(path_ + ": cannot read the size of '" + name + "'");
+        }
+        size = stat.size;
+        std::unique_ptr<zip_file_t, ZipFileCloser> file(zip_fopen_index(archive_.get(), zip_uint64_t(index), 0));
+        if (!file) throw Error(path_ + ": cannot open '" + name + "' (" + zip_strerror(archive_.get()) + ")");
+        return file;
+    }
+
+    // Reads exactly up to the end of the member; the checksum is verified when the end is reached.
+    static ReadBytes reader(zip_file_t* file) {
+        return [file](void* data, std::size_t size) -> std::size_t {
+            std::size_t done = 0;
+            while (done < size) {
+                const zip_int64_t n = zip_fread(file, static_cast<char*>(data) + done, size - done);
+                if (n <= 0) break;
+                done += std::size_t(n);
+            }
+            return done;
+        };
+    }
+
+    void checkAtEnd(zip_file_t* file, const std::string& name) const {
+        char extra;
+        if (zip_fread(file, &extra, 1) != 0) {
+            throw Error(path_ + ": '" + name + "' is corrupt (" + zip_file_strerror(file) + ")");
+        }
+    }
+
+    std::string readSmall(const std::string& name) const {
+        zip_uint64_t size = 0;
+        auto file = open(name, size);
+        if (size > kMaxMetadataBytes) throw Error(path_ + ": '" + name + "' is too large for metadata");
+        std::string bytes(size, '\0');
+        if (reader(file.get())(bytes.data(), size) != size) {
+            throw Error(path_ + ": '" + name + "' is truncated or corrupt (" + zip_file_strerror(file.get()) + ")");
+        }
+        checkAtEnd(file.get(), name);
+        return bytes;
+    }
+
+private:
+    std::string path_;
+    std::unique_ptr<zip_t, ZipCloser> archive_;
+};
+
+} // namespace
+
+void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
+    checkField(field, path);
+    const Grid& g = field.grid;
+    const std::vector<Member> members = {
+        {"sdf.npy", npyFieldHeader(field), field.values.data(), field.values.size() * sizeof(float)},
+        {"origin.npy", npyFloat64Array({double(g.origin.x), double(g.origin.y), double(g.origin.z)}, false)},
+        {"voxel_size.npy", npyFloat64Array({double(g.voxel)}, true)},
+        {"dims.npy", npyInt64Array({g.dims.x, g.dims.y, g.dims.z})},
+        {"method.npy", npyUnicodeScalar(methodLine(field))},
+        {"source.npy", npyUnicodeScalar(field.source)},
+    };
+    const std::string archive = buildArchive(members, path);
+    writeFieldFile(path, [&](std::ostream& out) { out.write(archive.data(), std::streamsize(archive.size())); });
+}
+
+Field loadNpz(const std::string& path) {
+    const ArchiveReader archive(path);
+    Field field;
+    {
+        const std::string where = path + ": sdf.npy";
+        zip_uint64_t size = 0;
+        auto file = archive.open("sdf.npy", size);
+        const ReadBytes read = ArchiveReader::reader(file.get());
+        const NpyHeader header = readNpyHeader(read, where);
+        if (header.headerBytes > size) throw Error(where + ": member is shorter than its header");
+        readNpyFieldValues(header, read, size - header.headerBytes, field, where);
+        archive.checkAtEnd(file.get(), "sdf.npy");
+    }
+    const std::vector<double> origin = parseNpyNumbers(archive.readSmall("origin.npy"), path + ": origin.npy");
+    if (origin.size() != 3) throw Error(path + ": origin.npy has " + std::to_string(origin.size()) + " values, not 3");
+    for (int a = 0; a < 3; ++a) field.grid.origin[a] = origin[std::size_t(a)];
+    const std::vector<double> voxel = parseNpyNumbers(archive.readSmall("voxel_size.npy"), path + ": voxel_size.npy");
+    if (voxel.size() != 1) throw Error(path + ": voxel_size.npy is not a single number");
+    if (!(voxel[0] > 0)) throw Error(path + ": voxel_size.npy: voxel size must be positive");
+    field.grid.voxel = voxel[0];
+    if (archive.has("dims.npy")) {
+        const std::vector<double> dims = parseNpyNumbers(archive.readSmall("dims.npy"), path + ": dims.npy");
+        if (dims.size() != 3 || dims[0] != field.grid.dims.x || dims[1] != field.grid.dims.y || dims[2] != field.grid.dims.z) {
+            throw Error(path + ": dims.npy does not match the shape of sdf.npy");
+        }
+    }
+    field.method = "unknown";
+    if (archive.has("method.npy")) parseMethodLine(parseNpyString(archive.readSmall("method.npy"), path + ": method.npy"), field, path + ": method.npy");
+    if (archive.has("source.npy")) field.source = parseNpyString(archive.readSmall("source.npy"), path + ": source.npy");
+    checkField(field, path);
+    return field;
+}
+
+} // namespace sdfgen::formats

@@ -1,0 +1,56 @@
+// The table of field formats behind saveField and loadField. A new format is one file in this
+// folder plus one line here.
+#include "core/formats/format.hpp"
+#include "sdfgen/error.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace sdfgen {
+
+namespace formats {
+
+const std::vector<FieldFormat>& fieldFormats() {
+    static const std::vector<FieldFormat> table = {
+        {".sdf", "sdfgen text (docs/field-format.md)", saveText, loadText},
+        {".npy", "NumPy float32 array (nx, ny, nz), values only", saveNpy, loadNpy},
+        {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source", saveNpz, loadNpz},
+        {".vdb", "OpenVDB FloatGrid 'surface', level set class", saveVdb, loadVdb},
+        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", saveNrrd, loadNrrd},
+    };
+    return table;
+}
+
+namespace {
+
+const FieldFormat& formatOf(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const FieldFormat& format : fieldFormats()) {
+        if (extension == format.extension) return format;
+    }
+    std::string known;
+    for (const FieldFormat& format : fieldFormats()) known += (known.empty() ? "" : ", ") + std::string(format.extension);
+    throw Error(path + ": unknown field format " + (extension.empty() ? "(no extension)" : "'" + extension + "'") +
+                "; known: " + known);
+}
+
+} // namespace
+} // namespace formats
+
+void saveField(const Field& field, const std::string& path, const SaveOptions& options) {
+    formats::formatOf(path).save(field, path, options);
+}
+
+Field loadField(const std::string& path) {
+    return formats::formatOf(path).load(path);
+}
+
+std::vector<std::string> fieldFormatExtensions() {
+    std::vector<std::string> extensions;
+    for (const formats::FieldFormat& format : formats::fieldFormats()) extensions.emplace_back(format.extension);
+    return extensions;
+}
+
+} // namespace sdfgen

@@ -1,0 +1,98 @@
+// Mesh files by extension: OBJ through tinyobjloader (mesh.cpp), everything else (STL, PLY, OFF,
+// glTF/GLB, FBX, ...) through Assimp. Node transforms are applied and every mesh of the scene is
+// merged into one; Assimp only triangulates polygons and joins identical vertices, so no
+// geometry is "repaired" or dropped behind the user's back (buildMesh drops and counts
+// zero-area triangles, as for OBJ).
+#include "sdfgen/error.hpp"
+#include "sdfgen/mesh.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <glm/mat4x4.hpp>
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace sdfgen {
+
+namespace {
+
+glm::dmat4 toMatrix(const aiMatrix4x4& m) {
+    // Assimp's matrices are row-major with the translation in the last column; glm is column-major.
+    glm::dmat4 out;
+    for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 4; ++c) out[c][r] = m[r][c];
+    }
+    return out;
+}
+
+// Appends every triangle of `node` and its children, in world coordinates (a mesh that several
+// nodes instance appears once per node).
+void collect(const aiScene& scene, const aiNode& node, const glm::dmat4& parent, std::vector<glm::vec3>& positions,
+             std::vector<glm::uvec3>& triangles) {
+    const glm::dmat4 transform = parent * toMatrix(node.mTransformation);
+    for (unsigned m = 0; m < node.mNumMeshes; ++m) {
+        const aiMesh& mesh = *scene.mMeshes[node.mMeshes[m]];
+        const auto first = unsigned(positions.size());
+        for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+            const aiVector3D& p = mesh.mVertices[v];
+            positions.emplace_back(transform * glm::dvec4(p.x, p.y, p.z, 1.0));
+        }
+        for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+            const aiFace& face = mesh.mFaces[f];
+            if (face.mNumIndices != 3) continue; // points and lines: not part of any surface
+            triangles.emplace_back(first + face.mIndices[0], first + face.mIndices[1], first + face.mIndices[2]);
+        }
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], transform, positions, triangles);
+}
+
+std::string firstLine(std::string text) {
+    text = text.substr(0, text.find('\n'));
+    while (!text.empty() && (text.back() == '\r' || text.back() == ' ')) text.pop_back();
+    return text;
+}
+
+Mesh loadWithAssimp(const std::string& path) {
+    Assimp::Importer importer;
+    // Without normals, colours and texture coordinates, identical positions are identical
+    // vertices, so an STL's per-face corners are joined into a connected mesh.
+    importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                                            aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                                            aiComponent_BONEWEIGHTS);
+    const aiScene* scene = importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
+                                                       aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure);
+    if (!scene) {
+        const std::string problem = firstLine(importer.GetErrorString());
+        throw Error(path + ": cannot read the file" + (problem.empty() ? "" : " (" + problem + ")"));
+    }
+    if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) throw Error(path + ": the file holds no complete scene");
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    collect(*scene, *scene->mRootNode, glm::dmat4(1.0), positions, triangles);
+    return buildMesh(path, std::move(positions), std::move(triangles));
+}
+
+} // namespace
+
+Mesh loadMesh(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a mesh file");
+    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (extension == ".obj") return loadObj(path);
+    if (extension.empty() || !Assimp::Importer().IsExtensionSupported(extension)) {
+        throw Error(path + ": unknown mesh format " + (extension.empty() ? "(no extension)" : "'" + extension + "'") +
+                    "; known: .obj, .stl, .ply, .off, .gltf, .glb, .fbx, .dae, .3ds, .3mf and the other formats Assimp reads");
+    }
+    return loadWithAssimp(path);
+}
+
+} // namespace sdfgen

@@ -1,0 +1,468 @@
+// Field formats by extension (.sdf, .npy, .npz, .vdb, .nrrd): bit-exact round trips of values,
+// grid, method and source; one-line errors naming the file for truncated, corrupt, wrongly typed
+// and oversized files, checked before anything large is allocated; atomic saves.
+#include "sdfgen/error.hpp"
+#include "sdfgen/formats.hpp"
+
+#include "support/checks.hpp"
+
+#include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetSphere.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace sdfgen {
+namespace {
+
+using test::errorFrom;
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kBinaryExtensions = {".npy", ".npz", ".vdb", ".nrrd"};
+
+// A 5x3x4 field (no two dimensions equal, so a transposed layout shows) with values of every sign
+// and magnitude, an origin and voxel that are not round in binary, and a method with parameters.
+Field sampleField() {
+    Field field;
+    field.source = "meshes/bunny model, v2 \xC3\xA9t\xC3\xA9.obj";
+    field.method = "exact";
+    field.parameters = {{"sign", "auto/winding"}, {"res", "5"}, {"padding", "0.1"}};
+    field.grid.dims = {5, 3, 4};
+    field.grid.origin = {-0.1104f, 0.0174f, -0.0774f};
+    field.grid.voxel = 0.00292f;
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> uniform(-0.05f, 0.05f);
+    field.values.resize(field.grid.sampleCount());
+    for (float& v : field.values) v = uniform(random);
+    field.values[0] = 0.0f;
+    field.values[1] = -0.0f;
+    field.values[2] = 1e-40f; // subnormal
+    field.values[3] = 3.0e38f;
+    return field;
+}
+
+std::vector<std::uint32_t> bitsOf(const std::vector<float>& values) {
+    std::vector<std::uint32_t> bits(values.size());
+    std::memcpy(bits.data(), values.data(), values.size() * sizeof(float));
+    return bits;
+}
+
+void expectSameGrid(const Grid& a, const Grid& b) {
+    EXPECT_EQ(a.dims, b.dims);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(double(a.origin[k]), double(b.origin[k])) << "origin " << k;
+    EXPECT_EQ(double(a.voxel), double(b.voxel));
+}
+
+void expectIdentical(const Field& a, const Field& b) {
+    EXPECT_EQ(a.source, b.source);
+    EXPECT_EQ(a.method, b.method);
+    EXPECT_EQ(a.parameters, b.parameters);
+    expectSameGrid(a.grid, b.grid);
+    EXPECT_EQ(bitsOf(a.values), bitsOf(b.values));
+}
+
+std::string readBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+class Formats : public test::ScratchFolderTest {
+protected:
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+    // Loading `path` fails with one line that names it.
+    void expectLoadError(const std::string& file, const std::string& word = "") {
+        const std::string message = errorFrom([&] { loadField(file); });
+        EXPECT_EQ(message.rfind(file, 0), 0u) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        if (!word.empty()) {
+            EXPECT_CONTAINS(message, word);
+        }
+    }
+
+    std::vector<std::string> folderContents() const {
+        std::vector<std::string> names;
+        for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename().string());
+        std::sort(names.begin(), names.end());
+        return names;
+    }
+};
+
+// ---- Round trips -------------------------------------------------------------------------------
+
+TEST_F(Formats, ExtensionsAreListed) {
+    EXPECT_EQ(fieldFormatExtensions(), (std::vector<std::string>{".sdf", ".npy", ".npz", ".vdb", ".nrrd"}));
+}
+
+TEST_F(Formats, EveryFormatWithGridKeepsEverythingBitExact) {
+    const Field field = sampleField();
+    for (const std::string extension : {".sdf", ".npz", ".vdb", ".nrrd"}) {
+        SCOPED_TRACE(extension);
+        const std::string file = path("field" + std::string(extension));
+        saveField(field, file);
+        expectIdentical(loadField(file), field);
+    }
+}
+
+TEST_F(Formats, UpperCaseExtensionsWork) {
+    const std::string file = path("FIELD.NPZ");
+    saveField(sampleField(), file);
+    expectIdentical(loadField(file), sampleField());
+}
+
+TEST_F(Formats, NpyKeepsValuesAndShapeOnly) {
+    const Field field = sampleField();
+    const std::string file = path("field.npy");
+    saveField(field, file);
+    const Field loaded = loadField(file);
+    EXPECT_EQ(loaded.grid.dims, field.grid.dims);
+    EXPECT_EQ(bitsOf(loaded.values), bitsOf(field.values));
+    EXPECT_EQ(loaded.method, "unknown");
+    EXPECT_EQ(double(loaded.grid.voxel), 1.0);
+}
+
+TEST_F(Formats, NpyIsTheFieldBufferInFortranOrder) {
+    const Field field = sampleField();
+    const std::string file = path("field.npy");
+    saveField(field, file);
+    const std::string bytes = readBytes(file);
+    const std::size_t dataBytes = field.values.size() * sizeof(float);
+    ASSERT_GT(bytes.size(), dataBytes);
+    const std::size_t headerBytes = bytes.size() - dataBytes;
+    EXPECT_EQ(headerBytes % 64, 0u) << "numpy aligns the data to 64 bytes";
+    const std::string header = bytes.substr(0, headerBytes);
+    EXPECT_EQ(header.rfind("\x93NUMPY\x01\x00", 0), 0u);
+    EXPECT_CONTAINS(header, "'descr': '<f4'");
+    EXPECT_CONTAINS(header, "'fortran_order': True");
+    EXPECT_CONTAINS(header, "'shape': (5, 3, 4)");
+    EXPECT_EQ(std::memcmp(bytes.data() + headerBytes, field.values.data(), dataBytes), 0);
+}
+
+std::string npyWithHeader(const std::string& dictionary, std::size_t dataBytes) {
+    std::string bytes = "\x93NUMPY\x01";
+    bytes += '\0';
+    std::string dict = dictionary;
+    dict.append((64 - (10 + dict.size() + 1) % 64) % 64, ' ');
+    dict += '\n';
+    bytes += char(dict.size() & 0xFF);
+    bytes += char(dict.size() >> 8);
+    return bytes + dict + std::string(dataBytes, '\0');
+}
+
+TEST_F(Formats, NpyInCOrderIsTransposed) {
+    // numpy.save of a C-ordered (2, 1, 3) array a with a[i, 0, k] = 10 i + k.
+    std::string bytes = npyWithHeader("{'descr': '<f4', 'fortran_order': False, 'shape': (2, 1, 3), }", 0);
+    for (int i = 0; i < 2; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const float v = float(10 * i + k);
+            bytes.append(reinterpret_cast<const char*>(&v), 4);
+        }
+    }
+    const Field field = loadField(write("c.npy", bytes));
+    ASSERT_EQ(field.grid.dims, glm::ivec3(2, 1, 3));
+    for (int i = 0; i < 2; ++i) {
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(field.at(i, 0, k), float(10 * i + k));
+    }
+}
+
+TEST_F(Formats, NpzKeepsSourceNamesThatAreNotUtf8) {
+    Field field = sampleField();
+    field.source = "odd\xFF\xC3name\xE2\x82.obj";
+    const std::string file = path("field.npz");
+    saveField(field, file);
+    EXPECT_EQ(loadField(file).source, field.source);
+    field.source = "";
+    saveField(field, file);
+    EXPECT_EQ(loadField(file).source, "");
+}
+
+TEST_F(Formats, NrrdPlacesTheFirstSampleAtSpaceOrigin) {
+    const Field field = sampleField();
+    const std::string file = path("field.nrrd");
+    saveField(field, file);
+    const std::string bytes = readBytes(file);
+    EXPECT_EQ(bytes.rfind("NRRD0004\n", 0), 0u);
+    EXPECT_CONTAINS(bytes, "type: float\n");
+    EXPECT_CONTAINS(bytes, "sizes: 5 3 4\n");
+    EXPECT_CONTAINS(bytes, "encoding: raw\n");
+    EXPECT_CONTAINS(bytes, "endian: little\n");
+    const std::size_t at = bytes.find("space origin: (");
+    ASSERT_NE(at, std::string::npos);
+    const double x = std::strtod(bytes.c_str() + at + 15, nullptr);
+    EXPECT_NEAR(x, double(field.grid.origin.x) + 0.5 * double(field.grid.voxel), 1e-12);
+    EXPECT_EQ(std::memcmp(bytes.data() + bytes.size() - field.values.size() * 4, field.values.data(), field.values.size() * 4), 0);
+}
+
+// ---- OpenVDB -----------------------------------------------------------------------------------
+
+openvdb::FloatGrid::Ptr readSurfaceGrid(const std::string& file) {
+    openvdb::initialize();
+    openvdb::io::File vdb(file);
+    vdb.open(false);
+    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(vdb.readGrid("surface"));
+    vdb.close();
+    return grid;
+}
+
+TEST_F(Formats, VdbIsALevelSetWithSamplesAtIndexCoordinates) {
+    const Field field = sampleField();
+    const std::string file = path("field.vdb");
+    saveField(field, file);
+    const auto grid = readSurfaceGrid(file);
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+    EXPECT_EQ(grid->activeVoxelCount(), openvdb::Index64(field.values.size())) << "dense by default";
+    const double h = field.grid.voxel;
+    for (int k = 0; k < 4; ++k) {
+        for (int j = 0; j < 3; ++j) {
+            for (int i = 0; i < 5; ++i) {
+                const openvdb::Vec3d world = grid->indexToWorld(openvdb::Coord(i, j, k));
+                EXPECT_NEAR(world.x(), double(field.grid.origin.x) + (i + 0.5) * h, 1e-12);
+                EXPECT_NEAR(world.y(), double(field.grid.origin.y) + (j + 0.5) * h, 1e-12);
+                EXPECT_NEAR(world.z(), double(field.grid.origin.z) + (k + 0.5) * h, 1e-12);
+                EXPECT_EQ(grid->tree().getValue(openvdb::Coord(i, j, k)), field.at(i, j, k));
+            }
+        }
+    }
+}
+
+TEST_F(Formats, VdbBandKeepsOnlyVoxelsNearTheSurface) {
+    Field field = sampleField();
+    const double band = 3;
+    const float width = float(band * field.grid.voxel);
+    field.values[3] = 1.0f; // far outside
+    field.values[4] = -1.0f; // far inside
+    const std::string file = path("band.vdb");
+    SaveOptions options;
+    options.band = band;
+    saveField(field, file, options);
+    const auto grid = readSurfaceGrid(file);
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->background(), width);
+    std::size_t near = 0;
+    for (const float v : field.values) near += std::fabs(v) < width;
+    EXPECT_LT(near, field.values.size());
+    EXPECT_EQ(grid->activeVoxelCount(), openvdb::Index64(near));
+
+    const Field loaded = loadField(file);
+    expectSameGrid(loaded.grid, field.grid);
+    EXPECT_EQ(loaded.method, field.method);
+    for (std::size_t i = 0; i < field.values.size(); ++i) {
+        const float v = field.values[i];
+        const float expected = std::fabs(v) < width ? v : std::copysign(width, v);
+        EXPECT_EQ(loaded.values[i], expected) << "sample " << i << " value " << v;
+    }
+}
+
+TEST_F(Formats, VdbBandBelowOneVoxelIsRefused) {
+    SaveOptions options;
+    options.band = 0.5;
+    const std::string file = path("band.vdb");
+    EXPECT_CONTAINS(errorFrom([&] { saveField(sampleField(), file, options); }), "band");
+    EXPECT_FALSE(fs::exists(file));
+}
+
+TEST_F(Formats, ForeignVdbLoadsItsActiveBox) {
+    openvdb::initialize();
+    const float h = 0.125f;
+    auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(1.0f, openvdb::Vec3f(0.5f, 0.0f, -0.25f), h, 3.0f);
+    sphere->setName("ls_sphere");
+    const std::string file = path("sphere.vdb");
+    openvdb::io::File(file).write({sphere});
+
+    const Field field = loadField(file);
+    const openvdb::CoordBBox box = sphere->evalActiveVoxelBoundingBox();
+    EXPECT_EQ(field.grid.dims, glm::ivec3(box.dim().x(), box.dim().y(), box.dim().z()));
+    EXPECT_EQ(double(field.grid.voxel), double(h));
+    for (const openvdb::Coord c : {box.min(), box.max(), openvdb::Coord(4, 0, -2), openvdb::Coord(0, 0, 0)}) {
+        const int i = c.x() - box.min().x(), j = c.y() - box.min().y(), k = c.z() - box.min().z();
+        EXPECT_EQ(field.at(i, j, k), sphere->tree().getValue(c));
+        const openvdb::Vec3d world = sphere->indexToWorld(c);
+        EXPECT_NEAR(double(field.grid.origin.x) + (i + 0.5) * h, world.x(), 1e-6);
+        EXPECT_NEAR(double(field.grid.origin.y) + (j + 0.5) * h, world.y(), 1e-6);
+        EXPECT_NEAR(double(field.grid.origin.z) + (k + 0.5) * h, world.z(), 1e-6);
+    }
+    EXPECT_LT(field.at(4 - box.min().x(), -box.min().y(), -2 - box.min().z()), 0.0f) << "the centre is inside";
+}
+
+// ---- Bad files ---------------------------------------------------------------------------------
+
+TEST_F(Formats, UnknownExtensionIsAnErrorListingTheKnownOnes) {
+    for (const std::string name : {"field.xyz", "field", "field.npy.bak"}) {
+        const std::string file = path(name);
+        const std::string message = errorFrom([&] { saveField(sampleField(), file); });
+        EXPECT_CONTAINS(message, file);
+        EXPECT_CONTAINS(message, ".sdf, .npy, .npz, .vdb, .nrrd");
+        EXPECT_FALSE(fs::exists(file)) << "nothing may be written";
+    }
+    write("field.xyz", "anything");
+    expectLoadError(path("field.xyz"), "unknown field format");
+}
+
+TEST_F(Formats, TruncatedFilesAreOneLineErrors) {
+    const Field field = sampleField();
+    for (const std::string& extension : kBinaryExtensions) {
+        SCOPED_TRACE(extension);
+        const std::string whole = path("whole" + extension);
+        saveField(field, whole);
+        const std::string bytes = readBytes(whole);
+        for (const std::size_t keep : {std::size_t(0), std::size_t(5), std::size_t(40), bytes.size() / 2, bytes.size() - 4, bytes.size() - 1}) {
+            SCOPED_TRACE(keep);
+            expectLoadError(write("cut" + extension, bytes.substr(0, keep)));
+        }
+        expectLoadError(write("longer" + extension, bytes + "xxxx"));
+    }
+}
+
+TEST_F(Formats, GarbageFilesAreOneLineErrors) {
+    std::mt19937 random(3);
+    for (const std::string& extension : kBinaryExtensions) {
+        SCOPED_TRACE(extension);
+        for (int attempt = 0; attempt < 5; ++attempt) {
+            std::string bytes(std::size_t(64 << attempt), '\0');
+            for (char& c : bytes) c = char(random());
+            expectLoadError(write("garbage" + extension, bytes));
+        }
+        expectLoadError(write("empty" + extension, ""));
+        expectLoadError(path("missing" + extension), "cannot open");
+    }
+}
+
+TEST_F(Formats, CorruptedBytesNeverLoadSilentlyWrongGrids) {
+    // Flip one byte at a time in the metadata-bearing parts: loading either fails with a one-line
+    // error or (for a byte of sample data) gives a field on the same grid.
+    const Field field = sampleField();
+    for (const std::string extension : {".npy", ".npz", ".nrrd"}) {
+        SCOPED_TRACE(extension);
+        const std::string whole = path("whole" + std::string(extension));
+        saveField(field, whole);
+        const std::string bytes = readBytes(whole);
+        for (std::size_t at = 0; at < std::min<std::size_t>(bytes.size(), 200); at += 3) {
+            std::string changed = bytes;
+            changed[at] = char(changed[at] ^ 0x5A);
+            const std::string file = write("flipped" + std::string(extension), changed);
+            try {
+                const Field loaded = loadField(file);
+                EXPECT_EQ(loaded.values.size(), loaded.grid.sampleCount());
+            } catch (const Error& e) {
+                EXPECT_EQ(std::string(e.what()).rfind(file, 0), 0u) << e.what();
+            }
+        }
+    }
+}
+
+TEST_F(Formats, NpyHeaderIsValidated) {
+    const std::string ok = "{'descr': '<f4', 'fortran_order': True, 'shape': (2, 2, 2), }";
+    ASSERT_NO_THROW(loadField(write("ok.npy", npyWithHeader(ok, 32))));
+    expectLoadError(write("f8.npy", npyWithHeader("{'descr': '<f8', 'fortran_order': True, 'shape': (2, 2, 2), }", 64)), "'<f8'");
+    expectLoadError(write("big.npy", npyWithHeader("{'descr': '>f4', 'fortran_order': True, 'shape': (2, 2, 2), }", 32)), "'>f4'");
+    expectLoadError(write("2d.npy", npyWithHeader("{'descr': '<f4', 'fortran_order': True, 'shape': (4, 2), }", 32)), "3-dimensional");
+    expectLoadError(write("zero.npy", npyWithHeader("{'descr': '<f4', 'fortran_order': True, 'shape': (0, 2, 2), }", 0)), "at least 1");
+    expectLoadError(write("short.npy", npyWithHeader(ok, 31)), "truncated");
+    expectLoadError(write("long.npy", npyWithHeader(ok, 36)), "unexpected bytes");
+    expectLoadError(write("key.npy", npyWithHeader("{'descr': '<f4', 'fortran_order': True, 'shape': (2, 2, 2), 'x': 1}", 32)), "key");
+    expectLoadError(write("nokey.npy", npyWithHeader("{'descr': '<f4', 'shape': (2, 2, 2), }", 32)), "fortran_order");
+    expectLoadError(write("syntax.npy", npyWithHeader("{'descr': '<f4', 'fortran_order': Maybe, 'shape': (2, 2, 2), }", 32)));
+    expectLoadError(write("ver.npy", "\x93NUMPY\x09" + std::string(100, ' ')), "version");
+}
+
+TEST_F(Formats, HugeDeclaredShapesAreRefusedBeforeAllocating) {
+    // A few bytes claiming terabytes: refused from the header, never allocated.
+    expectLoadError(write("huge.npy", npyWithHeader("{'descr': '<f4', 'fortran_order': True, 'shape': (100000, 100000, 100000), }", 16)), "too large");
+    expectLoadError(write("wrap.npy", npyWithHeader("{'descr': '<f4', 'fortran_order': True, 'shape': (4294967296, 4294967296, 4294967296), }", 16)));
+    expectLoadError(write("digits.npy", npyWithHeader("{'descr': '<f4', 'fortran_order': True, 'shape': (99999999999999999999999, 1, 1), }", 16)));
+
+    const Field field = sampleField();
+    saveField(field, path("f.nrrd"));
+    std::string nrrd = readBytes(path("f.nrrd"));
+    const std::string sizes = "sizes: 5 3 4";
+    nrrd.replace(nrrd.find(sizes), sizes.size(), "sizes: 100000 100000 100000");
+    expectLoadError(write("huge.nrrd", nrrd), "too large");
+}
+
+TEST_F(Formats, NonFiniteValuesAreRefused) {
+    Field field = sampleField();
+    for (const std::string extension : {".npy", ".npz", ".nrrd"}) { // .vdb compresses its values
+        const std::string file = path("nan" + extension);
+        saveField(field, file);
+        std::string bytes = readBytes(file);
+        const float nan = std::nanf("");
+        // The last sample sits at the end of the raw data in .npy, .nrrd and the stored .npz member.
+        const std::size_t last = extension == ".npz" ? bytes.find(std::string(reinterpret_cast<const char*>(&field.values.back()), 4))
+                                                     : bytes.size() - 4;
+        ASSERT_NE(last, std::string::npos);
+        bytes.replace(last, 4, std::string(reinterpret_cast<const char*>(&nan), 4));
+        expectLoadError(write("nan" + extension, bytes), extension == ".npz" ? "" : "not finite");
+    }
+    field.values[7] = std::numeric_limits<float>::infinity();
+    for (const std::string& extension : kBinaryExtensions) {
+        const std::string file = path("inf" + extension);
+        EXPECT_CONTAINS(errorFrom([&] { saveField(field, file); }), "not finite");
+        EXPECT_FALSE(fs::exists(file));
+    }
+}
+
+TEST_F(Formats, NpzMembersAreValidated) {
+    const std::string file = path("f.npz");
+    saveField(sampleField(), file);
+    // Not a zip at all, and a zip of something else.
+    expectLoadError(write("text.npz", "PK\x03\x04 but not really a zip archive"), "not a valid .npz");
+    saveField(sampleField(), path("plain.npy"));
+    const std::string npy = readBytes(path("plain.npy"));
+    expectLoadError(write("npy-renamed.npz", npy), "not a valid .npz");
+}
+
+TEST_F(Formats, NrrdHeaderIsValidated) {
+    saveField(sampleField(), path("f.nrrd"));
+    const std::string nrrd = readBytes(path("f.nrrd"));
+    auto replaced = [&](const std::string& from, const std::string& to) {
+        std::string copy = nrrd;
+        const std::size_t at = copy.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        return copy.replace(at, from.size(), to);
+    };
+    expectLoadError(write("double.nrrd", replaced("type: float", "type: double")), "type");
+    expectLoadError(write("gzip.nrrd", replaced("encoding: raw", "encoding: gzip")), "encoding");
+    expectLoadError(write("big.nrrd", replaced("endian: little", "endian: big")), "endian");
+    expectLoadError(write("2d.nrrd", replaced("dimension: 3\n", "dimension: 2\n")), "dimension");
+    expectLoadError(write("noorigin.nrrd", replaced("space origin:", "space orrigin:")), "space origin");
+    expectLoadError(write("skew.nrrd", replaced("space directions: (", "space directions: (1,")), "space directions");
+    expectLoadError(write("magic.nrrd", replaced("NRRD0004", "NRRD0009")), "not an NRRD file");
+    expectLoadError(write("line.nrrd", replaced("kinds: domain domain domain", "this is not a header line")), "header line");
+}
+
+// ---- Atomic saves ------------------------------------------------------------------------------
+
+TEST_F(Formats, FailedSaveLeavesTheOldFileAndNoTemporaries) {
+    Field bad = sampleField();
+    bad.values.pop_back();
+    for (const std::string& extension : kBinaryExtensions) {
+        SCOPED_TRACE(extension);
+        const std::string file = write("keep" + extension, "previous contents");
+        EXPECT_CONTAINS(errorFrom([&] { saveField(bad, file); }), file);
+        EXPECT_EQ(readBytes(file), "previous contents");
+        saveField(sampleField(), file);
+        saveField(sampleField(), file);
+    }
+    for (const std::string& name : folderContents()) EXPECT_EQ(name.find(".tmp-"), std::string::npos) << name;
+    EXPECT_EQ(folderContents(), (std::vector<std::string>{"keep.npy", "keep.npz", "keep.nrrd", "keep.vdb"}));
+}
+
+TEST_F(Formats, SaveIntoAMissingFolderFails) {
+    for (const std::string& extension : kBinaryExtensions) {
+        const std::string file = path("no-such-folder/f" + extension);
+        EXPECT_CONTAINS(errorFrom([&] { saveField(sampleField(), file); }), file);
+    }
+    EXPECT_TRUE(folderContents().empty());
+}
+
+} // namespace
+} // namespace sdfgen
