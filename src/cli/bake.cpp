@@ -22,6 +22,7 @@ struct BakeArgs {
 
 void runBake(const BakeArgs& args) {
     Stopwatch total;
+    refuseOverwritingInput(args.output, {args.mesh});
     const Mesh mesh = loadObj(args.mesh);
     if (mesh.droppedDegenerate > 0) {
         std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", args.mesh.c_str(), mesh.droppedDegenerate);
@@ -43,6 +44,7 @@ void runBake(const BakeArgs& args) {
                 args.mesh.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
+    for (const std::string& warning : result.warnings) std::fprintf(stderr, "sdfgen: warning: %s: %s\n", args.mesh.c_str(), warning.c_str());
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
 }
 

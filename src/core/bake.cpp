@@ -1,5 +1,6 @@
 #include "core/bake.hpp"
 #include "core/exact.hpp"
+#include "core/memory.hpp"
 #include "core/ray_generator.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
@@ -34,6 +35,7 @@ const char* toString(SignMethod sign) {
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
     const Grid grid = makeGrid(mesh.bounds, settings.res, settings.padding);
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
+    checkBakeMemory(mesh, grid, settings);
     BakeResult result;
     SignMethod sign = settings.sign;
     if (sign == SignMethod::Default) sign = settings.method == DistanceMethod::Rays ? SignMethod::Rays : SignMethod::Auto;
@@ -76,6 +78,7 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
             for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = rayField.values[i] < 0.0f;
         } else {
             const MeshTopology topology(mesh);
+            bool flipped = false; // an inside-out mesh, fixed by auto
             if (sign == SignMethod::Auto) {
                 result.checked = true;
                 result.check = topology.check(mesh, tree);
@@ -93,12 +96,23 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
                     }
                     result.signReason = "winding: the mesh has " + problems;
                 }
+                if (result.check.insideOut) {
+                    flipped = true;
+                    result.signReason += "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
+                                         "are swapped as if every face were flipped";
+                }
+            } else if (topology.insideOut()) {
+                result.warnings.push_back(std::string("the mesh is inside out (closed, its faces point inwards); --sign ") +
+                                          toString(sign) + " follows the faces, so the field is negative outside (--sign auto fixes it)");
             }
             if (sign == SignMethod::Pseudonormal && nearest.triangle.empty()) {
                 nearest = computeNearest(mesh, tree, grid, control.phase(0.5, 0.8)); // ray distances, auto chose pseudonormal
             }
             inside = sign == SignMethod::Pseudonormal ? insideByPseudonormal(mesh, topology, grid, nearest, control.phase(0.8, 1.0))
-                                                      : insideByWinding(mesh, topology, grid, control.phase(0.8, 1.0));
+                                                      : insideByWinding(mesh, topology, grid, control.phase(0.8, 1.0), flipped);
+            if (flipped && sign == SignMethod::Pseudonormal) {
+                for (std::uint8_t& in : inside) in = !in; // every pseudonormal of the flipped mesh is negated
+            }
         }
         result.sign = sign;
         result.signSeconds = since(signStart);

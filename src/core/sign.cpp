@@ -89,7 +89,8 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
 }
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control) {
+                                          const RunControl& control, bool flipped) {
+    const int orientation = flipped ? -1 : 1;
     const std::vector<Cap> caps = makeCaps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
 
@@ -140,7 +141,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
             while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
             // The fans' winding number is subtracted only where it could reach 1/2: near fans
             // exactly, far ones within their bounds, and all exactly when the bounds leave doubt.
-            bool in = ahead >= 1;
+            bool in = orientation * ahead >= 1;
             double far = 0.0;
             for (const Cap& cap : caps) far += fanBound(p, cap);
             if (far >= 0.45) {
@@ -152,12 +153,12 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
                     else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
                 }
                 double w = double(ahead) - near;
-                if (std::fabs(w - 0.5) <= far) {
+                if (std::fabs(orientation * w - 0.5) <= far) {
                     for (const Cap& cap : caps) {
                         if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
                     }
                 }
-                in = w > 0.5;
+                in = orientation * w > 0.5;
             }
             inside[grid.index(i, j, k)] = in;
         }

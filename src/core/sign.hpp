@@ -18,8 +18,9 @@ namespace sdfgen {
 // fans' own winding number is subtracted wherever it could reach 1/2, bounded by area / distance²,
 // exactly in double; elsewhere it cannot change the answer. Robust to holes, self-intersections,
 // overlapping shells and flipped parts; exact (no hierarchy error) and linear in samples.
+// With `flipped`, inside is where -w > 1/2: the signs of the mesh with every face flipped.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control);
+                                          const RunControl& control, bool flipped = false);
 
 // The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
 // for closed, manifold, consistently oriented meshes without self-intersections.
