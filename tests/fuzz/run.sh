@@ -29,11 +29,13 @@ for h in "${harnesses[@]}"; do
   corpus=$build/corpus/$h
   crashes=$build/crashes/$h
   mkdir -p "$corpus" "$crashes"
+  dict=$root/tests/fuzz/$h.dict
+  [ "$h" = bake ] && dict=$root/tests/fuzz/obj.dict
   echo "fuzz_$h: ${seconds} s"
   # One worker per harness keeps the machine usable; -rss_limit_mb catches memory blow-ups
   # (the loaders must refuse, not allocate, what they cannot hold).
   ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    "$build/tests/fuzz/fuzz_$h" "$corpus" "$root/tests/fuzz/corpus/$h" -max_total_time="$seconds" \
+    "$build/tests/fuzz/fuzz_$h" "$corpus" "$root/tests/fuzz/corpus/$h" -max_total_time="$seconds" -dict="$dict" \
     -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=10 -max_len=4096 -artifact_prefix="$crashes/" -print_final_stats=1 \
     2>&1 | grep -vE '^#[0-9]+.*(NEW|REDUCE|pulse)' || { echo "fuzz_$h found a problem: see $crashes"; exit 1; }
 done
