@@ -6,6 +6,8 @@
 #include "core/topology.hpp"
 #include "sdfgen/error.hpp"
 
+#include <glm/geometric.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -103,7 +105,10 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
                 }
             } else if (topology.insideOut()) {
                 result.warnings.push_back(std::string("the mesh is inside out (closed, its faces point inwards); --sign ") +
-                                          toString(sign) + " follows the faces, so the field is negative outside (--sign auto fixes it)");
+                                          toString(sign) + " follows the faces, so " +
+                                          (sign == SignMethod::Winding ? "nothing is inside (the winding number is -1 there)"
+                                                                       : "inside and outside are swapped") +
+                                          "; --sign auto fixes it");
             }
             if (sign == SignMethod::Pseudonormal && nearest.triangle.empty()) {
                 nearest = computeNearest(mesh, tree, grid, control.phase(0.5, 0.8)); // ray distances, auto chose pseudonormal
@@ -120,6 +125,11 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
         field.grid = grid;
         field.values.resize(grid.sampleCount());
         for (std::size_t i = 0; i < field.values.size(); ++i) field.values[i] = inside[i] ? -distance[i] : distance[i];
+    }
+    // Never a silently wrong field: float distances overflow on meshes far beyond unit scale.
+    if (!std::all_of(field.values.begin(), field.values.end(), [](float v) { return std::isfinite(v); })) {
+        throw Error(mesh.source + ": distances overflow single precision at this mesh's scale (extent " +
+                    std::to_string(double(glm::length(mesh.bounds.extent()))) + "); scale the mesh nearer to unit size");
     }
 
     field.method = toString(settings.method);
