@@ -10,3 +10,6 @@ scripts/build.sh build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFGEN_SANIT
 # The render and GUI tests (labels render, gui) run in the release build only: Mesa's llvmpipe is not built with
 # the sanitizers.
 ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui"
+# libFuzzer harnesses (OBJ loader, field reader, load -> tree -> bake) under ASan + UBSan, 15 s each,
+# from the seed corpus in tests/fuzz/corpus; tests/fuzz/run.sh 2h runs them for hours.
+tests/fuzz/run.sh 15s
