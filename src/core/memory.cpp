@@ -88,8 +88,12 @@ void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& set
     const double needed = double(estimateBakeBytes(mesh, grid, settings));
     const std::uint64_t available = availableMemoryBytes();
     if (available > 0 && needed > double(available)) {
+        const SignMethod sign = settings.sign != SignMethod::Default ? settings.sign
+                                : settings.method == DistanceMethod::Rays ? SignMethod::Rays
+                                : settings.method == DistanceMethod::Brute ? SignMethod::Winding
+                                                                            : SignMethod::Auto;
         throw Error("grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" + std::to_string(grid.dims.z) +
-                    " (method " + toString(settings.method) + ", sign " + toString(settings.sign) + ") needs about " +
+                    " (method " + toString(settings.method) + ", sign " + toString(sign) + ") needs about " +
                     mebibytes(needed) + " but only " + mebibytes(double(available)) + " of memory is available");
     }
 }

@@ -138,7 +138,7 @@ expect fail "^sdfgen: --background '2,0,0': each channel must be in 0..1" -- "$s
 # but not at the ~13 the exact method with sign auto holds), with the figure in the message.
 avail_kib=$(awk '/^MemAvailable:/ {print $2}' /proc/meminfo)
 res=$(awk -v kib="$avail_kib" 'BEGIN { printf "%d", (kib * 1024 / 8) ^ (1 / 3) }')
-expect 1 "^sdfgen: grid ${res}x${res}x${res} \(method exact, sign default\) needs about [0-9]+ MiB but only [0-9]+ MiB of memory is available" -- \
+expect 1 "^sdfgen: grid ${res}x${res}x${res} \(method exact, sign auto\) needs about [0-9]+ MiB but only [0-9]+ MiB of memory is available" -- \
   timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res "$res" --padding 0
 # Outputs: never the input (also through a symbolic or hard link); written through symlinks;
 # modes kept; a failed write leaves the old file and exits non-zero; no temporary left behind.
