@@ -301,7 +301,7 @@ TEST_F(FieldTextAgreement, WhatOneAcceptsTheOtherDoes) {
         return s;
     };
     int saved = 0, refused = 0, readBack = 0;
-    for (int trial = 0; trial < 1500; ++trial) {
+    for (int trial = 0; trial < 600; ++trial) {
         Field field;
         field.source = word();
         field.method = random() % 2 ? "exact" : word();
@@ -339,8 +339,8 @@ TEST_F(FieldTextAgreement, WhatOneAcceptsTheOtherDoes) {
         EXPECT_NO_THROW(saveFieldText(loaded, again)) << "trial " << trial;
         EXPECT_TRUE(sameField(loadFieldText(again), loaded)) << "trial " << trial;
     }
-    EXPECT_GT(saved, 100);
-    EXPECT_GT(refused, 100);
+    EXPECT_GT(saved, 40);
+    EXPECT_GT(refused, 40);
     RecordProperty("read_back", readBack);
 }
 
