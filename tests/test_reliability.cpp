@@ -104,6 +104,8 @@ TEST_F(AtomicFile, FifoIsWrittenInPlace) {
 TEST_F(AtomicFile, MissingFolderIsAnError) {
     const std::string path = (dir_ / "no" / "f.txt").string();
     EXPECT_CONTAINS(errorFrom([&] { writeFileAtomically(path, text("x")); }), path + ": cannot create a temporary file");
+    EXPECT_CONTAINS(errorFrom([&] { writeFileAtomically("", text("x")); }), "the output path is empty");
+    EXPECT_CONTAINS(errorFrom([&] { writeFileAtomically(dir_.string(), text("x")); }), ": is a directory");
 }
 
 TEST_F(AtomicFile, WritesThroughSymbolicLinks) {

@@ -175,6 +175,7 @@ void writeStream(const std::string& path, int fd, const std::function<void(std::
 } // namespace
 
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+    if (path.empty()) throw Error("the output path is empty");
     installSignalHandlers();
     const std::string target = resolveLinks(path);
     struct stat existing {};

@@ -116,6 +116,7 @@ Mesh loadObj(const std::string& path) {
     for (std::size_t i = 0; i < vertexCount; ++i) positions[i] = glm::vec3(scan.vertices[i]);
 
     std::vector<glm::uvec3> triangles;
+    triangles.reserve(scan.faces); // one per triangle face; polygons add more
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
         std::size_t offset = 0;
