@@ -156,6 +156,30 @@ TEST_F(AtomicFile, ConcurrentWritersLeaveOneCompleteFile) {
     EXPECT_TRUE(strays({"shared.txt"}).empty());
 }
 
+// For libraries that write to a path themselves, sometimes by making a new file there.
+TEST_F(AtomicFile, PathWritersGetATemporaryAndTheSameGuarantees) {
+    const std::string path = write("f.zip", "old");
+    fs::permissions(path, fs::perms(0640));
+    writeFileAtomicallyAt(path, [&](const std::string& temporary) {
+        EXPECT_NE(temporary, path);
+        const std::string own = temporary + ".lib";
+        std::ofstream(own) << "new";
+        fs::permissions(own, fs::perms(0600));
+        fs::rename(own, temporary); // as libzip does
+    });
+    EXPECT_EQ(readAll(path), "new");
+    EXPECT_EQ(modeOf(path), 0640u);
+    EXPECT_CONTAINS(errorFrom([&] {
+                        writeFileAtomicallyAt(path, [&](const std::string& temporary) {
+                            std::ofstream(temporary) << "partial";
+                            throw Error(path + ": library failed");
+                        });
+                    }),
+                    "library failed");
+    EXPECT_EQ(readAll(path), "new");
+    EXPECT_TRUE(strays({"f.zip"}).empty());
+}
+
 // A signal while the temporary is being written: the process dies of that signal, the old file
 // is intact and the temporary is gone.
 TEST_F(AtomicFile, SignalsRemoveTheTemporary) {

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <streambuf>
 #include <sys/stat.h>
@@ -174,15 +175,99 @@ void writeStream(const std::string& path, int fd, const std::function<void(std::
 
 } // namespace
 
-void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+namespace {
+
+// What a path finally names: the file to replace (links followed), and its status if it exists.
+struct Target {
+    std::string path;
+    bool exists = false;
+    struct stat status {};
+    bool regular() const { return !exists || S_ISREG(status.st_mode); }
+};
+
+Target inspect(const std::string& path) {
     if (path.empty()) throw Error("the output path is empty");
     installSignalHandlers();
-    const std::string target = resolveLinks(path);
-    struct stat existing {};
-    const bool exists = stat(target.c_str(), &existing) == 0;
-    if (exists && S_ISDIR(existing.st_mode)) throw Error(path + ": is a directory");
-    if (exists && !S_ISREG(existing.st_mode)) {
-        const int fd = open(target.c_str(), O_WRONLY | O_CLOEXEC);
+    Target target;
+    target.path = resolveLinks(path);
+    target.exists = stat(target.path.c_str(), &target.status) == 0;
+    if (target.exists && S_ISDIR(target.status.st_mode)) throw Error(path + ": is a directory");
+    return target;
+}
+
+// Gives the file the permissions the result must have: the old file's (and, as root, its owner),
+// else the umask's default.
+void applyMode(const std::string& path, int fd, const Target& target) {
+    if (target.exists) {
+        // chown first: it clears set-id bits. Not allowed unless root; then the writer owns it.
+        if (fchown(fd, target.status.st_uid, target.status.st_gid) != 0) { /* keep the writer as owner */ }
+        if (fchmod(fd, target.status.st_mode & 07777) != 0) throw Error(path + ": cannot set permissions (" + reason(errno) + ")");
+    } else if (fchmod(fd, newFileMode()) != 0) {
+        throw Error(path + ": cannot set permissions (" + reason(errno) + ")");
+    }
+}
+
+// A temporary file beside the target, removed (and unregistered from the signal handler) when
+// this goes out of scope before commit().
+class Temporary {
+public:
+    Temporary(const std::string& path, const Target& target) : path_(path), target_(target), name_(target.path + ".tmp-XXXXXX") {
+        fd_ = mkostemp(name_.data(), O_CLOEXEC);
+        if (fd_ < 0) throw Error(path + ": cannot create a temporary file beside it (" + reason(errno) + ")");
+        registration_ = std::make_unique<TempRegistration>(name_);
+    }
+    ~Temporary() {
+        if (fd_ >= 0) close(fd_);
+        if (!committed_) unlink(name_.c_str());
+    }
+    Temporary(const Temporary&) = delete;
+    Temporary& operator=(const Temporary&) = delete;
+
+    int fd() const { return fd_; }
+    const std::string& name() const { return name_; }
+    void closeFd() {
+        const int fd = fd_;
+        fd_ = -1;
+        if (close(fd) != 0) throw Error(path_ + ": write failed (" + reason(errno) + ")");
+    }
+    // fsync, close, rename over the target, then make the rename durable (a failure of that last
+    // step cannot undo a complete, visible file).
+    void commit() {
+        if (fsync(fd_) != 0) throw Error(path_ + ": write failed (" + reason(errno) + ")");
+        closeFd();
+        if (std::rename(name_.c_str(), target_.path.c_str()) != 0) {
+            throw Error(path_ + ": cannot replace the file (" + reason(errno) + ")");
+        }
+        committed_ = true;
+        const std::size_t slash = target_.path.rfind('/');
+        const std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : target_.path.substr(0, slash);
+        const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        if (dir >= 0) {
+            fsync(dir);
+            close(dir);
+        }
+    }
+    // Reopens the temporary by name, for writers that were given the name and may have replaced it.
+    void reopen() {
+        fd_ = ::open(name_.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd_ < 0) throw Error(path_ + ": the writer left no file (" + reason(errno) + ")");
+    }
+
+private:
+    const std::string& path_;
+    const Target& target_;
+    std::string name_;
+    int fd_ = -1;
+    bool committed_ = false;
+    std::unique_ptr<TempRegistration> registration_;
+};
+
+} // namespace
+
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
+    const Target target = inspect(path);
+    if (!target.regular()) {
+        const int fd = open(target.path.c_str(), O_WRONLY | O_CLOEXEC);
         if (fd < 0) throw Error(path + ": cannot open for writing (" + reason(errno) + ")");
         try {
             writeStream(path, fd, write);
@@ -193,40 +278,24 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
         if (close(fd) != 0 && errno != EINTR) throw Error(path + ": write failed (" + reason(errno) + ")");
         return;
     }
+    Temporary temporary(path, target);
+    applyMode(path, temporary.fd(), target);
+    writeStream(path, temporary.fd(), write);
+    temporary.commit();
+}
 
-    std::string tempPath = target + ".tmp-XXXXXX";
-    const int fd = mkostemp(tempPath.data(), O_CLOEXEC);
-    if (fd < 0) throw Error(path + ": cannot create a temporary file beside it (" + reason(errno) + ")");
-    const TempRegistration registration(tempPath);
-    bool fdOpen = true;
-    try {
-        if (exists) {
-            // As root, keep the owner too; chown first, because it clears set-id bits.
-            if (fchown(fd, existing.st_uid, existing.st_gid) != 0) { /* not allowed: the writer owns it */ }
-            if (fchmod(fd, existing.st_mode & 07777) != 0) throw Error(path + ": cannot set permissions (" + reason(errno) + ")");
-        } else if (fchmod(fd, newFileMode()) != 0) {
-            throw Error(path + ": cannot set permissions (" + reason(errno) + ")");
-        }
-        writeStream(path, fd, write);
-        if (fsync(fd) != 0) throw Error(path + ": write failed (" + reason(errno) + ")");
-        fdOpen = false;
-        if (close(fd) != 0) throw Error(path + ": write failed (" + reason(errno) + ")");
-        if (std::rename(tempPath.c_str(), target.c_str()) != 0) {
-            throw Error(path + ": cannot replace the file (" + reason(errno) + ")");
-        }
-    } catch (...) {
-        if (fdOpen) close(fd);
-        unlink(tempPath.c_str());
-        throw;
+void writeFileAtomicallyAt(const std::string& path, const std::function<void(const std::string&)>& writeTo) {
+    const Target target = inspect(path);
+    if (!target.regular()) {
+        writeTo(target.path);
+        return;
     }
-    // Make the rename itself durable; a failure here cannot undo a complete, visible file.
-    const std::size_t slash = target.rfind('/');
-    const std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : target.substr(0, slash);
-    const int dir = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dir >= 0) {
-        fsync(dir);
-        close(dir);
-    }
+    Temporary temporary(path, target);
+    temporary.closeFd();
+    writeTo(temporary.name());
+    temporary.reopen();
+    applyMode(path, temporary.fd(), target); // again: the writer may have made a new file
+    temporary.commit();
 }
 
 } // namespace sdfgen

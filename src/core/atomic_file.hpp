@@ -24,4 +24,9 @@ namespace sdfgen {
 // - a file with several hard links gets a new inode: the other names keep the old content.
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
+// The same for libraries that can only write to a path (libzip, OpenVDB's io::File): `writeTo`
+// gets the temporary's path and must write the whole file there (it may replace that file); the
+// rest is as above. A target that is not a regular file is passed to `writeTo` itself.
+void writeFileAtomicallyAt(const std::string& path, const std::function<void(const std::string& temporaryPath)>& writeTo);
+
 } // namespace sdfgen
