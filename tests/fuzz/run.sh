@@ -25,6 +25,8 @@ for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
 "$root/scripts/build.sh" "$build" -DSDFGEN_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_C_COMPILER=clang -- "${targets[@]}"
 
+# The harnesses write each input to a file (the loaders read paths); in memory, that costs little.
+[ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR=${TMPDIR:-/dev/shm}
 for h in "${harnesses[@]}"; do
   corpus=$build/corpus/$h
   crashes=$build/crashes/$h
