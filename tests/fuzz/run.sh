@@ -32,6 +32,7 @@ for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
 [ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR=${TMPDIR:-/dev/shm}
 fuzz() {
   local h=$1 corpus=$build/corpus/$1 crashes=$build/crashes/$1 dict=$root/tests/fuzz/$1.dict
+  local log=$build/fuzz_$1.$$.log # one per run: two runs at once must not share a log
   mkdir -p "$corpus" "$crashes"
   [ "$h" = bake ] && dict=$root/tests/fuzz/obj.dict
   echo "fuzz_$h: ${seconds} s"
@@ -40,8 +41,8 @@ fuzz() {
   ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
     "$build/tests/fuzz/fuzz_$h" "$corpus" "$root/tests/fuzz/corpus/$h" -max_total_time="$seconds" -dict="$dict" \
     -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=10 -max_len=4096 -artifact_prefix="$crashes/" -print_final_stats=1 \
-    >"$build/fuzz_$h.log" 2>&1 || { tail -n 60 "$build/fuzz_$h.log"; echo "fuzz_$h found a problem: see $crashes"; return 1; }
-  grep -E '^(Done|stat::(number_of_executed_units|new_units_added|peak_rss_mb))' "$build/fuzz_$h.log" | sed "s/^/fuzz_$h: /"
+    >"$log" 2>&1 || { tail -n 60 "$log"; echo "fuzz_$h found a problem: see $crashes"; return 1; }
+  grep -aE '^(Done|stat::(number_of_executed_units|new_units_added|peak_rss_mb))' "$log" | sed "s/^/fuzz_$h: /"
 }
 
 status=0
