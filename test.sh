@@ -12,3 +12,6 @@ ctest --test-dir build --output-on-failure -j "$jobs"
 # consumer without them.
 scripts/build.sh build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFGEN_SANITIZE=ON -DSDFGEN_VIEWER=OFF -- sdfgen sdfgen_tests
 ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui|install"
+# libFuzzer harnesses (OBJ loader, field reader, load -> tree -> bake) under ASan + UBSan, 15 s each,
+# from the seed corpus in tests/fuzz/corpus; tests/fuzz/run.sh 2h runs them for hours.
+tests/fuzz/run.sh 15s

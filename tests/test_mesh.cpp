@@ -141,7 +141,7 @@ TEST_F(LoadObj, BinaryBytesAreAnError) {
     for (int i = 0; i < 512; ++i) bytes += char((i * 37 + 11) % 256);
     bytes[100] = '\0';
     const std::string message = loadError(bytes);
-    EXPECT_CONTAINS(message, "no triangles");
+    EXPECT_CONTAINS(message, "NUL byte");
 }
 
 // ---- Valid input -------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 #include "sdfgen/mesh_check.hpp"
 
 #include <string>
+#include <vector>
 
 namespace sdfgen {
 
@@ -42,6 +43,7 @@ struct BakeResult {
     bool checked = false;                  // whether the mesh check ran (sign auto)
     MeshCheck check;
     std::string signReason; // why auto chose as it did, for the summary and panel
+    std::vector<std::string> warnings; // e.g. an explicit sign on an inside-out mesh, for the summary and panel
     double distanceSeconds = 0; // time spent on distances (and on rays, when the sign needs them)
     double signSeconds = 0;     // time spent on the mesh check and the sign
 };

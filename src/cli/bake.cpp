@@ -32,6 +32,7 @@ void runBake(const BakeArgs& args) {
     if (args.save.band > 0 && extension != ".vdb") {
         throw Error("--band applies to .vdb output only (" + args.output + ")");
     }
+    refuseOverwritingInput(args.output, {args.mesh});
     const Model model = Model::load(args.mesh);
     const Mesh& mesh = model.mesh();
     if (mesh.droppedDegenerate > 0) {
@@ -54,6 +55,7 @@ void runBake(const BakeArgs& args) {
                 args.mesh.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
+    for (const std::string& warning : result.warnings) std::fprintf(stderr, "sdfgen: warning: %s: %s\n", args.mesh.c_str(), warning.c_str());
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
 }
 

@@ -19,6 +19,11 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);
 
 // The field file extensions, for help texts: ".sdf, .npy, ...".
 std::string fieldFormatList();
+// A CLI11 check that the value is a finite number in [min, max] (CLI::Range lets NaN through).
+CLI::Validator finiteRange(double min, double max);
+
+// Refuses (Error) an output path that names one of the inputs, also through symbolic or hard links.
+void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs);
 
 // The mesh the project ships, used when a command is given none.
 std::string defaultMeshPath();

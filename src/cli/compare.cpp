@@ -42,7 +42,7 @@ void addCompareCommand(CLI::App& app) {
     compare->add_option("first", args->first, "A field file (e.g. the reference): " + fieldFormatList())->required();
     compare->add_option("second", args->second, "A field file on the same grid")->required();
     compare->add_option("--band", args->band, "Ignore samples within this many voxels of the surface in either field")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteRange(0.0, 1e9))
         ->capture_default_str();
     compare->callback([args] { runCompare(*args); });
 }

@@ -7,6 +7,7 @@
 #include "sdfgen/error.hpp"
 
 #include <cstdio>
+#include <new>
 
 int main(int argc, char** argv) {
     CLI::App app{"sdfgen: signed distance fields from triangle meshes. With no command, opens the viewer."};
@@ -37,6 +38,10 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const sdfgen::Error& e) {
         std::fprintf(stderr, "sdfgen: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        // The bake checks its memory up front; this is the last resort for anything it missed.
+        std::fprintf(stderr, "sdfgen: out of memory (try a lower --res, or free memory)\n");
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sdfgen: internal error: %s\n", e.what());

@@ -1,6 +1,8 @@
 #include "cli/commands.hpp"
 #include "sdfgen/formats.hpp"
+#include "sdfgen/error.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <unistd.h>
@@ -27,7 +29,7 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
         ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
     command.add_option("--rays", settings.rays, "Rays per sample for --method rays and --sign rays")->check(CLI::Range(1, 65536))->capture_default_str();
     command.add_option("--padding", settings.padding, "Margin around the mesh, as a fraction of its longest side")
-        ->check(CLI::Range(0.0f, 100.0f))
+        ->check(finiteRange(0.0, 100.0))
         ->capture_default_str();
     command.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
 }
@@ -36,6 +38,31 @@ std::string fieldFormatList() {
     std::string list;
     for (const std::string& extension : fieldFormatExtensions()) list += (list.empty() ? "" : ", ") + extension;
     return list;
+}
+
+CLI::Validator finiteRange(double min, double max) {
+    return CLI::Validator(
+        [min, max](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double value = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0' || !std::isfinite(value)) return "'" + text + "' is not a finite number";
+            if (value < min || value > max) {
+                char range[96];
+                std::snprintf(range, sizeof(range), "%g is not in [%g, %g]", value, min, max);
+                return range;
+            }
+            return "";
+        },
+        "FINITE in [" + CLI::detail::to_string(min) + " - " + CLI::detail::to_string(max) + "]");
+}
+
+void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs) {
+    for (const std::string& input : inputs) {
+        std::error_code ec;
+        if (!input.empty() && std::filesystem::equivalent(output, input, ec) && !ec) {
+            throw Error(output + ": is the input file " + input + "; refusing to overwrite it");
+        }
+    }
 }
 
 std::string defaultMeshPath() {

@@ -11,6 +11,7 @@
 #include "render/osmesa_context.hpp"
 #include "render/scene.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -47,6 +48,7 @@ std::vector<float> parseNumbers(const std::string& text, char separator, std::si
         } catch (const std::exception&) {
             throw Error(what + " '" + text + "' is not valid");
         }
+        if (!std::isfinite(out.back())) throw Error(what + " '" + text + "' is not valid: '" + item + "' is not a finite number");
     }
     if (out.size() != count) throw Error(what + " '" + text + "' is not valid");
     return out;
@@ -55,15 +57,18 @@ std::vector<float> parseNumbers(const std::string& text, char separator, std::si
 void runRender(const RenderArgs& args) {
     const std::vector<float> camera = parseNumbers(args.camera, ',', 3, "--camera (yaw,pitch,zoom)");
     const std::vector<float> size = parseNumbers(args.size, 'x', 2, "--size (WIDTHxHEIGHT)");
-    if (camera[2] <= 0.0f) throw Error("--camera zoom must be positive");
+    if (!(camera[2] > 0.0f)) throw Error("--camera zoom must be positive");
+    refuseOverwritingInput(args.output, {args.mesh, args.sdf});
     render::Views views = render::Views::parse(args.views);
     const int axis = args.sliceAxis == "x" ? 0 : args.sliceAxis == "y" ? 1 : args.sliceAxis == "z" ? 2 : -1;
     if (axis < 0) throw Error("--slice-axis must be x, y or z");
 
-    const glm::ivec2 pixels{int(size[0]), int(size[1])};
-    if (float(pixels.x) != size[0] || float(pixels.y) != size[1] || pixels.x < 1 || pixels.y < 1) {
-        throw Error("--size '" + args.size + "' must be two positive whole numbers");
+    constexpr float kMaxSide = 16384.0f; // OSMesa's largest framebuffer
+    if (!(size[0] >= 1.0f && size[0] <= kMaxSide && size[1] >= 1.0f && size[1] <= kMaxSide) ||
+        std::floor(size[0]) != size[0] || std::floor(size[1]) != size[1]) {
+        throw Error("--size '" + args.size + "' must be two whole numbers from 1 to 16384");
     }
+    const glm::ivec2 pixels{int(size[0]), int(size[1])};
 
     const Model model = Model::load(args.mesh);
     const Mesh& mesh = model.mesh();
@@ -87,6 +92,9 @@ void runRender(const RenderArgs& args) {
     scene.shadows = !args.noShadows;
     if (!args.background.empty()) {
         const std::vector<float> rgb = parseNumbers(args.background, ',', 3, "--background (r,g,b in 0..1)");
+        for (float channel : rgb) {
+            if (channel < 0.0f || channel > 1.0f) throw Error("--background '" + args.background + "': each channel must be in 0..1");
+        }
         scene.background = glm::vec3(rgb[0], rgb[1], rgb[2]);
     }
     scene.setMesh(mesh);
@@ -125,7 +133,7 @@ void addRenderCommand(CLI::App& app) {
     render->add_option("--size", args->size, "Image size in pixels, WIDTHxHEIGHT")->capture_default_str();
     render->add_option("--slice-axis", args->sliceAxis, "Axis the slice view cuts across: x, y or z")->capture_default_str();
     render->add_option("--slice-pos", args->slicePosition, "Slice position across the field's box, 0 to 1")
-        ->check(CLI::Range(0.0f, 1.0f))
+        ->check(finiteRange(0.0, 1.0))
         ->capture_default_str();
     render->add_option("--background", args->background, "Background colour r,g,b in 0..1 (default: dark grey)");
     render->add_flag("--no-shadows", args->noShadows, "Ray-marched view without soft shadows and ambient occlusion");

@@ -1,7 +1,12 @@
 #include "core/bake.hpp"
+#include "core/memory.hpp"
 #include "sdfgen/error.hpp"
 
+#include <glm/geometric.hpp>
+#include <algorithm>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -33,6 +38,7 @@ SignMethod resolveAutoSign(const MeshCheck& check, std::string* reason) {
 BakeResult bake(const BakeContext& context, const RunControl& control) {
     const BakeSettings& settings = context.settings;
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
+    checkBakeMemory(context.mesh, context.grid, settings);
     const DistanceMethodInfo& method = distanceMethod(settings.method);
     SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
     if (method.fixedSign && sign != SignMethod::Auto && sign != method.defaultSign) {
@@ -53,12 +59,26 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         sign = method.defaultSign;
         inside = std::move(*pass.inside);
     } else {
+        bool flipped = false; // an inside-out mesh, fixed by auto
         if (sign == SignMethod::Auto) {
             result.checked = true;
             result.check = context.check();
             sign = resolveAutoSign(result.check, &result.signReason);
+            if (result.check.insideOut) {
+                flipped = true;
+                result.signReason += "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
+                                     "are swapped as if every face were flipped";
+            }
+        } else if ((sign == SignMethod::Winding || sign == SignMethod::Pseudonormal) && context.topology().insideOut()) {
+            result.warnings.push_back(std::string("the mesh is inside out (closed, its faces point inwards); --sign ") +
+                                      toString(sign) + " follows the faces, so " +
+                                      (sign == SignMethod::Winding ? "nothing is inside (the winding number is -1 there)"
+                                                                   : "inside and outside are swapped") +
+                                      "; --sign auto fixes it");
         }
-        inside = signMethod(sign).run(context, pass, control.phase(0.7, 1.0));
+        BakeContext signContext = context;
+        signContext.flipped = flipped;
+        inside = signMethod(sign).run(signContext, pass, control.phase(0.7, 1.0));
     }
     result.sign = sign;
     result.signSeconds = since(signStart);
@@ -69,6 +89,10 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     field.values = std::move(pass.distance);
     for (std::size_t i = 0; i < field.values.size(); ++i) {
         if (inside[i]) field.values[i] = -field.values[i];
+    }
+    // Never a silently wrong field: float distances overflow on meshes far beyond unit scale.
+    if (!std::all_of(field.values.begin(), field.values.end(), [](float v) { return std::isfinite(v); })) {
+        throw Error(context.mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");
     }
     field.method = method.name;
     if (settings.method == DistanceMethod::Rays || result.sign == SignMethod::Rays) {

@@ -1,5 +1,7 @@
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/error.hpp"
+#include "core/input_file.hpp"
+#include "core/obj_scan.hpp"
 
 #include <tiny_obj_loader.h>
 
@@ -10,8 +12,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
+#include <istream>
+#include <streambuf>
+#include <string_view>
 #include <limits>
 
 namespace sdfgen {
@@ -24,36 +27,14 @@ std::string firstLine(const std::string& text) {
     return line;
 }
 
-// tinyobjloader reads "nan", "inf" and overflowing numbers as 0 or inf without complaint, and only
-// in float, so vertex lines are read here first, in double: every coordinate must be a finite number.
-std::vector<glm::dvec3> readVertexLines(const std::string& path, std::istream& in) {
-    std::vector<glm::dvec3> vertices;
-    std::string line;
-    std::size_t lineNumber = 0;
-    while (std::getline(in, line)) {
-        ++lineNumber;
-        const char* p = line.c_str();
-        while (*p == ' ' || *p == '\t') ++p;
-        if (p[0] != 'v' || (p[1] != ' ' && p[1] != '\t')) continue;
-        p += 2;
-        glm::dvec3& vertex = vertices.emplace_back();
-        for (int axis = 0; axis < 3; ++axis) {
-            char* end = nullptr;
-            const double value = std::strtod(p, &end);
-            if (end == p) {
-                throw Error(path + ":" + std::to_string(lineNumber) + ": vertex has fewer than 3 coordinates");
-            }
-            // Overflow gives inf here; values beyond float range would become inf later.
-            if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max()) {
-                throw Error(path + ":" + std::to_string(lineNumber) + ": vertex coordinate '" +
-                            std::string(p, std::size_t(end - p)) + "' is not a finite number");
-            }
-            vertex[axis] = value;
-            p = end;
-        }
+// A read-only stream over text already in memory, so tinyobjloader reads it without a copy.
+class TextBuffer : public std::streambuf {
+public:
+    explicit TextBuffer(std::string_view text) {
+        char* begin = const_cast<char*>(text.data()); // never written: this buffer has no put area
+        setg(begin, begin, begin + text.size());
     }
-    return vertices;
-}
+};
 
 } // namespace
 
@@ -156,13 +137,13 @@ Mesh buildMesh(std::string source, const std::vector<glm::vec3>& positions, std:
 }
 
 Mesh loadObj(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not an OBJ file");
-    std::ifstream file(path, std::ios::binary);
-    if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    std::vector<glm::dvec3> positions = readVertexLines(path, file);
-    file.clear();
-    file.seekg(0);
+    // One read (pipes and FIFOs work, size bounded, NULs refused), one pass that refuses what
+    // tinyobjloader would misread, then tinyobjloader for the faces and their triangulation.
+    const std::string content = readInputFile(path, InputKind::Text);
+    const std::string_view text = withoutByteOrderMark(content);
+    const ObjScan scan = scanObj(path, text);
+    TextBuffer buffer(text);
+    std::istream file(&buffer);
 
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
@@ -171,20 +152,22 @@ Mesh loadObj(const std::string& path) {
     // No material reader: a missing .mtl must not fail a geometry-only load.
     const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warning, &error, &file, nullptr,
                                      /*triangulate=*/true);
-    if (file.bad()) throw Error(path + ": read error");
     if (!ok) throw Error(path + ": " + (error.empty() ? "not a valid OBJ file" : firstLine(error)));
     // tinyobjloader only warns about, and silently skips, polygons with vertex indices out of range.
     if (warning.find("Face with invalid vertex index") != std::string::npos) {
         throw Error(path + ": a face refers to a vertex that does not exist");
     }
 
-    const std::size_t vertexCount = positions.size();
-    if (attrib.vertices.size() / 3 != vertexCount) {
-        throw Error(path + ": " + std::to_string(attrib.vertices.size() / 3) + " vertices parsed but " +
-                    std::to_string(vertexCount) + " vertex lines found");
+    const std::size_t vertexCount = attrib.vertices.size() / 3;
+    if (vertexCount != scan.vertices.size()) {
+        throw Error(path + ": tinyobjloader read " + std::to_string(vertexCount) + " vertices where the file has " +
+                    std::to_string(scan.vertices.size()));
     }
+    // The scan's correctly rounded doubles, not tinyobjloader's own float parsing.
+    const std::vector<glm::dvec3>& positions = scan.vertices;
 
     std::vector<glm::uvec3> triangles;
+    triangles.reserve(scan.faces); // one per triangle face; polygons add more
     for (const tinyobj::shape_t& shape : shapes) {
         const auto& indices = shape.mesh.indices;
         std::size_t offset = 0;

@@ -87,9 +87,10 @@ Mesh loadMesh(const std::string& path) {
     if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (extension == ".obj") return loadObj(path);
-    if (extension.empty() || !Assimp::Importer().IsExtensionSupported(extension)) {
-        throw Error(path + ": unknown mesh format " + (extension.empty() ? "(no extension)" : "'" + extension + "'") +
+    // Pipes, FIFOs and /dev/stdin have no extension: they are read as OBJ text.
+    if (extension == ".obj" || extension.empty()) return loadObj(path);
+    if (!Assimp::Importer().IsExtensionSupported(extension)) {
+        throw Error(path + ": unknown mesh format '" + extension + "'" +
                     "; known: .obj, .stl, .ply, .off, .gltf, .glb, .fbx, .dae, .3ds, .3mf and the other formats Assimp reads");
     }
     return loadWithAssimp(path);

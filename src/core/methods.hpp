@@ -25,6 +25,7 @@ struct BakeContext {
     const BakeSettings& settings;
     std::function<const MeshTopology&()> topology;
     std::function<const MeshCheck&()> check;
+    bool flipped = false; // the mesh is inside out: sign methods swap inside and outside
 };
 
 // A distance pass's output. `distance` is unsigned, in world units. A method may also leave what

@@ -68,7 +68,11 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     const Impl& m = *impl_;
     const Mesh& mesh = m.mesh;
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
-    if (out.signedDistance && sign == SignMethod::Auto) sign = resolveAutoSign(m.check());
+    bool flipped = false; // as bake: auto swaps inside and outside of an inside-out mesh
+    if (out.signedDistance && sign == SignMethod::Auto) {
+        flipped = m.check().insideOut;
+        sign = resolveAutoSign(m.check());
+    }
     if (out.signedDistance && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
         throw Error(std::string("point queries sign by auto, winding or pseudonormal, not ") + toString(sign));
     }
@@ -136,9 +140,9 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     if (out.signedDistance) {
                         bool inside;
                         if (sign == SignMethod::Pseudonormal) {
-                            inside = glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0;
+                            inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                         } else {
-                            inside = insideFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                            inside = insideFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
                         }
                         out.signedDistance[index] = inside ? -distance : distance;
                     }

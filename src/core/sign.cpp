@@ -71,12 +71,12 @@ std::vector<Cap> makeCaps(const MeshTopology& topology) {
     return caps;
 }
 
-bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead) {
+bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead, int orientation) {
     // The fans' winding number is subtracted only where it could reach 1/2: near fans exactly,
     // far ones within their bounds, and all exactly when the bounds leave doubt.
     double far = 0.0;
     for (const Cap& cap : caps) far += fanBound(p, cap);
-    if (far < 0.45) return ahead >= 1;
+    if (far < 0.45) return orientation * ahead >= 1;
     double near = 0.0;
     far = 0.0;
     for (const Cap& cap : caps) {
@@ -85,12 +85,12 @@ bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int 
         else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
     }
     double w = double(ahead) - near;
-    if (std::fabs(w - 0.5) <= far) {
+    if (std::fabs(orientation * w - 0.5) <= far) {
         for (const Cap& cap : caps) {
             if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
         }
     }
-    return w > 0.5;
+    return orientation * w > 0.5;
 }
 
 double windingFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead) {
@@ -131,7 +131,8 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
 }
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control) {
+                                          const RunControl& control, bool flipped) {
+    const int orientation = flipped ? -1 : 1;
     const std::vector<Cap> caps = makeCaps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
 
@@ -180,7 +181,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         for (int i = nx - 1; i >= 0; --i) {
             const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
             while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
-            const bool in = insideFromCrossings(caps, p, ahead);
+            const bool in = insideFromCrossings(caps, p, ahead, orientation);
             inside[grid.index(i, j, k)] = in;
         }
     });

@@ -24,8 +24,9 @@ std::vector<Cap> makeCaps(const MeshTopology& topology);
 
 // Inside flag and exact winding number at p, given `ahead`, the signed count of crossings of the
 // mesh and its fans along +x from p (the closed surface's winding number): the fans' own winding
-// number is subtracted, in insideFromCrossings only where it could move w across 1/2.
-bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead);
+// number is subtracted, in insideFromCrossings only where it could move w across 1/2. Orientation -1
+// tells inside by -w > 1/2, for a mesh that is inside out.
+bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead, int orientation = 1);
 double windingFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead);
 
 // `ahead` for one point p (local coordinates), from the tree: what insideByWinding's row scan
@@ -41,8 +42,9 @@ int crossingsAhead(const Mesh& mesh, const Bvh& tree, const std::vector<Cap>& ca
 // fans' own winding number is subtracted wherever it could reach 1/2, bounded by area / distance²,
 // exactly in double; elsewhere it cannot change the answer. Robust to holes, self-intersections,
 // overlapping shells and flipped parts; exact (no hierarchy error) and linear in samples.
+// With `flipped`, inside is where -w > 1/2: the signs of the mesh with every face flipped.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control);
+                                          const RunControl& control, bool flipped = false);
 
 // The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
 // for closed, manifold, consistently oriented meshes without self-intersections.

@@ -10,7 +10,7 @@ namespace sdfgen {
 namespace {
 
 std::vector<std::uint8_t> windingSign(const BakeContext& context, DistancePass&, const RunControl& control) {
-    return insideByWinding(context.mesh, context.topology(), context.grid, control);
+    return insideByWinding(context.mesh, context.topology(), context.grid, control, context.flipped);
 }
 
 std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
@@ -18,7 +18,12 @@ std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistanceP
         // Distances from a method that does not find nearest triangles (rays): find them now.
         pass.nearestTriangle = computeNearest(context.mesh, context.tree, context.grid, control.phase(0.0, 0.8)).triangle;
     }
-    return insideByPseudonormal(context.mesh, context.topology(), context.grid, pass.nearestTriangle, control.phase(0.8, 1.0));
+    std::vector<std::uint8_t> inside =
+        insideByPseudonormal(context.mesh, context.topology(), context.grid, pass.nearestTriangle, control.phase(0.8, 1.0));
+    if (context.flipped) {
+        for (std::uint8_t& in : inside) in = !in; // every pseudonormal of the flipped mesh is negated
+    }
+    return inside;
 }
 
 std::vector<std::uint8_t> raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {

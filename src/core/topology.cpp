@@ -44,7 +44,8 @@ bool segmentCrossesTriangle(const glm::dvec3& p, const glm::dvec3& q, const glm:
 std::string MeshCheck::describe() const {
     return std::to_string(boundaryEdges) + " boundary edges, " + std::to_string(nonManifoldEdges) + " non-manifold edges, " +
            std::to_string(inconsistentEdges) + " inconsistently oriented edges, " + std::to_string(nonManifoldVertices) +
-           " non-manifold vertices, " + std::to_string(selfIntersections) + " self-intersecting triangle pairs";
+           " non-manifold vertices, " + std::to_string(selfIntersections) + " self-intersecting triangle pairs" +
+           (insideOut ? ", inside out (negative volume)" : "");
 }
 
 MeshTopology::MeshTopology(const Mesh& mesh) {
@@ -148,6 +149,16 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         }
     }
     edgeCheck_.nonManifoldVertices = std::size_t(std::count(pinched.begin(), pinched.end(), true));
+
+    // Signed volume by the divergence theorem, about the first vertex to keep the sum precise.
+    double volume = 0.0;
+    for (const glm::uvec3& t : corners_) {
+        const glm::dvec3 o = positions_.front();
+        volume += glm::dot(positions_[t[0]] - o, glm::cross(positions_[t[1]] - o, positions_[t[2]] - o));
+    }
+    edgeCheck_.signedVolume = volume / 6.0;
+    edgeCheck_.insideOut = edgeCheck_.boundaryEdges == 0 && edgeCheck_.nonManifoldEdges == 0 &&
+                           edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
 
     // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
     std::sort(boundary.begin(), boundary.end());

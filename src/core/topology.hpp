@@ -23,6 +23,8 @@ public:
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
     const std::vector<std::vector<std::uint32_t>>& boundaryLoops() const { return loops_; }
     const glm::dvec3& position(std::uint32_t vertex) const { return positions_[vertex]; }
+    // Closed and consistently oriented with negative volume (see MeshCheck::insideOut).
+    bool insideOut() const { return edgeCheck_.insideOut; }
 
     // The angle-weighted pseudonormal (Bærentzen & Aanæs 2005) of a feature of a triangle.
     glm::dvec3 pseudonormal(std::uint32_t triangle, TriangleFeature feature) const;

@@ -1,4 +1,5 @@
 #include "render/image.hpp"
+#include "core/atomic_file.hpp"
 #include "sdfgen/error.hpp"
 #include "render/gl.hpp"
 
@@ -21,9 +22,14 @@ Image readFramebuffer(int width, int height) {
 }
 
 void savePng(const Image& image, const std::string& path) {
-    if (!stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4)) {
-        throw Error(path + ": cannot write the PNG file");
-    }
+    writeFileAtomically(path, [&](std::ostream& out) {
+        auto append = [](void* stream, void* data, int size) {
+            static_cast<std::ostream*>(stream)->write(static_cast<const char*>(data), size);
+        };
+        if (!stbi_write_png_to_func(append, &out, image.width, image.height, 4, image.rgba.data(), image.width * 4)) {
+            throw Error(path + ": cannot encode the PNG image");
+        }
+    });
 }
 
 Image loadPng(const std::string& path) {

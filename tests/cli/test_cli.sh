@@ -119,6 +119,137 @@ expect 0 'triangles' -- "$sdfgen" surface "$work/tet.npz" -o "$work/tet-surface.
 expect 0 '^ply$' -- head -1 "$work/tet-surface.ply"
 expect 1 'padding' -- "$sdfgen" surface "$work/tet.obj" -o "$work/x.obj" --padding 0
 expect 1 "x.stl: unknown surface format" -- "$sdfgen" surface "$work/tet.obj" -o "$work/x.stl" --res 8
+# ---- Issue 8: hostile input, nonsense arguments, files (each failed before the fix) ----------
+# OBJ hygiene: a BOM is skipped; hex floats, overflowing or missing vertices, short faces and NULs
+# are refused with the line; pipes and FIFOs are read; the input size is bounded.
+printf '\xef\xbb\xbf' | cat - "$work/tet.obj" >"$work/bom.obj"
+expect 0 '4 triangles' -- "$sdfgen" bake "$work/bom.obj" -o "$work/bom.sdf" --res 4
+printf 'v 0x1p0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$work/hex.obj"
+expect 1 "hex.obj:1: vertex coordinate '0x1p0' is not a decimal number" -- "$sdfgen" bake "$work/hex.obj" -o "$work/x.sdf"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 2 3 4294967300\n' >"$work/big.obj"
+expect 1 "big.obj:5: face refers to vertex 4294967300" -- "$sdfgen" bake "$work/big.obj" -o "$work/x.sdf"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2\n' >"$work/short.obj"
+expect 1 "short.obj:6: face has 2 vertices" -- "$sdfgen" bake "$work/short.obj" -o "$work/x.sdf"
+{ cat "$work/tet.obj"; printf 'f 1 \0 2 3\n'; } >"$work/nul.obj"
+expect 1 "nul.obj:9: NUL byte" -- "$sdfgen" bake "$work/nul.obj" -o "$work/x.sdf"
+expect 1 "^sdfgen: /dev/zero:1: NUL byte" -- timeout 10 "$sdfgen" bake /dev/zero -o "$work/x.sdf"
+expect 0 '4 triangles' -- sh -c '"$1" bake /dev/stdin -o "$2" --res 4 <"$3"' sh "$sdfgen" "$work/pipe.sdf" "$work/tet.obj"
+expect 0 '4 triangles' -- sh -c 'cat "$3" | "$1" bake /dev/stdin -o "$2" --res 4' sh "$sdfgen" "$work/pipe.sdf" "$work/tet.obj"
+mkfifo "$work/fifo.obj"
+(cat "$work/tet.obj" >"$work/fifo.obj" &)
+expect 0 '4 triangles' -- timeout 10 "$sdfgen" bake "$work/fifo.obj" -o "$work/fifo.sdf" --res 4
+expect 1 'larger than the input limit of 1 MiB \(set SDFGEN_MAX_INPUT_MB' -- \
+  sh -c 'yes "v 0 0 0" | SDFGEN_MAX_INPUT_MB=1 timeout 10 "$1" bake /dev/stdin -o "$2"' sh "$sdfgen" "$work/x.sdf"
+head -c 2000000 /dev/zero | tr '\0' '\n' >"$work/blank.obj"
+expect 1 'blank.obj: larger than the input limit of 1 MiB' -- env SDFGEN_MAX_INPUT_MB=1 "$sdfgen" bake "$work/blank.obj" -o "$work/x.sdf"
+# Field files: the declared size is checked before allocating; the reader refuses what the writer would.
+# (250 million samples: a GiB if allocated; the reader must stay under 200 MB of memory.)
+printf 'sdfgen-text 1\nsource a\ndims 1000 1000 250\norigin 0 0 0\nvoxel 1\nmethod exact\nvalues\n0\n' >"$work/huge.sdf"
+expect 1 'huge.sdf:8: file ends after 1 of 250000000 values' -- "$sdfgen" compare "$work/huge.sdf" "$work/huge.sdf"
+expect 0 '^ok$' -- sh -c '/usr/bin/time -f %M -o "$2" "$1" compare "$3" "$3" 2>/dev/null; [ "$(tail -n 1 "$2")" -lt 200000 ] && echo ok' sh \
+  "$sdfgen" "$work/rss" "$work/huge.sdf"
+field_with() { printf 'sdfgen-text 1\nsource %s\ndims 1 1 1\norigin 0 0 0\nvoxel 1\nmethod %s\nvalues\n0\n' "$1" "$2"; }
+field_with a $'exact ke\ty=1' >"$work/tab.sdf"
+expect 1 "tab.sdf:6: method parameter" -- "$sdfgen" compare "$work/tab.sdf" "$work/tab.sdf"
+field_with a 'exact a=b=c' >"$work/eq.sdf"
+expect 1 "eq.sdf:6: method parameter 'a=b=c'" -- "$sdfgen" compare "$work/eq.sdf" "$work/eq.sdf"
+field_with $'a\rb' exact >"$work/cr.sdf"
+expect 1 "cr.sdf:2: source name has a carriage return" -- "$sdfgen" compare "$work/cr.sdf" "$work/cr.sdf"
+expect 1 "^sdfgen: $work: is a directory" -- "$sdfgen" compare "$work" "$work/brute.sdf"
+# Nonsense numbers: one-line errors.
+expect fail "^sdfgen: --camera \(yaw,pitch,zoom\) 'nan,nan,nan' is not valid: 'nan' is not a finite number" -- \
+  "$sdfgen" render "$work/tet.obj" --camera nan,nan,nan -o "$work/x.png"
+expect fail "'inf' is not a finite number" -- "$sdfgen" render "$work/tet.obj" --camera 1,2,inf -o "$work/x.png"
+expect fail '^sdfgen: --camera zoom must be positive' -- "$sdfgen" render "$work/tet.obj" --camera 1,2,0 -o "$work/x.png"
+expect fail '^sdfgen: --camera zoom must be positive' -- "$sdfgen" render "$work/tet.obj" --camera 1,2,-1 -o "$work/x.png"
+expect fail "^--slice-pos: 'nan' is not a finite number" -- "$sdfgen" render "$work/tet.obj" --slice-pos nan -o "$work/x.png"
+expect fail '^--slice-pos: 2 is not in \[0, 1\]' -- "$sdfgen" render "$work/tet.obj" --slice-pos 2 -o "$work/x.png"
+expect fail "^--band: 'nan' is not a finite number" -- "$sdfgen" compare "$work/brute.sdf" "$work/tet.sdf" --band nan
+expect fail '^--band: -1 is not in' -- "$sdfgen" compare "$work/brute.sdf" "$work/tet.sdf" --band -1
+expect fail "^--padding: 'nan' is not a finite number" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --padding nan
+expect fail "^sdfgen: --size '1e10x5' must be two whole numbers" -- "$sdfgen" render "$work/tet.obj" --size 1e10x5 -o "$work/x.png"
+expect fail "^sdfgen: --background.*'nan' is not a finite number" -- "$sdfgen" render "$work/tet.obj" --background nan,0,0 -o "$work/x.png"
+expect fail "^sdfgen: --background '2,0,0': each channel must be in 0..1" -- "$sdfgen" render "$work/tet.obj" --background 2,0,0 -o "$work/x.png"
+# Memory: the whole bake's buffers are counted up front (a grid that fits at 4 bytes per sample
+# but not at the ~13 the exact method with sign auto holds), with the figure in the message.
+avail_kib=$(awk '/^MemAvailable:/ {print $2}' /proc/meminfo)
+res=$(awk -v kib="$avail_kib" 'BEGIN { printf "%d", (kib * 1024 / 8) ^ (1 / 3) }')
+expect 1 "^sdfgen: grid ${res}x${res}x${res} \(method exact, sign auto\) needs about [0-9]+ MiB but only [0-9]+ MiB of memory is available" -- \
+  timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res "$res" --padding 0
+# Outputs: never the input (also through a symbolic or hard link); written through symlinks;
+# modes kept; a failed write leaves the old file and exits non-zero; no temporary left behind.
+cp "$work/tet.obj" "$work/keep.obj"
+expect 1 "keep.obj: is the input file .*keep.obj; refusing to overwrite it" -- "$sdfgen" bake "$work/keep.obj" -o "$work/keep.obj"
+ln -s keep.obj "$work/keep-link.obj"
+ln "$work/keep.obj" "$work/keep-hard.obj"
+expect 1 "refusing to overwrite it" -- "$sdfgen" bake "$work/keep.obj" -o "$work/keep-link.obj"
+expect 1 "refusing to overwrite it" -- "$sdfgen" bake "$work/keep-link.obj" -o "$work/keep-hard.obj"
+expect 1 "refusing to overwrite it" -- "$sdfgen" render "$work/keep.obj" -o "$work/keep-link.obj"
+expect 0 '' -- cmp "$work/tet.obj" "$work/keep.obj"
+"$sdfgen" bake "$work/tet.obj" -o "$work/real.sdf" --res 4 >/dev/null
+ln -s real.sdf "$work/link.sdf"
+expect 0 '4x4x4' -- "$sdfgen" bake "$work/tet.obj" -o "$work/link.sdf" --res 4
+expect 0 '' -- test -L "$work/link.sdf"
+expect 0 '^dims 4 4 4$' -- sed -n 3p "$work/real.sdf"
+chmod 600 "$work/real.sdf"
+expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/real.sdf" --res 5
+expect 0 '^600$' -- stat -c %a "$work/real.sdf"
+expect 0 '^640$' -- sh -c 'umask 027; "$1" bake "$2" -o "$3" --res 4 >/dev/null && stat -c %a "$3"' sh "$sdfgen" "$work/tet.obj" "$work/umask.sdf"
+# A full device (our own node, so that a regression replaces a scratch file and not /dev/full).
+if mknod "$work/full-device.sdf" c 1 7 2>/dev/null; then
+  expect 1 'full-device.sdf: write failed \(No space left on device\)' -- "$sdfgen" bake "$work/tet.obj" -o "$work/full-device.sdf" --res 4
+  expect 0 '' -- test -c "$work/full-device.sdf"
+else
+  echo "cli: skipped the full-device test (cannot make a device node here)"
+fi
+# Two bakes to one path at once: both succeed, and the file is one of the two complete outputs.
+"$sdfgen" bake "$bunny" -o "$work/one.sdf" --res 24 >/dev/null
+"$sdfgen" bake "$bunny" -o "$work/two.sdf" --res 25 >/dev/null
+"$sdfgen" bake "$bunny" -o "$work/both.sdf" --res 24 >/dev/null & first=$!
+"$sdfgen" bake "$bunny" -o "$work/both.sdf" --res 25 >/dev/null & second=$!
+wait $first; first_rc=$?
+wait $second; second_rc=$?
+expect 0 '' -- test "$first_rc$second_rc" = 00
+expect 0 '' -- sh -c 'cmp -s "$1" "$2" || cmp -s "$1" "$3"' sh "$work/both.sdf" "$work/one.sdf" "$work/two.sdf"
+# SIGTERM, SIGINT or SIGHUP while the field is written: the temporary file is removed. (A
+# background job of a script starts with SIGINT ignored; env gives it back its default action.)
+# On a busy machine the save can end before the signal lands; then it is tried again.
+for sig in TERM INT HUP; do
+  for attempt in 1 2 3; do
+    env --default-signal=INT "$sdfgen" bake "$bunny" -o "$work/killed.sdf" --res 128 --method rays --sign rays --rays 1 >/dev/null 2>&1 &
+    pid=$!
+    for _ in $(seq 1 3000); do compgen -G "$work/killed.sdf.tmp-*" >/dev/null && break; sleep 0.005; done
+    kill -s $sig $pid
+    wait $pid 2>/dev/null
+    rc=$?
+    [ $rc -ne 0 ] && break
+  done
+  expect 0 '' -- test $rc -eq $((128 + $(kill -l $sig)))
+  expect 1 '' -- compgen -G "$work/killed.sdf.tmp-*"
+done
+# A full disk (a 64 KiB tmpfs, where mounting is allowed): the old file stays, exit non-zero.
+full=$work/full
+mkdir "$full"
+if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
+  echo old >"$full/f.sdf"
+  echo old >"$full/f.png"
+  expect 1 "f.sdf: write failed \(No space left on device\)" -- "$sdfgen" bake "$bunny" -o "$full/f.sdf" --res 32
+  expect 0 '^old$' -- cat "$full/f.sdf"
+  expect 1 "f.png: write failed \(No space left on device\)" -- "$sdfgen" render "$bunny" -o "$full/f.png" --size 1024x1024 --view mesh,wire
+  expect 0 '^old$' -- cat "$full/f.png"
+  expect 0 '^f.png f.sdf $' -- sh -c 'ls "$1" | tr "\n" " "' sh "$full"
+  umount "$full"
+else
+  echo "cli: skipped the full-disk test (cannot mount a tmpfs here)"
+fi
+# Inside out: every face of the tetrahedron flipped. Auto finds it and fixes the signs; an
+# explicit sign follows the faces, with a warning.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' >"$work/inside-out.obj"
+expect 0 'inside out \(negative volume\)' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
+expect 0 'auto chose pseudonormal: .*; the mesh is inside out' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
+expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/inside-out.sdf"
+expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign winding follows the faces' -- \
+  "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign winding
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

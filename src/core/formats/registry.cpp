@@ -44,6 +44,8 @@ void saveField(const Field& field, const std::string& path, const SaveOptions& o
 }
 
 Field loadField(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a field file");
     return formats::formatOf(path).load(path);
 }
 

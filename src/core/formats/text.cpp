@@ -1,7 +1,10 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/error.hpp"
 #include "core/formats/format.hpp"
+#include "core/atomic_file.hpp"
+#include "core/input_file.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cerrno>
 #include <cmath>
@@ -19,8 +22,9 @@ namespace {
 constexpr const char* kMagic = "sdfgen-text";
 constexpr int kVersion = 1;
 
-bool isToken(const std::string& s) {
-    return !s.empty() && s.find_first_of(" \t\r\n=") == std::string::npos;
+// What the method line's words (name, keys, values) may be: the reader splits on ' ' and '='.
+bool isToken(std::string_view s) {
+    return !s.empty() && s.find_first_of(std::string_view(" \t\r\n=\0", 6)) == std::string_view::npos;
 }
 
 // Cursor over the file's lines that turns every problem into "PATH:LINE: problem".
@@ -30,6 +34,7 @@ public:
 
     bool atEnd() const { return pos_ >= text_.size(); }
     std::size_t lineNumber() const { return line_; }
+    std::size_t bytesLeft() const { return atEnd() ? 0 : text_.size() - pos_; }
 
     std::string_view next(const char* what) {
         if (atEnd()) fail("file ends where " + std::string(what) + " was expected");
@@ -105,24 +110,13 @@ void saveFieldText(const Field& field, const std::string& path) {
     for (std::size_t i = 0; i < field.values.size(); ++i) {
         if (!std::isfinite(field.values[i])) throw Error(path + ": value " + std::to_string(i) + " is not finite");
     }
-    if (field.source.find_first_of("\r\n") != std::string::npos) throw Error(path + ": source name has a line break");
+    if (field.source.find_first_of(std::string_view("\r\n\0", 3)) != std::string::npos) {
+        throw Error(path + ": source name has a line break or NUL byte");
+    }
     if (!isToken(field.method)) throw Error(path + ": method name '" + field.method + "' is not a single word");
     for (const auto& [key, value] : field.parameters) {
         if (!isToken(key) || !isToken(value)) throw Error(path + ": bad method parameter '" + key + "=" + value + "'");
     }
-
-    std::string tempPath = path + ".tmp-XXXXXX";
-    const int fd = mkstemp(tempPath.data());
-    if (fd < 0) throw Error(path + ": cannot create a temporary file beside it (" + std::strerror(errno) + ")");
-    fchmod(fd, 0644); // mkstemp makes the file private; a saved field is an ordinary document
-    FILE* file = fdopen(fd, "wb");
-    auto failWith = [&](const char* what) {
-        const std::string reason = std::strerror(errno);
-        if (file) std::fclose(file); else close(fd);
-        std::remove(tempPath.c_str());
-        throw Error(path + ": " + what + " (" + reason + ")");
-    };
-    if (!file) failWith("cannot open temporary file");
 
     char number[64];
     auto format = [&](auto v) {
@@ -142,36 +136,24 @@ void saveFieldText(const Field& field, const std::string& path) {
     for (const auto& [key, value] : field.parameters) header << ' ' << key << '=' << value;
     header << "\nvalues\n";
     const std::string head = header.str();
-    bool ok = std::fwrite(head.data(), 1, head.size(), file) == head.size();
 
-    std::string buffer;
-    buffer.reserve(1 << 16);
-    for (std::size_t i = 0; ok && i < field.values.size(); ++i) {
-        buffer += format(field.values[i]);
-        buffer += '\n';
-        if (buffer.size() > (1 << 16) - 32 || i + 1 == field.values.size()) {
-            ok = std::fwrite(buffer.data(), 1, buffer.size(), file) == buffer.size();
-            buffer.clear();
+    writeFileAtomically(path, [&](std::ostream& out) {
+        out.write(head.data(), std::streamsize(head.size()));
+        std::string buffer;
+        buffer.reserve(1 << 16);
+        for (std::size_t i = 0; out && i < field.values.size(); ++i) {
+            buffer += format(field.values[i]);
+            buffer += '\n';
+            if (buffer.size() > (1 << 16) - 32 || i + 1 == field.values.size()) {
+                out.write(buffer.data(), std::streamsize(buffer.size()));
+                buffer.clear();
+            }
         }
-    }
-    if (!ok || std::fflush(file) != 0 || fsync(fileno(file)) != 0) failWith("write failed");
-    if (std::fclose(file) != 0) {
-        file = nullptr;
-        failWith("write failed");
-    }
-    file = nullptr;
-    if (std::rename(tempPath.c_str(), path.c_str()) != 0) {
-        const std::string reason = std::strerror(errno);
-        std::remove(tempPath.c_str());
-        throw Error(path + ": cannot replace the file (" + reason + ")");
-    }
+    });
 }
 
 Field loadFieldText(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw Error(path + ": read error");
+    const std::string text = readInputFile(path, InputKind::Text);
 
     LineReader reader(path, text);
     Field field;
@@ -182,6 +164,8 @@ Field loadFieldText(const std::string& path) {
         if (version != kVersion) reader.fail("unsupported version " + std::to_string(version) + " (this build reads 1)");
     }
     field.source = std::string(reader.keyed("source"));
+    // The writer refuses a line break in the source name, so a CR left inside it is not ours.
+    if (field.source.find('\r') != std::string::npos) reader.fail("source name has a carriage return");
     {
         std::string_view rest = reader.keyed("dims");
         double samples = 1.0;
@@ -209,7 +193,8 @@ Field loadFieldText(const std::string& path) {
         std::string_view rest = reader.keyed("method");
         std::size_t space = rest.find(' ');
         field.method = std::string(rest.substr(0, space));
-        if (!isToken(field.method)) reader.fail("missing method name");
+        if (field.method.empty()) reader.fail("missing method name");
+        if (!isToken(field.method)) reader.fail("method name '" + field.method + "' is not a single word");
         while (space != std::string_view::npos) {
             rest.remove_prefix(space + 1);
             space = rest.find(' ');
@@ -219,12 +204,24 @@ Field loadFieldText(const std::string& path) {
             if (eq == std::string_view::npos || eq == 0 || eq + 1 == item.size()) {
                 reader.fail("method parameter '" + std::string(item) + "' is not key=value");
             }
-            field.parameters.emplace_back(std::string(item.substr(0, eq)), std::string(item.substr(eq + 1)));
+            const std::string_view key = item.substr(0, eq), value = item.substr(eq + 1);
+            if (!isToken(key) || !isToken(value)) {
+                reader.fail("method parameter '" + std::string(item) + "' is not key=value with single words");
+            }
+            field.parameters.emplace_back(std::string(key), std::string(value));
         }
     }
     if (reader.next("'values'") != "values") reader.fail("expected the line 'values'");
 
     const std::size_t count = field.grid.sampleCount();
+    // Every value takes at least two bytes ("0\n"): a header that promises more than the file
+    // holds is refused before any memory is taken for it.
+    if (reader.bytesLeft() / 2 < count) {
+        const std::size_t lines = std::size_t(std::count(text.end() - std::ptrdiff_t(reader.bytesLeft()), text.end(), '\n'));
+        const bool partial = reader.bytesLeft() > 0 && text.back() != '\n';
+        throw Error(path + ":" + std::to_string(reader.lineNumber() + lines + partial) + ": file ends after " +
+                    std::to_string(lines) + " of " + std::to_string(count) + " values");
+    }
     field.values.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
         if (reader.atEnd()) {

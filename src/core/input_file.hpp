@@ -1,0 +1,23 @@
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace sdfgen {
+
+// The most bytes an input file may have: SDFGEN_MAX_INPUT_MB (mebibytes) when set, else 4 GiB.
+// A bound, so that /dev/zero or an endless pipe given as input fails at once instead of eating memory.
+std::uint64_t maxInputBytes();
+
+enum class InputKind { Binary, Text };
+
+// Reads a whole file into memory: regular files, pipes, FIFOs and devices alike (/dev/stdin).
+// Throws Error("PATH: problem") when it cannot be opened or read, is a directory, or is larger than
+// maxBytes (checked before reading for a regular file, while reading otherwise). For Text, a NUL
+// byte is refused as it arrives ("PATH:LINE: NUL byte ...").
+std::string readInputFile(const std::string& path, InputKind kind, std::uint64_t maxBytes = maxInputBytes());
+
+// The number of the line (from 1) that byte `offset` of `text` lies on; \n, \r\n and a lone \r
+// each end a line.
+std::size_t lineNumberAt(const std::string& text, std::size_t offset);
+
+} // namespace sdfgen

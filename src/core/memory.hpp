@@ -1,0 +1,27 @@
+#pragma once
+#include "sdfgen/bake.hpp"
+#include "sdfgen/grid.hpp"
+#include "sdfgen/mesh.hpp"
+
+#include <cstdint>
+
+namespace sdfgen {
+
+// Bytes this process can still take: MemAvailable from /proc/meminfo, lowered to the room left
+// under a cgroup v2 memory limit when there is one; the physical memory when neither is readable
+// (0 when nothing is known).
+std::uint64_t availableMemoryBytes();
+
+// The peak bytes bake() allocates for this mesh, grid and settings, counting every buffer the
+// chosen distance method and sign hold at once (see bake.cpp, exact.cpp, ray_generator.cpp,
+// sign.cpp, topology.cpp): per sample, the ray field, the distances, the nearest triangles, the
+// inside flags and the result; per triangle and vertex, the topology; for the winding sign, the
+// rows' crossings (estimated from the mesh's area projected along x). Auto counts the dearer of
+// its two choices. The tree is not counted: it exists before the bake.
+std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings);
+
+// Throws Error("grid NXxNYxNZ (method M, sign S) needs about X MiB but only Y MiB of memory is
+// available") when the estimate exceeds the available memory.
+void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings);
+
+} // namespace sdfgen

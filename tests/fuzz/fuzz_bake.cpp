@@ -1,0 +1,55 @@
+// Fuzzes load -> tree -> bake: the first byte picks the method and sign, the second the grid
+// resolution (1-8) and ray count (1-16); the rest is an OBJ file. Any input either gives a field
+// of finite values on the grid or an Error.
+#include "fuzz_input.hpp"
+#include "core/bake.hpp"
+#include "core/bvh.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/mesh.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace {
+
+// Issue 8 item 1 (tree binning on centres beyond float range or closer than ~5e-38) is fixed on
+// another branch; until it is merged such meshes are skipped so that the fuzzer finds other things.
+bool withinBinningRange(const sdfgen::Mesh& mesh) {
+    for (const glm::vec3& p : mesh.positions) {
+        for (int a = 0; a < 3; ++a) {
+            const float m = std::fabs(p[a]);
+            if (m != 0.0f && (m < 1e-20f || m > 1e30f)) return false;
+        }
+    }
+    return true;
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size < 2) return 0;
+    sdfgen::BakeSettings settings;
+    settings.method = sdfgen::DistanceMethod(data[0] % 3);
+    settings.sign = sdfgen::SignMethod(data[0] / 3 % 5);
+    settings.res = 1 + data[1] % 8;
+    settings.rays = 1 + data[1] / 8 % 16;
+    const std::string& path = sdfgen::fuzz::writeInput(data + 2, size - 2, ".obj");
+    try {
+        const sdfgen::Mesh mesh = sdfgen::loadObj(path);
+        if (mesh.triangleCount() > 2000 || !withinBinningRange(mesh)) return 0; // brute force is O(samples x triangles)
+        const sdfgen::Bvh tree(mesh);
+        sdfgen::RunControl control;
+        control.threads = 1;
+        const sdfgen::BakeResult result = sdfgen::bake(mesh, tree, settings, control);
+        if (result.field.values.size() != result.field.grid.sampleCount()) std::abort();
+        for (float v : result.field.values) {
+            if (!std::isfinite(v)) {
+                std::fprintf(stderr, "non-finite value in the field\n");
+                std::abort();
+            }
+        }
+    } catch (const sdfgen::Error&) {
+    }
+    return 0;
+}

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses (clang, ASan + UBSan) in build-fuzz/ and runs each for a while.
+# Usage: tests/fuzz/run.sh [--parallel] [DURATION [HARNESS...]]
+#   --parallel: run the harnesses at the same time (one core each) instead of one after another.
+#   DURATION per harness: seconds, or with a suffix: 20s, 30m, 2h (default 20s).
+#   HARNESS: obj, field, bake (default: all).
+# Each starts from its seed corpus (tests/fuzz/corpus/HARNESS) plus what earlier runs found
+# (build-fuzz/corpus/HARNESS); crashes are written to build-fuzz/crashes/HARNESS/ and stop the run
+# with a non-zero exit. Long runs: `nice tests/fuzz/run.sh 2h` (about 6 hours for all three).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+parallel=0
+[ "${1:-}" = --parallel ] && parallel=1 && shift
+duration=${1:-20s}
+shift || true
+harnesses=("$@")
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(obj field bake)
+case $duration in
+  *h) seconds=$(( ${duration%h} * 3600 )) ;;
+  *m) seconds=$(( ${duration%m} * 60 )) ;;
+  *s) seconds=${duration%s} ;;
+  *) seconds=$duration ;;
+esac
+
+build=$root/build-fuzz
+targets=()
+for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
+"$root/scripts/build.sh" "$build" -DSDFGEN_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_C_COMPILER=clang -- "${targets[@]}"
+
+# The harnesses write each input to a file (the loaders read paths); in memory, that costs little.
+[ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR=${TMPDIR:-/dev/shm}
+fuzz() {
+  local h=$1 corpus=$build/corpus/$1 crashes=$build/crashes/$1 dict=$root/tests/fuzz/$1.dict
+  local log=$build/fuzz_$1.$$.log # one per run: two runs at once must not share a log
+  mkdir -p "$corpus" "$crashes"
+  [ "$h" = bake ] && dict=$root/tests/fuzz/obj.dict
+  echo "fuzz_$h: ${seconds} s"
+  # -rss_limit_mb and -malloc_limit_mb catch memory blow-ups (the loaders must refuse, not
+  # allocate, what they cannot hold).
+  ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    "$build/tests/fuzz/fuzz_$h" "$corpus" "$root/tests/fuzz/corpus/$h" -max_total_time="$seconds" -dict="$dict" \
+    -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=10 -max_len=4096 -artifact_prefix="$crashes/" -print_final_stats=1 \
+    >"$log" 2>&1 || { tail -n 60 "$log"; echo "fuzz_$h found a problem: see $crashes"; return 1; }
+  grep -aE '^(Done|stat::(number_of_executed_units|new_units_added|peak_rss_mb))' "$log" | sed "s/^/fuzz_$h: /"
+}
+
+status=0
+if [ $parallel = 1 ]; then
+  pids=()
+  for h in "${harnesses[@]}"; do fuzz "$h" & pids+=($!); done
+  for pid in "${pids[@]}"; do wait "$pid" || status=1; done
+else
+  for h in "${harnesses[@]}"; do fuzz "$h" || status=1; done
+fi
+exit $status
