@@ -1,5 +1,6 @@
 #pragma once
 #include "core/bake.hpp"
+#include "sdfgen/sample.hpp"
 
 #include <CLI/CLI.hpp>
 #include <string>
@@ -12,11 +13,17 @@ void addBakeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addSampleCommand(CLI::App& app);
+// Sets exitCode to 1 when any mesh failed (the batch itself went on).
+void addBatchCommand(CLI::App& app, int& exitCode);
 
 // The options every generating command shares (--res, --rays, --padding, --threads).
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);
 
 // The mesh the project ships, used when a command is given none.
 std::string defaultMeshPath();
+
+// The sampling options `sample` and `batch --format samples` share (--seed, --surface-fraction, variances).
+void addSampleOptions(CLI::App& command, SampleSettings& settings);
 
 } // namespace sdfgen::cli

@@ -13,6 +13,9 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
     sdfgen::cli::addRenderCommand(app);
+    sdfgen::cli::addSampleCommand(app);
+    int exitCode = 0;
+    sdfgen::cli::addBatchCommand(app, exitCode);
     std::string viewMesh;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
     view->add_option("mesh", viewMesh, "Mesh to open (Wavefront OBJ)");
@@ -28,5 +31,5 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "sdfgen: internal error: %s\n", e.what());
         return 2;
     }
-    return 0;
+    return exitCode;
 }
