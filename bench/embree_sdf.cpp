@@ -109,7 +109,7 @@ void reportError(void*, RTCError code, const char* message) {
 int run(const peer::Options& options) {
     peer::Stopwatch clock;
     const Mesh mesh = loadObj(options.mesh);
-    const Grid grid = makeGrid(mesh.bounds, options.res, options.padding);
+    const Grid grid = makeGrid(mesh.worldBounds(), options.res, options.padding);
     const std::vector<glm::vec3> directions = sphereDirections(options.rays);
     clock.lap();
 

@@ -49,7 +49,7 @@ float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid) {
 int run(const peer::Options& options) {
     peer::Stopwatch clock;
     const Mesh mesh = loadObj(options.mesh);
-    const Grid grid = makeGrid(mesh.bounds, options.res, options.padding);
+    const Grid grid = makeGrid(mesh.worldBounds(), options.res, options.padding);
 
     openvdb::initialize();
     std::vector<openvdb::Vec3s> points;

@@ -108,8 +108,8 @@ TEST(Bvh, CoincidentTrianglesStillSplit) {
     const Bvh tree(mesh);
     EXPECT_LE(tree.depth(), Bvh::kMaxDepth);
     RayHit hit;
-    ASSERT_TRUE(tree.intersect({0.2f, 0.2f, 1.0f}, {0, 0, -1}, kInf, hit));
-    EXPECT_FLOAT_EQ(hit.t, 1.0f);
+    ASSERT_TRUE(tree.intersect(glm::vec3(mesh.toLocal({0.2, 0.2, 1.0})), {0, 0, -1}, kInf, hit));
+    EXPECT_FLOAT_EQ(float(hit.t * mesh.unit), 1.0f);
 }
 
 } // namespace

@@ -34,8 +34,8 @@ constexpr double kPi = 3.14159265358979323846;
 // Helpers: meshes built from the test shapes, bakes, and sign comparisons.
 
 Mesh translated(const Mesh& mesh, const glm::vec3& offset, bool flip) {
-    std::vector<glm::vec3> positions = mesh.positions;
-    for (glm::vec3& p : positions) p += offset;
+    std::vector<glm::dvec3> positions = mesh.worldPositions();
+    for (glm::dvec3& p : positions) p += glm::dvec3(offset);
     std::vector<glm::uvec3> triangles = mesh.triangles;
     if (flip) {
         for (glm::uvec3& t : triangles) std::swap(t[1], t[2]);
@@ -45,8 +45,9 @@ Mesh translated(const Mesh& mesh, const glm::vec3& offset, bool flip) {
 
 // Both meshes in one, b's indices shifted past a's vertices.
 Mesh combined(const std::string& name, const Mesh& a, const Mesh& b) {
-    std::vector<glm::vec3> positions = a.positions;
-    positions.insert(positions.end(), b.positions.begin(), b.positions.end());
+    std::vector<glm::dvec3> positions = a.worldPositions();
+    const std::vector<glm::dvec3> more = b.worldPositions();
+    positions.insert(positions.end(), more.begin(), more.end());
     std::vector<glm::uvec3> triangles = a.triangles;
     const unsigned shift = unsigned(a.positions.size());
     for (const glm::uvec3& t : b.triangles) triangles.push_back(t + glm::uvec3(shift));
@@ -61,7 +62,7 @@ Mesh holedSphere(float r) {
         const glm::vec3 centroid = (sphere.vertex(t, 0) + sphere.vertex(t, 1) + sphere.vertex(t, 2)) / 3.0f;
         if (centroid.y <= 0.8f * r) kept.push_back(sphere.triangles[t]);
     }
-    return buildMesh("holed sphere", sphere.positions, std::move(kept));
+    return buildMesh("holed sphere", sphere.worldPositions(), std::move(kept));
 }
 
 Mesh twoShells(bool flipSecond) {
@@ -117,11 +118,11 @@ void addTetrahedron(std::vector<glm::vec3>& positions, std::vector<glm::uvec3>& 
 
 // Every triangle with three vertices of its own, at the same positions (as OBJ exports often do).
 Mesh unshared(const Mesh& mesh) {
-    std::vector<glm::vec3> positions;
+    std::vector<glm::dvec3> positions;
     std::vector<glm::uvec3> triangles;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const unsigned base = unsigned(positions.size());
-        for (int c = 0; c < 3; ++c) positions.push_back(mesh.vertex(t, c));
+        for (int c = 0; c < 3; ++c) positions.push_back(mesh.toWorld(glm::dvec3(mesh.vertex(t, c))));
         triangles.emplace_back(base, base + 1, base + 2);
     }
     return buildMesh(mesh.source + " (unshared)", std::move(positions), std::move(triangles));
@@ -620,7 +621,7 @@ TEST(Signs, WindingCountsRowsThroughSharedEdgesOnce) {
         const glm::vec3 centroid = (cube.vertex(t, 0) + cube.vertex(t, 1) + cube.vertex(t, 2)) / 3.0f;
         if (centroid.y < 0.9f) openTop.push_back(cube.triangles[t]);
     }
-    const Mesh open = buildMesh("open-top cube", cube.positions, openTop);
+    const Mesh open = buildMesh("open-top cube", cube.worldPositions(), openTop);
     const std::pair<const char*, const Mesh*> meshes[] = {{"cube", &cube}, {"open-top cube", &open}};
     for (const auto& [name, mesh] : meshes) {
         for (int res : {12, 24, 32}) {
@@ -640,7 +641,7 @@ TEST(Signs, WindingInsideMatchesTheReferenceWindingNumberExactly) {
     // Sample by sample against windingNumber() itself, on the shells with one flipped: there the
     // winding number is -1, 0 and 1 in different regions.
     const Mesh mesh = twoShells(true);
-    const Grid grid = makeGrid(mesh.bounds, 20, 0.1f);
+    const Grid grid = makeGrid(mesh.worldBounds(), 20, 0.1f);
     const std::vector<std::uint8_t> inside = insideByWinding(mesh, MeshTopology(mesh), grid, RunControl{});
     const NearestField nearest = computeNearest(mesh, Bvh(mesh), grid, RunControl{});
     std::size_t regions[3] = {0, 0, 0};
@@ -649,7 +650,7 @@ TEST(Signs, WindingInsideMatchesTheReferenceWindingNumberExactly) {
             for (int i = 0; i < grid.dims.x; ++i) {
                 const std::size_t index = grid.index(i, j, k);
                 if (nearest.distance[index] < 1e-3f * grid.voxel) continue;
-                const double w = windingNumber(mesh, glm::dvec3(grid.sample(i, j, k)));
+                const double w = windingNumber(mesh, localPosition(mesh, grid, i, j, k));
                 ++regions[w < -0.5 ? 0 : w < 0.5 ? 1 : 2];
                 EXPECT_EQ(bool(inside[index]), w > 0.5) << i << "," << j << "," << k << " w = " << w;
             }
@@ -743,7 +744,7 @@ TEST(MeshCheck, OneFlippedTriangleGivesThreeInconsistentEdges) {
     Mesh sphere = test::icosphere(1.0f, 2);
     std::vector<glm::uvec3> triangles = sphere.triangles;
     std::swap(triangles[17][1], triangles[17][2]);
-    const Mesh mesh = buildMesh("one flipped", sphere.positions, triangles);
+    const Mesh mesh = buildMesh("one flipped", sphere.worldPositions(), triangles);
     const MeshCheck check = checkMesh(mesh);
     EXPECT_EQ(check.inconsistentEdges, 3u) << check.describe();
     EXPECT_EQ(check.boundaryEdges, 0u);
@@ -835,7 +836,7 @@ Field rampField(glm::ivec3 dims) {
     f.values.resize(f.grid.sampleCount());
     for (int k = 0; k < dims.z; ++k)
         for (int j = 0; j < dims.y; ++j)
-            for (int i = 0; i < dims.x; ++i) f.values[f.grid.index(i, j, k)] = glm::length(f.grid.sample(i, j, k)) - 0.6f;
+            for (int i = 0; i < dims.x; ++i) f.values[f.grid.index(i, j, k)] = glm::length(glm::vec3(f.grid.position(i, j, k))) - 0.6f;
     return f;
 }
 

@@ -124,7 +124,7 @@ void expectIdentical(const Field& a, const Field& b) {
 TEST_F(FieldText, ValidFileLoads) {
     const Field field = loadFieldText(write("ok.sdf", join(validLines())));
     expectIdentical(field, smallField());
-    EXPECT_EQ(field.grid.origin, glm::vec3(0, -1, 2.5f));
+    EXPECT_EQ(field.grid.origin, glm::dvec3(0, -1, 2.5));
 }
 
 TEST_F(FieldText, CrLfLineEndingsLoad) {
@@ -248,7 +248,7 @@ TEST_F(FieldText, BadDims) {
 TEST_F(FieldText, BadOrigin) {
     expectLineError(with(4, "origin nan 0 0"), 4, "not finite");
     expectLineError(with(4, "origin 0 inf 0"), 4, "not finite");
-    expectLineError(with(4, "origin 0 0 1e39"), 4, "origin");
+    expectLineError(with(4, "origin 0 0 1e309"), 4, "origin");
     expectLineError(with(4, "origin 0 0"), 4, "not a valid number");
     expectLineError(with(4, "origin 0 0 zero"), 4, "not a valid number");
 }

@@ -78,7 +78,7 @@ std::vector<double> checkSignsAndUpperBound(const Baked& baked, const std::funct
         for (int j = 0; j < g.dims.y; ++j)
             for (int i = 0; i < g.dims.x; ++i) {
                 const float value = baked.field.at(i, j, k);
-                const float exact = truth(g.sample(i, j, k));
+                const float exact = truth(glm::vec3(g.position(i, j, k)));
                 EXPECT_TRUE(std::isfinite(value));
                 if (std::fabs(exact) > g.voxel + slack && (value < 0) != (exact < 0)) ++wrongSigns;
                 if (std::fabs(value) < std::fabs(exact) - slack - 1e-5f) ++undercuts;
@@ -105,7 +105,7 @@ TEST(RayGenerator, SphereMatchesAnalyticWithinTheCoveringAngleBound) {
     for (int k = 0; k < g.dims.z; ++k)
         for (int j = 0; j < g.dims.y; ++j)
             for (int i = 0; i < g.dims.x; ++i) {
-                const float D = glm::length(g.sample(i, j, k));
+                const float D = glm::length(glm::vec3(g.position(i, j, k)));
                 const float s = D * std::sin(theta), c = D * std::cos(theta);
                 float bound;
                 if (D < inner) bound = c + std::sqrt(r * r - s * s);
@@ -128,7 +128,7 @@ TEST(RayGenerator, BoxInsideErrorBoundedByCoveringAngle) {
     for (int k = 0; k < g.dims.z; ++k)
         for (int j = 0; j < g.dims.y; ++j)
             for (int i = 0; i < g.dims.x; ++i) {
-                const float d = test::boxDistance(g.sample(i, j, k), h);
+                const float d = test::boxDistance(glm::vec3(g.position(i, j, k)), h);
                 if (d < 0) {
                     EXPECT_LE(-baked.field.at(i, j, k), -d / std::cos(theta) * (1.0f + 1e-5f));
                 }
@@ -168,7 +168,7 @@ TEST(RayGenerator, EqualsTheNaiveDefinition) {
     const Mesh mesh = loadObj(test::bundledBunnyPath());
     const Bvh tree(mesh);
     const int rays = 24;
-    const Grid grid = makeGrid(mesh.bounds, 10, 0.1f);
+    const Grid grid = makeGrid(mesh.worldBounds(), 10, 0.1f);
     const Field field = generateRayField(mesh, tree, grid, rays, RunControl{});
     const std::vector<glm::vec3> dirs = sphereDirections(rays);
     for (int k = 0; k < grid.dims.z; ++k)
@@ -178,13 +178,15 @@ TEST(RayGenerator, EqualsTheNaiveDefinition) {
                 int hits = 0, backs = 0;
                 for (const glm::vec3& d : dirs) {
                     RayHit hit;
-                    if (!tree.intersect(grid.sample(i, j, k), d, std::numeric_limits<float>::infinity(), hit)) continue;
+                    const glm::vec3 origin(localPosition(mesh, grid, i, j, k));
+                    if (!tree.intersect(origin, d, std::numeric_limits<float>::infinity(), hit)) continue;
                     ++hits;
                     backs += hit.backFace;
                     nearest = std::min(nearest, hit.t);
                 }
                 if (hits == 0) continue;
-                const float expected = 2 * backs > hits ? -nearest : nearest;
+                const float distance = float(double(nearest) * mesh.unit);
+                const float expected = 2 * backs > hits ? -distance : distance;
                 ASSERT_EQ(field.at(i, j, k), expected) << i << "," << j << "," << k;
             }
 }
@@ -199,23 +201,24 @@ TEST(RayGenerator, BitIdenticalForAnyThreadCount) {
 
 TEST(RayGenerator, SamplesWhoseRaysAllMissGetTheFarCornerDistance) {
     // One flat triangle and one ray direction, (1, 0, 0), in its plane: nothing is ever hit.
-    const Mesh mesh = buildMesh("flat", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
+    const Mesh mesh = buildMesh("flat", std::vector<glm::dvec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
     const Bvh tree(mesh);
-    const Grid grid = makeGrid(mesh.bounds, 6, 0.1f);
+    const Grid grid = makeGrid(mesh.worldBounds(), 6, 0.1f);
     const Field field = generateRayField(mesh, tree, grid, 1, RunControl{});
     for (int k = 0; k < grid.dims.z; ++k)
         for (int j = 0; j < grid.dims.y; ++j)
             for (int i = 0; i < grid.dims.x; ++i) {
-                const glm::vec3 p = grid.sample(i, j, k);
-                const glm::vec3 far = glm::max(glm::abs(p - mesh.bounds.min), glm::abs(p - mesh.bounds.max));
-                EXPECT_FLOAT_EQ(field.at(i, j, k), glm::length(far));
+                const glm::dvec3 p = grid.position(i, j, k);
+                const WorldBounds box = mesh.worldBounds();
+                const glm::dvec3 far = glm::max(glm::abs(p - box.min), glm::abs(p - box.max));
+                EXPECT_FLOAT_EQ(field.at(i, j, k), float(glm::length(far)));
             }
 }
 
 TEST(RayGenerator, ReportsProgressAndHonoursCancel) {
     const Mesh mesh = test::icosphere(1.0f, 2);
     const Bvh tree(mesh);
-    const Grid grid = makeGrid(mesh.bounds, 16, 0.1f);
+    const Grid grid = makeGrid(mesh.worldBounds(), 16, 0.1f);
     RunControl control;
     std::vector<double> seen;
     control.progress = [&](double f) { seen.push_back(f); };

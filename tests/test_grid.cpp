@@ -17,8 +17,8 @@ namespace {
 
 using test::errorFrom;
 
-Bounds box(glm::vec3 min, glm::vec3 max) {
-    Bounds b;
+WorldBounds box(glm::dvec3 min, glm::dvec3 max) {
+    WorldBounds b;
     b.min = min;
     b.max = max;
     return b;
@@ -29,10 +29,10 @@ TEST(MakeGrid, ExactMultiples) {
     const Grid grid = makeGrid(box({1, 2, 3}, {5, 4, 4}), 6, 0.25f);
     EXPECT_EQ(grid.dims, glm::ivec3(6, 4, 3));
     EXPECT_EQ(grid.voxel, 1.0f);
-    EXPECT_EQ(grid.origin, glm::vec3(0, 1, 2));
+    EXPECT_EQ(grid.origin, glm::dvec3(0, 1, 2));
     EXPECT_EQ(grid.sampleCount(), 72u);
-    EXPECT_EQ(grid.sample(0, 0, 0), glm::vec3(0.5f, 1.5f, 2.5f));
-    EXPECT_EQ(grid.sample(5, 3, 2), glm::vec3(5.5f, 4.5f, 4.5f));
+    EXPECT_EQ(grid.position(0, 0, 0), glm::dvec3(0.5, 1.5, 2.5));
+    EXPECT_EQ(grid.position(5, 3, 2), glm::dvec3(5.5, 4.5, 4.5));
 }
 
 TEST(MakeGrid, ShorterAxesRoundUp) {
@@ -40,7 +40,7 @@ TEST(MakeGrid, ShorterAxesRoundUp) {
     const Grid grid = makeGrid(box({0, 0, 0}, {4, 2, 1}), 12, 0.125f);
     EXPECT_EQ(grid.dims, glm::ivec3(12, 8, 5));
     EXPECT_FLOAT_EQ(grid.voxel, 5.0f / 12.0f);
-    EXPECT_EQ(grid.origin, glm::vec3(-0.5f));
+    EXPECT_EQ(grid.origin, glm::dvec3(-0.5));
 }
 
 TEST(MakeGrid, RoundingNoiseDoesNotAddAVoxel) {
@@ -85,15 +85,15 @@ TEST(MakeGrid, FollowsTheFormulaForRandomBounds) {
         const float pad = trial % 5 == 0 ? 0.0f : padding(rng);
         const Grid grid = makeGrid(box(min, max), res, pad);
 
-        const glm::vec3 extent = max - min;
-        const float longest = std::max({extent.x, extent.y, extent.z});
-        const glm::vec3 padded = extent + 2.0f * glm::vec3(pad * longest);
+        const glm::dvec3 extent = glm::dvec3(max) - glm::dvec3(min);
+        const double longest = std::max({extent.x, extent.y, extent.z});
+        const glm::dvec3 padded = extent + 2.0 * glm::dvec3(pad * longest);
         const double paddedLongest = std::max({padded.x, padded.y, padded.z});
         const double h = paddedLongest / res;
         SCOPED_TRACE("trial " + std::to_string(trial));
-        EXPECT_FLOAT_EQ(grid.voxel, float(h));
+        EXPECT_DOUBLE_EQ(grid.voxel, h);
         for (int a = 0; a < 3; ++a) {
-            EXPECT_FLOAT_EQ(grid.origin[a], min[a] - pad * longest);
+            EXPECT_DOUBLE_EQ(grid.origin[a], min[a] - pad * longest);
             const int expected = std::max(1, int(std::ceil(double(padded[a]) / h - 1e-9)));
             EXPECT_EQ(grid.dims[a], expected) << "axis " << a;
             EXPECT_LE(grid.dims[a], res);

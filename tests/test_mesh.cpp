@@ -169,7 +169,7 @@ float totalArea(const Mesh& mesh) {
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         area += 0.5 * glm::length(glm::cross(mesh.vertex(t, 1) - mesh.vertex(t, 0), mesh.vertex(t, 2) - mesh.vertex(t, 0)));
     }
-    return float(area);
+    return float(area * mesh.unit * mesh.unit); // local to world units
 }
 
 TEST_F(LoadObj, QuadBecomesTwoTriangles) {
@@ -241,7 +241,7 @@ TEST_F(LoadObj, TetrahedronNormalsAreUnitAndOutward) {
     const Mesh mesh = loadObj(path);
     ASSERT_EQ(mesh.triangleCount(), 4u);
     ASSERT_EQ(mesh.faceNormals.size(), 4u);
-    const glm::vec3 centre(0.25f);
+    const glm::vec3 centre(mesh.toLocal(glm::dvec3(0.25)));
     for (std::size_t t = 0; t < 4; ++t) {
         const glm::vec3 n = mesh.faceNormals[t];
         EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f) << "triangle " << t;
@@ -263,8 +263,8 @@ TEST_F(LoadObj, BoundsCoverUsedVerticesOnly) {
                                    "f 2 3 4\n");
     const Mesh mesh = loadObj(path);
     EXPECT_EQ(mesh.positions.size(), 5u);
-    EXPECT_EQ(mesh.bounds.min, glm::vec3(-1, -4, -2));
-    EXPECT_EQ(mesh.bounds.max, glm::vec3(3, 2, 0.5f));
+    EXPECT_EQ(mesh.worldBounds().min, glm::dvec3(-1, -4, -2));
+    EXPECT_EQ(mesh.worldBounds().max, glm::dvec3(3, 2, 0.5));
 }
 
 // ---- buildMesh ---------------------------------------------------------------------------------
@@ -274,7 +274,7 @@ TEST(BuildMesh, NonFinitePositionIsAnError) {
     const float inf = std::numeric_limits<float>::infinity();
     for (const glm::vec3 bad : {glm::vec3(nan, 0, 0), glm::vec3(0, inf, 0), glm::vec3(0, 0, -inf)}) {
         const std::string message = errorFrom([&] {
-            buildMesh("my-mesh", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, bad}, {{0, 1, 2}});
+            buildMesh("my-mesh", std::vector<glm::dvec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(bad)}, {{0, 1, 2}});
         });
         EXPECT_CONTAINS(message, "my-mesh");
         EXPECT_CONTAINS(message, "vertex 4");
@@ -283,35 +283,40 @@ TEST(BuildMesh, NonFinitePositionIsAnError) {
 }
 
 TEST(BuildMesh, IndexOutOfRangeIsAnError) {
-    const std::string message = errorFrom([] { buildMesh("my-mesh", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 3, 1}}); });
+    const std::string message = errorFrom([] { buildMesh("my-mesh", std::vector<glm::dvec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 3, 1}}); });
     EXPECT_CONTAINS(message, "my-mesh");
     EXPECT_CONTAINS(message, "triangle 2");
     EXPECT_CONTAINS(message, "only 3 vertices");
 
-    const std::string huge = errorFrom([] { buildMesh("m", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 0xFFFFFFFFu}}); });
+    const std::string huge = errorFrom([] { buildMesh("m", std::vector<glm::dvec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 0xFFFFFFFFu}}); });
     EXPECT_CONTAINS(huge, "only 3 vertices");
 }
 
 TEST(BuildMesh, NoTrianglesIsAnError) {
-    EXPECT_CONTAINS(errorFrom([] { buildMesh("empty", {}, {}); }), "no triangles");
-    EXPECT_CONTAINS(errorFrom([] { buildMesh("flat", {{0, 0, 0}, {1, 0, 0}}, {{0, 1, 1}}); }), "zero area");
+    EXPECT_CONTAINS(errorFrom([] { buildMesh("empty", std::vector<glm::dvec3>{}, {}); }), "no triangles");
+    EXPECT_CONTAINS(errorFrom([] { buildMesh("flat", std::vector<glm::dvec3>{{0, 0, 0}, {1, 0, 0}}, {{0, 1, 1}}); }), "zero area");
 }
 
 TEST(BuildMesh, ValidMesh) {
-    const Mesh mesh = buildMesh("m", {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {5, 5, 5}, {1, 0, 0}},
+    const Mesh mesh = buildMesh("m", std::vector<glm::dvec3>{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {5, 5, 5}, {1, 0, 0}},
                                 {{0, 1, 2}, {0, 1, 4}});
     EXPECT_EQ(mesh.source, "m");
     ASSERT_EQ(mesh.triangleCount(), 1u);
     EXPECT_EQ(mesh.droppedDegenerate, 1u);
     EXPECT_EQ(mesh.faceNormals[0], glm::vec3(0, 0, 1));
-    EXPECT_EQ(mesh.bounds.min, glm::vec3(0, 0, 0));
-    EXPECT_EQ(mesh.bounds.max, glm::vec3(2, 2, 0));
+    // Local coordinates: centred on the box of the used vertices, in units of a power of two.
+    EXPECT_EQ(mesh.origin, glm::dvec3(1, 1, 0));
+    EXPECT_EQ(mesh.unit, 1.0);
+    EXPECT_EQ(mesh.bounds.min, glm::vec3(-1, -1, 0));
+    EXPECT_EQ(mesh.bounds.max, glm::vec3(1, 1, 0));
+    EXPECT_EQ(mesh.worldBounds().min, glm::dvec3(0, 0, 0));
+    EXPECT_EQ(mesh.worldBounds().max, glm::dvec3(2, 2, 0));
     EXPECT_EQ(mesh.positions.size(), 5u);
 }
 
 TEST(BuildMesh, ThinTriangleKeepsAccurateNormal) {
     // Nearly degenerate but valid: the normal must still be unit length and exact in direction.
-    const Mesh mesh = buildMesh("thin", {{0, 0, 0}, {1000, 0, 0}, {500, 1e-3f, 0}}, {{0, 1, 2}});
+    const Mesh mesh = buildMesh("thin", std::vector<glm::dvec3>{{0, 0, 0}, {1000, 0, 0}, {500, 1e-3f, 0}}, {{0, 1, 2}});
     ASSERT_EQ(mesh.triangleCount(), 1u);
     EXPECT_EQ(mesh.faceNormals[0], glm::vec3(0, 0, 1));
 }

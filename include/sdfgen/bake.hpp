@@ -26,7 +26,7 @@ const char* toString(SignMethod sign);
 // What to bake: the grid (see makeGrid), the method and the sign.
 struct BakeSettings {
     int res = 64;
-    float padding = 0.1f;
+    double padding = 0.1;
     DistanceMethod method = DistanceMethod::Exact;
     SignMethod sign = SignMethod::Default;
     int rays = 64; // for the rays method and the rays sign

@@ -64,7 +64,7 @@ public:
             field_.reset();
             copyPath(meshPath_, sizeof(meshPath_), path);
             copyPath(fieldPath_, sizeof(fieldPath_), std::filesystem::path(path).replace_extension(".sdf").string());
-            camera_.frame(mesh_->bounds);
+            camera_.frame(mesh_->worldBounds());
             error_.clear();
             status_ = "loaded " + std::to_string(mesh_->triangleCount()) + " triangles";
             loadSavedField(path);
@@ -192,7 +192,7 @@ private:
             if (io.MouseWheel != 0.0f) camera_.zoom(io.MouseWheel);
         }
         if (!io.WantCaptureKeyboard) {
-            if (ImGui::IsKeyPressed(GLFW_KEY_F, false) && mesh_) camera_.frame(mesh_->bounds);
+            if (ImGui::IsKeyPressed(GLFW_KEY_F, false) && mesh_) camera_.frame(mesh_->worldBounds());
             // Arrow keys orbit at a fixed speed in degrees per second, whatever the frame rate.
             const float speed = 90.0f * dt;
             if (ImGui::IsKeyDown(GLFW_KEY_LEFT)) camera_.rotate(-speed, 0.0f);
@@ -230,7 +230,7 @@ private:
             ImGui::SliderFloat("Pitch", &camera_.pitch, -89.0f, 89.0f);
             ImGui::DragFloat("Distance", &camera_.distance, camera_.sceneRadius * 0.01f, 1e-3f, 1e6f);
             ImGui::DragFloat3("Target", &camera_.target.x, camera_.sceneRadius * 0.01f);
-            if (ImGui::Button("Frame (F)") && mesh_) camera_.frame(mesh_->bounds);
+            if (ImGui::Button("Frame (F)") && mesh_) camera_.frame(mesh_->worldBounds());
             ImGui::TextDisabled("right-drag rotate, middle-drag pan, wheel zoom");
         }
         if (ImGui::CollapsingHeader("Model", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -238,7 +238,7 @@ private:
             ImGui::SameLine();
             if (ImGui::Button("Load")) loadMesh(meshPath_);
             if (mesh_) {
-                const Bounds& b = mesh_->bounds;
+                const WorldBounds b = mesh_->worldBounds();
                 ImGui::Text("%zu triangles", mesh_->triangleCount());
                 ImGui::Text("bounds (%.3g %.3g %.3g) - (%.3g %.3g %.3g)", double(b.min.x), double(b.min.y), double(b.min.z),
                             double(b.max.x), double(b.max.y), double(b.max.z));
@@ -253,8 +253,8 @@ private:
             settings_.res = std::clamp(settings_.res, 1, 2048);
             ImGui::InputInt("Rays", &settings_.rays);
             settings_.rays = std::clamp(settings_.rays, 1, 65536);
-            ImGui::InputFloat("Padding", &settings_.padding, 0.01f, 0.1f, "%.3f");
-            settings_.padding = std::clamp(settings_.padding, 0.0f, 100.0f);
+            ImGui::InputDouble("Padding", &settings_.padding, 0.01, 0.1, "%.3f");
+            settings_.padding = std::clamp(settings_.padding, 0.0, 100.0);
             ImGui::InputInt("Threads (0 = all)", &threads_);
             threads_ = std::clamp(threads_, 0, 1024);
             int method = int(settings_.method);

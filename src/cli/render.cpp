@@ -94,7 +94,7 @@ void runRender(const RenderArgs& args) {
     render::OrbitCamera orbit;
     orbit.yaw = camera[0];
     orbit.pitch = camera[1];
-    orbit.frame(mesh.bounds, camera[2]);
+    orbit.frame(mesh.worldBounds(), camera[2]);
     scene.draw(orbit, pixels);
     context->present();
     if (args.repeat > 0) {

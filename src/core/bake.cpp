@@ -32,7 +32,7 @@ const char* toString(SignMethod sign) {
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
-    const Grid grid = makeGrid(mesh.bounds, settings.res, settings.padding);
+    const Grid grid = makeGrid(mesh.worldBounds(), settings.res, settings.padding);
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
     BakeResult result;
     SignMethod sign = settings.sign;

@@ -16,8 +16,8 @@ FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels)
                     std::to_string(gb.dims.z));
     }
     // Same sample positions to within a thousandth of a voxel (text round trips are exact anyway).
-    const float tolerance = 1e-3f * ga.voxel;
-    const glm::vec3 offset = glm::abs(ga.origin - gb.origin);
+    const double tolerance = 1e-3 * ga.voxel;
+    const glm::dvec3 offset = glm::abs(ga.origin - gb.origin);
     if (std::max({offset.x, offset.y, offset.z}) > tolerance || std::fabs(ga.voxel - gb.voxel) > tolerance) {
         throw Error("the fields' grids have the same dimensions but different origins or voxel sizes");
     }

@@ -27,7 +27,7 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
             for (int lane = 0; lane < 8; ++lane) {
                 // Lanes past the grid's end repeat the last sample; they are not stored.
                 cell[lane] = glm::min(glm::ivec3(i0 + (lane & 1), j0 + ((lane >> 1) & 1), k0 + (lane >> 2)), dims - 1);
-                const glm::vec3 p = grid.sample(cell[lane].x, cell[lane].y, cell[lane].z);
+                const glm::vec3 p(localPosition(mesh, grid, cell[lane].x, cell[lane].y, cell[lane].z));
                 packet.px[lane] = p.x;
                 packet.py[lane] = p.y;
                 packet.pz[lane] = p.z;
@@ -52,11 +52,11 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
                 const glm::ivec3 c = cell[lane];
                 if (c != glm::ivec3(i0 + (lane & 1), j0 + ((lane >> 1) & 1), k0 + (lane >> 2))) continue;
                 const std::uint32_t t = std::uint32_t(packet.triangle[lane]);
-                const glm::dvec3 p(grid.sample(c.x, c.y, c.z));
+                const glm::dvec3 p = localPosition(mesh, grid, c.x, c.y, c.z);
                 const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)),
                                                                     glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
                 const std::size_t index = grid.index(c.x, c.y, c.z);
-                result.distance[index] = float(std::sqrt(closest.distanceSquared));
+                result.distance[index] = float(std::sqrt(closest.distanceSquared) * mesh.unit);
                 result.triangle[index] = t;
             }
         }
@@ -77,13 +77,13 @@ Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& co
     parallelFor(rows, control, [&](std::size_t row) {
         const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
         for (int i = 0; i < grid.dims.x; ++i) {
-            const glm::dvec3 p(grid.sample(i, j, k));
+            const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
             double nearest = std::numeric_limits<double>::infinity(), angle = 0.0;
             for (std::size_t c = 0; c < corners.size(); c += 3) {
                 nearest = std::min(nearest, closestPointOnTriangle(p, corners[c], corners[c + 1], corners[c + 2]).distanceSquared);
                 angle += solidAngle(p, corners[c], corners[c + 1], corners[c + 2]);
             }
-            const double distance = std::sqrt(nearest);
+            const double distance = std::sqrt(nearest) * mesh.unit;
             field.values[grid.index(i, j, k)] = float(angle / (4.0 * M_PI) > 0.5 ? -distance : distance);
         }
     });

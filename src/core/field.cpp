@@ -97,7 +97,7 @@ void saveFieldText(const Field& field, const std::string& path) {
                     std::to_string(field.grid.sampleCount()));
     }
     if (field.grid.dims.x < 1 || field.grid.dims.y < 1 || field.grid.dims.z < 1) throw Error(path + ": grid has no samples");
-    if (!(field.grid.voxel > 0.0f) || !std::isfinite(field.grid.voxel) || !std::isfinite(field.grid.origin.x) ||
+    if (!(field.grid.voxel > 0.0) || !std::isfinite(field.grid.voxel) || !std::isfinite(field.grid.origin.x) ||
         !std::isfinite(field.grid.origin.y) || !std::isfinite(field.grid.origin.z)) {
         throw Error(path + ": grid origin or voxel size is not a finite (positive) number");
     }
@@ -124,8 +124,9 @@ void saveFieldText(const Field& field, const std::string& path) {
     if (!file) failWith("cannot open temporary file");
 
     char number[64];
-    auto format = [&](float v) {
-        // Shortest text that reads back as the identical float (never more than %.9g's digits).
+    auto format = [&](auto v) {
+        // Shortest text that reads back as the identical float or double (values are float; the
+        // grid's origin and voxel size are double).
         const auto result = std::to_chars(number, number + sizeof(number), v);
         return std::string_view(number, std::size_t(result.ptr - number));
     };
@@ -194,14 +195,14 @@ Field loadFieldText(const std::string& path) {
     }
     {
         std::string_view rest = reader.keyed("origin");
-        for (int a = 0; a < 3; ++a) field.grid.origin[a] = reader.number<float>(rest, "origin coordinate");
+        for (int a = 0; a < 3; ++a) field.grid.origin[a] = reader.number<double>(rest, "origin coordinate");
         reader.endOfLine(rest);
     }
     {
         std::string_view rest = reader.keyed("voxel");
-        field.grid.voxel = reader.number<float>(rest, "voxel size");
+        field.grid.voxel = reader.number<double>(rest, "voxel size");
         reader.endOfLine(rest);
-        if (!(field.grid.voxel > 0.0f)) reader.fail("voxel size must be positive");
+        if (!(field.grid.voxel > 0.0)) reader.fail("voxel size must be positive");
     }
     {
         std::string_view rest = reader.keyed("method");

@@ -14,24 +14,26 @@ std::uint64_t physicalMemoryBytes() {
     return pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : 0;
 }
 
-Grid makeGrid(const Bounds& bounds, int res, float padding) {
+Grid makeGrid(const WorldBounds& bounds, int res, double padding) {
     if (res < 1) throw Error("grid resolution must be at least 1 (got " + std::to_string(res) + ")");
-    if (!(padding >= 0.0f) || !std::isfinite(padding)) {
+    if (!(padding >= 0.0) || !std::isfinite(padding)) {
         throw Error("padding must be a finite number >= 0 (got " + std::to_string(padding) + ")");
     }
-    const glm::vec3 extent = bounds.extent();
-    const float longest = std::max(extent.x, std::max(extent.y, extent.z));
-    if (!(longest > 0.0f) || !std::isfinite(longest)) throw Error("the mesh has no extent: all vertices coincide");
-    const glm::vec3 pad(padding * longest);
-    const glm::vec3 paddedMin = bounds.min - pad;
-    const glm::vec3 paddedExtent = extent + 2.0f * pad;
+    const glm::dvec3 extent = bounds.extent();
+    const double longest = std::max(extent.x, std::max(extent.y, extent.z));
+    if (!(longest > 0.0) || !std::isfinite(longest)) throw Error("the mesh has no extent: all vertices coincide");
+    const glm::dvec3 pad(padding * longest);
+    const glm::dvec3 paddedExtent = extent + 2.0 * pad;
     const double paddedLongest = std::max(paddedExtent.x, std::max(paddedExtent.y, paddedExtent.z));
+    // Distances are stored as float: a grid beyond float range cannot hold them.
+    if (!std::isfinite(paddedLongest) || paddedLongest > 1e37) {
+        throw Error("padding " + std::to_string(padding) + " makes the grid too large");
+    }
 
     Grid grid;
-    grid.origin = paddedMin;
-    if (!std::isfinite(paddedLongest)) throw Error("padding " + std::to_string(padding) + " makes the grid too large");
+    grid.origin = bounds.min - pad;
     const double voxel = paddedLongest / res;
-    grid.voxel = float(voxel);
+    grid.voxel = voxel;
     double samples = 1.0;
     for (int a = 0; a < 3; ++a) {
         // The longest axis gets exactly res voxels; the 1e-9 keeps exact multiples from rounding up.

@@ -4,7 +4,9 @@
 #include <tiny_obj_loader.h>
 
 #include <glm/geometric.hpp>
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -22,9 +24,10 @@ std::string firstLine(const std::string& text) {
     return line;
 }
 
-// tinyobjloader reads "nan", "inf" and overflowing numbers as 0 or inf without complaint, so
-// vertex lines are checked here first: every coordinate must be a finite number.
-void checkVertexLines(const std::string& path, std::istream& in) {
+// tinyobjloader reads "nan", "inf" and overflowing numbers as 0 or inf without complaint, and only
+// in float, so vertex lines are read here first, in double: every coordinate must be a finite number.
+std::vector<glm::dvec3> readVertexLines(const std::string& path, std::istream& in) {
+    std::vector<glm::dvec3> vertices;
     std::string line;
     std::size_t lineNumber = 0;
     while (std::getline(in, line)) {
@@ -33,6 +36,7 @@ void checkVertexLines(const std::string& path, std::istream& in) {
         while (*p == ' ' || *p == '\t') ++p;
         if (p[0] != 'v' || (p[1] != ' ' && p[1] != '\t')) continue;
         p += 2;
+        glm::dvec3& vertex = vertices.emplace_back();
         for (int axis = 0; axis < 3; ++axis) {
             char* end = nullptr;
             const double value = std::strtod(p, &end);
@@ -44,24 +48,36 @@ void checkVertexLines(const std::string& path, std::istream& in) {
                 throw Error(path + ":" + std::to_string(lineNumber) + ": vertex coordinate '" +
                             std::string(p, std::size_t(end - p)) + "' is not a finite number");
             }
+            vertex[axis] = value;
             p = end;
         }
     }
+    return vertices;
 }
 
 } // namespace
 
-Mesh buildMesh(std::string source, std::vector<glm::vec3> positions, std::vector<glm::uvec3> triangles) {
+namespace {
+
+// The power of two nearest above `halfExtent`, so local coordinates lie within about [-1, 1].
+double unitFor(double halfExtent) {
+    if (!(halfExtent > 0.0)) return 1.0;
+    int exponent = 0;
+    const double mantissa = std::frexp(halfExtent, &exponent); // halfExtent = m * 2^exponent, m in [0.5, 1)
+    return std::ldexp(1.0, mantissa == 0.5 ? exponent - 1 : exponent);
+}
+
+} // namespace
+
+Mesh buildMesh(std::string source, std::vector<glm::dvec3> positions, std::vector<glm::uvec3> triangles) {
     Mesh mesh;
     mesh.source = std::move(source);
     for (std::size_t i = 0; i < positions.size(); ++i) {
-        const glm::vec3& p = positions[i];
+        const glm::dvec3& p = positions[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
             throw Error(mesh.source + ": vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
         }
     }
-    mesh.triangles.reserve(triangles.size());
-    mesh.faceNormals.reserve(triangles.size());
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const glm::uvec3& tri = triangles[t];
         for (int c = 0; c < 3; ++c) {
@@ -71,8 +87,29 @@ Mesh buildMesh(std::string source, std::vector<glm::vec3> positions, std::vector
                             std::to_string(positions.size()) + " vertices");
             }
         }
-        // Double precision so that thin but valid triangles keep an accurate normal.
-        const glm::dvec3 a(positions[tri[0]]), b(positions[tri[1]]), c(positions[tri[2]]);
+    }
+    // Local frame: the centre of the box of the vertices that triangles use, and a power-of-two unit.
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const glm::uvec3& tri : triangles) {
+        for (int c = 0; c < 3; ++c) {
+            lo = glm::min(lo, positions[tri[c]]);
+            hi = glm::max(hi, positions[tri[c]]);
+        }
+    }
+    if (!triangles.empty()) {
+        mesh.origin = lo + (hi - lo) * 0.5;
+        const glm::dvec3 half = (hi - lo) * 0.5;
+        mesh.unit = unitFor(std::max({half.x, half.y, half.z}));
+    }
+    std::vector<glm::vec3> local(positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i) local[i] = glm::vec3(mesh.toLocal(positions[i]));
+
+    mesh.triangles.reserve(triangles.size());
+    mesh.faceNormals.reserve(triangles.size());
+    for (const glm::uvec3& tri : triangles) {
+        // Double precision so that thin but valid triangles keep an accurate normal; measured on the
+        // local float positions, which are what every later step uses.
+        const glm::dvec3 a(local[tri[0]]), b(local[tri[1]]), c(local[tri[2]]);
         const glm::dvec3 n = glm::cross(b - a, c - a);
         const double length = glm::length(n);
         if (!(length > 0.0) || !std::isfinite(length)) {
@@ -91,11 +128,30 @@ Mesh buildMesh(std::string source, std::vector<glm::vec3> positions, std::vector
     mesh.bounds.max = glm::vec3(-std::numeric_limits<float>::max());
     for (const glm::uvec3& tri : mesh.triangles) {
         for (int c = 0; c < 3; ++c) {
-            mesh.bounds.min = glm::min(mesh.bounds.min, positions[tri[c]]);
-            mesh.bounds.max = glm::max(mesh.bounds.max, positions[tri[c]]);
+            mesh.bounds.min = glm::min(mesh.bounds.min, local[tri[c]]);
+            mesh.bounds.max = glm::max(mesh.bounds.max, local[tri[c]]);
         }
     }
-    mesh.positions = std::move(positions);
+    mesh.positions = std::move(local);
+    return mesh;
+}
+
+Mesh buildMesh(std::string source, const std::vector<glm::vec3>& positions, std::vector<glm::uvec3> triangles) {
+    Mesh mesh = buildMesh(std::move(source), std::vector<glm::dvec3>(positions.begin(), positions.end()), std::move(triangles));
+    // Float input resolves about 6e-8 of its distance from the world origin: a mesh whose extent is
+    // below ~1e-5 of that distance was already coarsely rounded before sdfgen saw it.
+    const WorldBounds box = mesh.worldBounds();
+    const glm::dvec3 extent = box.extent();
+    const double size = std::max({extent.x, extent.y, extent.z});
+    const double distance = std::max({std::fabs(mesh.origin.x), std::fabs(mesh.origin.y), std::fabs(mesh.origin.z)});
+    if (size < 1e-5 * distance) {
+        char line[256];
+        std::snprintf(line, sizeof(line),
+                      "%s: the mesh is %.3g across but %.3g from the origin: its single-precision coordinates "
+                      "resolve only about %.2g%% of its size",
+                      mesh.source.c_str(), size, distance, 100.0 * distance * 6e-8 / size);
+        mesh.warnings.push_back(line);
+    }
     return mesh;
 }
 
@@ -104,7 +160,7 @@ Mesh loadObj(const std::string& path) {
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not an OBJ file");
     std::ifstream file(path, std::ios::binary);
     if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    checkVertexLines(path, file);
+    std::vector<glm::dvec3> positions = readVertexLines(path, file);
     file.clear();
     file.seekg(0);
 
@@ -122,9 +178,11 @@ Mesh loadObj(const std::string& path) {
         throw Error(path + ": a face refers to a vertex that does not exist");
     }
 
-    const std::size_t vertexCount = attrib.vertices.size() / 3;
-    std::vector<glm::vec3> positions(vertexCount);
-    if (vertexCount > 0) std::memcpy(positions.data(), attrib.vertices.data(), vertexCount * sizeof(glm::vec3));
+    const std::size_t vertexCount = positions.size();
+    if (attrib.vertices.size() / 3 != vertexCount) {
+        throw Error(path + ": " + std::to_string(attrib.vertices.size() / 3) + " vertices parsed but " +
+                    std::to_string(vertexCount) + " vertex lines found");
+    }
 
     std::vector<glm::uvec3> triangles;
     for (const tinyobj::shape_t& shape : shapes) {

@@ -45,10 +45,10 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
             RayPacket packet;
             i8 active = splat(0);
             for (int lane = 0; lane < 8; ++lane) {
-                packet.ox[lane] = grid.sample(i0 + std::min(lane, lanes - 1), j, k).x;
+                packet.ox[lane] = float(localPosition(mesh, grid, i0 + std::min(lane, lanes - 1), j, k).x);
                 active[lane] = lane < lanes ? -1 : 0;
             }
-            const glm::vec3 rowSample = grid.sample(i0, j, k);
+            const glm::vec3 rowSample(localPosition(mesh, grid, i0, j, k));
             packet.oy = splat(rowSample.y);
             packet.oz = splat(rowSample.z);
 
@@ -72,10 +72,12 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
             for (int lane = 0; lane < lanes; ++lane) {
                 const std::size_t index = grid.index(i0 + lane, j, k);
                 if (hits[lane] == 0) {
-                    field.values[index] = farthestCornerDistance(grid.sample(i0 + lane, j, k), mesh.bounds);
+                    const glm::vec3 p(localPosition(mesh, grid, i0 + lane, j, k));
+                    field.values[index] = float(double(farthestCornerDistance(p, mesh.bounds)) * mesh.unit);
                 } else {
                     const bool inside = backs[lane] > hits[lane] - backs[lane];
-                    field.values[index] = inside ? -nearest[lane] : nearest[lane];
+                    const float distance = float(double(nearest[lane]) * mesh.unit);
+                    field.values[index] = inside ? -distance : distance;
                 }
             }
         }

@@ -99,8 +99,8 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         int sign; // +1 where the surface faces +x: moving along +x leaves the solid there
     };
     std::vector<std::vector<Crossing>> rows(std::size_t(ny) * std::size_t(nz));
-    const glm::dvec3 first(grid.sample(0, 0, 0));
-    const double h = grid.voxel;
+    const glm::dvec3 first = localPosition(mesh, grid, 0, 0, 0);
+    const double h = grid.voxel / mesh.unit;
     auto addTriangle = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
         // Candidate rows from the projected bounds, one wider each way; the exact test decides.
         const double ylo = std::min({a.y, b.y, c.y}), yhi = std::max({a.y, b.y, c.y});
@@ -111,7 +111,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         const int k1 = std::min(nz - 1, int(std::ceil((zhi - first.z) / h)) + 1);
         for (int k = k0; k <= k1; ++k) {
             for (int j = j0; j <= j1; ++j) {
-                const glm::vec3 s = grid.sample(0, j, k);
+                const glm::vec3 s(localPosition(mesh, grid, 0, j, k)); // rows pass through float (y, z)
                 int orientation;
                 glm::dvec3 w;
                 if (!pointInTriangle2d({s.y, s.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) continue;
@@ -136,7 +136,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         int ahead = 0;
         std::size_t next = 0;
         for (int i = nx - 1; i >= 0; --i) {
-            const glm::dvec3 p(grid.sample(i, j, k));
+            const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
             while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
             // The fans' winding number is subtracted only where it could reach 1/2: near fans
             // exactly, far ones within their bounds, and all exactly when the bounds leave doubt.
@@ -174,7 +174,7 @@ std::vector<std::uint8_t> insideByPseudonormal(const Mesh& mesh, const MeshTopol
         for (int i = 0; i < grid.dims.x; ++i) {
             const std::size_t index = grid.index(i, j, k);
             const std::uint32_t t = nearest.triangle[index];
-            const glm::dvec3 p(grid.sample(i, j, k));
+            const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
             const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
                                                                 glm::dvec3(mesh.vertex(t, 2)));
             inside[index] = glm::dot(p - closest.point, topology.pseudonormal(t, closest.feature)) < 0.0;

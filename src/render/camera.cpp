@@ -20,9 +20,9 @@ glm::mat4 OrbitCamera::projection(float aspect) const {
     return glm::perspective(glm::radians(fovY), aspect, nearPlane, farPlane);
 }
 
-void OrbitCamera::frame(const Bounds& bounds, float zoomFactor) {
-    target = 0.5f * (bounds.min + bounds.max);
-    sceneRadius = std::max(0.5f * glm::length(bounds.extent()), 1e-6f);
+void OrbitCamera::frame(const WorldBounds& bounds, float zoomFactor) {
+    target = glm::vec3(0.5 * (bounds.min + bounds.max));
+    sceneRadius = std::max(float(0.5 * glm::length(bounds.extent())), 1e-6f);
     distance = zoomFactor * sceneRadius / std::sin(glm::radians(0.5f * fovY)) * 1.05f;
 }
 

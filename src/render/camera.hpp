@@ -22,7 +22,7 @@ struct OrbitCamera {
 
     // Aims at the centre of `bounds` from a distance at which its bounding sphere fills the view
     // (times `zoom`: 2 is twice as far). Keeps yaw and pitch.
-    void frame(const Bounds& bounds, float zoom = 1.0f);
+    void frame(const WorldBounds& bounds, float zoom = 1.0f);
     // Rotates by degrees; pitch stays within (-89, 89).
     void rotate(float yawDegrees, float pitchDegrees);
     // Moves the target in the view plane by a fraction of the view's height.

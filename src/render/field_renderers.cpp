@@ -33,8 +33,8 @@ void FieldTexture::upload(const Field& field) {
         glTextureParameteri(texture_, wrap, GL_CLAMP_TO_EDGE);
     }
     dims_ = d;
-    voxel_ = field.grid.voxel;
-    boxMin_ = field.grid.origin;
+    voxel_ = float(field.grid.voxel);
+    boxMin_ = glm::vec3(field.grid.origin);
     boxSize_ = glm::vec3(d) * voxel_;
 }
 

@@ -28,7 +28,8 @@ void MeshRenderer::setMesh(const Mesh& mesh) {
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const glm::vec3 n = mesh.faceNormals[t];
         for (int c = 0; c < 3; ++c) {
-            const glm::vec3 p = mesh.vertex(t, c);
+            // Drawn in world coordinates, like the field's box.
+            const glm::vec3 p(mesh.toWorld(glm::dvec3(mesh.vertex(t, c))));
             data.insert(data.end(), {p.x, p.y, p.z, n.x, n.y, n.z});
         }
     }

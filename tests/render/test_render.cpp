@@ -75,7 +75,7 @@ protected:
         OrbitCamera camera;
         camera.yaw = yaw;
         camera.pitch = pitch;
-        camera.frame(m.mesh.bounds);
+        camera.frame(m.mesh.worldBounds());
         scene_->draw(camera, kSize);
         context_->present();
         return readFramebuffer(kSize.x, kSize.y);
