@@ -22,6 +22,9 @@ enum class SignMethod {
 };
 const char* toString(DistanceMethod method);
 const char* toString(SignMethod sign);
+// The method named `name` ("exact", "winding", ...); throws Error listing the known names.
+DistanceMethod parseDistanceMethod(const std::string& name);
+SignMethod parseSignMethod(const std::string& name);
 
 // What to bake: the grid (see makeGrid), the method and the sign.
 struct BakeSettings {

@@ -1,125 +1,100 @@
 #include "core/bake.hpp"
-#include "core/exact.hpp"
-#include "core/ray_generator.hpp"
-#include "core/sign.hpp"
-#include "core/topology.hpp"
 #include "sdfgen/error.hpp"
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace sdfgen {
 
-const char* toString(DistanceMethod method) {
-    switch (method) {
-    case DistanceMethod::Rays: return "rays";
-    case DistanceMethod::Exact: return "exact";
-    case DistanceMethod::Brute: return "brute";
+namespace {
+
+// Why auto chose as it did, for the summary and the panel.
+std::string autoReason(const MeshCheck& c) {
+    if (c.closedAndClean()) {
+        return "pseudonormal: the mesh is closed, manifold, consistently oriented and free of self-intersections";
     }
-    return "?";
+    std::string problems;
+    for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
+                                      {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
+                                      {c.selfIntersections, "self-intersections"}}) {
+        if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
+    }
+    return "winding: the mesh has " + problems;
 }
 
-const char* toString(SignMethod sign) {
-    switch (sign) {
-    case SignMethod::Default: return "default";
-    case SignMethod::Auto: return "auto";
-    case SignMethod::Rays: return "rays";
-    case SignMethod::Pseudonormal: return "pseudonormal";
-    case SignMethod::Winding: return "winding";
+} // namespace
+
+SignMethod resolveAutoSign(const MeshCheck& check, std::string* reason) {
+    if (reason) *reason = autoReason(check);
+    return check.closedAndClean() ? SignMethod::Pseudonormal : SignMethod::Winding;
+}
+
+BakeResult bake(const BakeContext& context, const RunControl& control) {
+    const BakeSettings& settings = context.settings;
+    if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
+    const DistanceMethodInfo& method = distanceMethod(settings.method);
+    SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
+    if (method.fixedSign && sign != SignMethod::Auto && sign != method.defaultSign) {
+        throw Error(std::string("the ") + method.name + " method signs by the exact winding number; --sign " + toString(sign) +
+                    " does not apply");
     }
-    return "?";
+
+    BakeResult result;
+    using Clock = std::chrono::steady_clock;
+    auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    const Clock::time_point start = Clock::now();
+    DistancePass pass = method.run(context, control.phase(0.0, 0.7));
+    result.distanceSeconds = since(start);
+
+    const Clock::time_point signStart = Clock::now();
+    std::vector<std::uint8_t> inside;
+    if (method.fixedSign) {
+        sign = method.defaultSign;
+        inside = std::move(*pass.inside);
+    } else {
+        if (sign == SignMethod::Auto) {
+            result.checked = true;
+            result.check = context.check();
+            sign = resolveAutoSign(result.check, &result.signReason);
+        }
+        inside = signMethod(sign).run(context, pass, control.phase(0.7, 1.0));
+    }
+    result.sign = sign;
+    result.signSeconds = since(signStart);
+
+    Field& field = result.field;
+    field.source = context.mesh.source;
+    field.grid = context.grid;
+    field.values = std::move(pass.distance);
+    for (std::size_t i = 0; i < field.values.size(); ++i) {
+        if (inside[i]) field.values[i] = -field.values[i];
+    }
+    field.method = method.name;
+    if (settings.method == DistanceMethod::Rays || result.sign == SignMethod::Rays) {
+        field.parameters.emplace_back("rays", std::to_string(settings.rays));
+    }
+    field.parameters.emplace_back("sign", std::string(result.checked ? "auto/" : "") + toString(result.sign));
+    char padding[32];
+    std::snprintf(padding, sizeof(padding), "%g", settings.padding);
+    field.parameters.emplace_back("res", std::to_string(settings.res));
+    field.parameters.emplace_back("padding", padding);
+    return result;
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
     const Grid grid = makeGrid(mesh.worldBounds(), settings.res, settings.padding);
-    if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
-    BakeResult result;
-    SignMethod sign = settings.sign;
-    if (sign == SignMethod::Default) sign = settings.method == DistanceMethod::Rays ? SignMethod::Rays : SignMethod::Auto;
-    const bool usesRays = settings.method == DistanceMethod::Rays || sign == SignMethod::Rays;
-
-    Field& field = result.field;
-    using Clock = std::chrono::steady_clock;
-    auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    const Clock::time_point start = Clock::now();
-    if (settings.method == DistanceMethod::Brute) {
-        if (sign != SignMethod::Auto && sign != SignMethod::Winding) {
-            throw Error(std::string("the brute method signs by the exact winding number; --sign ") + toString(sign) +
-                        " does not apply");
-        }
-        field = computeBruteForce(mesh, grid, control);
-        result.sign = SignMethod::Winding;
-        result.distanceSeconds = since(start);
-    } else {
-        // Distances first, then signs; each phase reports its share of the progress bar.
-        std::vector<float> distance;
-        NearestField nearest;
-        Field rayField;
-        if (usesRays) {
-            rayField = generateRayField(mesh, tree, grid, settings.rays, control.phase(0.0, 0.5));
-        }
-        if (settings.method == DistanceMethod::Rays) {
-            distance.resize(rayField.values.size());
-            for (std::size_t i = 0; i < distance.size(); ++i) distance[i] = std::fabs(rayField.values[i]);
-        }
-        if (settings.method == DistanceMethod::Exact || sign == SignMethod::Pseudonormal) {
-            nearest = computeNearest(mesh, tree, grid, control.phase(usesRays ? 0.5 : 0.0, 0.8));
-            if (settings.method == DistanceMethod::Exact) distance = std::move(nearest.distance);
-        }
-
-        result.distanceSeconds = since(start);
-        const Clock::time_point signStart = Clock::now();
-        std::vector<std::uint8_t> inside;
-        if (sign == SignMethod::Rays) {
-            inside.resize(rayField.values.size());
-            for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = rayField.values[i] < 0.0f;
-        } else {
-            const MeshTopology topology(mesh);
-            if (sign == SignMethod::Auto) {
-                result.checked = true;
-                result.check = topology.check(mesh, tree);
-                if (result.check.closedAndClean()) {
-                    sign = SignMethod::Pseudonormal;
-                    result.signReason = "pseudonormal: the mesh is closed, manifold, consistently oriented and free of self-intersections";
-                } else {
-                    sign = SignMethod::Winding;
-                    const MeshCheck& c = result.check;
-                    std::string problems;
-                    for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
-                                                      {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
-                                                      {c.selfIntersections, "self-intersections"}}) {
-                        if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
-                    }
-                    result.signReason = "winding: the mesh has " + problems;
-                }
-            }
-            if (sign == SignMethod::Pseudonormal && nearest.triangle.empty()) {
-                nearest = computeNearest(mesh, tree, grid, control.phase(0.5, 0.8)); // ray distances, auto chose pseudonormal
-            }
-            inside = sign == SignMethod::Pseudonormal ? insideByPseudonormal(mesh, topology, grid, nearest, control.phase(0.8, 1.0))
-                                                      : insideByWinding(mesh, topology, grid, control.phase(0.8, 1.0));
-        }
-        result.sign = sign;
-        result.signSeconds = since(signStart);
-        field.source = mesh.source;
-        field.grid = grid;
-        field.values.resize(grid.sampleCount());
-        for (std::size_t i = 0; i < field.values.size(); ++i) field.values[i] = inside[i] ? -distance[i] : distance[i];
-    }
-
-    field.method = toString(settings.method);
-    field.parameters.clear();
-    if (settings.method == DistanceMethod::Rays || result.sign == SignMethod::Rays) {
-        field.parameters.emplace_back("rays", std::to_string(settings.rays));
-    }
-    const bool automatic = result.checked;
-    field.parameters.emplace_back("sign", std::string(automatic ? "auto/" : "") + toString(result.sign));
-    char padding[32];
-    std::snprintf(padding, sizeof(padding), "%g", double(settings.padding));
-    field.parameters.emplace_back("res", std::to_string(settings.res));
-    field.parameters.emplace_back("padding", padding);
-    return result;
+    std::optional<MeshTopology> topology;
+    std::optional<MeshCheck> check;
+    auto topologyOf = [&]() -> const MeshTopology& {
+        if (!topology) topology.emplace(mesh);
+        return *topology;
+    };
+    const BakeContext context{mesh, tree, grid, settings, topologyOf, [&]() -> const MeshCheck& {
+                                  if (!check) check = topologyOf().check(mesh, tree);
+                                  return *check;
+                              }};
+    return bake(context, control);
 }
 
 } // namespace sdfgen

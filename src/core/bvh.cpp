@@ -279,15 +279,19 @@ void Bvh::nearest(PointPacket& packet) const {
     stack[top++] = {boxDistanceSquared(nodes_[0]), 0};
     while (top > 0) {
         const Entry entry = stack[--top];
-        if (!any(entry.distance < best)) continue;
+        // Ties are explored and go to the lower triangle index, so the answer is the same whatever
+        // the seeds and the traversal order: a point query at a sample's position finds the sample's
+        // triangle.
+        if (!any(entry.distance <= best)) continue;
         const Node& node = nodes_[entry.node];
         if (node.count > 0) {
             for (std::uint32_t i = node.index, last = node.index + node.count; i < last; ++i) {
                 const f8 d = distanceSquared(px, py, pz, distanceTriangles_[i]);
-                const i8 closer = d < best;
+                const i8 id = splat(std::int32_t(triangleIds_[i]));
+                const i8 closer = (d < best) | ((d == best) & (id < triangle));
                 if (!any(closer)) continue;
                 best = select(closer, d, best);
-                triangle = select(closer, splat(std::int32_t(triangleIds_[i])), triangle);
+                triangle = select(closer, id, triangle);
             }
             continue;
         }

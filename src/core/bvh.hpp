@@ -30,7 +30,7 @@ struct RayPacket {
 struct PointPacket {
     simd::f8 px, py, pz;
     simd::f8 bestSquared; // in: squared distance to beat (a known upper bound, or inf); out: the nearest found
-    simd::i8 triangle;    // out: the nearest triangle, where one beat the bound
+    simd::i8 triangle;    // out: the nearest triangle (the lowest index of equally near ones), where one beat the bound
 };
 
 // The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of

@@ -10,34 +10,6 @@ namespace sdfgen {
 
 namespace {
 
-// A fan closing one boundary loop, with what bounds its winding number from afar.
-// Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so mesh + fans is closed.
-struct Cap {
-    std::vector<glm::dvec3> loop;
-    glm::dvec3 centre;
-    double radius = 0; // every point of the fan is within this of centre
-    double area = 0;
-};
-
-std::vector<Cap> makeCaps(const MeshTopology& topology) {
-    std::vector<Cap> caps;
-    for (const std::vector<std::uint32_t>& loop : topology.boundaryLoops()) {
-        Cap cap;
-        cap.centre = glm::dvec3(0.0);
-        for (std::uint32_t v : loop) cap.centre += topology.position(v);
-        cap.centre /= double(loop.size());
-        for (std::size_t i = 0; i < loop.size(); ++i) {
-            const glm::dvec3& from = topology.position(loop[i]);
-            const glm::dvec3& to = topology.position(loop[(i + 1) % loop.size()]);
-            cap.loop.push_back(from);
-            cap.radius = std::max(cap.radius, glm::length(from - cap.centre));
-            cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
-        }
-        caps.push_back(std::move(cap));
-    }
-    return caps;
-}
-
 // The fan's solid angle with a single atan2: each triangle contributes 2·arg(den + i·det) (Van
 // Oosterom & Strackee), args add when the complex numbers multiply, and every crossing of the
 // negative real axis is counted so that no turn is lost.
@@ -79,6 +51,76 @@ double fanBound(const glm::dvec3& p, const Cap& cap) {
 }
 
 } // namespace
+
+std::vector<Cap> makeCaps(const MeshTopology& topology) {
+    std::vector<Cap> caps;
+    for (const std::vector<std::uint32_t>& loop : topology.boundaryLoops()) {
+        Cap cap;
+        cap.centre = glm::dvec3(0.0);
+        for (std::uint32_t v : loop) cap.centre += topology.position(v);
+        cap.centre /= double(loop.size());
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const glm::dvec3& from = topology.position(loop[i]);
+            const glm::dvec3& to = topology.position(loop[(i + 1) % loop.size()]);
+            cap.loop.push_back(from);
+            cap.radius = std::max(cap.radius, glm::length(from - cap.centre));
+            cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
+        }
+        caps.push_back(std::move(cap));
+    }
+    return caps;
+}
+
+bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead) {
+    // The fans' winding number is subtracted only where it could reach 1/2: near fans exactly,
+    // far ones within their bounds, and all exactly when the bounds leave doubt.
+    double far = 0.0;
+    for (const Cap& cap : caps) far += fanBound(p, cap);
+    if (far < 0.45) return ahead >= 1;
+    double near = 0.0;
+    far = 0.0;
+    for (const Cap& cap : caps) {
+        const double bound = fanBound(p, cap);
+        if (bound < 0.02) far += bound;
+        else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
+    }
+    double w = double(ahead) - near;
+    if (std::fabs(w - 0.5) <= far) {
+        for (const Cap& cap : caps) {
+            if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+        }
+    }
+    return w > 0.5;
+}
+
+double windingFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead) {
+    double w = double(ahead);
+    for (const Cap& cap : caps) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+    return w;
+}
+
+int crossingsAhead(const Mesh& mesh, const Bvh& tree, const std::vector<Cap>& caps, const glm::dvec3& p) {
+    // The same line and the same predicates as insideByWinding's row through p, so that a query at a
+    // sample's position counts exactly the crossings its row scan counts ahead of it.
+    const glm::vec3 line(p); // rows pass through float (y, z)
+    int ahead = 0;
+    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        int orientation;
+        glm::dvec3 w;
+        if (!pointInTriangle2d({line.y, line.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
+        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation;
+    };
+    Bounds ray;
+    ray.min = glm::vec3(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), line.y, line.z);
+    ray.max = glm::vec3(std::numeric_limits<float>::infinity(), line.y, line.z);
+    tree.forEachOverlap(ray, [&](std::uint32_t t) {
+        count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+    });
+    for (const Cap& cap : caps) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
+    }
+    return ahead;
+}
 
 double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
     double sum = 0.0;
@@ -138,27 +180,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         for (int i = nx - 1; i >= 0; --i) {
             const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
             while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
-            // The fans' winding number is subtracted only where it could reach 1/2: near fans
-            // exactly, far ones within their bounds, and all exactly when the bounds leave doubt.
-            bool in = ahead >= 1;
-            double far = 0.0;
-            for (const Cap& cap : caps) far += fanBound(p, cap);
-            if (far >= 0.45) {
-                double near = 0.0;
-                far = 0.0;
-                for (const Cap& cap : caps) {
-                    const double bound = fanBound(p, cap);
-                    if (bound < 0.02) far += bound;
-                    else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
-                }
-                double w = double(ahead) - near;
-                if (std::fabs(w - 0.5) <= far) {
-                    for (const Cap& cap : caps) {
-                        if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
-                    }
-                }
-                in = w > 0.5;
-            }
+            const bool in = insideFromCrossings(caps, p, ahead);
             inside[grid.index(i, j, k)] = in;
         }
     });
@@ -166,14 +188,14 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
 }
 
 std::vector<std::uint8_t> insideByPseudonormal(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                               const NearestField& nearest, const RunControl& control) {
+                                               const std::vector<std::uint32_t>& nearestTriangle, const RunControl& control) {
     std::vector<std::uint8_t> inside(grid.sampleCount());
     const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
     parallelFor(rows, control, [&](std::size_t row) {
         const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
         for (int i = 0; i < grid.dims.x; ++i) {
             const std::size_t index = grid.index(i, j, k);
-            const std::uint32_t t = nearest.triangle[index];
+            const std::uint32_t t = nearestTriangle[index];
             const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
             const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
                                                                 glm::dvec3(mesh.vertex(t, 2)));

@@ -1,4 +1,5 @@
 #pragma once
+#include "core/bvh.hpp"
 #include "core/exact.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
@@ -8,6 +9,28 @@
 #include <vector>
 
 namespace sdfgen {
+
+// A fan closing one boundary loop, with what bounds its winding number from afar.
+// Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so mesh + fans is closed.
+struct Cap {
+    std::vector<glm::dvec3> loop;
+    glm::dvec3 centre;
+    double radius = 0; // every point of the fan is within this of centre
+    double area = 0;
+};
+
+// One fan per boundary loop of the mesh: the mesh with its fans is closed.
+std::vector<Cap> makeCaps(const MeshTopology& topology);
+
+// Inside flag and exact winding number at p, given `ahead`, the signed count of crossings of the
+// mesh and its fans along +x from p (the closed surface's winding number): the fans' own winding
+// number is subtracted, in insideFromCrossings only where it could move w across 1/2.
+bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead);
+double windingFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead);
+
+// `ahead` for one point p (local coordinates), from the tree: what insideByWinding's row scan
+// finds for a sample at p.
+int crossingsAhead(const Mesh& mesh, const Bvh& tree, const std::vector<Cap>& caps, const glm::dvec3& p);
 
 // Inside flags (1 = inside) for every sample of a grid, by one of the sign methods.
 
@@ -24,7 +47,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
 // The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
 // for closed, manifold, consistently oriented meshes without self-intersections.
 std::vector<std::uint8_t> insideByPseudonormal(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                               const NearestField& nearest, const RunControl& control);
+                                               const std::vector<std::uint32_t>& nearestTriangle, const RunControl& control);
 
 // The generalized winding number at p, summed over every triangle in double (the reference).
 double windingNumber(const Mesh& mesh, const glm::dvec3& p);

@@ -1,0 +1,80 @@
+// The distance methods: exact nearest triangle, the report's ray sampling, and the reference.
+#include "core/exact.hpp"
+#include "core/methods.hpp"
+#include "core/ray_generator.hpp"
+#include "sdfgen/error.hpp"
+
+#include <cmath>
+
+namespace sdfgen {
+
+namespace {
+
+DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
+    NearestField nearest = computeNearest(context.mesh, context.tree, context.grid, control);
+    DistancePass pass;
+    pass.distance = std::move(nearest.distance);
+    pass.nearestTriangle = std::move(nearest.triangle);
+    return pass;
+}
+
+DistancePass rayDistance(const BakeContext& context, const RunControl& control) {
+    const Field rays = generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control);
+    DistancePass pass;
+    pass.distance.resize(rays.values.size());
+    pass.inside.emplace(rays.values.size());
+    for (std::size_t i = 0; i < rays.values.size(); ++i) {
+        pass.distance[i] = std::fabs(rays.values[i]);
+        (*pass.inside)[i] = rays.values[i] < 0.0f;
+    }
+    return pass;
+}
+
+DistancePass bruteDistance(const BakeContext& context, const RunControl& control) {
+    const Field brute = computeBruteForce(context.mesh, context.grid, control);
+    DistancePass pass;
+    pass.distance.resize(brute.values.size());
+    pass.inside.emplace(brute.values.size());
+    for (std::size_t i = 0; i < brute.values.size(); ++i) {
+        pass.distance[i] = std::fabs(brute.values[i]);
+        (*pass.inside)[i] = brute.values[i] < 0.0f;
+    }
+    return pass;
+}
+
+} // namespace
+
+const std::vector<DistanceMethodInfo>& distanceMethods() {
+    static const std::vector<DistanceMethodInfo> methods = {
+        {DistanceMethod::Exact, "exact", "the true distance to the nearest triangle", exactDistance, SignMethod::Auto, false},
+        {DistanceMethod::Rays, "rays", "the original report's ray sampling (an upper bound)", rayDistance, SignMethod::Rays, false},
+        {DistanceMethod::Brute, "brute", "every triangle for every sample in double, signed by the exact winding number (the reference)",
+         bruteDistance, SignMethod::Winding, true},
+    };
+    return methods;
+}
+
+const DistanceMethodInfo& distanceMethod(DistanceMethod id) {
+    for (const DistanceMethodInfo& method : distanceMethods()) {
+        if (method.id == id) return method;
+    }
+    throw Error("unknown distance method");
+}
+
+const char* toString(DistanceMethod method) {
+    for (const DistanceMethodInfo& info : distanceMethods()) {
+        if (info.id == method) return info.name;
+    }
+    return "?";
+}
+
+DistanceMethod parseDistanceMethod(const std::string& name) {
+    std::string known;
+    for (const DistanceMethodInfo& info : distanceMethods()) {
+        if (name == info.name) return info.id;
+        known += std::string(known.empty() ? "" : ", ") + info.name;
+    }
+    throw Error("unknown distance method '" + name + "' (expected " + known + ")");
+}
+
+} // namespace sdfgen

@@ -1,0 +1,63 @@
+#pragma once
+// Distance and sign methods as plug-ins: each is a name, a description and a function, listed in
+// one registry (distance_methods.cpp, sign_methods.cpp). bake() only looks them up, so adding a
+// method is its function plus one registry line (and its enum value in sdfgen/bake.hpp).
+#include "core/bvh.hpp"
+#include "core/topology.hpp"
+#include "sdfgen/bake.hpp"
+#include "sdfgen/grid.hpp"
+#include "sdfgen/mesh.hpp"
+#include "sdfgen/run_control.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace sdfgen {
+
+// What a method may use: the mesh, its tree, the grid, the settings, and the mesh's topology and
+// check, built on first use and cached by whoever owns the mesh (sdfgen::Model).
+struct BakeContext {
+    const Mesh& mesh;
+    const Bvh& tree;
+    const Grid& grid;
+    const BakeSettings& settings;
+    std::function<const MeshTopology&()> topology;
+    std::function<const MeshCheck&()> check;
+};
+
+// A distance pass's output. `distance` is unsigned, in world units. A method may also leave what
+// sign methods can reuse: the nearest triangle of each sample (pseudonormal) or inside flags of
+// its own (the ray vote, the reference's winding number).
+struct DistancePass {
+    std::vector<float> distance;
+    std::vector<std::uint32_t> nearestTriangle;
+    std::optional<std::vector<std::uint8_t>> inside;
+};
+
+struct DistanceMethodInfo {
+    DistanceMethod id;
+    const char* name;
+    const char* description;
+    DistancePass (*run)(const BakeContext& context, const RunControl& control);
+    // The sign this method implies when the settings name none (SignMethod::Default).
+    SignMethod defaultSign;
+    // Set for methods whose own inside flags are the only sign they allow (the reference).
+    bool fixedSign;
+};
+
+struct SignMethodInfo {
+    SignMethod id;
+    const char* name;
+    const char* description;
+    // Inside flags (1 = inside) for every sample; may use and fill in `pass`.
+    std::vector<std::uint8_t> (*run)(const BakeContext& context, DistancePass& pass, const RunControl& control);
+};
+
+const std::vector<DistanceMethodInfo>& distanceMethods();
+const std::vector<SignMethodInfo>& signMethods(); // Auto and Default are decided in bake(), not listed
+const DistanceMethodInfo& distanceMethod(DistanceMethod id);
+const SignMethodInfo& signMethod(SignMethod id);
+
+} // namespace sdfgen

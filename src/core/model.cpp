@@ -1,0 +1,182 @@
+// sdfgen::Model: the facade that owns a mesh, its tree and its topology, and runs bakes and point
+// queries over them.
+#include "sdfgen/model.hpp"
+#include "core/bake.hpp"
+#include "core/bvh.hpp"
+#include "core/geometry.hpp"
+#include "core/parallel.hpp"
+#include "core/sign.hpp"
+#include "core/topology.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/grid.hpp"
+
+#include <glm/geometric.hpp>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+
+namespace sdfgen {
+
+struct Model::Impl {
+    explicit Impl(Mesh m) : mesh(std::move(m)), tree(mesh) {}
+
+    const MeshTopology& topology() const {
+        std::call_once(topologyOnce, [&] { topology_.emplace(mesh); });
+        return *topology_;
+    }
+    const MeshCheck& check() const {
+        std::call_once(checkOnce, [&] { check_ = topology().check(mesh, tree); });
+        return check_;
+    }
+    const std::vector<Cap>& caps() const {
+        std::call_once(capsOnce, [&] { caps_ = makeCaps(topology()); });
+        return caps_;
+    }
+
+    Mesh mesh;
+    Bvh tree;
+
+private:
+    mutable std::once_flag topologyOnce, checkOnce, capsOnce;
+    mutable std::optional<MeshTopology> topology_;
+    mutable MeshCheck check_;
+    mutable std::vector<Cap> caps_;
+};
+
+Model Model::load(const std::string& path, const RunControl& control) { return Model(loadObj(path), control); }
+
+Model::Model(Mesh mesh, const RunControl&) : impl_(std::make_unique<Impl>(std::move(mesh))) {}
+Model::~Model() = default;
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+
+const Mesh& Model::mesh() const { return impl_->mesh; }
+
+const MeshCheck& Model::check(const RunControl&) const { return impl_->check(); }
+
+BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) const {
+    const Impl& m = *impl_;
+    const Grid grid = makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
+    const BakeContext context{m.mesh, m.tree, grid, settings, [&m]() -> const MeshTopology& { return m.topology(); },
+                              [&m]() -> const MeshCheck& { return m.check(); }};
+    return sdfgen::bake(context, control);
+}
+
+void Model::query(const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
+                  const RunControl& control) const {
+    const Impl& m = *impl_;
+    const Mesh& mesh = m.mesh;
+    if (sign == SignMethod::Default) sign = SignMethod::Auto;
+    if (out.signedDistance && sign == SignMethod::Auto) sign = resolveAutoSign(m.check());
+    if (out.signedDistance && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
+        throw Error(std::string("point queries sign by auto, winding or pseudonormal, not ") + toString(sign));
+    }
+    for (std::size_t i = 0; i < 3 * count; ++i) {
+        if (!std::isfinite(points[i])) throw Error("query point " + std::to_string(i / 3) + " has a non-finite coordinate");
+    }
+    const bool needNearest = out.signedDistance || out.unsignedDistance || out.closestPoint || out.triangle;
+    const bool needWinding = out.windingNumber || (out.signedDistance && sign == SignMethod::Winding);
+    // Build what the workers share before they start.
+    if (needWinding) m.caps();
+    if (out.signedDistance && sign == SignMethod::Pseudonormal) m.topology();
+
+    // Fixed blocks of points, each searched in packets of eight seeded by the packet before, so
+    // that the result never depends on the thread count.
+    constexpr std::size_t kBlock = 256;
+    const std::size_t blocks = (count + kBlock - 1) / kBlock;
+    parallelFor(blocks, control, [&](std::size_t block) {
+        using namespace simd;
+        const std::size_t begin = block * kBlock, end = std::min(count, begin + kBlock);
+        i8 previous = splat(-1);
+        for (std::size_t first = begin; first < end; first += 8) {
+            glm::dvec3 local[8];
+            const int lanes = int(std::min<std::size_t>(8, end - first));
+            for (int lane = 0; lane < 8; ++lane) {
+                const double* p = points + 3 * (first + std::size_t(std::min(lane, lanes - 1)));
+                local[lane] = mesh.toLocal({p[0], p[1], p[2]});
+            }
+            std::uint32_t nearest[8] = {};
+            if (needNearest) {
+                PointPacket packet;
+                for (int lane = 0; lane < 8; ++lane) {
+                    packet.px[lane] = float(local[lane].x);
+                    packet.py[lane] = float(local[lane].y);
+                    packet.pz[lane] = float(local[lane].z);
+                }
+                packet.bestSquared = splat(std::numeric_limits<float>::infinity());
+                packet.triangle = splat(0);
+                for (int lane = 0; lane < 8; ++lane) {
+                    const std::int32_t seed = previous[lane];
+                    if (seed < 0 || (lane > 0 && seed == previous[lane - 1])) continue;
+                    const f8 d = m.tree.distanceSquared(packet.px, packet.py, packet.pz, std::uint32_t(seed));
+                    const i8 closer = d < packet.bestSquared;
+                    packet.bestSquared = select(closer, d, packet.bestSquared);
+                    packet.triangle = select(closer, splat(seed), packet.triangle);
+                }
+                packet.bestSquared *= 1.000001f; // as in computeNearest: rounding never hides a nearer triangle
+                m.tree.nearest(packet);
+                previous = packet.triangle;
+                for (int lane = 0; lane < 8; ++lane) nearest[lane] = std::uint32_t(packet.triangle[lane]);
+            }
+            for (int lane = 0; lane < lanes; ++lane) {
+                const std::size_t index = first + std::size_t(lane);
+                const glm::dvec3& p = local[lane];
+                if (needNearest) {
+                    const std::uint32_t t = nearest[lane];
+                    const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                                        glm::dvec3(mesh.vertex(t, 2)));
+                    const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
+                    if (out.unsignedDistance) out.unsignedDistance[index] = distance;
+                    if (out.triangle) out.triangle[index] = std::int64_t(t);
+                    if (out.closestPoint) {
+                        const glm::dvec3 world = mesh.toWorld(closest.point);
+                        for (int a = 0; a < 3; ++a) out.closestPoint[3 * index + std::size_t(a)] = world[a];
+                    }
+                    if (out.signedDistance) {
+                        bool inside;
+                        if (sign == SignMethod::Pseudonormal) {
+                            inside = glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0;
+                        } else {
+                            inside = insideFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                        }
+                        out.signedDistance[index] = inside ? -distance : distance;
+                    }
+                }
+                if (out.windingNumber) {
+                    out.windingNumber[index] = windingFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                }
+            }
+        }
+    });
+}
+
+namespace {
+
+std::vector<double> flatten(const std::vector<glm::dvec3>& points) {
+    std::vector<double> xyz(3 * points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        for (int a = 0; a < 3; ++a) xyz[3 * i + std::size_t(a)] = points[i][a];
+    }
+    return xyz;
+}
+
+} // namespace
+
+std::vector<float> Model::signedDistance(const std::vector<glm::dvec3>& points, const RunControl& control) const {
+    std::vector<float> result(points.size());
+    PointQueryOutputs out;
+    out.signedDistance = result.data();
+    query(flatten(points).data(), points.size(), out, SignMethod::Auto, control);
+    return result;
+}
+
+std::vector<float> Model::unsignedDistance(const std::vector<glm::dvec3>& points, const RunControl& control) const {
+    std::vector<float> result(points.size());
+    PointQueryOutputs out;
+    out.unsignedDistance = result.data();
+    query(flatten(points).data(), points.size(), out, SignMethod::Auto, control);
+    return result;
+}
+
+} // namespace sdfgen

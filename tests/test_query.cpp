@@ -1,0 +1,149 @@
+// Point queries through sdfgen::Model: exact like the grid, and equal to the baked field at its samples.
+#include "core/sign.hpp"
+#include "sdfgen/model.hpp"
+#include "support/checks.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <cmath>
+#include <cstring>
+#include <random>
+
+namespace sdfgen {
+namespace {
+
+// The icosphere without its top cap: a hole, so auto signs by the winding number.
+Mesh holedSphere() {
+    const Mesh sphere = test::icosphere(1.0f, 2);
+    std::vector<glm::uvec3> kept;
+    for (std::size_t t = 0; t < sphere.triangleCount(); ++t) {
+        const float y = (sphere.vertex(t, 0).y + sphere.vertex(t, 1).y + sphere.vertex(t, 2).y) / 3.0f;
+        if (y < 0.8f) kept.push_back(sphere.triangles[t]);
+    }
+    return buildMesh("holed sphere", sphere.worldPositions(), kept);
+}
+
+std::vector<double> positionsOf(const Field& field) {
+    const Grid& g = field.grid;
+    std::vector<double> xyz;
+    xyz.reserve(3 * g.sampleCount());
+    for (int k = 0; k < g.dims.z; ++k)
+        for (int j = 0; j < g.dims.y; ++j)
+            for (int i = 0; i < g.dims.x; ++i) {
+                const glm::dvec3 p = g.position(i, j, k);
+                xyz.insert(xyz.end(), {p.x, p.y, p.z});
+            }
+    return xyz;
+}
+
+void expectQueriesEqualTheField(const Model& model, int res, SignMethod expectedSign) {
+    SCOPED_TRACE(model.mesh().source);
+    BakeSettings settings;
+    settings.res = res;
+    const BakeResult baked = model.bake(settings);
+    EXPECT_EQ(baked.sign, expectedSign);
+    const std::vector<double> points = positionsOf(baked.field);
+    std::vector<float> distance(baked.field.values.size());
+    PointQueryOutputs out;
+    out.signedDistance = distance.data();
+    model.query(points.data(), distance.size(), out);
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < distance.size(); ++i) {
+        const bool differs = std::memcmp(&distance[i], &baked.field.values[i], sizeof(float)) != 0;
+        differing += differs;
+        if (differs) ADD_FAILURE() << "sample " << i << ": query " << distance[i] << ", field " << baked.field.values[i];
+    }
+    EXPECT_EQ(differing, 0u) << "of " << distance.size();
+}
+
+TEST(PointQuery, EqualsTheBakedFieldAtItsSamples) {
+    expectQueriesEqualTheField(Model(loadObj(test::bundledBunnyPath())), 24, SignMethod::Pseudonormal);
+    expectQueriesEqualTheField(Model(holedSphere()), 20, SignMethod::Winding);
+    expectQueriesEqualTheField(Model(test::torus(1.0f, 0.3f, 24, 12)), 20, SignMethod::Pseudonormal);
+}
+
+TEST(PointQuery, WindingSignAtSamplesEqualsTheBakedWindingField) {
+    const Model model(loadObj(test::bundledBunnyPath()));
+    BakeSettings settings;
+    settings.res = 20;
+    settings.sign = SignMethod::Winding;
+    const Field field = model.bake(settings).field;
+    const std::vector<double> points = positionsOf(field);
+    std::vector<float> distance(field.values.size());
+    PointQueryOutputs out;
+    out.signedDistance = distance.data();
+    model.query(points.data(), distance.size(), out, SignMethod::Winding);
+    for (std::size_t i = 0; i < distance.size(); ++i) ASSERT_EQ(distance[i], field.values[i]) << i;
+}
+
+TEST(PointQuery, MatchesBruteForceAtRandomPoints) {
+    // Nearest triangle, closest point, distance and winding number against every triangle in double.
+    for (const Mesh& mesh : {holedSphere(), test::torus(1.0f, 0.3f, 24, 12)}) {
+        SCOPED_TRACE(mesh.source);
+        const Model model(mesh);
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<double> coordinate(-1.6, 1.6);
+        const std::size_t n = 3000;
+        std::vector<double> points(3 * n);
+        for (double& c : points) c = coordinate(rng);
+        std::vector<float> unsignedDistance(n), signedDistance(n);
+        std::vector<double> closest(3 * n), winding(n);
+        std::vector<std::int64_t> triangle(n);
+        PointQueryOutputs out{signedDistance.data(), unsignedDistance.data(), closest.data(), triangle.data(), winding.data()};
+        model.query(points.data(), n, out, SignMethod::Winding);
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+            const glm::dvec3 local = mesh.toLocal(p);
+            double best = std::numeric_limits<double>::infinity();
+            for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+                best = std::min(best, closestPointOnTriangle(local, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                             glm::dvec3(mesh.vertex(t, 2))).distanceSquared);
+            }
+            const double truth = std::sqrt(best) * mesh.unit;
+            ASSERT_NEAR(unsignedDistance[i], truth, 1e-6) << i;
+            const glm::dvec3 q(closest[3 * i], closest[3 * i + 1], closest[3 * i + 2]);
+            EXPECT_NEAR(glm::length(q - p), truth, 1e-6) << i;
+            EXPECT_GE(triangle[i], 0);
+            const double w = windingNumber(mesh, local);
+            EXPECT_NEAR(winding[i], w, 1e-9) << i;
+            if (std::fabs(w - 0.5) > 1e-6) {
+                EXPECT_EQ(signedDistance[i] < 0, w > 0.5) << i << " w = " << w;
+            }
+        }
+    }
+}
+
+TEST(PointQuery, IndependentOfTheThreadCount) {
+    const Model model(loadObj(test::bundledBunnyPath()));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> coordinate(-0.1, 0.1);
+    std::vector<double> points(3 * 5000);
+    for (double& c : points) c = coordinate(rng);
+    std::vector<float> one(5000), many(5000);
+    RunControl control;
+    control.threads = 1;
+    PointQueryOutputs out;
+    out.signedDistance = one.data();
+    model.query(points.data(), 5000, out, SignMethod::Auto, control);
+    control.threads = 5;
+    out.signedDistance = many.data();
+    model.query(points.data(), 5000, out, SignMethod::Auto, control);
+    EXPECT_EQ(std::memcmp(one.data(), many.data(), one.size() * sizeof(float)), 0);
+}
+
+TEST(PointQuery, BadPointsAndSignsAreErrors) {
+    const Model model(test::icosphere(1.0f, 1));
+    const double bad[3] = {0.0, std::nan(""), 0.0};
+    float d = 0;
+    PointQueryOutputs out;
+    out.signedDistance = &d;
+    EXPECT_CONTAINS(test::errorFrom([&] { model.query(bad, 1, out); }), "non-finite");
+    const double good[3] = {0.0, 0.0, 0.0};
+    EXPECT_CONTAINS(test::errorFrom([&] { model.query(good, 1, out, SignMethod::Rays); }), "auto, winding or pseudonormal");
+    model.query(good, 1, out);
+    EXPECT_LT(d, 0.0f);
+}
+
+} // namespace
+} // namespace sdfgen
