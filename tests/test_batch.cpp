@@ -34,12 +34,15 @@ TEST_F(BatchPlan, FolderKeepsRelativePathsAndSorts) {
     touch("meshes/a/model.obj");
     touch("meshes/c/model.OBJ");
     touch("meshes/notes.txt");
+    touch("meshes/a/model.mtl");
+    touch("meshes/d.PLY");
     const auto tasks = batch::planBatch((dir_ / "meshes").string(), out(), ".npz");
-    ASSERT_EQ(tasks.size(), 3u);
+    ASSERT_EQ(tasks.size(), 4u);
     EXPECT_EQ(tasks[0].mesh, (dir_ / "meshes/a/model.obj").string());
     EXPECT_EQ(tasks[0].output, (dir_ / "out/a/model.npz").string());
     EXPECT_EQ(tasks[1].output, (dir_ / "out/b.npz").string());
     EXPECT_EQ(tasks[2].output, (dir_ / "out/c/model.npz").string());
+    EXPECT_EQ(tasks[3].output, (dir_ / "out/d.npz").string());
 }
 
 TEST_F(BatchPlan, FolderCollisionNamesBothMeshes) {
