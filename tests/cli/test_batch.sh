@@ -129,6 +129,23 @@ sum(l['status'] == 'skipped' for l in lines) == $finished and sum(l['status'] ==
 check "no partial file survives the rerun" test -z "$(find "$work/resume" -name '.*partial*')"
 check "every resumed output is complete" bash -c "for f in '$work'/resume/b*.sdf; do '$sdfgen' compare \"\$f\" '$work/resume/b1.sdf' | grep -q 'max 0 ' || exit 1; done"
 
+# `sdfgen sample` and `batch --format samples`: exactly n float32 points and distances, the same for a seed.
+"$sdfgen" sample "$work/meshes/octahedron.obj" -n 1001 --seed 5 -o "$work/s1.npz" >"$work/sample.txt" 2>&1
+"$sdfgen" sample "$work/meshes/octahedron.obj" -n 1001 --seed 5 --threads 1 -o "$work/s2.npz" >/dev/null 2>&1
+check "sample writes points (n, 3) and sdf (n,) float32, the same for a seed" $python -c "
+import numpy as np, sys
+a, b = np.load(sys.argv[1]), np.load(sys.argv[2])
+assert sorted(a.files) == ['points', 'sdf'] and a['points'].shape == (1001, 3) and a['sdf'].shape == (1001,)
+assert a['points'].dtype == np.float32 and a['sdf'].dtype == np.float32
+assert np.array_equal(a['points'], b['points']) and np.array_equal(a['sdf'], b['sdf'])
+assert (a['sdf'] < 0).any() and (a['sdf'] > 0).any()" "$work/s1.npz" "$work/s2.npz"
+check "sample prints its summary" grep -q '1001 samples (471 near, 470 far, 60 uniform), seed 5' "$work/sample.txt"
+"$sdfgen" batch "$work/meshes" --out "$work/samples" --format samples --samples 300 --seed 1 >/dev/null 2>&1
+check "batch --format samples writes one .npz of samples per mesh" $python -c "
+import numpy as np, sys
+assert np.load(sys.argv[1] + '/tet.npz')['points'].shape == (300, 3) and np.load(sys.argv[1] + '/sub/open.npz')['sdf'].shape == (300,)" "$work/samples"
+check "sample without -n is an error" bash -c "! '$sdfgen' sample '$work/meshes/tet.obj' -o '$work/x.npz' 2>/dev/null"
+
 check "bad arguments are one-line errors" bash -c "'$sdfgen' batch '$work/nothing' --out '$work/x' 2>&1 | grep -q 'nothing: no such file or folder'"
 
 echo "batch test: $passed passed, $failed failed"
