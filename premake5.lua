@@ -1,12 +1,15 @@
--- premake5.lua: premake5 description of the sdfgen build, for Visual Studio, Xcode and gmake users.
+-- premake5.lua: premake5 description of the sdfgen build, for gmake2 (and IDE project) users on
+-- Linux with GCC or Clang.
 --
 -- CMakeLists.txt is the real build; this file mirrors it (same projects, sources, flags and system
 -- libraries) and tests/premake/check.lua keeps the two in step (ctest runs it). Library names and
--- paths are those of the Debian packages in extern/debian-packages.txt; on other systems, point your
--- IDE at equivalent libraries.
+-- paths are those of the Debian packages in extern/debian-packages.txt.
+-- Platforms: Linux only. The code uses POSIX (mkstemp, fsync, sysconf, signals), /proc/self/exe
+-- and GCC/Clang vector extensions, so Visual Studio and Xcode projects generated from this file
+-- do not build; porting would need those replaced first.
 --
 --   premake5 gmake2 && make -C build-premake/gmake2 config=release -j2
---   premake5 --no-native vs2022
+--   premake5 --no-native gmake2
 --
 -- Generated projects and all build output go to build-premake/ (ignored by git).
 --

@@ -1,6 +1,6 @@
 #include "app/generation.hpp"
 #include "sdfgen/error.hpp"
-#include "core/bvh.hpp"
+#include "sdfgen/model.hpp"
 
 namespace sdfgen::app {
 
@@ -16,12 +16,12 @@ void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& set
         std::optional<BakeResult> result;
         std::string error;
         try {
-            const Bvh tree(*mesh);
+            const Model model(*mesh);
             RunControl control;
             control.threads = threads;
             control.cancel = &cancel_;
             control.progress = [this](double fraction) { progress_ = fraction; };
-            result = bake(*mesh, tree, settings, control);
+            result = model.bake(settings, control);
         } catch (const Cancelled&) {
             error = "generation cancelled";
         } catch (const std::exception& e) {

@@ -1,6 +1,6 @@
 #pragma once
 #include "sdfgen/field.hpp"
-#include "core/bake.hpp"
+#include "sdfgen/bake.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <atomic>

@@ -1,8 +1,8 @@
 // `sdfgen bake`: mesh in, field file out.
 #include "cli/commands.hpp"
+#include "sdfgen/model.hpp"
 #include "cli/progress.hpp"
 #include "sdfgen/field.hpp"
-#include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <tbb/task_arena.h>
@@ -22,18 +22,19 @@ struct BakeArgs {
 
 void runBake(const BakeArgs& args) {
     Stopwatch total;
-    const Mesh mesh = loadObj(args.mesh);
+    const Model model = Model::load(args.mesh);
+    const Mesh& mesh = model.mesh();
     if (mesh.droppedDegenerate > 0) {
         std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", args.mesh.c_str(), mesh.droppedDegenerate);
     }
-    const Bvh tree(mesh);
+    for (const std::string& warning : mesh.warnings) std::fprintf(stderr, "sdfgen: warning: %s\n", warning.c_str());
     RunControl control;
     control.threads = args.threads;
     BakeResult result;
     {
         ProgressBar bar;
         control.progress = bar.callback();
-        result = bake(mesh, tree, args.settings, control);
+        result = model.bake(args.settings, control);
     }
     saveFieldText(result.field, args.output);
     const double seconds = total.seconds();

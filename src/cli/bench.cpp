@@ -1,8 +1,8 @@
 // `sdfgen bench`: throughput of the whole bake (load, tree, distances, signs, save) on given meshes.
 #include "cli/commands.hpp"
+#include "sdfgen/model.hpp"
 #include "cli/progress.hpp"
 #include "sdfgen/field.hpp"
-#include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <tbb/task_arena.h>
@@ -42,14 +42,15 @@ struct Run {
 Run runOnce(const std::string& path, const BenchArgs& args, const std::string& scratch) {
     Run run;
     Stopwatch watch;
-    const Mesh mesh = loadObj(path);
+    Mesh loaded = loadObj(path);
     run.timing.load = watch.seconds();
     watch = Stopwatch();
-    const Bvh tree(mesh);
+    const Model model(std::move(loaded));
+    const Mesh& mesh = model.mesh();
     run.timing.tree = watch.seconds();
     RunControl control;
     control.threads = args.threads;
-    const BakeResult result = bake(mesh, tree, args.settings, control);
+    const BakeResult result = model.bake(args.settings, control);
     run.timing.distance = result.distanceSeconds;
     run.timing.sign = result.signSeconds;
     watch = Stopwatch();

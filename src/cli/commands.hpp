@@ -1,6 +1,5 @@
 #pragma once
-#include "core/bake.hpp"
-#include "sdfgen/sample.hpp"
+#include "sdfgen/sdfgen.hpp"
 
 #include <CLI/CLI.hpp>
 #include <string>

@@ -1,6 +1,8 @@
 // sdfgen command line: a thin front end over the core library. With no command, or `view`, it
-// opens the viewer window.
+// opens the viewer window (in builds with the viewer, SDFGEN_HAS_VIEWER).
+#if SDFGEN_HAS_VIEWER
 #include "app/viewer.hpp"
+#endif
 #include "cli/commands.hpp"
 #include "sdfgen/error.hpp"
 
@@ -12,6 +14,7 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBakeCommand(app);
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
+#if SDFGEN_HAS_VIEWER
     sdfgen::cli::addRenderCommand(app);
     sdfgen::cli::addSampleCommand(app);
     int exitCode = 0;
@@ -19,9 +22,19 @@ int main(int argc, char** argv) {
     std::string viewMesh;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
     view->add_option("mesh", viewMesh, "Mesh to open (Wavefront OBJ)");
+#else
+    app.footer("This sdfgen was built without the viewer (-DSDFGEN_VIEWER=OFF): no view or render command.");
+#endif
     try {
         app.parse(argc, argv);
+#if SDFGEN_HAS_VIEWER
         if (app.get_subcommands().empty() || view->parsed()) return sdfgen::app::runViewer(viewMesh);
+#else
+        if (app.get_subcommands().empty()) {
+            std::fputs(app.help().c_str(), stderr);
+            return 1;
+        }
+#endif
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     } catch (const sdfgen::Error& e) {

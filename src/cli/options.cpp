@@ -39,8 +39,10 @@ std::string defaultMeshPath() {
     const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
     if (n > 0) {
         self[n] = '\0';
-        const std::filesystem::path beside = std::filesystem::path(self).parent_path() / "assets" / "bunny.obj";
-        if (std::filesystem::exists(beside)) return beside.string();
+        const std::filesystem::path bin = std::filesystem::path(self).parent_path();
+        for (const std::filesystem::path& beside : {bin / "assets" / "bunny.obj", bin.parent_path() / "share" / "sdfgen" / "assets" / "bunny.obj"}) {
+            if (std::filesystem::exists(beside)) return beside.string();
+        }
     }
     return built.string();
 }

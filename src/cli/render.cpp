@@ -1,10 +1,10 @@
 // `sdfgen render`: a PNG of any combination of views, drawn headless through OSMesa with the same
 // renderers as the viewer window.
 #include "cli/commands.hpp"
+#include "sdfgen/model.hpp"
 #include "cli/progress.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
-#include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
 #include "render/osmesa_context.hpp"
@@ -64,18 +64,18 @@ void runRender(const RenderArgs& args) {
         throw Error("--size '" + args.size + "' must be two positive whole numbers");
     }
 
-    const Mesh mesh = loadObj(args.mesh);
+    const Model model = Model::load(args.mesh);
+    const Mesh& mesh = model.mesh();
     Field field;
     const bool needField = views.volume || views.raymarch || views.slice;
     if (!args.sdf.empty()) {
         field = loadFieldText(args.sdf);
     } else if (needField) {
-        const Bvh tree(mesh);
         RunControl control;
         control.threads = args.threads;
         ProgressBar bar;
         control.progress = bar.callback();
-        field = bake(mesh, tree, args.settings, control).field;
+        field = model.bake(args.settings, control).field;
     }
 
     std::unique_ptr<render::GlContext> context = render::createOsMesaContext(pixels);

@@ -23,6 +23,7 @@ std::string shaderDirectory() {
         const fs::path dir = fs::path(self).parent_path();
         candidates.push_back(dir / "shaders");
         candidates.push_back(dir.parent_path() / "shaders");
+        candidates.push_back(dir.parent_path() / "share" / "sdfgen" / "shaders"); // cmake --install
     }
     candidates.push_back(fs::path(SDFGEN_SOURCE_DIR) / "shaders");
     std::string tried;

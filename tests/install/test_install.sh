@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# `cmake --install` into a temporary prefix, then a separate project built against it with
+# find_package(sdfgen CONFIG), and the installed binary run from a copy of the prefix elsewhere
+# (nothing of the build tree on its paths).
+# Usage: test_install.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$1
+source=$2
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+fail() { echo "install test: $*" >&2; exit 1; }
+
+cmake --install "$build" --prefix "$scratch/prefix" >"$scratch/install.log" || { cat "$scratch/install.log"; fail "cmake --install failed"; }
+for f in bin/sdfgen include/sdfgen/sdfgen.hpp include/sdfgen/model.hpp lib/cmake/sdfgen/sdfgenConfig.cmake share/sdfgen/assets/bunny.obj; do
+  [ -e "$scratch/prefix/$f" ] || fail "not installed: $f"
+done
+ls "$scratch/prefix"/lib*/libsdfgen.a >/dev/null 2>&1 || ls "$scratch/prefix"/lib/*/libsdfgen.a >/dev/null 2>&1 || fail "libsdfgen.a not installed"
+if grep -rq -- "-march=native\|fsanitize" "$scratch/prefix/lib"*/cmake/sdfgen/ 2>/dev/null; then fail "private flags leaked into the package"; fi
+
+cmake -S "$source/tests/install/consumer" -B "$scratch/consumer" -G Ninja -DCMAKE_PREFIX_PATH="$scratch/prefix" >"$scratch/configure.log" 2>&1 \
+  || { cat "$scratch/configure.log"; fail "configuring the consumer failed"; }
+cmake --build "$scratch/consumer" >"$scratch/build.log" 2>&1 || { cat "$scratch/build.log"; fail "building the consumer failed"; }
+out=$("$scratch/consumer/consumer" "$source/assets/bunny.obj" "$scratch/field.sdf") || fail "consumer failed: $out"
+echo "$out"
+case "$out" in *"3674 triangles"*"sign pseudonormal, distance at the centre -"*) ;; *) fail "unexpected consumer output: $out" ;; esac
+[ -s "$scratch/field.sdf" ] || fail "consumer wrote no field"
+
+# The installed binary, moved away from where it was installed: bakes its bundled model.
+mv "$scratch/prefix" "$scratch/moved"
+"$scratch/moved/bin/sdfgen" bake "$scratch/moved/share/sdfgen/assets/bunny.obj" -o "$scratch/moved.sdf" --res 12 >/dev/null \
+  || fail "installed sdfgen bake failed"
+if "$scratch/moved/bin/sdfgen" --help | grep -q " render "; then
+  [ -e "$scratch/moved/share/sdfgen/shaders/fullscreen.vert" ] || fail "shaders not installed"
+  SDFGEN_SHADER_DIR= "$scratch/moved/bin/sdfgen" render "$scratch/moved/share/sdfgen/assets/bunny.obj" -o "$scratch/moved.png" --size 64x48 >/dev/null \
+    || fail "installed sdfgen render failed"
+fi
+echo "install test: passed"
