@@ -12,6 +12,9 @@
 --   premake5 --no-native gmake2
 --
 -- Generated projects and all build output go to build-premake/ (ignored by git).
+--
+-- The Python module (python/, pybind11) is built by CMake only: it needs CMake's FindPython to
+-- match the interpreter's headers and extension suffix, which premake has no equivalent for.
 
 newoption {
    trigger = "no-native",

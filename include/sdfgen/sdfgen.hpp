@@ -10,3 +10,4 @@
 #include "sdfgen/mesh_check.hpp"
 #include "sdfgen/model.hpp"
 #include "sdfgen/run_control.hpp"
+#include "sdfgen/sample.hpp"

@@ -13,6 +13,9 @@ void addBenchCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addSurfaceCommand(CLI::App& app);
+void addSampleCommand(CLI::App& app);
+// Sets exitCode to 1 when any mesh failed (the batch itself went on).
+void addBatchCommand(CLI::App& app, int& exitCode);
 
 // The options every generating command shares (--res, --rays, --padding, --threads).
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);
@@ -27,5 +30,8 @@ void refuseOverwritingInput(const std::string& output, const std::vector<std::st
 
 // The mesh the project ships, used when a command is given none.
 std::string defaultMeshPath();
+
+// The sampling options `sample` and `batch --format samples` share (--seed, --surface-fraction, variances).
+void addSampleOptions(CLI::App& command, SampleSettings& settings);
 
 } // namespace sdfgen::cli

@@ -18,6 +18,9 @@ int main(int argc, char** argv) {
     sdfgen::cli::addSurfaceCommand(app);
 #if SDFGEN_HAS_VIEWER
     sdfgen::cli::addRenderCommand(app);
+    sdfgen::cli::addSampleCommand(app);
+    int exitCode = 0;
+    sdfgen::cli::addBatchCommand(app, exitCode);
     std::string viewMesh;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
     view->add_option("mesh", viewMesh, "Mesh to open (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)");
@@ -47,5 +50,5 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "sdfgen: internal error: %s\n", e.what());
         return 2;
     }
-    return 0;
+    return exitCode;
 }

@@ -1,0 +1,421 @@
+// The sdfgen Python module (pybind11, numpy): meshes, bakes, point queries and samples over the
+// library's Model. Long calls run on a worker thread with the GIL released; the calling thread
+// wakes every 50 ms to pass progress to Python and to check for Ctrl+C, which cancels the work.
+#include "sdfgen/sdfgen.hpp"
+#include "sdfgen/sample.hpp"
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <cstring>
+#include <optional>
+#include <chrono>
+#include <future>
+#include <limits>
+#include <map>
+#include <memory>
+
+namespace py = pybind11;
+
+namespace sdfgen::python {
+
+namespace {
+
+// Runs work(control) on another thread with the GIL released. Ctrl+C (or an exception from the
+// progress callback) raises the cancel flag, waits for the work to stop and re-raises in Python.
+template <class Work>
+auto runReleased(Work&& work, int threads, const py::object& progress = py::none()) {
+    std::atomic<bool> cancel{false};
+    std::atomic<double> fraction{0.0};
+    RunControl control;
+    control.threads = threads;
+    control.cancel = &cancel;
+    if (!progress.is_none()) control.progress = [&fraction](double f) { fraction.store(f, std::memory_order_relaxed); };
+    using Result = decltype(work(control));
+    std::future<Result> result;
+    bool interrupted = false;
+    {
+        py::gil_scoped_release release;
+        result = std::async(std::launch::async, [&work, &control] { return work(control); });
+        double reported = -1.0;
+        while (result.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+            py::gil_scoped_acquire acquire;
+            if (PyErr_CheckSignals() != 0) {
+                interrupted = true; // the exception (KeyboardInterrupt) stays set on this thread
+            } else if (!progress.is_none()) {
+                const double f = fraction.load(std::memory_order_relaxed);
+                if (f != reported) {
+                    reported = f;
+                    try {
+                        progress(f);
+                    } catch (py::error_already_set& e) {
+                        e.restore();
+                        interrupted = true;
+                    }
+                }
+            }
+            if (interrupted) break;
+        }
+        if (interrupted) {
+            cancel = true;
+            result.wait();
+        }
+    }
+    if (interrupted) {
+        try {
+            result.get();
+        } catch (...) {
+            // Cancelled, or whatever the work threw as it stopped: the interrupt is what the caller sees.
+        }
+        throw py::error_already_set();
+    }
+    Result value = result.get(); // rethrows the work's Error, translated below
+    if (!progress.is_none()) progress(1.0);
+    return value;
+}
+
+// A numpy array that owns `values` (moved into a capsule), with the given shape in C order.
+template <class T>
+py::array_t<T> toNumpy(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
+    auto* owned = new std::vector<T>(std::move(values));
+    py::capsule free(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+    return py::array_t<T>(shape, owned->data(), free);
+}
+
+SignMethod signFrom(const std::string& name) {
+    static const std::map<std::string, SignMethod> signs = {{"default", SignMethod::Default},
+                                                            {"auto", SignMethod::Auto},
+                                                            {"winding", SignMethod::Winding},
+                                                            {"pseudonormal", SignMethod::Pseudonormal},
+                                                            {"rays", SignMethod::Rays}};
+    const auto it = signs.find(name);
+    if (it == signs.end()) throw py::value_error("sign must be auto, winding, pseudonormal, rays or default (got '" + name + "')");
+    return it->second;
+}
+
+DistanceMethod methodFrom(const std::string& name) {
+    static const std::map<std::string, DistanceMethod> methods = {
+        {"exact", DistanceMethod::Exact}, {"rays", DistanceMethod::Rays}, {"brute", DistanceMethod::Brute}};
+    const auto it = methods.find(name);
+    if (it == methods.end()) throw py::value_error("method must be exact, rays or brute (got '" + name + "')");
+    return it->second;
+}
+
+py::dict checkToDict(const MeshCheck& c) {
+    py::dict d;
+    d["boundary_edges"] = c.boundaryEdges;
+    d["non_manifold_edges"] = c.nonManifoldEdges;
+    d["inconsistent_edges"] = c.inconsistentEdges;
+    d["non_manifold_vertices"] = c.nonManifoldVertices;
+    d["self_intersections"] = c.selfIntersections;
+    d["closed_and_clean"] = c.closedAndClean();
+    d["description"] = c.describe();
+    return d;
+}
+
+// A mesh ready for queries: the library's Model, shared by every Python reference.
+struct PyMesh {
+    std::shared_ptr<const Model> model;
+};
+
+// Points as a C-contiguous float64 (P, 3) array, from any (..., 3) array; `shape` gets the leading dims.
+py::array_t<double, py::array::c_style> pointsFrom(const py::array& input, std::vector<py::ssize_t>& shape) {
+    auto points = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(input);
+    if (!points || points.ndim() < 1 || points.shape(points.ndim() - 1) != 3) {
+        throw py::value_error("points must be an array of shape (P, 3) (or (..., 3)) of numbers");
+    }
+    shape.assign(points.shape(), points.shape() + points.ndim() - 1);
+    return points;
+}
+
+template <class T>
+py::array_t<T> query(const PyMesh& mesh, const py::array& input, SignMethod sign, int threads, T* PointQueryOutputs::*member,
+                     int components) {
+    std::vector<py::ssize_t> shape;
+    const auto points = pointsFrom(input, shape);
+    const std::size_t count = std::size_t(points.size() / 3);
+    std::vector<T> out(count * std::size_t(components));
+    const double* data = points.data();
+    runReleased(
+        [&](const RunControl& control) {
+            PointQueryOutputs outputs;
+            outputs.*member = out.data();
+            mesh.model->query(data, count, outputs, sign, control);
+            return 0;
+        },
+        threads);
+    if (components > 1) shape.push_back(components);
+    return toNumpy(std::move(out), shape);
+}
+
+PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
+    if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
+    if (faces.ndim() != 2 || faces.shape(1) != 3) throw py::value_error("faces must have shape (M, 3)");
+    if (!py::isinstance<py::array_t<std::int64_t>>(faces) && faces.dtype().kind() != 'i' && faces.dtype().kind() != 'u') {
+        throw py::value_error("faces must be an integer array");
+    }
+    const auto f = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(faces);
+    std::vector<glm::uvec3> triangles(std::size_t(f.shape(0)));
+    const std::int64_t* fd = f.data();
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+            const std::int64_t index = fd[3 * t + std::size_t(c)];
+            if (index < 0 || index > std::int64_t(std::numeric_limits<std::uint32_t>::max())) {
+                throw Error(name + ": face " + std::to_string(t) + " has vertex index " + std::to_string(index) +
+                            ", outside 0.." + std::to_string(vertices.shape(0) - 1));
+            }
+            triangles[t][c] = std::uint32_t(index);
+        }
+    }
+    auto build = [&](auto&& positions) {
+        PyMesh mesh;
+        mesh.model = runReleased([&](const RunControl& control) {
+            return std::make_shared<const Model>(buildMesh(name, std::move(positions), std::move(triangles)), control);
+        }, threads);
+        return mesh;
+    };
+    if (vertices.dtype().is(py::dtype::of<float>())) {
+        // Float input keeps its float values (buildMesh warns when float cannot resolve the mesh).
+        const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
+        std::vector<glm::vec3> positions(std::size_t(v.shape(0)));
+        std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::vec3));
+        return build(std::move(positions));
+    }
+    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+    if (!v) throw py::value_error("vertices must be numbers");
+    std::vector<glm::dvec3> positions(std::size_t(v.shape(0)));
+    std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::dvec3));
+    return build(std::move(positions));
+}
+
+// A baked or loaded field; `values` views its buffer.
+struct PyField {
+    Field field;
+    std::optional<BakeResult> bake; // what the bake decided (absent for a loaded field)
+};
+
+py::tuple tuple3(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+} // namespace
+
+} // namespace sdfgen::python
+
+using namespace sdfgen;
+using namespace sdfgen::python;
+
+PYBIND11_MODULE(sdfgen, m) {
+    m.doc() = "sdfgen: exact signed distance fields, point queries and DeepSDF-style samples from triangle meshes";
+    m.attr("__version__") = "0.1.0";
+    static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const Error& e) {
+            error(e.what());
+        }
+    });
+
+    py::class_<PyMesh>(m, "Mesh", "A triangle mesh with its distance tree, built once and kept for every query")
+        .def(py::init([](const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
+                 return meshFromArrays(vertices, faces, name, threads);
+             }),
+             py::arg("vertices"), py::arg("faces"), py::arg("name") = "<arrays>", py::arg("threads") = 0,
+             "From (N, 3) float32 or float64 vertices and (M, 3) integer faces (counter-clockwise seen from outside)")
+        .def_static(
+            "load",
+            [](const std::string& path, int threads) {
+                PyMesh mesh;
+                mesh.model = runReleased([&](const RunControl& control) { return std::make_shared<const Model>(Model::load(path, control)); },
+                                         threads);
+                return mesh;
+            },
+            py::arg("path"), py::arg("threads") = 0, "Loads a mesh file and builds its tree")
+        .def_property_readonly("source", [](const PyMesh& m) { return m.model->mesh().source; })
+        .def_property_readonly("triangle_count", [](const PyMesh& m) { return m.model->mesh().triangleCount(); })
+        .def_property_readonly("vertex_count", [](const PyMesh& m) { return m.model->mesh().positions.size(); })
+        .def_property_readonly("dropped_degenerate", [](const PyMesh& m) { return m.model->mesh().droppedDegenerate; })
+        .def_property_readonly("warnings", [](const PyMesh& m) { return m.model->mesh().warnings; })
+        .def_property_readonly(
+            "vertices",
+            [](const PyMesh& m) {
+                const Mesh& mesh = m.model->mesh();
+                std::vector<double> world(3 * mesh.positions.size());
+                for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+                    const glm::dvec3 p = mesh.toWorld(glm::dvec3(mesh.positions[i]));
+                    for (int a = 0; a < 3; ++a) world[3 * i + std::size_t(a)] = p[a];
+                }
+                return toNumpy(std::move(world), {py::ssize_t(mesh.positions.size()), 3});
+            },
+            "(N, 3) float64 world positions (a copy)")
+        .def_property_readonly(
+            "faces",
+            [](const PyMesh& m) {
+                const Mesh& mesh = m.model->mesh();
+                std::vector<std::int64_t> faces(3 * mesh.triangles.size());
+                for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+                    for (int c = 0; c < 3; ++c) faces[3 * t + std::size_t(c)] = mesh.triangles[t][c];
+                }
+                return toNumpy(std::move(faces), {py::ssize_t(mesh.triangles.size()), 3});
+            },
+            "(M, 3) int64 triangles (zero-area ones dropped; the indices of nearest_triangle)")
+        .def_property_readonly("bounds",
+                               [](const PyMesh& m) {
+                                   const WorldBounds b = m.model->mesh().worldBounds();
+                                   return py::make_tuple(tuple3(b.min), tuple3(b.max));
+                               },
+                               "((xmin, ymin, zmin), (xmax, ymax, zmax)) in world coordinates")
+        .def(
+            "check",
+            [](const PyMesh& m, int threads) {
+                return checkToDict(runReleased([&](const RunControl& control) { return m.model->check(control); }, threads));
+            },
+            py::arg("threads") = 0, "The mesh check (holes, non-manifold edges and vertices, flipped faces, self-intersections) as a dict")
+        .def(
+            "signed_distance",
+            [](const PyMesh& m, const py::array& points, const std::string& sign, int threads) {
+                return query<float>(m, points, signFrom(sign), threads, &PointQueryOutputs::signedDistance, 1);
+            },
+            py::arg("points"), py::arg("sign") = "auto", py::arg("threads") = 0,
+            "Signed distances (negative inside) at (..., 3) points, float32 of shape (...)")
+        .def(
+            "unsigned_distance",
+            [](const PyMesh& m, const py::array& points, int threads) {
+                return query<float>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::unsignedDistance, 1);
+            },
+            py::arg("points"), py::arg("threads") = 0, "Distances to the nearest triangle, float32 of shape (...)")
+        .def(
+            "closest_points",
+            [](const PyMesh& m, const py::array& points, int threads) {
+                return query<double>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::closestPoint, 3);
+            },
+            py::arg("points"), py::arg("threads") = 0, "Nearest surface points, float64 of shape (..., 3)")
+        .def(
+            "nearest_triangle",
+            [](const PyMesh& m, const py::array& points, int threads) {
+                return query<std::int64_t>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::triangle, 1);
+            },
+            py::arg("points"), py::arg("threads") = 0, "Index (into faces) of the nearest triangle, int64 of shape (...)")
+        .def(
+            "winding_number",
+            [](const PyMesh& m, const py::array& points, int threads) {
+                return query<double>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::windingNumber, 1);
+            },
+            py::arg("points"), py::arg("threads") = 0, "Generalized winding numbers (exact), float64 of shape (...)")
+        .def("__repr__", [](const PyMesh& m) {
+            return "<sdfgen.Mesh " + m.model->mesh().source + ": " + std::to_string(m.model->mesh().triangleCount()) + " triangles>";
+        });
+
+    py::class_<PyField>(m, "Field", "A signed distance field on a grid of cubic voxels (samples at voxel centres)")
+        .def_property_readonly(
+            "values",
+            [](py::object self) {
+                PyField& f = self.cast<PyField&>();
+                const glm::ivec3 d = f.field.grid.dims;
+                const py::ssize_t item = sizeof(float);
+                // values[i, j, k] is sample (i, j, k): the buffer is x fastest, so Fortran strides.
+                return py::array_t<float>({py::ssize_t(d.x), py::ssize_t(d.y), py::ssize_t(d.z)},
+                                          {item, item * d.x, item * d.x * d.y}, f.field.values.data(), self);
+            },
+            "(nx, ny, nz) float32 view of the field's values (no copy; keeps the field alive)")
+        .def_property_readonly("dims", [](const PyField& f) { return py::make_tuple(f.field.grid.dims.x, f.field.grid.dims.y, f.field.grid.dims.z); })
+        .def_property_readonly("origin", [](const PyField& f) { return tuple3(f.field.grid.origin); },
+                               "The grid's minimum corner; sample (i, j, k) is at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size")
+        .def_property_readonly("voxel_size", [](const PyField& f) { return f.field.grid.voxel; })
+        .def_property_readonly("source", [](const PyField& f) { return f.field.source; })
+        .def_property_readonly("method", [](const PyField& f) { return f.field.method; })
+        .def_property_readonly("parameters", [](const PyField& f) {
+            py::dict d;
+            for (const auto& [key, value] : f.field.parameters) d[py::str(key)] = value;
+            return d;
+        })
+        .def_property_readonly("sign", [](const PyField& f) { return f.field.parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
+        .def_property_readonly("sign_reason", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->signReason)) : py::object(py::none()); })
+        .def_property_readonly("check", [](const PyField& f) {
+            return f.bake && f.bake->checked ? py::object(checkToDict(f.bake->check)) : py::object(py::none());
+        }, "The mesh check made for sign='auto', as a dict (None otherwise)")
+        .def(
+            "positions",
+            [](const PyField& f) {
+                const Grid& g = f.field.grid;
+                std::vector<double> out(3 * g.sampleCount());
+                std::size_t n = 0;
+                for (int i = 0; i < g.dims.x; ++i) {
+                    for (int j = 0; j < g.dims.y; ++j) {
+                        for (int k = 0; k < g.dims.z; ++k) {
+                            const glm::dvec3 p = g.position(i, j, k);
+                            out[n++] = p.x;
+                            out[n++] = p.y;
+                            out[n++] = p.z;
+                        }
+                    }
+                }
+                return toNumpy(std::move(out), {g.dims.x, g.dims.y, g.dims.z, 3});
+            },
+            "(nx, ny, nz, 3) float64 world position of each value")
+        .def(
+            "save",
+            [](const PyField& f, const std::string& path, double band) {
+                SaveOptions options;
+                options.band = band;
+                py::gil_scoped_release release;
+                saveField(f.field, path, options);
+            },
+            py::arg("path"), py::arg("band") = 0.0, "Saves in the format the extension names (.sdf, .npy, .npz, .vdb, .nrrd), atomically")
+        .def("__repr__", [](const PyField& f) {
+            const Grid& g = f.field.grid;
+            return "<sdfgen.Field " + std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
+                   " of " + f.field.source + ", " + f.field.method + " sign=" + f.field.parameter("sign") + ">";
+        });
+
+    m.def(
+        "bake",
+        [](const PyMesh& mesh, int res, double padding, const std::string& method, const std::string& sign, int threads,
+           const py::object& progress, int rays) {
+            BakeSettings settings;
+            settings.res = res;
+            settings.padding = padding;
+            settings.method = methodFrom(method);
+            settings.sign = signFrom(sign);
+            settings.rays = rays;
+            auto result = std::make_unique<PyField>();
+            result->bake = runReleased([&](const RunControl& control) { return mesh.model->bake(settings, control); }, threads, progress);
+            result->field = std::move(result->bake->field);
+            return result;
+        },
+        py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
+        py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64,
+        "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
+        "Ctrl+C cancels.");
+
+    m.def(
+        "load_field",
+        [](const std::string& path) {
+            auto result = std::make_unique<PyField>();
+            py::gil_scoped_release release;
+            result->field = loadField(path);
+            return result;
+        },
+        py::arg("path"), "Loads a field saved in any format sdfgen writes");
+
+    m.def(
+        "sample",
+        [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double nearVariance, double farVariance,
+           double padding, const std::string& sign, int threads) {
+            SampleSettings settings;
+            settings.seed = seed;
+            settings.surfaceFraction = surfaceFraction;
+            settings.nearVariance = nearVariance;
+            settings.farVariance = farVariance;
+            settings.padding = padding;
+            settings.sign = signFrom(sign);
+            Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads);
+            return py::make_tuple(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}), toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
+        },
+        py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("near_variance") = 0.0025,
+        py::arg("far_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
+        "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32). Defaults are DeepSDF's: 47/50 near the surface "
+        "(half with each variance, in units of the mesh normalized to the unit sphere), the rest uniform in the padded box.");
+}

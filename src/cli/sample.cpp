@@ -1,0 +1,73 @@
+// `sdfgen sample`: DeepSDF-style training samples (points near the surface and their signed distances).
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "sdfgen/model.hpp"
+#include "sdfgen/sample.hpp"
+
+#include <cstdio>
+#include <memory>
+
+namespace sdfgen::cli {
+
+namespace {
+
+struct SampleArgs {
+    std::string mesh;
+    std::string output;
+    std::size_t count = 0;
+    SampleSettings settings;
+    int threads = 0;
+};
+
+void runSample(const SampleArgs& args) {
+    Stopwatch clock;
+    RunControl control;
+    control.threads = args.threads;
+    const Model model = Model::load(args.mesh, control);
+    for (const std::string& warning : model.mesh().warnings) std::fprintf(stderr, "sdfgen: warning: %s\n", warning.c_str());
+    Samples samples;
+    {
+        ProgressBar bar;
+        control.progress = bar.callback();
+        samples = sampleSdf(model, args.count, args.settings, control);
+    }
+    saveSamples(samples, args.output);
+    const SampleCounts counts = sampleCounts(args.count, args.settings);
+    const double seconds = clock.seconds();
+    std::printf("%s -> %s: %zu samples (%zu near, %zu far, %zu uniform), seed %llu, %.3f s, %.0f samples/s\n", args.mesh.c_str(),
+                args.output.c_str(), samples.size(), counts.nearSurface, counts.farSurface, counts.uniform,
+                static_cast<unsigned long long>(args.settings.seed), seconds, double(samples.size()) / seconds);
+}
+
+} // namespace
+
+void addSampleOptions(CLI::App& command, SampleSettings& settings) {
+    command.add_option("--seed", settings.seed, "Random seed: the same seed gives the same samples, whatever the thread count")
+        ->capture_default_str();
+    command.add_option("--surface-fraction", settings.surfaceFraction, "Share of samples near the surface (DeepSDF: 47/50); the rest are uniform in the padded box")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    command.add_option("--near-variance", settings.nearVariance, "Variance of the first noise scale, in DeepSDF's normalized units (unit sphere)")
+        ->check(CLI::Range(0.0, 1e6))
+        ->capture_default_str();
+    command.add_option("--far-variance", settings.farVariance, "Variance of the second noise scale, in the same units")
+        ->check(CLI::Range(0.0, 1e6))
+        ->capture_default_str();
+}
+
+void addSampleCommand(CLI::App& app) {
+    auto args = std::make_shared<SampleArgs>();
+    CLI::App* sample = app.add_subcommand("sample", "Draw DeepSDF-style samples (points and signed distances) and save them as .npz");
+    sample->add_option("mesh", args->mesh, "Input mesh")->required();
+    sample->add_option("-n,--count", args->count, "Number of samples")->required()->check(CLI::Range(std::size_t(1), std::size_t(1) << 34));
+    sample->add_option("-o,--output", args->output, "Output .npz with points (n, 3) and sdf (n,), float32")->required();
+    addSampleOptions(*sample, args->settings);
+    sample->add_option("--padding", args->settings.padding, "Margin of the box the uniform samples fill, as a fraction of the mesh's longest side")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
+    sample->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    sample->footer("Noise standard deviations are sqrt(variance) x the normalized radius: 1.03 x the farthest vertex's distance from the bounding box centre.");
+    sample->callback([args] { runSample(*args); });
+}
+
+} // namespace sdfgen::cli
