@@ -11,6 +11,7 @@
 #include "sdfgen/grid.hpp"
 
 #include <glm/geometric.hpp>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -76,6 +77,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (out.signedDistance && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
         throw Error(std::string("point queries sign by auto, winding or pseudonormal, not ") + toString(sign));
     }
+    if (count > std::numeric_limits<std::uint32_t>::max()) throw Error("more than 4294967295 query points in one call");
     for (std::size_t i = 0; i < 3 * count; ++i) {
         if (!std::isfinite(points[i])) throw Error("query point " + std::to_string(i / 3) + " has a non-finite coordinate");
     }
@@ -85,8 +87,34 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (needWinding) m.caps();
     if (out.signedDistance && sign == SignMethod::Pseudonormal) m.topology();
 
-    // Fixed blocks of points, each searched in packets of eight seeded by the packet before, so
-    // that the result never depends on the thread count.
+    // Points are visited in Morton order of their position, so that a packet's eight points are
+    // neighbours (one bound prunes for all lanes) and each packet is seeded by the one before.
+    // Results do not depend on the order (ties go to the lower triangle index), and the blocks are
+    // fixed, so they never depend on the thread count either.
+    std::vector<std::uint64_t> keys(count);
+    {
+        const Bounds& box = mesh.bounds;
+        const glm::dvec3 lo = glm::dvec3(box.min) - 1.0, size = glm::dvec3(box.extent()) + 2.0;
+        auto spread = [](std::uint64_t v) { // 21 bits to every third bit
+            v &= 0x1fffff;
+            v = (v | v << 32) & 0x1f00000000ffffULL;
+            v = (v | v << 16) & 0x1f0000ff0000ffULL;
+            v = (v | v << 8) & 0x100f00f00f00f00fULL;
+            v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+            v = (v | v << 2) & 0x1249249249249249ULL;
+            return v;
+        };
+        for (std::size_t i = 0; i < count; ++i) {
+            const glm::dvec3 q = glm::clamp((mesh.toLocal({points[3 * i], points[3 * i + 1], points[3 * i + 2]}) - lo) / size, 0.0, 1.0);
+            const auto cell = [&](double c) { return std::uint64_t(c * double(0x1fffff)); };
+            keys[i] = spread(cell(q.x)) | spread(cell(q.y)) << 1 | spread(cell(q.z)) << 2;
+        }
+    }
+    std::vector<std::uint32_t> order(count);
+    for (std::size_t i = 0; i < count; ++i) order[i] = std::uint32_t(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
+    keys = {};
+
     constexpr std::size_t kBlock = 256;
     const std::size_t blocks = (count + kBlock - 1) / kBlock;
     parallelFor(blocks, control, [&](std::size_t block) {
@@ -97,7 +125,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             glm::dvec3 local[8];
             const int lanes = int(std::min<std::size_t>(8, end - first));
             for (int lane = 0; lane < 8; ++lane) {
-                const double* p = points + 3 * (first + std::size_t(std::min(lane, lanes - 1)));
+                const double* p = points + 3 * std::size_t(order[first + std::size_t(std::min(lane, lanes - 1))]);
                 local[lane] = mesh.toLocal({p[0], p[1], p[2]});
             }
             std::uint32_t nearest[8] = {};
@@ -124,7 +152,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                 for (int lane = 0; lane < 8; ++lane) nearest[lane] = std::uint32_t(packet.triangle[lane]);
             }
             for (int lane = 0; lane < lanes; ++lane) {
-                const std::size_t index = first + std::size_t(lane);
+                const std::size_t index = order[first + std::size_t(lane)];
                 const glm::dvec3& p = local[lane];
                 if (needNearest) {
                     const std::uint32_t t = nearest[lane];
