@@ -13,12 +13,17 @@
 
 namespace sdfgen::app {
 
+// How a bake runs, beside what it bakes (BakeSettings): the place for a device choice.
+struct GenerationOptions {
+    int threads = 0; // 0: all cores
+};
+
 // A bake running on a background thread, watched from the UI thread: progress, cancel, result.
 class Generation {
 public:
     ~Generation() { stop(); }
-    // Starts baking `mesh` (the mesh must outlive the job; it is shared).
-    void start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, int threads);
+    // Starts baking `mesh` (shared, so it outlives the job).
+    void start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options);
     // Asks the job to stop and waits for it.
     void stop();
     void cancel() { cancel_ = true; }

@@ -14,7 +14,7 @@ namespace sdfgen::cli {
 namespace {
 
 struct BakeArgs {
-    std::string mesh;
+    std::vector<std::string> meshes;
     std::string output;
     BakeSettings settings;
     int threads = 0;
@@ -22,9 +22,9 @@ struct BakeArgs {
 
 void runBake(const BakeArgs& args) {
     Stopwatch total;
-    const Mesh mesh = loadObj(args.mesh);
+    const Mesh mesh = loadScene(args.meshes);
     if (mesh.droppedDegenerate > 0) {
-        std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", args.mesh.c_str(), mesh.droppedDegenerate);
+        std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", mesh.source.c_str(), mesh.droppedDegenerate);
     }
     const Bvh tree(mesh);
     RunControl control;
@@ -40,7 +40,7 @@ void runBake(const BakeArgs& args) {
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const Grid& g = result.field.grid;
     std::printf("%s -> %s: %zu triangles, %dx%dx%d voxels, method %s, sign %s, %d threads, %.3f s, %.0f voxels/s\n",
-                args.mesh.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
+                mesh.source.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
@@ -51,7 +51,7 @@ void runBake(const BakeArgs& args) {
 void addBakeCommand(CLI::App& app) {
     auto args = std::make_shared<BakeArgs>();
     CLI::App* bake = app.add_subcommand("bake", "Generate a signed distance field from an OBJ mesh and save it as text");
-    bake->add_option("mesh", args->mesh, "Input mesh (Wavefront OBJ)")->required();
+    bake->add_option("mesh", args->meshes, "Input mesh (Wavefront OBJ); several give the field of their union")->required();
     bake->add_option("-o,--output", args->output, "Output field file (sdfgen-text, see docs/field-format.md)")->required();
     addBakeOptions(*bake, args->settings, args->threads);
     bake->footer("The summary line counts the whole process: load, tree, generation and save.");

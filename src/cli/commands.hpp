@@ -1,5 +1,6 @@
 #pragma once
 #include "core/bake.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <CLI/CLI.hpp>
 #include <string>
@@ -15,6 +16,9 @@ void addRenderCommand(CLI::App& app);
 
 // The options every generating command shares (--res, --rays, --padding, --threads).
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);
+
+// One mesh, or several merged into one scene (mergeMeshes, in place, named "A.obj+B.obj").
+Mesh loadScene(const std::vector<std::string>& paths);
 
 // The mesh the project ships, used when a command is given none.
 std::string defaultMeshPath();

@@ -31,6 +31,19 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
     command.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
 }
 
+Mesh loadScene(const std::vector<std::string>& paths) {
+    if (paths.size() == 1) return loadObj(paths[0]);
+    std::vector<Mesh> meshes;
+    std::vector<MeshInstance> parts;
+    std::string name;
+    for (const std::string& path : paths) {
+        meshes.push_back(loadObj(path));
+        name += (name.empty() ? "" : "+") + std::filesystem::path(path).filename().string();
+    }
+    for (const Mesh& mesh : meshes) parts.push_back({&mesh, glm::dmat4(1.0)});
+    return mergeMeshes(parts, name);
+}
+
 std::string defaultMeshPath() {
     // Next to the source tree the binary was built from, or beside an installed binary.
     const std::filesystem::path built = std::filesystem::path(SDFGEN_SOURCE_DIR) / "assets" / "bunny.obj";

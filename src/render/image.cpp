@@ -4,7 +4,10 @@
 
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <unistd.h>
 
 namespace sdfgen::render {
 
@@ -21,8 +24,16 @@ Image readFramebuffer(int width, int height) {
 }
 
 void savePng(const Image& image, const std::string& path) {
-    if (!stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4)) {
+    // Atomic: written beside the target under a temporary name, then renamed over it.
+    const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+    if (!stbi_write_png(temporary.c_str(), image.width, image.height, 4, image.rgba.data(), image.width * 4)) {
+        std::remove(temporary.c_str());
         throw Error(path + ": cannot write the PNG file");
+    }
+    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+        const std::string reason = std::strerror(errno);
+        std::remove(temporary.c_str());
+        throw Error(path + ": cannot write the PNG file (" + reason + ")");
     }
 }
 
