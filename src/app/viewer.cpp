@@ -216,12 +216,15 @@ public:
             ++fieldVersion_;
             setMessage(fieldMessage_, Message::Level::Info, "");
         }
-        for (SceneModel& m : loaded) models_.push_back(std::move(m));
+        std::size_t dropped = 0;
+        for (SceneModel& m : loaded) {
+            dropped += m.mesh->droppedDegenerate;
+            models_.push_back(std::move(m));
+        }
         for (const std::string& path : paths) rememberRecent(path);
         rebuildScene(true);
         std::string text = (add ? "added " : "loaded ") + describePaths(paths) + ": " + std::to_string(sceneMesh_->triangleCount()) +
                            " triangles in the scene";
-        const std::size_t dropped = loaded.back().mesh->droppedDegenerate;
         if (dropped > 0) text += " (" + std::to_string(dropped) + " zero-area triangles dropped)";
         setMessage(modelMessage_, Message::Level::Info, text);
         copyPath(meshPath_, paths.back());
@@ -491,6 +494,7 @@ private:
         if (gridWasOn && sceneMesh_ && std::abs(point.y - sceneMesh_->bounds.min.y) < 1e-4f * camera_.sceneRadius) return;
         probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, sceneMesh_.get(), tree_.get());
         probeValid_ = true;
+        probePointer_ = glm::ivec2(int(input.x), int(input.y));
         const float r = camera_.sceneRadius * 0.02f;
         scene_.markers = {point - glm::vec3(r, 0, 0), point + glm::vec3(r, 0, 0), point - glm::vec3(0, r, 0), point + glm::vec3(0, r, 0),
                           point - glm::vec3(0, 0, r), point + glm::vec3(0, 0, r), point, glm::vec3(probe_.nearest)};
@@ -624,8 +628,10 @@ private:
         if (moved || remove >= 0) rebuildScene(false);
         if (sceneMesh_) {
             const Bounds& b = sceneMesh_->bounds;
-            ImGui::TextDisabled("scene: %zu triangles, (%.3g %.3g %.3g) - (%.3g %.3g %.3g)", sceneMesh_->triangleCount(), double(b.min.x),
-                                double(b.min.y), double(b.min.z), double(b.max.x), double(b.max.y), double(b.max.z));
+            ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+            ImGui::TextWrapped("scene: %zu triangles, (%.3g %.3g %.3g) - (%.3g %.3g %.3g)", sceneMesh_->triangleCount(), double(b.min.x),
+                               double(b.min.y), double(b.min.z), double(b.max.x), double(b.max.y), double(b.max.z));
+            ImGui::PopStyleColor();
         } else {
             ImGui::TextDisabled("no model: type a path, Browse, or drop OBJ files on the window");
         }
@@ -714,7 +720,7 @@ private:
             if (fieldInfo_.seconds >= 0) {
                 ImGui::Text("%dx%dx%d voxels, %.2f s, %.0f voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
             } else {
-                ImGui::Text("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
+                ImGui::TextWrapped("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
             }
             ImGui::TextWrapped("method: %s\n%s", fieldInfo_.method.c_str(), fieldInfo_.signSummary.c_str());
         } else {
@@ -784,11 +790,12 @@ private:
         for (int a = 0; a < 3; ++a) {
             if (a > 0) ImGui::SameLine();
             const char* labels[] = {"Slice X", "Slice Y", "Slice Z"};
+            const char* names[] = {"slice_x", "slice_y", "slice_z"};
             if (ImGui::Button(labels[a])) {
                 scene_.sliceNormal = render::axisNormal(a);
                 if (!v.slice) v.slice = userChoseViews_ = true;
             }
-            track(labels[a]);
+            track(names[a]);
         }
         ImGui::SliderFloat("Slice position", &scene_.slicePosition, 0.0f, 1.0f);
         track("slice_position");
@@ -974,8 +981,8 @@ private:
         if (debugDir_.empty()) return;
         if (probeValid_) {
             char line[256];
-            std::snprintf(line, sizeof(line), "probe %.9g %.9g %.9g field=%.9g mesh=%.9g\n", probe_.point.x, probe_.point.y, probe_.point.z,
-                          double(probe_.fieldValue), probe_.meshDistance);
+            std::snprintf(line, sizeof(line), "probe %.9g %.9g %.9g field=%.9g mesh=%.9g pointer=%d,%d\n", probe_.point.x, probe_.point.y,
+                          probe_.point.z, double(probe_.fieldValue), probe_.meshDistance, probePointer_.x, probePointer_.y);
             if (line != lastProbeLine_) {
                 lastProbeLine_ = line;
                 std::fputs(line, stdout);
@@ -1024,6 +1031,7 @@ private:
     bool sliceTilt_ = false;
     bool probeOn_ = true, probeValid_ = false;
     ProbeResult probe_;
+    glm::ivec2 probePointer_{0, 0};
     float panelWidth_ = 300.0f;
     int meshVersion_ = 0, fieldVersion_ = 0;
     std::string lastSceneState_;
