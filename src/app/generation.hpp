@@ -28,6 +28,8 @@ public:
     void stop();
     void cancel() { cancel_ = true; }
     bool running() const { return thread_.joinable() && !finished_; }
+    // Running, or finished with a result not collected yet.
+    bool pending() const { return thread_.joinable(); }
     double progress() const { return progress_; }
     double elapsed() const;
     // When the job has finished since the last call: joins it, hands over the result (empty on

@@ -239,7 +239,7 @@ public:
             // Sleep until something happens; while a bake runs, wake ten times a second for its progress.
             const bool busy = !inbox_.input.empty() || inbox_.wake > 0 || arrowsHeld();
             if (busy) glfwPollEvents();
-            else if (generation_.running()) glfwWaitEventsTimeout(0.1);
+            else if (generation_.pending()) glfwWaitEventsTimeout(0.1);
             else glfwWaitEvents();
             const auto now = std::chrono::steady_clock::now();
             const float dt = std::min(std::chrono::duration<float>(now - last).count(), 0.25f);
@@ -800,7 +800,9 @@ private:
         ImGui::SliderFloat("Slice position", &scene_.slicePosition, 0.0f, 1.0f);
         track("slice_position");
         const glm::vec3 n = scene_.sliceNormal;
-        ImGui::TextDisabled("normal (%.2f %.2f %.2f); in the view: left-drag moves, Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("normal (%.2f %.2f %.2f); in the view: left-drag moves, Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
+        ImGui::PopStyleColor();
         ImGui::Combo("Colour map", &scene_.colormap, "diverging\0viridis\0grey\0");
         track("colormap");
         bool automatic = scene_.colourRange <= 0.0f;
@@ -848,7 +850,9 @@ private:
         track("distance");
         ImGui::DragFloat3("Target", &camera_.target.x, camera_.sceneRadius * 0.01f, 0.0f, 0.0f, "%.4g");
         track("target");
-        ImGui::TextDisabled("right-drag orbit, middle-drag pan, wheel zoom, arrows orbit");
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("right-drag orbit, middle-drag pan, wheel zoom, arrows orbit, F frames");
+        ImGui::PopStyleColor();
     }
 
     void probeSection() {

@@ -162,6 +162,16 @@ read -r _ msg_top _ _ _ <<<"$(widget '##generation_message')"
 [ "$msg_top" -ge "$gen_bottom" ] && [ "$msg_top" -le $((gen_bottom + 12)) ] || fail "the bake's message is not under Generate"
 until_ok grep -q "^text stats method exact baked" "$work/shots/widgets.txt" || fail "the panel does not show the bake's method"
 echo "Generate at 800x500: $(grep '^message generation info: done' "$work/log")"
+# --- loading a model while a bake runs asks first; "Keep baking" keeps the bake and the scene.
+type_into resolution 256
+click generate
+until_ok grep -q "^cancel " "$work/shots/widgets.txt" || fail "no Cancel button while baking"
+type_into model_path bunny.obj
+until_ok grep -q "^bake_keep .* 1$" "$work/shots/widgets.txt" || fail "loading during a bake did not ask"
+click bake_keep
+until_ok grep -q "^message model info: not loaded: the bake goes on" "$work/log" || fail "Keep baking did not keep the bake"
+until_ok grep -q "^message generation info: done: 256x" "$work/log" || fail "the bake did not finish after Keep baking"
+echo "loading during a bake asked first; the bake went on"
 
 # --- loading a field made from another mesh warns, and the figures become the field's own.
 type_into field_path "$work/tet.sdf"
