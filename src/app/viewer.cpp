@@ -287,12 +287,12 @@ private:
 
     void setMessage(Message& slot, Message::Level level, const std::string& text) {
         slot = Message{level, text};
+        inbox_.wake = std::max(inbox_.wake, 2); // show it (and what the action changed) next frame too
         if (!debugDir_.empty() && !text.empty()) {
             const char* kind = &slot == &modelMessage_ ? "model" : &slot == &generationMessage_ ? "generation"
                              : &slot == &fieldMessage_ ? "field" : "screenshot";
             const char* levels[] = {"info", "warning", "error"};
-            std::printf("message %s %s: %s\n", kind, levels[int(level)], text.c_str());
-            std::fflush(stdout);
+            pendingOut_ += std::string("message ") + kind + " " + levels[int(level)] + ": " + text + "\n";
         }
     }
 
@@ -330,10 +330,15 @@ private:
         camera_.frame(sceneMesh_->bounds, 1.0f, freeWidth / std::max(display.y, 1.0f));
     }
 
-    // A loaded or baked field that no longer fits the scene gets a warning in the field's slot.
+    // A loaded or baked field that no longer fits the scene (another source, or moved or added
+    // models) gets a warning in the field's slot when that first happens.
     void checkFieldAgainstScene() {
+        const std::string previous = fieldWarning_;
         fieldWarning_.clear();
         if (field_ && sceneMesh_) fieldWarning_ = fieldMismatch(*field_, *sceneMesh_);
+        if (!fieldWarning_.empty() && fieldWarning_ != previous) {
+            setMessage(fieldMessage_, Message::Level::Warning, "the field shown does not fit the scene: " + fieldWarning_);
+        }
     }
 
     void showField(Field field, FieldInfo info) {
@@ -377,6 +382,7 @@ private:
         try {
             Field field = loadFieldText(path);
             FieldInfo info{"loaded from " + path, field.method, -1.0, 0.0, signSummaryOf(field)};
+            fieldWarning_.clear();
             showField(std::move(field), info);
             rememberRecent(path);
             if (!fieldWarning_.empty()) setMessage(fieldMessage_, Message::Level::Warning, "loaded " + path + ", but " + fieldWarning_);
@@ -424,11 +430,8 @@ private:
     // Camera and slice input over the scene (not over the panel), from this frame's queued events.
     void sceneInput(const FrameInput& input, float dt) {
         ImGuiIO& io = ImGui::GetIO();
-        for (int b = 0; b < 3; ++b) {
-            if (input.pressed == b) sceneDrag_[b] = !io.WantCaptureMouse && !fileBrowser_.isOpen();
-            if (input.released == b) sceneDrag_[b] = false;
-        }
-        if (input.pressed == 0) sliceTilt_ = (input.pressMods & GLFW_MOD_SHIFT) != 0;
+        // A frame's moves all come before its one button event: they drag with the buttons as
+        // they were, then the press or release applies.
         const float dx = float(input.x - input.startX), dy = float(input.y - input.startY);
         const float height = std::max(io.DisplaySize.y, 1.0f);
         if (input.startX >= 0.0 && (dx != 0.0f || dy != 0.0f)) {
@@ -436,6 +439,11 @@ private:
             if (sceneDrag_[2]) camera_.pan(dx / height, dy / height);
             if (sceneDrag_[0] && scene_.views.slice && field_) dragSlice(dx, dy);
         }
+        for (int b = 0; b < 3; ++b) {
+            if (input.pressed == b) sceneDrag_[b] = !io.WantCaptureMouse && !fileBrowser_.isOpen();
+            if (input.released == b) sceneDrag_[b] = false;
+        }
+        if (input.pressed == 0) sliceTilt_ = (input.pressMods & GLFW_MOD_SHIFT) != 0;
         if (input.wheel != 0.0 && !io.WantCaptureMouse) camera_.zoom(float(input.wheel));
 
         Shortcuts& s = inbox_.shortcuts;
@@ -753,7 +761,6 @@ private:
         ImGui::SameLine();
         if (ImGui::Button("Load##field") || enter) loadFieldFile(fieldPath_);
         track("field_load");
-        if (!fieldWarning_.empty() && fieldMessage_.text.empty()) fieldMessage_ = Message{Message::Level::Warning, fieldWarning_};
         messageSlot("##field_message", fieldMessage_);
     }
 
@@ -888,7 +895,7 @@ private:
         ImGui::Text("Loading %s stops the bake that is running.", describePaths(pendingPaths_).c_str());
         if (ImGui::Button("Cancel the bake and load")) {
             generation_.stop();
-            collectGeneration();
+            setMessage(generationMessage_, Message::Level::Info, "generation cancelled to load " + describePaths(pendingPaths_));
             ImGui::CloseCurrentPopup();
             openModels(pendingPaths_, pendingAdd_);
             pendingPaths_.clear();
@@ -973,9 +980,9 @@ private:
         if (sceneOnly) return;
         const render::Views& v = scene_.views;
         std::printf("screenshot %d: Grid=%d Polygon=%d Coloured_Model=%d SDF_volume=%d Ray-marched=%d Slice=%d Bounding_box=%d "
-                    "camera=%.3f,%.3f,%.5g\n",
+                    "camera=%.3f,%.3f,%.5g slice=%.4f\n",
                     screenshots_++, v.grid, v.wire, v.mesh, v.volume, v.raymarch, v.slice, v.box, double(camera_.yaw),
-                    double(camera_.pitch), double(camera_.distance));
+                    double(camera_.pitch), double(camera_.distance), double(scene_.slicePosition));
         std::fflush(stdout);
     }
 
@@ -1002,6 +1009,12 @@ private:
             std::rename(temporary.c_str(), file.c_str());
             lastLayout_ = layout_;
         }
+        // Messages are printed one frame after they were set, once widgets.txt shows the layout
+        // that follows the action (an action late in a frame changes the next frame's layout).
+        std::fputs(readyOut_.c_str(), stdout);
+        std::fflush(stdout);
+        readyOut_ = pendingOut_;
+        pendingOut_.clear();
         if (!announced_) {
             std::printf("viewer ready\n"); // the GUI test waits for this before sending input
             std::fflush(stdout);
@@ -1046,6 +1059,7 @@ private:
     int screenshots_ = 0;
     bool announced_ = false;
     std::string layout_, lastLayout_, lastProbeLine_;
+    std::string pendingOut_, readyOut_; // message lines for the test, printed a frame late
 };
 
 } // namespace

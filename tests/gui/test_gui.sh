@@ -100,11 +100,14 @@ click() {
   [ $((x1 - x0)) -lt 120 ] || x=$((x0 + 20))
   xdotool mousemove --window "$window" "$x" "$y" click 1
 }
-# type_into NAME TEXT: replaces a text box's content and presses Enter.
-type_into() {
+# set_text NAME TEXT: replaces a text box's content; type_into also presses Enter.
+set_text() {
   click "$1"
   xdotool key ctrl+a
   xdotool type --delay 20 "$2"
+}
+type_into() {
+  set_text "$1" "$2"
   xdotool key Return
 }
 message() { grep "^text $1 " "$work/shots/widgets.txt" | cut -d' ' -f3-; }
@@ -153,25 +156,27 @@ sleep 0.3
 echo "resolution 0 and 100000 refused: $(message validation)"
 # --- Generate works at 800x500 (res 32), and its message is under the button.
 type_into resolution 32
-until_ok grep -q "^validation .* 1$" "$work/shots/widgets.txt"
-! grep -q "^text validation" "$work/shots/widgets.txt" || fail "resolution 32 was refused"
+settings_valid() { grep -q "^text validation" "$work/shots/widgets.txt" && return 1 || return 0; }
+until_ok settings_valid || fail "resolution 32 was refused"
 click generate
 until_ok grep -q "^message generation info: done: 32x" "$work/log" || fail "Generate did not finish"
+until_ok grep -q "^generate " "$work/shots/widgets.txt" || fail "no Generate button after the bake"
 read -r _ _ _ gen_bottom _ <<<"$(widget generate)"
 read -r _ msg_top _ _ _ <<<"$(widget '##generation_message')"
 [ "$msg_top" -ge "$gen_bottom" ] && [ "$msg_top" -le $((gen_bottom + 12)) ] || fail "the bake's message is not under Generate"
 until_ok grep -q "^text stats method exact baked" "$work/shots/widgets.txt" || fail "the panel does not show the bake's method"
 echo "Generate at 800x500: $(grep '^message generation info: done' "$work/log")"
-# --- loading a model while a bake runs asks first; "Keep baking" keeps the bake and the scene.
-type_into resolution 256
+# --- loading a model while a (long) bake runs asks first; the answer here cancels it and loads.
+type_into resolution 400
 click generate
 until_ok grep -q "^cancel " "$work/shots/widgets.txt" || fail "no Cancel button while baking"
 type_into model_path bunny.obj
-until_ok grep -q "^bake_keep .* 1$" "$work/shots/widgets.txt" || fail "loading during a bake did not ask"
-click bake_keep
-until_ok grep -q "^message model info: not loaded: the bake goes on" "$work/log" || fail "Keep baking did not keep the bake"
-until_ok grep -q "^message generation info: done: 256x" "$work/log" || fail "the bake did not finish after Keep baking"
-echo "loading during a bake asked first; the bake went on"
+until_ok grep -q "^bake_cancel_and_load .* 1$" "$work/shots/widgets.txt" || fail "loading during a bake did not ask"
+click bake_cancel_and_load
+until_ok grep -q "^message generation info: generation cancelled" "$work/log" || fail "the bake was not cancelled"
+until_ok grep -q "^message model info: loaded bunny.obj" "$work/log" || fail "the model was not loaded after cancelling the bake"
+echo "loading during a bake asked first, then cancelled it and loaded"
+type_into resolution 32
 
 # --- loading a field made from another mesh warns, and the figures become the field's own.
 type_into field_path "$work/tet.sdf"
@@ -214,8 +219,8 @@ for name in Grid Polygon Coloured_Model SDF_volume Ray-marched Slice; do
   click "$name"
   xdotool mousemove --window "$window" 790 490 # off the model: no probe marker in the picture
   shoot
-  before=$(grep "^screenshot $previous:" "$work/log" | tr ' ' '\n' | grep = | grep -v camera)
-  after=$(grep "^screenshot $((shots - 1)):" "$work/log" | tr ' ' '\n' | grep = | grep -v camera)
+  before=$(grep "^screenshot $previous:" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=')
+  after=$(grep "^screenshot $((shots - 1)):" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=')
   flipped=$(diff <(echo "$before") <(echo "$after") | grep '^>' | cut -d' ' -f2 | cut -d= -f1 || true)
   [ "$flipped" = "$name" ] || fail "clicking $name flipped '${flipped}' instead"
   if cmp -s "$work/shots/scene-$previous.png" "$work/shots/scene-$((shots - 1)).png"; then
@@ -230,6 +235,38 @@ click screenshot
 until_ok grep -q "^message screenshot info: saved $work/sdfgen-1.png" "$work/log" || fail "the Screenshot button wrote nothing"
 [ "$(head -c 8 "$work/sdfgen-1.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "the screenshot is not a PNG"
 echo "Screenshot button: $work/sdfgen-1.png"
+
+# --- left-drag in the view moves the slice along its normal.
+click Slice
+shoot
+slice_before=$(grep "^screenshot $((shots - 1)):" "$work/log" | grep -o 'slice=[0-9.]*')
+xdotool mousemove --window "$window" 500 300 mousedown 1
+for step in 1 2 3 4 5 6; do xdotool mousemove --window "$window" $((500 + 12 * step)) $((300 + 10 * step)); done
+xdotool mouseup 1
+shoot
+slice_after=$(grep "^screenshot $((shots - 1)):" "$work/log" | grep -o 'slice=[0-9.]*')
+[ "$slice_before" != "$slice_after" ] || fail "dragging in the view did not move the slice ($slice_before)"
+echo "dragging the slice: $slice_before -> $slice_after"
+
+# --- a scene of two models: adding one outside the field's box warns, and Generate bakes the
+# union, whose saved field names both.
+printf 'v 20 0 0\nv 21 0 0\nv 20 1 0\nv 20 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/far.obj"
+set_text model_path "$work/far.obj"
+click model_add
+until_ok grep -q "^message model info: added far.obj: 3678 triangles in the scene" "$work/log" || fail "Add to scene did not add the model"
+until_ok grep -q "^message field warning: the field shown does not fit the scene: .*not from bunny.obj+far.obj" "$work/log" ||
+  fail "no warning that the field is not the scene's"
+until_ok grep -q "^generate " "$work/shots/widgets.txt"
+bakes=$(grep -c "^message generation info: done:" "$work/log")
+more_bakes() { [ "$(grep -c "^message generation info: done:" "$work/log")" -gt "$bakes" ]; }
+click generate
+until_ok more_bakes || fail "the scene did not bake"
+set_text field_path "$work/union.sdf"
+click field_save
+until_ok grep -q "^message field info: saved $work/union.sdf" "$work/log" || fail "the scene's field was not saved"
+[ "$(sed -n 2p "$work/union.sdf")" = "source bunny.obj+far.obj" ] || fail "the scene's field does not name both models: $(sed -n 2p "$work/union.sdf")"
+echo "scene of two models baked: $(sed -n 2,3p "$work/union.sdf" | tr '\n' ' ')"
+grep -qx "$work/bunny.obj" "$work/config/sdfgen/recent.txt" || fail "the recent files do not list the bunny"
 stop
 
 # --- at 400 ms per frame: a tapped F reframes, a click toggles.
