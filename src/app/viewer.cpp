@@ -495,11 +495,10 @@ private:
         const glm::ivec2 fb = context_.framebufferSize();
         const ImVec2 display = ImGui::GetIO().DisplaySize;
         const glm::ivec2 pixel(int(input.x * fb.x / std::max(display.x, 1.0f)), int(input.y * fb.y / std::max(display.y, 1.0f)));
-        // The depth comes from the frame without markers: grid pixels are not probed.
-        const bool gridWasOn = scene_.views.grid;
         glm::vec3 point;
         if (!scene_.surfaceAt(pixel, point)) return;
-        if (gridWasOn && sceneMesh_ && std::abs(point.y - sceneMesh_->bounds.min.y) < 1e-4f * camera_.sceneRadius) return;
+        // Pixels of the grid (the plane under the model, within depth precision) are not probed.
+        if (scene_.views.grid && std::abs(point.y - sceneMesh_->bounds.min.y) < 1e-4f * camera_.distance) return;
         probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, sceneMesh_.get(), tree_.get());
         probeValid_ = true;
         probePointer_ = glm::ivec2(int(input.x), int(input.y));
