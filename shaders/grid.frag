@@ -1,5 +1,5 @@
 #version 450 core
-// Infinite grid on the y = 0 plane: the pixel's ray meets the plane at p; lines are drawn from the
+// Infinite grid on the plane y = planeY (under the model): the pixel's ray meets the plane at p; lines are drawn from the
 // screen-space derivative of p (constant width at any distance), faded with distance and at
 // grazing angles, and the plane's depth is written so that the scene occludes it correctly.
 in vec2 vNdc;
@@ -7,7 +7,7 @@ out vec4 colour;
 
 uniform mat4 inverseViewProjection;
 uniform mat4 viewProjection;
-uniform vec3 eye;
+uniform float planeY;
 uniform float cell;         // minor line spacing; major lines every 10 cells
 uniform float fadeDistance; // beyond about this distance the grid is gone
 
@@ -20,9 +20,10 @@ float lines(vec2 coord) {
 void main() {
     vec4 nearPoint = inverseViewProjection * vec4(vNdc, -1.0, 1.0);
     vec4 farPoint = inverseViewProjection * vec4(vNdc, 1.0, 1.0);
-    vec3 dir = normalize(farPoint.xyz / farPoint.w - nearPoint.xyz / nearPoint.w);
-    float t = abs(dir.y) > 1e-7 ? -eye.y / dir.y : -1.0;
-    vec3 p = eye + max(t, 0.0) * dir;
+    vec3 origin = nearPoint.xyz / nearPoint.w; // from the near plane: right for orthographic views too
+    vec3 dir = normalize(farPoint.xyz / farPoint.w - origin);
+    float t = abs(dir.y) > 1e-7 ? (planeY - origin.y) / dir.y : -1.0;
+    vec3 p = origin + max(t, 0.0) * dir;
 
     // Derivatives are taken before any discard.
     float minor = lines(p.xz / cell);

@@ -1,5 +1,6 @@
 #version 450 core
 // Flat-shaded Lambert ("Coloured Model") or a plain line colour for the wireframe ("Polygon").
+// `eye` is the viewer's side of each face (for orthographic views, a point far behind the camera).
 in vec3 vPosition;
 in vec3 vNormal;
 out vec4 colour;
@@ -7,7 +8,7 @@ out vec4 colour;
 uniform vec3 eye;
 uniform int wire;
 
-const vec3 lightDirection = normalize(vec3(0.45, 0.8, 0.35));
+uniform vec3 lightDirection; // towards the light (a headlight follows the camera)
 
 void main() {
     if (wire != 0) {

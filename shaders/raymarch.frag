@@ -3,20 +3,21 @@
 // jumps straight to the box (the distance to the box is exact there); inside, it steps by the
 // sampled distance. At a hit: normal from the field's gradient (central differences), Lambert
 // light, soft shadows (a second march towards the light, penumbra from the closest approach)
-// and ambient occlusion (the field sampled along the normal). Writes the hit's depth.
+// and ambient occlusion (the field sampled along the normal). Writes the hit's depth. `iso` offsets
+// the surface: the level set field = iso.
 in vec2 vNdc;
 out vec4 colour;
 
 uniform mat4 inverseViewProjection;
 uniform mat4 viewProjection;
-uniform vec3 eye;
 uniform sampler3D field;
 uniform vec3 boxMin;
 uniform vec3 boxSize;
 uniform float voxel;
 uniform int shadows;
 
-const vec3 lightDirection = normalize(vec3(0.45, 0.8, 0.35));
+uniform vec3 lightDirection; // towards the light
+uniform float iso;           // the level set drawn: 0 is the surface, > 0 offset outwards
 
 vec2 boxHits(vec3 origin, vec3 dir) {
     vec3 inv = 1.0 / dir;
@@ -25,7 +26,7 @@ vec2 boxHits(vec3 origin, vec3 dir) {
     return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
 }
 
-float sdf(vec3 p) { return texture(field, (p - boxMin) / boxSize).r; }
+float sdf(vec3 p) { return texture(field, (p - boxMin) / boxSize).r - iso; }
 
 vec3 gradient(vec3 p) {
     float h = 0.5 * voxel;
@@ -61,7 +62,8 @@ float ambientOcclusion(vec3 p, vec3 n) {
 void main() {
     vec4 nearPoint = inverseViewProjection * vec4(vNdc, -1.0, 1.0);
     vec4 farPoint = inverseViewProjection * vec4(vNdc, 1.0, 1.0);
-    vec3 dir = normalize(farPoint.xyz / farPoint.w - nearPoint.xyz / nearPoint.w);
+    vec3 eye = nearPoint.xyz / nearPoint.w; // rays from the near plane: right for orthographic views too
+    vec3 dir = normalize(farPoint.xyz / farPoint.w - eye);
     vec2 span = boxHits(eye, dir);
     if (span.x >= span.y || span.y <= 0.0) discard;
 
@@ -89,6 +91,8 @@ void main() {
     vec3 base = vec3(0.72, 0.78, 0.86);
     float sky = 0.5 + 0.5 * n.y;
     colour = vec4(base * (0.05 + 0.8 * light * shadow + 0.35 * sky * occlusion), 1.0); // never black
-    vec4 clip = viewProjection * vec4(p, 1.0);
+    // The depth written is a voxel nearer than the hit: the trilinear surface lies within about half
+    // a voxel of the mesh, so where both are drawn the ray-marched one wins instead of z-fighting.
+    vec4 clip = viewProjection * vec4(p - dir * voxel, 1.0);
     gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
 }

@@ -1,6 +1,6 @@
 #version 450 core
-// Signed distance on the slice: a diverging colour map (blue outside, red inside, white at the
-// surface), thin iso-distance contours every `spacing`, and a bold zero contour (the surface).
+// Signed distance on the slice through the colour map (colormap.glsl), thin iso-distance contours
+// every `spacing`, and a bold zero contour (the surface).
 in vec3 vUvw;
 out vec4 colour;
 
@@ -8,12 +8,11 @@ uniform sampler3D field;
 uniform float spacing; // distance between contour lines
 uniform float range;   // distance at which the colour map saturates
 
+#include "colormap.glsl"
+
 void main() {
     float d = texture(field, vUvw).r;
-    float s = clamp(d / range, -1.0, 1.0);
-    vec3 outside = vec3(0.23, 0.30, 0.75), inside = vec3(0.71, 0.02, 0.15), middle = vec3(0.87);
-    vec3 rgb = s > 0.0 ? mix(middle, outside, sqrt(s)) : mix(middle, inside, sqrt(-s));
-
+    vec3 rgb = colourOf(d / range);
     float level = d / spacing;
     float contour = 1.0 - smoothstep(0.0, 1.2, abs(fract(level - 0.5) - 0.5) / max(fwidth(level), 1e-6));
     rgb = mix(rgb, rgb * 0.55, contour);

@@ -1,19 +1,15 @@
 #version 450 core
-// The slice plane: a quad across the field's box at `position` (0..1) along `axis`.
+// The slice plane: the polygon where the plane cuts the field's box (3 to 6 corners, a fan),
+// computed on the CPU for any orientation.
 uniform mat4 viewProjection;
 uniform vec3 boxMin;
 uniform vec3 boxSize;
-uniform int axis;
-uniform float position;
+uniform vec3 corners[6];
 
 out vec3 vUvw; // texture coordinate in the field
 
 void main() {
-    vec2 corner = vec2(float(gl_VertexID & 1), float((gl_VertexID >> 1) & 1));
-    vec3 uvw;
-    if (axis == 0) uvw = vec3(position, corner.x, corner.y);
-    else if (axis == 1) uvw = vec3(corner.x, position, corner.y);
-    else uvw = vec3(corner.x, corner.y, position);
-    vUvw = uvw;
-    gl_Position = viewProjection * vec4(boxMin + uvw * boxSize, 1.0);
+    vec3 p = corners[gl_VertexID];
+    vUvw = (p - boxMin) / boxSize;
+    gl_Position = viewProjection * vec4(p, 1.0);
 }

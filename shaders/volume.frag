@@ -1,13 +1,12 @@
 #version 450 core
 // SDF colour volume: march each pixel's ray through the field's box and accumulate colour front to
-// back through a transfer function of the signed distance d: a green shell where |d| is small,
-// red inside (d < 0), and a faint green haze fading with distance outside. The ray stops at the
+// back: the colour is the colour bar's map of the signed distance d (colormap.glsl); the opacity is
+// high in a shell where |d| is small, moderate inside (d < 0), and a faint haze fading outside. The ray stops at the
 // opaque scene depth, so the volume sits correctly around the mesh and the other views.
 in vec2 vNdc;
 out vec4 colour; // premultiplied
 
 uniform mat4 inverseViewProjection;
-uniform vec3 eye;
 uniform sampler3D field;
 uniform sampler2D sceneDepth;
 uniform vec3 boxMin;
@@ -15,6 +14,9 @@ uniform vec3 boxSize;
 uniform float voxel;
 uniform float band;    // the shell's length scale
 uniform float density; // overall opacity scale
+uniform float range;   // distance at which the colour map saturates
+
+#include "colormap.glsl"
 
 vec2 boxHits(vec3 origin, vec3 dir) {
     vec3 inv = 1.0 / dir;
@@ -26,7 +28,8 @@ vec2 boxHits(vec3 origin, vec3 dir) {
 void main() {
     vec4 nearPoint = inverseViewProjection * vec4(vNdc, -1.0, 1.0);
     vec4 farPoint = inverseViewProjection * vec4(vNdc, 1.0, 1.0);
-    vec3 dir = normalize(farPoint.xyz / farPoint.w - nearPoint.xyz / nearPoint.w);
+    vec3 eye = nearPoint.xyz / nearPoint.w; // rays from the near plane: right for orthographic views too
+    vec3 dir = normalize(farPoint.xyz / farPoint.w - eye);
     vec2 span = boxHits(eye, dir);
     span.x = max(span.x, 0.0);
 
@@ -49,14 +52,12 @@ void main() {
         float d = texture(field, (eye + (t + 0.5 * stepLength) * dir - boxMin) / boxSize).r;
         float ds = min(d > 0.0 ? clamp(0.5 * (d - 3.0 * band), stepLength, 8.0 * stepLength) : stepLength, span.y - t);
         float shell = exp(-(d * d) / (band * band));
-        vec3 rgb;
+        vec3 rgb = colourOf(d / range); // the colour bar's map
         float sigma; // extinction per unit length
         if (d < 0.0) {
-            rgb = mix(vec3(0.95, 0.12, 0.08), vec3(0.2, 1.0, 0.3), shell);
             sigma = mix(6.0, 14.0, shell) / longest;
         } else {
             float haze = exp(-d / (0.08 * longest));
-            rgb = vec3(0.2, 1.0, 0.3);
             sigma = (14.0 * shell + 1.5 * haze) / longest;
         }
         float a = 1.0 - exp(-sigma * density * ds);

@@ -1,4 +1,5 @@
 #pragma once
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/ext/vector_double3.hpp>
 #include <cstddef>
@@ -62,6 +63,19 @@ Mesh buildMesh(std::string source, std::vector<glm::dvec3> positions, std::vecto
 // in Mesh::warnings when that rounding cannot resolve the mesh (extent below ~1e-5 of its distance
 // from the world origin).
 Mesh buildMesh(std::string source, const std::vector<glm::vec3>& positions, std::vector<glm::uvec3> triangles);
+
+// One part of a scene: a mesh placed by an affine transform (local to world, column vectors).
+struct MeshInstance {
+    const Mesh* mesh = nullptr;
+    glm::dmat4 transform{1.0};
+};
+
+// The scene's parts as one mesh: every part's triangles, transformed (mirroring transforms have
+// their triangles' winding reversed, so normals still point out). Baking it gives the union of the
+// solids: the generalized winding number of the concatenated soup is >= 1 inside any part, and
+// the distance to it is the minimum over all parts. `source` names the result (for the field's
+// source line). Throws Error for no parts or a non-finite transform. Defined in mesh_merge.cpp.
+Mesh mergeMeshes(const std::vector<MeshInstance>& parts, std::string source);
 
 // Loads a Wavefront OBJ (polygons are triangulated). Throws Error("PATH: problem") on any bad input.
 Mesh loadObj(const std::string& path);

@@ -4,7 +4,7 @@
 
 namespace sdfgen::app {
 
-void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, int threads) {
+void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options) {
     stop();
     cancel_ = false;
     finished_ = false;
@@ -12,13 +12,13 @@ void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& set
     result_.reset();
     error_.clear();
     started_ = std::chrono::steady_clock::now();
-    thread_ = std::thread([this, mesh, settings, threads] {
+    thread_ = std::thread([this, mesh, settings, options] {
         std::optional<BakeResult> result;
         std::string error;
         try {
             const Model model(*mesh);
             RunControl control;
-            control.threads = threads;
+            control.threads = options.threads;
             control.cancel = &cancel_;
             control.progress = [this](double fraction) { progress_ = fraction; };
             result = model.bake(settings, control);

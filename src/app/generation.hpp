@@ -13,16 +13,23 @@
 
 namespace sdfgen::app {
 
+// How a bake runs, beside what it bakes (BakeSettings): the place for a device choice.
+struct GenerationOptions {
+    int threads = 0; // 0: all cores
+};
+
 // A bake running on a background thread, watched from the UI thread: progress, cancel, result.
 class Generation {
 public:
     ~Generation() { stop(); }
-    // Starts baking `mesh` (the mesh must outlive the job; it is shared).
-    void start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, int threads);
+    // Starts baking `mesh` (shared, so it outlives the job).
+    void start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options);
     // Asks the job to stop and waits for it.
     void stop();
     void cancel() { cancel_ = true; }
     bool running() const { return thread_.joinable() && !finished_; }
+    // Running, or finished with a result not collected yet.
+    bool pending() const { return thread_.joinable(); }
     double progress() const { return progress_; }
     double elapsed() const;
     // When the job has finished since the last call: joins it, hands over the result (empty on

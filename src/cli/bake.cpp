@@ -18,7 +18,7 @@ namespace sdfgen::cli {
 namespace {
 
 struct BakeArgs {
-    std::string mesh;
+    std::vector<std::string> meshes;
     std::string output;
     BakeSettings settings;
     SaveOptions save;
@@ -32,11 +32,11 @@ void runBake(const BakeArgs& args) {
     if (args.save.band > 0 && extension != ".vdb") {
         throw Error("--band applies to .vdb output only (" + args.output + ")");
     }
-    refuseOverwritingInput(args.output, {args.mesh});
-    const Model model = Model::load(args.mesh);
+    refuseOverwritingInput(args.output, args.meshes);
+    const Model model(loadScene(args.meshes));
     const Mesh& mesh = model.mesh();
     if (mesh.droppedDegenerate > 0) {
-        std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", args.mesh.c_str(), mesh.droppedDegenerate);
+        std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", mesh.source.c_str(), mesh.droppedDegenerate);
     }
     for (const std::string& warning : mesh.warnings) std::fprintf(stderr, "sdfgen: warning: %s\n", warning.c_str());
     RunControl control;
@@ -52,10 +52,10 @@ void runBake(const BakeArgs& args) {
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const Grid& g = result.field.grid;
     std::printf("%s -> %s: %zu triangles, %dx%dx%d voxels, method %s, sign %s, %d threads, %.3f s, %.0f voxels/s\n",
-                args.mesh.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
+                mesh.source.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
-    for (const std::string& warning : result.warnings) std::fprintf(stderr, "sdfgen: warning: %s: %s\n", args.mesh.c_str(), warning.c_str());
+    for (const std::string& warning : result.warnings) std::fprintf(stderr, "sdfgen: warning: %s: %s\n", mesh.source.c_str(), warning.c_str());
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
 }
 
@@ -64,7 +64,7 @@ void runBake(const BakeArgs& args) {
 void addBakeCommand(CLI::App& app) {
     auto args = std::make_shared<BakeArgs>();
     CLI::App* bake = app.add_subcommand("bake", "Generate a signed distance field from a mesh and save it (format from the extension)");
-    bake->add_option("mesh", args->mesh, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)")->required();
+    bake->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several give the field of their union")->required();
     bake->add_option("-o,--output", args->output, "Output field file: " + fieldFormatList() + " (docs/field-format.md)")->required();
     bake->add_option("--band", args->save.band, "For .vdb: keep only voxels within this many voxels of the surface (0 = dense)")
         ->check(CLI::NonNegativeNumber)

@@ -27,6 +27,8 @@ CLI::Validator finiteRange(double min, double max);
 
 // Refuses (Error) an output path that names one of the inputs, also through symbolic or hard links.
 void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs);
+// One mesh, or several merged into one scene (mergeMeshes, in place, named "A.obj+B.obj").
+Mesh loadScene(const std::vector<std::string>& paths);
 
 // The mesh the project ships, used when a command is given none.
 std::string defaultMeshPath();

@@ -1,5 +1,6 @@
 // sdfgen command line: a thin front end over the core library. With no command, or `view`, it
-// opens the viewer window (in builds with the viewer, SDFGEN_HAS_VIEWER).
+// opens the viewer window (in builds with the viewer, SDFGEN_HAS_VIEWER); `sdfgen MESH...` (what a
+// file manager's "open with" runs) opens it on those meshes.
 #if SDFGEN_HAS_VIEWER
 #include "app/viewer.hpp"
 #endif
@@ -8,6 +9,8 @@
 
 #include <cstdio>
 #include <new>
+#include <string>
+#include <vector>
 
 int main(int argc, char** argv) {
     CLI::App app{"sdfgen: signed distance fields from triangle meshes. With no command, opens the viewer."};
@@ -16,21 +19,26 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
     sdfgen::cli::addSurfaceCommand(app);
-#if SDFGEN_HAS_VIEWER
-    sdfgen::cli::addRenderCommand(app);
     sdfgen::cli::addSampleCommand(app);
     int exitCode = 0;
     sdfgen::cli::addBatchCommand(app, exitCode);
-    std::string viewMesh;
+#if SDFGEN_HAS_VIEWER
+    sdfgen::cli::addRenderCommand(app);
+    std::vector<std::string> viewMeshes;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
-    view->add_option("mesh", viewMesh, "Mesh to open (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)");
+    view->add_option("mesh", viewMeshes, "Meshes to open (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several make one scene");
+    // Words that are not a command are meshes to view. CLI11 matches command names first, so
+    // `sdfgen bake ...` still runs bake.
+    std::vector<std::string> meshes;
+    app.add_option("mesh", meshes, "Meshes to open in the viewer (like `sdfgen view MESH...`)");
 #else
     app.footer("This sdfgen was built without the viewer (-DSDFGEN_VIEWER=OFF): no view or render command.");
 #endif
     try {
         app.parse(argc, argv);
 #if SDFGEN_HAS_VIEWER
-        if (app.get_subcommands().empty() || view->parsed()) return sdfgen::app::runViewer(viewMesh);
+        if (view->parsed()) return sdfgen::app::runViewer(viewMeshes);
+        if (app.get_subcommands().empty()) return sdfgen::app::runViewer(meshes);
 #else
         if (app.get_subcommands().empty()) {
             std::fputs(app.help().c_str(), stderr);

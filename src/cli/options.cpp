@@ -65,6 +65,19 @@ void refuseOverwritingInput(const std::string& output, const std::vector<std::st
     }
 }
 
+Mesh loadScene(const std::vector<std::string>& paths) {
+    if (paths.size() == 1) return loadMesh(paths[0]);
+    std::vector<Mesh> meshes;
+    std::vector<MeshInstance> parts;
+    std::string name;
+    for (const std::string& path : paths) {
+        meshes.push_back(loadMesh(path));
+        name += (name.empty() ? "" : "+") + std::filesystem::path(path).filename().string();
+    }
+    for (const Mesh& mesh : meshes) parts.push_back({&mesh, glm::dmat4(1.0)});
+    return mergeMeshes(parts, name);
+}
+
 std::string defaultMeshPath() {
     // Next to the source tree the binary was built from, or beside an installed binary.
     const std::filesystem::path built = std::filesystem::path(SDFGEN_SOURCE_DIR) / "assets" / "bunny.obj";

@@ -6,6 +6,7 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
+#include "sdfgen/field_match.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
 #include "render/osmesa_context.hpp"
@@ -21,14 +22,21 @@ namespace sdfgen::cli {
 namespace {
 
 struct RenderArgs {
-    std::string mesh;
+    std::vector<std::string> meshes;
     std::string sdf;
     std::string output;
     std::string views = "grid,mesh";
     std::string camera = "30,20,1";
     std::string size = "800x600";
     std::string sliceAxis = "z";
+    std::string sliceNormal;
     float slicePosition = 0.5f;
+    float iso = 0.0f;
+    std::string colormap = "diverging";
+    float colourRange = 0.0f;
+    bool noColourBar = false;
+    bool orthographic = false;
+    bool wireSeeThrough = false;
     std::string background;
     bool noShadows = false;
     int repeat = 0;
@@ -58,10 +66,21 @@ void runRender(const RenderArgs& args) {
     const std::vector<float> camera = parseNumbers(args.camera, ',', 3, "--camera (yaw,pitch,zoom)");
     const std::vector<float> size = parseNumbers(args.size, 'x', 2, "--size (WIDTHxHEIGHT)");
     if (!(camera[2] > 0.0f)) throw Error("--camera zoom must be positive");
-    refuseOverwritingInput(args.output, {args.mesh, args.sdf});
+    std::vector<std::string> inputs = args.meshes;
+    inputs.push_back(args.sdf);
+    refuseOverwritingInput(args.output, inputs);
     render::Views views = render::Views::parse(args.views);
     const int axis = args.sliceAxis == "x" ? 0 : args.sliceAxis == "y" ? 1 : args.sliceAxis == "z" ? 2 : -1;
     if (axis < 0) throw Error("--slice-axis must be x, y or z");
+    glm::vec3 sliceNormal = render::axisNormal(axis);
+    if (!args.sliceNormal.empty()) {
+        const std::vector<float> n = parseNumbers(args.sliceNormal, ',', 3, "--slice-normal (x,y,z)");
+        sliceNormal = glm::vec3(n[0], n[1], n[2]);
+        if (!(glm::length(sliceNormal) > 0.0f)) throw Error("--slice-normal must not be zero");
+        sliceNormal = glm::normalize(sliceNormal);
+    }
+    const int colormap = args.colormap == "diverging" ? 0 : args.colormap == "viridis" ? 1 : args.colormap == "grey" ? 2 : -1;
+    if (colormap < 0) throw Error("--colormap must be diverging, viridis or grey");
 
     constexpr float kMaxSide = 16384.0f; // OSMesa's largest framebuffer
     if (!(size[0] >= 1.0f && size[0] <= kMaxSide && size[1] >= 1.0f && size[1] <= kMaxSide) ||
@@ -70,12 +89,15 @@ void runRender(const RenderArgs& args) {
     }
     const glm::ivec2 pixels{int(size[0]), int(size[1])};
 
-    const Model model = Model::load(args.mesh);
+    const Model model(loadScene(args.meshes));
     const Mesh& mesh = model.mesh();
     Field field;
-    const bool needField = views.volume || views.raymarch || views.slice;
+    const bool needField = views.volume || views.raymarch || views.slice || views.box;
     if (!args.sdf.empty()) {
         field = loadField(args.sdf);
+        if (const std::string mismatch = fieldMismatch(field, mesh); !mismatch.empty()) {
+            std::fprintf(stderr, "sdfgen: warning: %s: %s\n", args.sdf.c_str(), mismatch.c_str());
+        }
     } else if (needField) {
         RunControl control;
         control.threads = args.threads;
@@ -87,9 +109,14 @@ void runRender(const RenderArgs& args) {
     std::unique_ptr<render::GlContext> context = render::createOsMesaContext(pixels);
     render::Scene scene;
     scene.views = views;
-    scene.sliceAxis = axis;
+    scene.sliceNormal = sliceNormal;
     scene.slicePosition = args.slicePosition;
     scene.shadows = !args.noShadows;
+    scene.iso = args.iso;
+    scene.colormap = colormap;
+    scene.colourRange = args.colourRange;
+    scene.colourBar = !args.noColourBar;
+    scene.wireSeeThrough = args.wireSeeThrough;
     if (!args.background.empty()) {
         const std::vector<float> rgb = parseNumbers(args.background, ',', 3, "--background (r,g,b in 0..1)");
         for (float channel : rgb) {
@@ -103,6 +130,7 @@ void runRender(const RenderArgs& args) {
     render::OrbitCamera orbit;
     orbit.yaw = camera[0];
     orbit.pitch = camera[1];
+    orbit.orthographic = args.orthographic;
     orbit.frame(mesh.worldBounds(), camera[2]);
     scene.draw(orbit, pixels);
     context->present();
@@ -123,18 +151,29 @@ void runRender(const RenderArgs& args) {
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* render = app.add_subcommand("render", "Render views of a mesh and its field to a PNG, headless (OSMesa, no display needed)");
-    render->add_option("mesh", args->mesh, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)")->required();
+    render->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several make one scene")->required();
     render->add_option("-o,--output", args->output, "Output PNG file")->required();
     render->add_option("--sdf", args->sdf, "Field file to show (default: bake one from the mesh when a view needs it)");
-    render->add_option("--view", args->views, "Comma-separated views: grid, mesh, wire, volume, raymarch, slice (or all, none)")
+    render->add_option("--view", args->views, "Comma-separated views: grid, mesh, wire, volume, raymarch, slice, box (or all, none)")
         ->capture_default_str();
     render->add_option("--camera", args->camera, "Orbit camera: yaw,pitch in degrees and zoom (1 frames the mesh; 2 is twice as far)")
         ->capture_default_str();
     render->add_option("--size", args->size, "Image size in pixels, WIDTHxHEIGHT")->capture_default_str();
     render->add_option("--slice-axis", args->sliceAxis, "Axis the slice view cuts across: x, y or z")->capture_default_str();
-    render->add_option("--slice-pos", args->slicePosition, "Slice position across the field's box, 0 to 1")
+    render->add_option("--slice-normal", args->sliceNormal, "Slice plane at any orientation: its normal x,y,z (instead of --slice-axis)");
+    render->add_option("--slice-pos", args->slicePosition, "Slice position across the field's box along its normal, 0 to 1")
         ->check(finiteRange(0.0, 1.0))
         ->capture_default_str();
+    render->add_option("--iso", args->iso, "Level set the raymarch view shows (0: the surface; > 0 outwards, < 0 inwards)")
+        ->capture_default_str();
+    render->add_option("--colormap", args->colormap, "Colour map of the slice, volume and colour bar: diverging, viridis or grey")
+        ->capture_default_str();
+    render->add_option("--range", args->colourRange, "Distance at which the colour map saturates (0: a quarter of the field's box)")
+        ->check(CLI::Range(0.0f, 1e30f))
+        ->capture_default_str();
+    render->add_flag("--no-colour-bar", args->noColourBar, "No colour bar beside the slice and volume views");
+    render->add_flag("--ortho", args->orthographic, "Orthographic camera instead of perspective");
+    render->add_flag("--see-through", args->wireSeeThrough, "The wire view shows hidden edges too");
     render->add_option("--background", args->background, "Background colour r,g,b in 0..1 (default: dark grey)");
     render->add_flag("--no-shadows", args->noShadows, "Ray-marched view without soft shadows and ambient occlusion");
     render->add_option("--repeat", args->repeat, "Draw the frame N more times and print the mean frame time")

@@ -4,6 +4,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <cmath>
 
 namespace sdfgen::render {
 
@@ -50,13 +51,14 @@ namespace {
 void setRayUniforms(Program& program, const FrameInfo& frame) {
     program.set("inverseViewProjection", frame.inverseViewProjection);
     program.set("viewProjection", frame.viewProjection);
-    program.set("eye", frame.eye);
+    program.set("lightDirection", frame.lightDirection);
 }
 } // namespace
 
 VolumeRenderer::VolumeRenderer() : program_("fullscreen.vert", "volume.frag") { glCreateVertexArrays(1, &vao_); }
 
-void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density) {
+void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density, float range,
+                          int colormap) {
     if (field.empty()) return;
     program_.use();
     setRayUniforms(program_, frame);
@@ -64,6 +66,8 @@ void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLu
     glBindTextureUnit(1, depthTexture);
     program_.set("sceneDepth", 1);
     program_.set("density", density);
+    program_.set("range", range);
+    program_.set("colormap", colormap);
     // The transfer function's length scale: the green shell is a few voxels thick.
     program_.set("band", 2.5f * field.voxel());
     glBindVertexArray(vao_);
@@ -72,31 +76,68 @@ void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLu
 
 RaymarchRenderer::RaymarchRenderer() : program_("fullscreen.vert", "raymarch.frag") { glCreateVertexArrays(1, &vao_); }
 
-void RaymarchRenderer::draw(const FrameInfo& frame, const FieldTexture& field, bool shadows) {
+void RaymarchRenderer::draw(const FrameInfo& frame, const FieldTexture& field, bool shadows, float iso) {
     if (field.empty()) return;
     program_.use();
     setRayUniforms(program_, frame);
     field.setUniforms(program_);
     program_.set("shadows", shadows ? 1 : 0);
+    program_.set("iso", iso);
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
+std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position) {
+    glm::vec3 corners[8];
+    float lowest = INFINITY, highest = -INFINITY;
+    for (int c = 0; c < 8; ++c) {
+        corners[c] = boxMin + boxSize * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+        lowest = std::min(lowest, glm::dot(normal, corners[c]));
+        highest = std::max(highest, glm::dot(normal, corners[c]));
+    }
+    // Kept a hair inside the box so that an axis-aligned plane at 0 or 1 still cuts it.
+    const float level = lowest + (highest - lowest) * std::clamp(position, 1e-4f, 1.0f - 1e-4f);
+    std::vector<glm::vec3> points;
+    for (int a = 0; a < 8; ++a) {
+        for (int axis = 0; axis < 3; ++axis) {
+            const int b = a | (1 << axis);
+            if (b == a) continue; // each of the 12 edges once, from its lower corner
+            const float da = glm::dot(normal, corners[a]) - level, db = glm::dot(normal, corners[b]) - level;
+            if ((da < 0.0f) == (db < 0.0f)) continue;
+            points.push_back(glm::mix(corners[a], corners[b], da / (da - db)));
+        }
+    }
+    if (points.size() < 3) return {};
+    // The cut is convex: order its corners by angle about their centre, in the plane.
+    glm::vec3 centre(0.0f);
+    for (const glm::vec3& p : points) centre += p;
+    centre /= float(points.size());
+    const glm::vec3 u = glm::normalize(points[0] - centre + glm::vec3(1e-12f));
+    const glm::vec3 v = glm::cross(normal, u);
+    std::sort(points.begin(), points.end(), [&](const glm::vec3& p, const glm::vec3& q) {
+        return std::atan2(glm::dot(p - centre, v), glm::dot(p - centre, u)) < std::atan2(glm::dot(q - centre, v), glm::dot(q - centre, u));
+    });
+    return points;
+}
+
 SliceRenderer::SliceRenderer() : program_("slice.vert", "slice.frag") { glCreateVertexArrays(1, &vao_); }
 
-void SliceRenderer::draw(const FrameInfo& frame, const FieldTexture& field, int axis, float position) {
+void SliceRenderer::draw(const FrameInfo& frame, const FieldTexture& field, glm::vec3 normal, float position, float range,
+                         int colormap) {
     if (field.empty()) return;
+    const std::vector<glm::vec3> polygon = slicePolygon(field.boxMin(), field.boxSize(), normal, position);
+    if (polygon.empty()) return;
     program_.use();
     program_.set("viewProjection", frame.viewProjection);
     field.setUniforms(program_);
-    program_.set("axis", std::clamp(axis, 0, 2));
-    program_.set("position", std::clamp(position, 0.0f, 1.0f));
-    // Contours a power-of-two fraction of the box apart, about 24 across its longest side.
+    glUniform3fv(glGetUniformLocation(program_.id(), "corners"), GLsizei(polygon.size()), &polygon[0].x);
+    // Contours a fixed fraction of the box apart, about 24 across its longest side.
     const float longest = std::max({field.boxSize().x, field.boxSize().y, field.boxSize().z});
     program_.set("spacing", longest / 24.0f);
-    program_.set("range", longest * 0.25f);
+    program_.set("range", range);
+    program_.set("colormap", colormap);
     glBindVertexArray(vao_);
-    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glDrawArrays(GL_TRIANGLE_FAN, 0, GLsizei(polygon.size()));
 }
 
 } // namespace sdfgen::render

@@ -5,7 +5,10 @@
 
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <unistd.h>
 
 namespace sdfgen::render {
 

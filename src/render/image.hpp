@@ -17,7 +17,8 @@ struct Image {
 // Reads the bound read framebuffer's colour (glReadPixels), flipped so the top row comes first.
 Image readFramebuffer(int width, int height);
 
-// PNG files through stb; errors throw Error naming the file.
+// PNG files through stb; errors throw Error naming the file. Saving is atomic (a temporary file in
+// the same folder, renamed over the target).
 void savePng(const Image& image, const std::string& path);
 Image loadPng(const std::string& path);
 

@@ -47,12 +47,27 @@ void MeshRenderer::drawShaded(const FrameInfo& frame) {
     program_.use();
     program_.set("viewProjection", frame.viewProjection);
     program_.set("eye", frame.eye);
+    program_.set("lightDirection", frame.lightDirection);
     program_.set("wire", 0);
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.0f, 1.0f); // behind the wireframe drawn over it
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, vertexCount_);
     glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void MeshRenderer::drawDepth(const FrameInfo& frame) {
+    if (empty()) return;
+    program_.use();
+    program_.set("viewProjection", frame.viewProjection);
+    program_.set("wire", 0);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.0f, 1.0f);
+    glBindVertexArray(vao_);
+    glDrawArrays(GL_TRIANGLES, 0, vertexCount_);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 void MeshRenderer::drawWire(const FrameInfo& frame) {

@@ -8,6 +8,7 @@
 
 #include <glm/mat4x4.hpp>
 #include <memory>
+#include <vector>
 
 namespace sdfgen::render {
 
@@ -17,19 +18,20 @@ struct FrameInfo {
     glm::mat4 projection{1.0f};
     glm::mat4 viewProjection{1.0f};
     glm::mat4 inverseViewProjection{1.0f};
-    glm::vec3 eye{0.0f};
+    glm::vec3 eye{0.0f};         // the camera (orthographic: far behind it, for the mesh's facing test)
+    glm::vec3 lightDirection{0.0f, 1.0f, 0.0f}; // towards the light, world space
     glm::ivec2 size{1, 1};
     float cameraDistance = 1.0f;
     float sceneRadius = 1.0f;
 };
 
-// The infinite grid on the y = 0 plane: a full-screen pass that intersects each pixel's ray with
-// the plane, draws minor and major lines with the x axis red and the z axis blue, fades them with
-// distance and writes the plane's depth, so that anything in front hides it.
+// The infinite grid on the plane y = planeY: a full-screen pass that intersects each pixel's ray
+// with the plane, draws minor and major lines with the x axis red and the z axis blue, fades them
+// with distance and writes the plane's depth, so that anything in front hides it.
 class GridRenderer {
 public:
     GridRenderer();
-    void draw(const FrameInfo& frame);
+    void draw(const FrameInfo& frame, float planeY);
 
 private:
     Program program_;
@@ -45,7 +47,10 @@ public:
     void clear();
     bool empty() const { return vertexCount_ == 0; }
     void drawShaded(const FrameInfo& frame);
-    // Lines over whatever is in the depth buffer (the shaded pass is offset behind them).
+    // Only the depth of the faces, pushed back a little, so that the wireframe drawn over it shows
+    // just the visible edges (hidden-line removal).
+    void drawDepth(const FrameInfo& frame);
+    // Lines over whatever is in the depth buffer (the shaded and depth passes are offset behind them).
     void drawWire(const FrameInfo& frame);
 
 private:
@@ -86,36 +91,67 @@ private:
 class VolumeRenderer {
 public:
     VolumeRenderer();
-    void draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density);
+    // `range`: the distance at which the colour map saturates; `colormap` as in colormap.glsl.
+    void draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density, float range, int colormap);
 
 private:
     Program program_;
     GLuint vao_ = 0;
 };
 
-// Sphere tracing of the field: jumps to the box when outside it, then steps by the sampled
-// distance; normals from the gradient, Lambert + soft shadows + ambient occlusion from the field;
-// writes the hit's depth.
+// Sphere tracing of the level set field = iso (0: the surface): jumps to the box when outside it,
+// then steps by the sampled distance; normals from the gradient, Lambert + soft shadows + ambient
+// occlusion from the field; writes the hit's depth (a voxel nearer, so it wins over the mesh).
 class RaymarchRenderer {
 public:
     RaymarchRenderer();
-    void draw(const FrameInfo& frame, const FieldTexture& field, bool shadows);
+    void draw(const FrameInfo& frame, const FieldTexture& field, bool shadows, float iso);
 
 private:
     Program program_;
     GLuint vao_ = 0;
 };
 
-// An axis-aligned plane through the box at `position` (0..1 along `axis`), coloured by signed
-// distance with a diverging map, iso-distance contours and an emphasised zero contour.
+// The polygon where a plane cuts the box [boxMin, boxMin + boxSize] (3 to 6 corners in order;
+// empty when it misses). The plane has unit `normal` and sits at `position` (0..1) between the
+// box's lowest and highest corner along the normal.
+std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position);
+
+// A plane through the box at any orientation (see slicePolygon), coloured by signed distance with
+// the colour map, iso-distance contours and an emphasised zero contour.
 class SliceRenderer {
 public:
     SliceRenderer();
-    void draw(const FrameInfo& frame, const FieldTexture& field, int axis, float position);
+    void draw(const FrameInfo& frame, const FieldTexture& field, glm::vec3 normal, float position, float range, int colormap);
 
 private:
     Program program_;
     GLuint vao_ = 0;
+};
+
+// World-space line segments (pairs of points) in one colour, depth-tested or on top.
+class LineRenderer {
+public:
+    LineRenderer();
+    ~LineRenderer();
+    void draw(const FrameInfo& frame, const std::vector<glm::vec3>& segments, glm::vec4 colour);
+
+private:
+    Program program_;
+    GLuint vao_ = 0, vbo_ = 0;
+};
+
+// The colour bar: the colour map from -range (bottom, inside) to +range (top, outside) at the right
+// edge of the frame, with its values and units written beside it (stb_easy_font).
+class ColourBarRenderer {
+public:
+    ColourBarRenderer();
+    ~ColourBarRenderer();
+    void draw(glm::ivec2 size, float range, int colormap, const char* units);
+
+private:
+    Program program_;
+    GLuint vao_ = 0, vbo_ = 0;
 };
 
 } // namespace sdfgen::render

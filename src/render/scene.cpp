@@ -2,6 +2,7 @@
 #include "sdfgen/error.hpp"
 
 #include <glm/gtc/matrix_inverse.hpp>
+#include <algorithm>
 #include <sstream>
 
 namespace sdfgen::render {
@@ -18,9 +19,10 @@ Views Views::parse(const std::string& list) {
         else if (word == "volume") v.volume = true;
         else if (word == "raymarch") v.raymarch = true;
         else if (word == "slice") v.slice = true;
-        else if (word == "all") v.grid = v.mesh = v.wire = v.volume = v.raymarch = v.slice = true;
+        else if (word == "box") v.box = true;
+        else if (word == "all") v.grid = v.mesh = v.wire = v.volume = v.raymarch = v.slice = v.box = true;
         else if (word == "none" || word.empty()) continue;
-        else throw Error("unknown view '" + word + "' (expected grid, mesh, wire, volume, raymarch, slice, all or none)");
+        else throw Error("unknown view '" + word + "' (expected grid, mesh, wire, volume, raymarch, slice, box, all or none)");
     }
     return v;
 }
@@ -34,7 +36,22 @@ Scene::~Scene() {
     glDeleteTextures(1, &depth_);
 }
 
-void Scene::setMesh(const Mesh& mesh) { mesh_.setMesh(mesh); }
+glm::vec3 axisNormal(int axis) {
+    glm::vec3 n(0.0f);
+    n[std::clamp(axis, 0, 2)] = 1.0f;
+    return n;
+}
+
+void Scene::setMesh(const Mesh& mesh) {
+    mesh_.setMesh(mesh);
+    gridHeight_ = float(mesh.worldBounds().min.y);
+}
+
+float Scene::effectiveColourRange() const {
+    if (colourRange > 0.0f) return colourRange;
+    const glm::vec3 box = field_.boxSize();
+    return std::max(0.25f * std::max({box.x, box.y, box.z}), 1e-6f);
+}
 void Scene::clearMesh() { mesh_.clear(); }
 void Scene::setField(const Field& field) { field_.upload(field); }
 void Scene::clearField() { field_.clear(); }
@@ -68,12 +85,16 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     if (size.x < 1 || size.y < 1) return;
     resizeTargets(size);
 
-    FrameInfo frame;
+    FrameInfo& frame = frame_;
     frame.view = camera.view();
     frame.projection = camera.projection(float(size.x) / float(size.y));
     frame.viewProjection = frame.projection * frame.view;
     frame.inverseViewProjection = glm::inverse(frame.viewProjection);
-    frame.eye = camera.eye();
+    frame.eye = camera.orthographic ? camera.target + (camera.eye() - camera.target) * 1e4f : camera.eye();
+    // The headlight comes from above and to the right of the camera; the fixed light from above.
+    const glm::mat4 cameraToWorld = glm::inverse(frame.view);
+    frame.lightDirection = headlight ? glm::normalize(glm::vec3(cameraToWorld * glm::vec4(0.35f, 0.55f, 1.0f, 0.0f)))
+                                     : glm::normalize(glm::vec3(0.45f, 0.8f, 0.35f));
     frame.size = size;
     frame.cameraDistance = camera.distance;
     frame.sceneRadius = camera.sceneRadius;
@@ -92,32 +113,77 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_BLEND);
+    const float range = effectiveColourRange();
     if (views.mesh) mesh_.drawShaded(frame);
-    if (views.slice) slice_.draw(frame, field_, sliceAxis, slicePosition);
-    if (views.raymarch) raymarch_.draw(frame, field_, shadows);
+    if (views.wire && !views.mesh && !wireSeeThrough) mesh_.drawDepth(frame); // hidden-line removal
+    if (views.slice) slice_.draw(frame, field_, glm::normalize(sliceNormal), slicePosition, range, colormap);
+    if (views.raymarch) raymarch_.draw(frame, field_, shadows, iso);
+    if (views.box && !field_.empty()) {
+        std::vector<glm::vec3> edges;
+        for (int a = 0; a < 8; ++a) {
+            for (int axis = 0; axis < 3; ++axis) {
+                const int b = a | (1 << axis);
+                if (b == a) continue;
+                auto corner = [&](int c) {
+                    return field_.boxMin() + field_.boxSize() * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+                };
+                edges.push_back(corner(a));
+                edges.push_back(corner(b));
+            }
+        }
+        lines_.draw(frame, edges, glm::vec4(0.95f, 0.8f, 0.2f, 1.0f));
+    }
 
     // Then the blended ones, keeping the destination alpha at 1.
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     if (views.wire) {
+        if (wireSeeThrough) glDisable(GL_DEPTH_TEST);
         glDepthFunc(GL_LEQUAL);
         mesh_.drawWire(frame);
         glDepthFunc(GL_LESS);
+        glEnable(GL_DEPTH_TEST);
     }
-    if (views.grid) grid_.draw(frame);
+    if (views.grid) grid_.draw(frame, gridHeight_);
     if (views.volume && !field_.empty()) {
         glBindFramebuffer(GL_FRAMEBUFFER, colourOnlyFbo_);
         glDisable(GL_DEPTH_TEST);
         glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE); // premultiplied
-        volume_.draw(frame, field_, depth_, volumeDensity);
+        volume_.draw(frame, field_, depth_, volumeDensity, range, colormap);
         glEnable(GL_DEPTH_TEST);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     }
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    glDisable(GL_DEPTH_TEST);
+    if (!markers.empty()) lines_.draw(frame, markers, glm::vec4(1.0f, 0.95f, 0.2f, 1.0f));
+    if (colourBar && !field_.empty() && (views.slice || views.volume)) {
+        colourBar_.draw(size, range, colormap, "(model units)");
+    }
+    glEnable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
+    present(target);
+}
+
+void Scene::present(GLuint target) {
+    if (!fbo_) return;
+    const glm::ivec2 size = targetSize_;
 
     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
     glBlitFramebuffer(0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, target);
+}
+
+bool Scene::surfaceAt(glm::ivec2 pixel, glm::vec3& point) {
+    if (!fbo_ || pixel.x < 0 || pixel.y < 0 || pixel.x >= targetSize_.x || pixel.y >= targetSize_.y) return false;
+    float depth = 1.0f;
+    glGetTextureSubImage(depth_, 0, pixel.x, targetSize_.y - 1 - pixel.y, 0, 1, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, sizeof(depth), &depth);
+    if (depth >= 1.0f) return false;
+    const glm::vec2 ndc((float(pixel.x) + 0.5f) / float(targetSize_.x) * 2.0f - 1.0f,
+                        1.0f - (float(pixel.y) + 0.5f) / float(targetSize_.y) * 2.0f);
+    const glm::vec4 p = frame_.inverseViewProjection * glm::vec4(ndc, depth * 2.0f - 1.0f, 1.0f);
+    point = glm::vec3(p) / p.w;
+    return true;
 }
 
 } // namespace sdfgen::render

@@ -11,6 +11,9 @@
 
 namespace sdfgen::render {
 
+// The unit normal of the slice across axis 0 (x), 1 (y) or 2 (z).
+glm::vec3 axisNormal(int axis);
+
 // Which views are drawn; any combination.
 struct Views {
     bool grid = true;
@@ -18,9 +21,10 @@ struct Views {
     bool wire = false;     // "Polygon": wireframe
     bool volume = false;   // "SDF volume": ray-marched colour volume
     bool raymarch = false; // "Ray-marched": sphere tracing with shadows and ambient occlusion
-    bool slice = false;    // "Slice": signed distance on an axis-aligned plane
+    bool slice = false;    // "Slice": signed distance on a plane at any orientation
+    bool box = false;      // the field's bounding box, as lines
 
-    // Parses a comma-separated list of grid, mesh, wire, volume, raymarch, slice (or "all",
+    // Parses a comma-separated list of grid, mesh, wire, volume, raymarch, slice, box (or "all",
     // "none"); throws Error naming the bad word.
     static Views parse(const std::string& list);
 };
@@ -34,6 +38,7 @@ public:
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
 
+    // The mesh (the grid is drawn on the plane under it).
     void setMesh(const Mesh& mesh);
     void clearMesh();
     void setField(const Field& field); // throws Error when the driver cannot hold it
@@ -41,15 +46,33 @@ public:
     bool hasField() const { return !field_.empty(); }
 
     Views views;
-    int sliceAxis = 2;         // 0 = x, 1 = y, 2 = z
-    float slicePosition = 0.5f; // 0..1 across the field's box
+    glm::vec3 sliceNormal{0.0f, 0.0f, 1.0f}; // unit; axisNormal(a) for the axis-aligned slices
+    float slicePosition = 0.5f;               // 0..1 across the field's box along the normal
     float volumeDensity = 1.0f;
-    bool shadows = true;       // soft shadows and ambient occlusion in the ray-marched view
+    bool shadows = true;        // soft shadows and ambient occlusion in the ray-marched view
+    float iso = 0.0f;           // the ray-marched level set (0: the surface; > 0: offset outwards)
+    bool wireSeeThrough = false; // the wireframe shows hidden edges too
+    bool headlight = true;      // the light follows the camera (else a fixed light from above)
+    bool colourBar = true;      // drawn when the slice or the volume is shown
+    int colormap = 0;           // 0 diverging, 1 viridis, 2 grey (shaders/colormap.glsl)
+    float colourRange = 0.0f;   // distance at which the colour map saturates; 0: automatic
+    std::vector<glm::vec3> markers; // segments drawn on top (the probe's point and nearest point)
     glm::vec3 background{0.16f, 0.17f, 0.19f};
+
+    // The range the colour map and bar use: colourRange, or a quarter of the box's longest side.
+    float effectiveColourRange() const;
+    glm::vec3 fieldBoxMin() const { return field_.boxMin(); }
+    glm::vec3 fieldBoxSize() const { return field_.boxSize(); }
 
     // Draws a frame of `size` pixels with `camera` into framebuffer `target` (0: the context's
     // default framebuffer). Renders into its own colour + depth targets and copies the colour over.
     void draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target = 0);
+    // Copies the last frame drawn to `target` again (nothing in the scene changed).
+    void present(GLuint target = 0);
+    // The world point drawn at `pixel` (from the top left) in the last frame: the nearest opaque
+    // surface there (mesh, ray-marched surface, slice or grid), or false where there is none.
+    bool surfaceAt(glm::ivec2 pixel, glm::vec3& point);
+    const FrameInfo& lastFrame() const { return frame_; }
 
 private:
     void resizeTargets(glm::ivec2 size);
@@ -60,6 +83,10 @@ private:
     VolumeRenderer volume_;
     RaymarchRenderer raymarch_;
     SliceRenderer slice_;
+    LineRenderer lines_;
+    ColourBarRenderer colourBar_;
+    float gridHeight_ = 0.0f;
+    FrameInfo frame_;
     GLuint fbo_ = 0, colourOnlyFbo_ = 0, colour_ = 0, depth_ = 0;
     glm::ivec2 targetSize_{0, 0};
 };

@@ -45,8 +45,25 @@ std::string readFile(const std::string& path) {
     return text.str();
 }
 
+// GLSL has no includes: a line `#include "FILE"` is replaced by FILE from the same folder (shared
+// code such as colormap.glsl).
+std::string expandIncludes(const std::string& source, const fs::path& folder) {
+    std::istringstream in(source);
+    std::string out, line;
+    while (std::getline(in, line)) {
+        const std::string directive = "#include \"";
+        if (line.rfind(directive, 0) == 0 && line.size() > directive.size() + 1 && line.back() == '"') {
+            out += readFile((folder / line.substr(directive.size(), line.size() - directive.size() - 1)).string());
+        } else {
+            out += line;
+        }
+        out += '\n';
+    }
+    return out;
+}
+
 GLuint compile(GLenum stage, const std::string& path) {
-    const std::string source = readFile(path);
+    const std::string source = expandIncludes(readFile(path), fs::path(path).parent_path());
     const GLuint shader = glCreateShader(stage);
     const char* text = source.c_str();
     glShaderSource(shader, 1, &text, nullptr);

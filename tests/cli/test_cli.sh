@@ -78,6 +78,26 @@ if "$sdfgen" --help | grep -q '^  render'; then
 else
   expect fail 'built without the viewer' -- "$sdfgen"
 fi
+# No command opens the viewer; without a display that is one line and a failure, never a GLFW error.
+expect fail '^sdfgen: no display \(DISPLAY and WAYLAND_DISPLAY are unset\)' -- env -u DISPLAY -u WAYLAND_DISPLAY "$sdfgen"
+expect fail '^sdfgen: no display' -- env -u DISPLAY -u WAYLAND_DISPLAY "$sdfgen" view "$work/tet.obj"
+# `sdfgen MESH...` is the viewer on those meshes (what a file manager's "open with" runs).
+expect fail '^sdfgen: no display' -- env -u DISPLAY -u WAYLAND_DISPLAY "$sdfgen" "$work/tet.obj" "$work/tet.obj"
+# Several meshes bake their union; the field's source names them all.
+printf 'v 2 0 0\nv 3 0 0\nv 2 1 0\nv 2 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tet2.obj"
+expect 0 'tet.obj\+tet2.obj -> .*: 8 triangles' -- "$sdfgen" bake "$work/tet.obj" "$work/tet2.obj" -o "$work/union.sdf" --res 16
+expect 0 '^source tet.obj\+tet2.obj$' -- sed -n 2p "$work/union.sdf"
+# A field made from another mesh: render says so on stderr and still draws. (Mesa's OSMesa leaks
+# at exit, so the sanitizer build's leak check is off for this one drawing command.)
+expect 0 "^sdfgen: warning: $work/tet.sdf: the field was made from $work/tet.obj, not from bunny.obj" -- \
+  env ASAN_OPTIONS=detect_leaks=0 "$sdfgen" render "$bunny" --sdf "$work/tet.sdf" --view slice --size 32x24 -o "$work/mismatch.png"
+# render: bad arguments are one-line errors before any OpenGL context is made.
+expect fail "^sdfgen: unknown view 'bogus'" -- "$sdfgen" render "$work/tet.obj" --view mesh,bogus -o "$work/x.png"
+expect fail "^sdfgen: --size \(WIDTHxHEIGHT\) '12' is not valid" -- "$sdfgen" render "$work/tet.obj" --size 12 -o "$work/x.png"
+expect fail "^sdfgen: --camera \(yaw,pitch,zoom\) '1,2' is not valid" -- "$sdfgen" render "$work/tet.obj" --camera 1,2 -o "$work/x.png"
+expect fail '^sdfgen: --slice-axis must be x, y or z' -- "$sdfgen" render "$work/tet.obj" --slice-axis w -o "$work/x.png"
+expect fail '^sdfgen: --slice-normal must not be zero' -- "$sdfgen" render "$work/tet.obj" --slice-normal 0,0,0 -o "$work/x.png"
+expect fail '^sdfgen: --colormap must be diverging, viridis or grey' -- "$sdfgen" render "$work/tet.obj" --colormap jet -o "$work/x.png"
 # Bad input files: one line naming the file, exit 1, nothing written.
 expect 1 "^sdfgen: $work/missing.obj: cannot open" -- "$sdfgen" bake "$work/missing.obj" -o "$work/x.sdf"
 printf 'v 0 0 0\nv 1 0 0\nl 1 2\n' >"$work/lines.obj"

@@ -18,6 +18,8 @@
 
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -47,6 +49,11 @@ protected:
         // The generated torus at res 64; the bundled bunny at res 128, as in the silhouette test.
         addModel("torus", test::torus(1.0f, 0.4f, 48, 24), 64);
         addModel("bunny", loadMesh(test::bundledBunnyPath()), 128);
+        // A scene of two meshes (mergeMeshes): the bunny and a torus three times as large beside it.
+        const Mesh& bunny = models_->at("bunny").mesh;
+        const Mesh ring = test::torus(1.0f, 0.4f, 48, 24);
+        const glm::dmat4 place = glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(bunny.worldBounds().max.x + 3.0, 4.0, 0.0)), glm::dvec3(3.0));
+        addModel("scene", mergeMeshes({{&bunny, glm::dmat4(1.0)}, {&ring, place}}, "bunny+torus"), 96);
     }
     static void TearDownTestSuite() {
         delete models_;
@@ -61,17 +68,25 @@ protected:
         (*models_)[name] = Model{std::move(mesh), std::move(field)};
     }
 
-    // Draws `views` of a model with a fixed camera and background.
+    // Draws `views` of a model with a fixed camera and background; `tweak` changes the scene's
+    // settings from their defaults.
     static Image draw(const std::string& model, const Views& views, float yaw = 30.0f, float pitch = 20.0f,
-                      glm::vec3 background = glm::vec3(0.16f, 0.17f, 0.19f), bool shadows = true) {
+                      glm::vec3 background = glm::vec3(0.16f, 0.17f, 0.19f), bool shadows = true,
+                      const std::function<void(Scene&)>& tweak = {}) {
         const Model& m = models_->at(model);
         scene_->setMesh(m.mesh);
         scene_->setField(m.field);
         scene_->views = views;
         scene_->background = background;
         scene_->shadows = shadows;
-        scene_->sliceAxis = 2;
+        scene_->sliceNormal = axisNormal(2);
         scene_->slicePosition = 0.5f;
+        scene_->iso = 0.0f;
+        scene_->wireSeeThrough = false;
+        scene_->colourBar = true;
+        scene_->colormap = 0;
+        scene_->colourRange = 0.0f;
+        if (tweak) tweak(*scene_);
         OrbitCamera camera;
         camera.yaw = yaw;
         camera.pitch = pitch;
@@ -123,15 +138,32 @@ std::vector<bool> coverage(const Image& image) {
 struct Shot {
     std::string model;
     std::string view;
+    std::string variant; // a named change of the scene's settings (see tweakFor), or ""
 };
-std::string shotName(const ::testing::TestParamInfo<Shot>& info) { return info.param.model + "_" + info.param.view; }
+std::string fileName(const Shot& shot) {
+    std::string name = shot.model + "_" + shot.view + (shot.variant.empty() ? "" : "_" + shot.variant);
+    std::replace(name.begin(), name.end(), ',', '_');
+    return name;
+}
+std::string shotName(const ::testing::TestParamInfo<Shot>& info) { return fileName(info.param); }
+
+// The variants: oblique slices, iso levels out and in (in voxels of the res-128 bunny field), the
+// see-through wireframe, another colour map with a fixed range.
+std::function<void(Scene&)> tweakFor(const std::string& variant) {
+    if (variant == "oblique") return [](Scene& s) { s.sliceNormal = glm::normalize(glm::vec3(1.0f, 1.0f, 0.5f)); s.slicePosition = 0.45f; };
+    if (variant == "isoout") return [](Scene& s) { s.iso = 0.5f; };
+    if (variant == "isoin") return [](Scene& s) { s.iso = -0.3f; };
+    if (variant == "seethrough") return [](Scene& s) { s.wireSeeThrough = true; };
+    if (variant == "viridis") return [](Scene& s) { s.colormap = 1; s.colourRange = 1.0f; };
+    return {};
+}
 
 class Screenshot : public RenderTest, public ::testing::WithParamInterface<Shot> {};
 
 TEST_P(Screenshot, MatchesReference) {
     const Shot& shot = GetParam();
-    const Image image = draw(shot.model, only(shot.view));
-    const std::string name = shot.model + "_" + shot.view + ".png";
+    const Image image = draw(shot.model, only(shot.view), 30.0f, 20.0f, glm::vec3(0.16f, 0.17f, 0.19f), true, tweakFor(shot.variant));
+    const std::string name = fileName(shot) + ".png";
     const fs::path reference = fs::path(SDFGEN_SOURCE_DIR) / "tests/render/reference" / name;
     if (const char* update = std::getenv("SDFGEN_UPDATE_REFERENCES"); update && std::string(update) == "1") {
         savePng(image, reference.string());
@@ -163,8 +195,18 @@ TEST_P(Screenshot, MatchesReference) {
 std::vector<Shot> allShots() {
     std::vector<Shot> shots;
     for (const char* model : {"torus", "bunny"}) {
-        for (const char* view : {"grid", "mesh", "wire", "volume", "raymarch", "slice"}) shots.push_back({model, view});
+        for (const char* view : {"grid", "mesh", "wire", "volume", "raymarch", "slice"}) shots.push_back({model, view, ""});
     }
+    // The colour bar (beside every slice and volume shot above) with another map; slice
+    // orientation; iso levels; hidden-line and see-through wireframes; a scene of two meshes.
+    shots.push_back({"bunny", "slice", "viridis"});
+    shots.push_back({"bunny", "slice,box", "oblique"});
+    shots.push_back({"torus", "slice", "oblique"});
+    shots.push_back({"bunny", "raymarch", "isoout"});
+    shots.push_back({"bunny", "raymarch", "isoin"});
+    shots.push_back({"bunny", "wire", "seethrough"});
+    shots.push_back({"scene", "grid,mesh", ""});
+    shots.push_back({"scene", "raymarch,slice", ""});
     return shots;
 }
 INSTANTIATE_TEST_SUITE_P(Views, Screenshot, ::testing::ValuesIn(allShots()), shotName);
@@ -229,6 +271,81 @@ TEST_F(RenderTest, RaymarchedSilhouetteMatchesMesh) {
         EXPECT_GE(iou, 0.95) << "camera yaw " << yaw << ", pitch " << pitch;
         RecordProperty("iou_" + std::to_string(int(yaw)), std::to_string(iou));
     }
+}
+
+// Offset surfaces: the ray-marched level set covers more pixels as the iso level grows.
+TEST_F(RenderTest, IsoLevelGrowsAndShrinksTheSurface) {
+    const glm::vec3 black(0.0f);
+    auto covered = [&](float iso) {
+        const std::vector<bool> mask = coverage(draw("bunny", only("raymarch"), 30.0f, 20.0f, black, false, [iso](Scene& s) { s.iso = iso; }));
+        return std::count(mask.begin(), mask.end(), true);
+    };
+    const auto inner = covered(-0.3f), surface = covered(0.0f), outer = covered(0.5f);
+    EXPECT_LT(inner, surface);
+    EXPECT_LT(surface, outer);
+    EXPECT_GT(outer, surface * 11 / 10) << "an offset of 0.5 (about 4% of the bunny) should grow the silhouette visibly";
+}
+
+// Hidden-line removal: the wireframe alone draws only the front edges, far fewer line pixels than
+// the see-through one, and none where the mesh is not.
+TEST_F(RenderTest, WireframeHidesHiddenLines) {
+    const glm::vec3 black(0.0f);
+    const std::vector<bool> hidden = coverage(draw("bunny", only("wire"), 30.0f, 20.0f, black));
+    const std::vector<bool> through = coverage(draw("bunny", only("wire"), 30.0f, 20.0f, black, true, [](Scene& s) { s.wireSeeThrough = true; }));
+    const std::vector<bool> solid = coverage(draw("bunny", only("mesh"), 30.0f, 20.0f, black));
+    const auto hiddenCount = std::count(hidden.begin(), hidden.end(), true), throughCount = std::count(through.begin(), through.end(), true);
+    std::size_t outside = 0;
+    for (std::size_t i = 0; i < hidden.size(); ++i) outside += hidden[i] && !solid[i];
+    EXPECT_LT(hiddenCount, throughCount * 9 / 10);
+    EXPECT_LT(outside, std::size_t(hiddenCount) / 20);
+}
+
+// Where the ray-marched surface and the shaded mesh are both drawn, the ray-marched one wins
+// everywhere (no z-fighting pattern of mesh pixels showing through).
+TEST_F(RenderTest, RaymarchWinsOverTheMesh) {
+    const glm::vec3 black(0.0f);
+    const Image marched = draw("bunny", only("raymarch"), 30.0f, 20.0f, black, false);
+    const Image both = draw("bunny", only("raymarch,mesh"), 30.0f, 20.0f, black, false);
+    const std::vector<bool> mask = coverage(marched);
+    std::size_t covered = 0, differ = 0;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        if (!mask[i]) continue;
+        ++covered;
+        int d = 0;
+        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(marched.rgba[i * 4 + c]) - int(both.rgba[i * 4 + c])));
+        differ += d > 8;
+    }
+    ASSERT_GT(covered, 1000u);
+    EXPECT_LT(differ, covered / 100) << "mesh pixels show through the ray-marched surface";
+}
+
+// The colour bar is drawn at the right edge with the slice, follows the colour map, and goes away
+// when turned off.
+TEST_F(RenderTest, ColourBarFollowsTheColourMap) {
+    auto barColumn = [](const Image& image) {
+        std::vector<std::uint8_t> column;
+        const int x = image.width - 14; // inside the bar (10 px margin, 8 px wide at this size)
+        for (int y = image.height / 4; y < image.height * 3 / 4; ++y) column.insert(column.end(), image.pixel(x, y), image.pixel(x, y) + 3);
+        return column;
+    };
+    const Image diverging = draw("torus", only("slice"));
+    const Image viridis = draw("torus", only("slice"), 30.0f, 20.0f, glm::vec3(0.16f, 0.17f, 0.19f), true, [](Scene& s) { s.colormap = 1; });
+    const Image none = draw("torus", only("slice"), 30.0f, 20.0f, glm::vec3(0.16f, 0.17f, 0.19f), true, [](Scene& s) { s.colourBar = false; });
+    EXPECT_NE(barColumn(diverging), barColumn(viridis));
+    EXPECT_NE(barColumn(diverging), barColumn(none));
+    // Top of the bar is the outside colour (blue in the diverging map), bottom the inside (red).
+    const int x = diverging.width - 14, top = int(0.5f * (1.0f - 0.45f) * float(diverging.height)) + 3;
+    const int bottom = int(0.5f * (1.0f + 0.45f) * float(diverging.height)) - 3;
+    EXPECT_GT(diverging.pixel(x, top)[2], diverging.pixel(x, top)[0] + 60);
+    EXPECT_GT(diverging.pixel(x, bottom)[0], diverging.pixel(x, bottom)[2] + 60);
+}
+
+TEST_F(RenderTest, SlicePolygonCutsTheBox) {
+    // Axis-aligned: a rectangle; through a corner diagonal: a hexagon at the middle.
+    EXPECT_EQ(slicePolygon(glm::vec3(0.0f), glm::vec3(1.0f, 2.0f, 3.0f), axisNormal(2), 0.5f).size(), 4u);
+    const std::vector<glm::vec3> hexagon = slicePolygon(glm::vec3(0.0f), glm::vec3(1.0f), glm::normalize(glm::vec3(1.0f)), 0.5f);
+    ASSERT_EQ(hexagon.size(), 6u);
+    for (const glm::vec3& p : hexagon) EXPECT_NEAR(p.x + p.y + p.z, 1.5f, 1e-5f);
 }
 
 TEST_F(RenderTest, FieldLargerThanTheTextureLimitIsAnError) {

@@ -46,7 +46,7 @@ float icosphereSag(float radius, int levels) {
     float sag = 0.0f;
     for (std::size_t i = 0; i < mesh.triangleCount(); ++i) {
         const glm::vec3 n = mesh.faceNormals[i];
-        sag = std::max(sag, radius - glm::dot(n, mesh.vertex(i, 0)));
+        sag = std::max(sag, radius - float(glm::dot(glm::dvec3(n), mesh.toWorld(glm::dvec3(mesh.vertex(i, 0))))));
     }
     return sag;
 }

@@ -1,0 +1,13 @@
+#pragma once
+#include "sdfgen/field.hpp"
+#include "sdfgen/mesh.hpp"
+
+#include <string>
+
+namespace sdfgen {
+
+// Why `field` may not be the field of `mesh`, for a warning: it was made from a file of another
+// name, or its grid does not cover the mesh's bounding box. Empty when neither.
+std::string fieldMismatch(const Field& field, const Mesh& mesh);
+
+} // namespace sdfgen

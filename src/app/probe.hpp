@@ -1,0 +1,33 @@
+#pragma once
+#include "sdfgen/field.hpp"
+#include "sdfgen/mesh.hpp"
+
+#include <glm/vec3.hpp>
+
+namespace sdfgen {
+class Bvh;
+}
+
+namespace sdfgen::app {
+
+// What the probe reports at a point: the field's value and gradient there (trilinear, as the
+// views draw it), and the exact distance to the mesh with the nearest surface point.
+struct ProbeResult {
+    glm::dvec3 point{0.0};
+    bool insideField = false;  // the point is within the field's box
+    float fieldValue = 0.0f;   // trilinear, clamped to the box as the GL texture is
+    glm::vec3 gradient{0.0f};  // of the trilinear field
+    bool haveMesh = false;
+    double meshDistance = 0.0; // unsigned, exact (double), to the nearest triangle
+    glm::dvec3 nearest{0.0};   // the nearest surface point
+    std::size_t triangle = 0;
+};
+
+// The field at p by trilinear interpolation between sample centres (clamped at the box's edge),
+// and its gradient.
+float trilinear(const Field& field, const glm::dvec3& p, glm::vec3* gradient = nullptr);
+
+// Probes `field` (may be null) and `mesh` + `tree` (may be null) at p.
+ProbeResult probe(const glm::dvec3& p, const Field* field, const Mesh* mesh, const Bvh* tree);
+
+} // namespace sdfgen::app

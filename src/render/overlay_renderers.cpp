@@ -1,0 +1,128 @@
+// Line segments and the colour bar (2D, with text from stb_easy_font).
+#include "render/renderers.hpp"
+
+#include <stb/stb_easy_font.h>
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+namespace sdfgen::render {
+
+LineRenderer::LineRenderer() : program_("lines.vert", "lines.frag") {
+    glCreateVertexArrays(1, &vao_);
+    glCreateBuffers(1, &vbo_);
+    glVertexArrayVertexBuffer(vao_, 0, vbo_, 0, sizeof(glm::vec3));
+    glEnableVertexArrayAttrib(vao_, 0);
+    glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao_, 0, 0);
+}
+
+LineRenderer::~LineRenderer() {
+    glDeleteBuffers(1, &vbo_);
+    glDeleteVertexArrays(1, &vao_);
+}
+
+void LineRenderer::draw(const FrameInfo& frame, const std::vector<glm::vec3>& segments, glm::vec4 colour) {
+    if (segments.empty()) return;
+    glNamedBufferData(vbo_, GLsizeiptr(segments.size() * sizeof(glm::vec3)), segments.data(), GL_STREAM_DRAW);
+    program_.use();
+    program_.set("viewProjection", frame.viewProjection);
+    program_.set("lineColour", colour);
+    glBindVertexArray(vao_);
+    glDrawArrays(GL_LINES, 0, GLsizei(segments.size()));
+}
+
+namespace {
+
+// One overlay vertex: pixel position from the top left, colour, and the colour-map value (-1..1)
+// or kPlain for a plain colour.
+struct OverlayVertex {
+    float x, y;
+    float r, g, b, a;
+    float value;
+};
+constexpr float kPlain = -2.0f;
+
+void addRect(std::vector<OverlayVertex>& out, float x0, float y0, float x1, float y1, glm::vec4 c, float v0 = kPlain,
+             float v1 = kPlain) {
+    const OverlayVertex a{x0, y0, c.r, c.g, c.b, c.a, v0}, b{x1, y0, c.r, c.g, c.b, c.a, v0};
+    const OverlayVertex d{x0, y1, c.r, c.g, c.b, c.a, v1}, e{x1, y1, c.r, c.g, c.b, c.a, v1};
+    out.insert(out.end(), {a, b, e, a, e, d});
+}
+
+// Text at (x, y) (top left), `scale` times stb_easy_font's 7-pixel glyphs, with a dark shadow.
+void addText(std::vector<OverlayVertex>& out, float x, float y, float scale, const std::string& text) {
+    static char quads[64 * 1024];
+    std::string copy = text;
+    const int count = stb_easy_font_print(0.0f, 0.0f, copy.data(), nullptr, quads, sizeof(quads));
+    for (const auto& [offset, colour] : {std::pair{1.0f, glm::vec4(0.0f, 0.0f, 0.0f, 0.8f)}, std::pair{0.0f, glm::vec4(0.95f)}}) {
+        for (int q = 0; q < count; ++q) {
+            const float* v = reinterpret_cast<const float*>(quads + q * 64); // 4 vertices of x, y, z, rgba8
+            addRect(out, x + offset + v[0] * scale, y + offset + v[1] * scale, x + offset + v[8] * scale, y + offset + v[9] * scale,
+                    colour);
+        }
+    }
+}
+
+float textWidth(const std::string& text, float scale) {
+    std::string copy = text;
+    return float(stb_easy_font_width(copy.data())) * scale;
+}
+
+std::string label(float value) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%+.3g", double(value));
+    return value == 0.0f ? "0" : text;
+}
+
+} // namespace
+
+ColourBarRenderer::ColourBarRenderer() : program_("overlay.vert", "overlay.frag") {
+    glCreateVertexArrays(1, &vao_);
+    glCreateBuffers(1, &vbo_);
+    glVertexArrayVertexBuffer(vao_, 0, vbo_, 0, sizeof(OverlayVertex));
+    const GLuint sizes[3] = {2, 4, 1};
+    const GLuint offsets[3] = {offsetof(OverlayVertex, x), offsetof(OverlayVertex, r), offsetof(OverlayVertex, value)};
+    for (GLuint a = 0; a < 3; ++a) {
+        glEnableVertexArrayAttrib(vao_, a);
+        glVertexArrayAttribFormat(vao_, a, GLint(sizes[a]), GL_FLOAT, GL_FALSE, offsets[a]);
+        glVertexArrayAttribBinding(vao_, a, 0);
+    }
+}
+
+ColourBarRenderer::~ColourBarRenderer() {
+    glDeleteBuffers(1, &vbo_);
+    glDeleteVertexArrays(1, &vao_);
+}
+
+void ColourBarRenderer::draw(glm::ivec2 size, float range, int colormap, const char* units) {
+    // Text twice as large on big frames; the bar is 45% of the height, at the right edge.
+    const float scale = size.y >= 400 ? 2.0f : 1.0f;
+    const float margin = 10.0f * scale, width = 8.0f * scale;
+    const float height = 0.45f * float(size.y);
+    const float x1 = float(size.x) - margin, x0 = x1 - width;
+    const float y0 = 0.5f * (float(size.y) - height), y1 = y0 + height;
+    std::vector<OverlayVertex> vertices;
+    addRect(vertices, x0 - 1.0f, y0 - 1.0f, x1 + 1.0f, y1 + 1.0f, glm::vec4(0.0f, 0.0f, 0.0f, 0.8f));
+    addRect(vertices, x0, y0, x1, y1, glm::vec4(1.0f), 1.0f, -1.0f); // top outside (+range), bottom inside
+    const float lineHeight = 9.0f * scale;
+    const float ticks[3] = {range, 0.0f, -range};
+    for (int t = 0; t < 3; ++t) {
+        const std::string text = label(ticks[t]);
+        const float y = y0 + height * float(t) / 2.0f;
+        addRect(vertices, x0 - 3.0f * scale, y - 0.5f * scale, x0, y + 0.5f * scale, glm::vec4(0.95f));
+        addText(vertices, x0 - 5.0f * scale - textWidth(text, scale), y - 0.5f * lineHeight + scale, scale, text);
+    }
+    for (int line = 0; line < 2; ++line) {
+        const std::string text = line == 0 ? "signed distance" : units;
+        addText(vertices, x1 - textWidth(text, scale), y0 - (2.6f - 1.1f * float(line)) * lineHeight, scale, text);
+    }
+    glNamedBufferData(vbo_, GLsizeiptr(vertices.size() * sizeof(OverlayVertex)), vertices.data(), GL_STREAM_DRAW);
+    program_.use();
+    program_.set("viewport", glm::vec2(size));
+    program_.set("colormap", colormap);
+    glBindVertexArray(vao_);
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
+}
+
+} // namespace sdfgen::render
