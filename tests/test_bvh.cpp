@@ -2,7 +2,9 @@
 #include "core/bvh.hpp"
 #include "support/shapes.hpp"
 
+#include "support/checks.hpp"
 #include <gtest/gtest.h>
+#include <tuple>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <random>
@@ -110,6 +112,39 @@ TEST(Bvh, CoincidentTrianglesStillSplit) {
     RayHit hit;
     ASSERT_TRUE(tree.intersect(glm::vec3(mesh.toLocal({0.2, 0.2, 1.0})), {0, 0, -1}, kInf, hit));
     EXPECT_FLOAT_EQ(float(hit.t * mesh.unit), 1.0f);
+}
+
+TEST(Bvh, BuildsAndBakesAtExtremeCoordinateSpans) {
+    // The audit's crashes: centres spanning beyond float range on an axis, and a cube of side 3e-38
+    // with one vertex at z = 1e-40 (differences below the smallest normal float).
+    const Mesh cube = test::box(glm::vec3(0.5f));
+    std::vector<glm::dvec3> huge = cube.worldPositions(), tiny = cube.worldPositions(), mixed;
+    std::vector<glm::uvec3> triangles = cube.triangles, twoCubes = cube.triangles;
+    for (glm::dvec3& p : huge) p *= 1e36;
+    for (glm::dvec3& p : tiny) p *= 3e-38;
+    tiny[0].z = 1e-40;
+    // Two cubes far apart: deep nodes of the tree hold spans 1e-30 of the whole.
+    mixed = cube.worldPositions();
+    for (const glm::dvec3& p : cube.worldPositions()) mixed.push_back(p * 1e-30 + glm::dvec3(1e-3, 0, 0));
+    for (const glm::uvec3& t : cube.triangles) twoCubes.push_back(t + glm::uvec3(unsigned(cube.positions.size())));
+    for (const auto& [name, positions, faces] : {std::tuple{"huge", huge, triangles}, {"tiny", tiny, triangles}, {"mixed", mixed, twoCubes}}) {
+        SCOPED_TRACE(name);
+        const Mesh mesh = buildMesh(name, positions, faces);
+        const Bvh tree(mesh);
+        EXPECT_GT(tree.nodeCount(), 0u);
+        BakeSettings settings;
+        settings.res = 8;
+        const Field field = test::bakeMesh(mesh, settings).field;
+        for (float v : field.values) ASSERT_TRUE(std::isfinite(v));
+    }
+    // Beyond what float distances can hold: the tree builds, and the bake is a clear refusal.
+    std::vector<glm::dvec3> beyond = cube.worldPositions();
+    for (glm::dvec3& p : beyond) p *= 3e38;
+    const Mesh mesh = buildMesh("beyond", beyond, triangles);
+    const Bvh tree(mesh);
+    BakeSettings settings;
+    settings.res = 8;
+    EXPECT_CONTAINS(test::errorFrom([&] { test::bakeMesh(mesh, settings); }), "too large");
 }
 
 } // namespace

@@ -86,15 +86,22 @@ std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, s
     int bestAxis = -1, bestPlane = 0;
     float bestCost = std::numeric_limits<float>::max();
     const glm::vec3 centroidExtent = centroidBox.max - centroidBox.min;
+    // Bins in double, clamped before the conversion to int: at any float span (subnormal extents
+    // included) a bin index is always a valid one, never int(inf) or int(NaN).
+    auto binOf = [&](float centroid, float lo, double scale) {
+        const double bin = (double(centroid) - double(lo)) * scale;
+        return bin >= double(kBins - 1) ? kBins - 1 : bin > 0.0 ? int(bin) : 0;
+    };
     for (int axis = 0; axis < 3; ++axis) {
         if (!(centroidExtent[axis] > 0.0f)) continue;
-        const float scale = kBins / centroidExtent[axis];
+        const double scale = kBins / double(centroidExtent[axis]);
+        if (!std::isfinite(scale)) continue;
         Bounds binBox[kBins];
         std::size_t binCount[kBins] = {};
         for (Bounds& b : binBox) b = emptyBounds();
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint32_t t = order[i];
-            const int bin = std::min(kBins - 1, int((centroids[t][axis] - centroidBox.min[axis]) * scale));
+            const int bin = binOf(centroids[t][axis], centroidBox.min[axis], scale);
             ++binCount[bin];
             grow(binBox[bin], boxes[t]);
         }
@@ -129,11 +136,10 @@ std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, s
         const float leafCost = float(count);
         const float splitCost = kTraversalCost + bestCost / halfArea(box);
         if (splitCost >= leafCost && count <= std::size_t(kMaxLeafSize)) return makeLeaf();
-        const float scale = kBins / centroidExtent[bestAxis];
+        const double scale = kBins / double(centroidExtent[bestAxis]);
         const float lo = centroidBox.min[bestAxis];
-        auto* split = std::partition(order.data() + begin, order.data() + end, [&](std::uint32_t t) {
-            return std::min(kBins - 1, int((centroids[t][bestAxis] - lo) * scale)) < bestPlane;
-        });
+        auto* split = std::partition(order.data() + begin, order.data() + end,
+                                     [&](std::uint32_t t) { return binOf(centroids[t][bestAxis], lo, scale) < bestPlane; });
         middle = std::size_t(split - order.data());
         splitAxis = bestAxis;
     } else {
