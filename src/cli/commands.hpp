@@ -13,6 +13,7 @@ void addBenchCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addSurfaceCommand(CLI::App& app);
+void addQueryCommand(CLI::App& app);
 void addSampleCommand(CLI::App& app);
 // Sets exitCode to 1 when any mesh failed (the batch itself went on).
 void addBatchCommand(CLI::App& app, int& exitCode);

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
     sdfgen::cli::addSurfaceCommand(app);
+    sdfgen::cli::addQueryCommand(app);
     sdfgen::cli::addSampleCommand(app);
     int exitCode = 0;
     sdfgen::cli::addBatchCommand(app, exitCode);
