@@ -33,7 +33,6 @@ void FieldTexture::upload(const Field& field) {
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) {
         glTextureParameteri(texture_, wrap, GL_CLAMP_TO_EDGE);
     }
-    dims_ = d;
     voxel_ = float(field.grid.voxel);
     boxMin_ = glm::vec3(field.grid.origin);
     boxSize_ = glm::vec3(d) * voxel_;

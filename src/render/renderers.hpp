@@ -81,7 +81,6 @@ public:
 private:
     GLuint texture_ = 0;
     glm::vec3 boxMin_{0.0f}, boxSize_{0.0f};
-    glm::ivec3 dims_{0};
     float voxel_ = 1.0f;
 };
 
