@@ -9,4 +9,4 @@ ctest --test-dir build --output-on-failure -j "$jobs"
 scripts/build.sh build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFGEN_SANITIZE=ON -- sdfgen sdfgen_tests
 # The render and GUI tests (labels render, gui) run in the release build only: Mesa's llvmpipe is not built with
 # the sanitizers.
-ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui"
+ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui|gpu"

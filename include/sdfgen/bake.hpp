@@ -1,4 +1,5 @@
 #pragma once
+#include "sdfgen/device.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh_check.hpp"
 
@@ -30,6 +31,8 @@ struct BakeSettings {
     DistanceMethod method = DistanceMethod::Exact;
     SignMethod sign = SignMethod::Default;
     int rays = 64; // for the rays method and the rays sign
+    // Where exact distances and winding signs run (see device.hpp); other methods run on the CPU.
+    Device device = Device::Auto;
 };
 
 // A bake's field and what was decided on the way.
@@ -41,6 +44,8 @@ struct BakeResult {
     std::string signReason; // why auto chose as it did, for the summary and panel
     double distanceSeconds = 0; // time spent on distances (and on rays, when the sign needs them)
     double signSeconds = 0;     // time spent on the mesh check and the sign
+    bool onDevice = false;      // whether the compute device did the distances and signs
+    std::string deviceReason;   // why the bake runs where it does, e.g. "gpu: OpenGL 4.5 ... llvmpipe"
 };
 
 

@@ -44,6 +44,7 @@ void runBake(const BakeArgs& args) {
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
+    if (!result.deviceReason.empty()) std::printf("device: %s\n", result.deviceReason.c_str());
 }
 
 } // namespace

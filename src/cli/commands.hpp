@@ -12,6 +12,7 @@ void addBakeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addInfoCommand(CLI::App& app);
 
 // The options every generating command shares (--res, --rays, --padding, --threads).
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);

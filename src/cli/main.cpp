@@ -2,6 +2,7 @@
 // opens the viewer window.
 #include "app/viewer.hpp"
 #include "cli/commands.hpp"
+#include "gpu/gl_device.hpp"
 #include "sdfgen/error.hpp"
 
 #include <cstdio>
@@ -13,6 +14,8 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBenchCommand(app);
     sdfgen::cli::addCompareCommand(app);
     sdfgen::cli::addRenderCommand(app);
+    sdfgen::cli::addInfoCommand(app);
+    sdfgen::gpu::registerGlDevice();
     std::string viewMesh;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
     view->add_option("mesh", viewMesh, "Mesh to open (Wavefront OBJ)");

@@ -38,6 +38,18 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
     SignMethod sign = settings.sign;
     if (sign == SignMethod::Default) sign = settings.method == DistanceMethod::Rays ? SignMethod::Rays : SignMethod::Auto;
     const bool usesRays = settings.method == DistanceMethod::Rays || sign == SignMethod::Rays;
+    // Compute device (device.hpp): exact distances and winding numbers only; the rest stays here.
+    if (settings.device == Device::Gpu && settings.method != DistanceMethod::Exact) {
+        throw Error(std::string("--device gpu computes exact distances; --method ") + toString(settings.method) + " runs on the CPU");
+    }
+    ComputeDevice* device = settings.method == DistanceMethod::Exact ? selectComputeDevice(settings.device, &result.deviceReason) : nullptr;
+    result.onDevice = device != nullptr;
+    auto nearestField = [&](const RunControl& phase) {
+        if (!device) return computeNearest(mesh, tree, grid, phase);
+        NearestField out;
+        device->nearest(mesh, grid, phase, out.distance, out.triangle);
+        return out;
+    };
 
     Field& field = result.field;
     using Clock = std::chrono::steady_clock;
@@ -64,7 +76,7 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
             for (std::size_t i = 0; i < distance.size(); ++i) distance[i] = std::fabs(rayField.values[i]);
         }
         if (settings.method == DistanceMethod::Exact || sign == SignMethod::Pseudonormal) {
-            nearest = computeNearest(mesh, tree, grid, control.phase(usesRays ? 0.5 : 0.0, 0.8));
+            nearest = nearestField(control.phase(usesRays ? 0.5 : 0.0, 0.8));
             if (settings.method == DistanceMethod::Exact) distance = std::move(nearest.distance);
         }
 
@@ -98,7 +110,7 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
                 nearest = computeNearest(mesh, tree, grid, control.phase(0.5, 0.8)); // ray distances, auto chose pseudonormal
             }
             inside = sign == SignMethod::Pseudonormal ? insideByPseudonormal(mesh, topology, grid, nearest, control.phase(0.8, 1.0))
-                                                      : insideByWinding(mesh, topology, grid, control.phase(0.8, 1.0));
+                                                      : insideByWinding(mesh, topology, grid, control.phase(0.8, 1.0), device);
         }
         result.sign = sign;
         result.signSeconds = since(signStart);

@@ -78,6 +78,41 @@ double fanBound(const glm::dvec3& p, const Cap& cap) {
     return d > 0.0 ? cap.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
 }
 
+// Whether p is inside, given the closed surface's (mesh + fans) winding number `ahead` there: the
+// fans' winding number is subtracted only where it could reach 1/2: near fans exactly, far ones
+// within their bounds, and all exactly when the bounds leave doubt.
+bool insideGivenClosedWinding(int ahead, const glm::dvec3& p, const std::vector<Cap>& caps) {
+    double far = 0.0;
+    for (const Cap& cap : caps) far += fanBound(p, cap);
+    if (far < 0.45) return ahead >= 1;
+    double near = 0.0;
+    far = 0.0;
+    for (const Cap& cap : caps) {
+        const double bound = fanBound(p, cap);
+        if (bound < 0.02) far += bound;
+        else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
+    }
+    double w = double(ahead) - near;
+    if (std::fabs(w - 0.5) <= far) {
+        for (const Cap& cap : caps) {
+            if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+        }
+    }
+    return w > 0.5;
+}
+
+// The closed surface whose winding number is counted: every mesh triangle, then every fan
+// triangle (loop[i + 1], loop[i], centre), three corners each.
+template <class AddTriangle>
+void forEachClosedTriangle(const Mesh& mesh, const std::vector<Cap>& caps, AddTriangle&& addTriangle) {
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        addTriangle(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+    }
+    for (const Cap& cap : caps) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) addTriangle(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
+    }
+}
+
 } // namespace
 
 double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
@@ -89,8 +124,30 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
 }
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control) {
+                                          const RunControl& control, ComputeDevice* device) {
     const std::vector<Cap> caps = makeCaps(topology);
+    if (device) {
+        // The closed surface's winding numbers from the device, the fans' part here (as below).
+        std::vector<glm::dvec3> closed;
+        forEachClosedTriangle(mesh, caps, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+            closed.insert(closed.end(), {a, b, c});
+        });
+        const std::vector<std::int32_t> winding = device->windingNumbers(closed, grid, control.phase(0.0, caps.empty() ? 1.0 : 0.8));
+        std::vector<std::uint8_t> inside(grid.sampleCount());
+        if (caps.empty()) {
+            for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = winding[i] >= 1;
+            return inside;
+        }
+        const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+        parallelFor(rows, control.phase(0.8, 1.0), [&](std::size_t row) {
+            const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
+            for (int i = 0; i < grid.dims.x; ++i) {
+                const std::size_t index = grid.index(i, j, k);
+                inside[index] = insideGivenClosedWinding(winding[index], glm::dvec3(grid.sample(i, j, k)), caps);
+            }
+        });
+        return inside;
+    }
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
 
     // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans.
@@ -119,12 +176,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
             }
         }
     };
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        addTriangle(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
-    }
-    for (const Cap& cap : caps) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) addTriangle(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
-    }
+    forEachClosedTriangle(mesh, caps, addTriangle);
 
     // 2. Per row: the closed surface's winding number is the signed count of crossings ahead (+x);
     //    then the fans' winding number is subtracted where it might matter.
@@ -138,28 +190,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         for (int i = nx - 1; i >= 0; --i) {
             const glm::dvec3 p(grid.sample(i, j, k));
             while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
-            // The fans' winding number is subtracted only where it could reach 1/2: near fans
-            // exactly, far ones within their bounds, and all exactly when the bounds leave doubt.
-            bool in = ahead >= 1;
-            double far = 0.0;
-            for (const Cap& cap : caps) far += fanBound(p, cap);
-            if (far >= 0.45) {
-                double near = 0.0;
-                far = 0.0;
-                for (const Cap& cap : caps) {
-                    const double bound = fanBound(p, cap);
-                    if (bound < 0.02) far += bound;
-                    else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
-                }
-                double w = double(ahead) - near;
-                if (std::fabs(w - 0.5) <= far) {
-                    for (const Cap& cap : caps) {
-                        if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
-                    }
-                }
-                in = w > 0.5;
-            }
-            inside[grid.index(i, j, k)] = in;
+            inside[grid.index(i, j, k)] = insideGivenClosedWinding(ahead, p, caps);
         }
     });
     return inside;

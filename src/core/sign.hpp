@@ -3,6 +3,7 @@
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
 #include "core/topology.hpp"
+#include "sdfgen/device.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -18,8 +19,10 @@ namespace sdfgen {
 // fans' own winding number is subtracted wherever it could reach 1/2, bounded by area / distance²,
 // exactly in double; elsewhere it cannot change the answer. Robust to holes, self-intersections,
 // overlapping shells and flipped parts; exact (no hierarchy error) and linear in samples.
+// With a device, the closed surface's winding numbers come from it (the same integers) and only
+// the fans' part near the holes is computed here.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control);
+                                          const RunControl& control, ComputeDevice* device = nullptr);
 
 // The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
 // for closed, manifold, consistently oriented meshes without self-intersections.

@@ -1,0 +1,34 @@
+#pragma once
+#include "sdfgen/mesh.hpp"
+
+#include <glm/vec4.hpp>
+#include <cstdint>
+#include <vector>
+
+namespace sdfgen::gpu {
+
+// A binary bounding volume hierarchy over a mesh's triangles, flattened into the arrays
+// shaders/nearest.comp reads from SSBOs (std430). Built here rather than taken from the CPU's
+// tree so that the GPU's layout is its own.
+struct FlatBvh {
+    struct Node {
+        glm::vec4 lo; // box minimum; w: first child (interior: children are adjacent) or first triangle (leaf), as uint bits
+        glm::vec4 hi; // box maximum; w: triangle count, 0 for interior nodes, as uint bits
+    };
+    struct Triangle {
+        glm::vec4 a; // w: the mesh's triangle index, as uint bits
+        glm::vec4 b;
+        glm::vec4 c;
+    };
+    std::vector<Node> nodes;         // root first
+    std::vector<Triangle> triangles; // in leaf order
+
+    static constexpr int kMaxDepth = 30;  // the shader's stack holds 32 entries
+    static constexpr int kLeafSize = 4;
+
+    // Splits at the centroid median of the longest axis of the centroids' box: balanced, so the
+    // depth stays under kMaxDepth for any mesh that fits in memory.
+    explicit FlatBvh(const Mesh& mesh);
+};
+
+} // namespace sdfgen::gpu
