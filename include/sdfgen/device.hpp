@@ -44,8 +44,10 @@ public:
 };
 
 // Registers how to open the compute device (called once by a program that links src/gpu). The
-// device is opened on first use and kept; the factory throws Error when it cannot open one.
-void registerComputeDevice(std::function<std::unique_ptr<ComputeDevice>()> open);
+// device is opened on first use and kept; `open` throws Error when it cannot open one.
+// `mayBeHardware`, when given, tells without opening anything whether the device could be real GPU
+// hardware; when it says no, auto takes the CPU at once (no context is made just to be refused).
+void registerComputeDevice(std::function<std::unique_ptr<ComputeDevice>()> open, std::function<bool()> mayBeHardware = {});
 
 // The device a bake with `device` runs on: nullptr for the CPU. Gpu throws Error when no device is
 // registered or it cannot open; Auto returns nullptr then, or when the device is not hardware.

@@ -19,6 +19,7 @@ namespace {
 struct Registry {
     std::mutex mutex;
     std::function<std::unique_ptr<ComputeDevice>()> open;
+    std::function<bool()> mayBeHardware;
     std::unique_ptr<ComputeDevice> device;
     std::string failure; // why opening failed, remembered so that it is tried once
 };
@@ -32,10 +33,11 @@ Registry& registry() {
 
 } // namespace
 
-void registerComputeDevice(std::function<std::unique_ptr<ComputeDevice>()> open) {
+void registerComputeDevice(std::function<std::unique_ptr<ComputeDevice>()> open, std::function<bool()> mayBeHardware) {
     Registry& r = registry();
     std::lock_guard<std::mutex> lock(r.mutex);
     r.open = std::move(open);
+    r.mayBeHardware = std::move(mayBeHardware);
     r.device.reset();
     r.failure.clear();
 }
@@ -50,6 +52,10 @@ ComputeDevice* selectComputeDevice(Device device, std::string* why) {
     }
     Registry& r = registry();
     std::lock_guard<std::mutex> lock(r.mutex);
+    if (device == Device::Auto && !r.device && r.open && r.mayBeHardware && !r.mayBeHardware()) {
+        say("cpu: no GPU hardware found");
+        return nullptr;
+    }
     if (!r.device && r.failure.empty()) {
         if (!r.open) {
             r.failure = "this program was built without a GPU device";

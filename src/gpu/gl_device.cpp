@@ -293,6 +293,6 @@ bool isSoftwareRenderer(const std::string& renderer) {
 
 std::unique_ptr<ComputeDevice> openGlDevice() { return std::make_unique<GlDevice>(); }
 
-void registerGlDevice() { registerComputeDevice(openGlDevice); }
+void registerGlDevice() { registerComputeDevice(openGlDevice, render::eglMayHaveHardwareDevice); }
 
 } // namespace sdfgen::gpu

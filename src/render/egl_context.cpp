@@ -39,7 +39,7 @@ std::string eglErrorName(EGLint code) {
     }
 }
 
-// A display with a 4.5 core context current on a pbuffer; any failure leaves nothing behind.
+// A display with a 4.5 core context current on a pbuffer.
 struct EglSetup {
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLSurface surface = EGL_NO_SURFACE;
@@ -91,6 +91,27 @@ bool trySetup(EGLDisplay display, glm::ivec2 size, EglSetup& out, std::string& w
     return true;
 }
 
+// The EGL devices, hardware ones first then Mesa's software one(s); empty when EGL cannot list them.
+struct EglDevice {
+    EGLDeviceEXT device;
+    bool software;
+};
+std::vector<EglDevice> listDevices(const char* client) {
+    std::vector<EglDevice> out;
+    if (!hasExtension(client, "EGL_EXT_device_enumeration")) return out;
+    const auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    const auto queryDeviceString = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+    EGLint count = 0;
+    if (!queryDevices || !queryDevices(0, nullptr, &count) || count < 1) return out;
+    std::vector<EGLDeviceEXT> devices(std::size_t(count), nullptr);
+    if (!queryDevices(count, devices.data(), &count)) return out;
+    for (EGLint d = 0; d < count; ++d) {
+        const char* extensions = queryDeviceString ? queryDeviceString(devices[d], EGL_EXTENSIONS) : nullptr;
+        out.push_back({devices[d], hasExtension(extensions, "EGL_MESA_device_software")});
+    }
+    return out;
+}
+
 EglSetup setUp(glm::ivec2 size) {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     std::string tried;
@@ -99,20 +120,13 @@ EglSetup setUp(glm::ivec2 size) {
     std::string why;
     const auto getPlatformDisplay =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (getPlatformDisplay && hasExtension(client, "EGL_EXT_platform_device") && hasExtension(client, "EGL_EXT_device_enumeration")) {
-        const auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-        const auto queryDeviceString = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
-        EGLint count = 0;
-        if (queryDevices && queryDevices(0, nullptr, &count) && count > 0) {
-            std::vector<EGLDeviceEXT> devices(std::size_t(count), nullptr);
-            queryDevices(count, devices.data(), &count);
-            for (EGLint d = 0; d < count; ++d) {
-                // Mesa lists its software renderer as a device too; the surfaceless platform covers it.
-                const char* extensions = queryDeviceString ? queryDeviceString(devices[d], EGL_EXTENSIONS) : nullptr;
-                if (hasExtension(extensions, "EGL_MESA_device_software")) continue;
-                if (trySetup(getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[d], nullptr), size, setup, why)) return setup;
-                note("EGL device " + std::to_string(d), why);
-            }
+    if (getPlatformDisplay && hasExtension(client, "EGL_EXT_platform_device")) {
+        const std::vector<EglDevice> devices = listDevices(client);
+        for (std::size_t d = 0; d < devices.size(); ++d) {
+            // Mesa lists its software renderer as a device too; the surfaceless platform covers it.
+            if (devices[d].software) continue;
+            if (trySetup(getPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[d].device, nullptr), size, setup, why)) return setup;
+            note("EGL device " + std::to_string(d), why);
         }
     }
     if (getPlatformDisplay && hasExtension(client, "EGL_MESA_platform_surfaceless")) {
@@ -165,6 +179,17 @@ private:
 };
 
 } // namespace
+
+bool eglMayHaveHardwareDevice() {
+    const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (!hasExtension(client, "EGL_EXT_device_enumeration")) return true;
+    const std::vector<EglDevice> devices = listDevices(client);
+    if (devices.empty()) return true;
+    for (const EglDevice& d : devices) {
+        if (!d.software) return true;
+    }
+    return false;
+}
 
 std::unique_ptr<GlContext> createEglContext(glm::ivec2 size) { return std::make_unique<EglContext>(size); }
 

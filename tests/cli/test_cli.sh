@@ -31,7 +31,7 @@ bunny=$root/assets/bunny.obj
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tet.obj"
 
 expect 0 'bake' -- "$sdfgen" --help
-for option in --res --rays --padding --threads --output; do
+for option in --res --rays --padding --threads --output --device; do
   expect 0 "$option" -- "$sdfgen" bake --help
 done
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 --rays 16
@@ -54,6 +54,7 @@ expect 1 'different grids' -- "$sdfgen" compare "$work/brute.sdf" "$work/coarse.
 expect 1 "$work/missing.sdf: cannot open" -- "$sdfgen" compare "$work/brute.sdf" "$work/missing.sdf"
 expect fail 'sign' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --sign sideways
 expect fail 'method' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method magic
+expect fail 'device' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --device abacus
 expect 1 'brute method signs by the exact winding number' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method brute --sign rays
 expect 0 '1 threads' -- "$sdfgen" bake "$bunny" -o "$work/bunny.sdf" --res 16 --rays 8 --threads 1
 expect 0 'voxels/s' -- "$sdfgen" bench "$work/tet.obj" --res 8 --rays 8
