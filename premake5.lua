@@ -79,8 +79,12 @@ project "sdfgen_core"
    files { "src/core/**.cpp", "src/core/**.hpp", "include/sdfgen/**.hpp" }
    includedirs { "include", "src" }
    sdfgen_flags()
+   -- The winding sign's crossings are reproduced bit for bit by the GPU: no fused multiply-adds.
+   filter { "toolset:not msc*", "files:src/core/geometry.cpp or src/core/sign.cpp" }
+      buildoptions { "-ffp-contract=off" }
+   filter {}
 
--- Renderers (OpenGL 4.5 through glad) and the OSMesa headless context. Shaders are read at run
+-- Renderers (OpenGL 4.5 through glad) and the headless contexts (EGL, then OSMesa). Shaders are read at run
 -- time from shaders/, beside the binary or in this source tree (SDFGEN_SOURCE_DIR).
 project "sdfgen_render"
    kind "StaticLib"
@@ -89,15 +93,27 @@ project "sdfgen_render"
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
    sdfgen_flags()
 
--- System libraries a program linking sdfgen_render needs (CMake: sdfgen::osmesa, which is OSMesa,
--- and sdfgen::stb, Debian's libstb.so with the stb_image and stb_image_write implementations).
-SDFGEN_RENDER_LINKS = { "OSMesa", "stb" }
+-- System libraries a program linking sdfgen_render needs (CMake: sdfgen::egl, which is EGL,
+-- sdfgen::osmesa, which is OSMesa, and sdfgen::stb, Debian's libstb.so with the stb_image and
+-- stb_image_write implementations).
+SDFGEN_RENDER_LINKS = { "EGL", "OSMesa", "stb" }
 
 function sdfgen_use_render()
    links { "sdfgen_render" }
    links(SDFGEN_RENDER_LINKS)
    sdfgen_use_glad()
 end
+
+-- The GPU compute device (OpenGL 4.5 compute shaders in shaders/*.comp, in a headless context),
+-- registered with the core at run time. Its sample coordinates must round as src/core/sign.cpp's.
+project "sdfgen_gpu"
+   kind "StaticLib"
+   files { "src/gpu/**.cpp", "src/gpu/**.hpp" }
+   includedirs { "include", "src", GLAD_DIR .. "/include" }
+   sdfgen_flags()
+   filter "toolset:not msc*"
+      buildoptions { "-ffp-contract=off" }
+   filter {}
 
 -- The viewer: GLFW window context, Dear ImGui panel, background generation.
 project "sdfgen_app"
@@ -111,7 +127,7 @@ project "sdfgen"
    kind "ConsoleApp"
    files { "src/cli/**.cpp", "src/cli/**.hpp" }
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
-   links { "sdfgen_app" }
+   links { "sdfgen_gpu", "sdfgen_app" }
    sdfgen_use_imgui()
    sdfgen_use_render()
    sdfgen_use_core()
@@ -142,7 +158,15 @@ if not _OPTIONS["no-tests"] then
       sdfgen_use_core()
       sdfgen_use_gtest()
 
-   -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
+   -- The GPU device against the CPU (tests/CMakeLists.txt: sdfgen_gpu_tests).
+   project "sdfgen_gpu_tests"
+      sdfgen_gtest_program("tests/gpu/*.cpp")
+      links { "sdfgen_gpu" }
+      sdfgen_use_render()
+      sdfgen_use_core()
+      sdfgen_use_gtest()
+
+   -- Render tests under EGL and OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
    project "sdfgen_render_tests"
       sdfgen_gtest_program("tests/render/*.cpp")
       sdfgen_use_render()

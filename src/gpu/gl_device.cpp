@@ -8,7 +8,9 @@
 #include <glm/common.hpp>
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <mutex>
 
@@ -39,6 +41,37 @@ public:
 
 private:
     GLuint id_ = 0;
+};
+
+// Phase times of one device call, printed to stderr when SDFGEN_GPU_TIMES is set (bench/gpu.sh).
+class PhaseTimes {
+public:
+    explicit PhaseTimes(const char* call) : call_(call), enabled_(std::getenv("SDFGEN_GPU_TIMES") != nullptr) {}
+    ~PhaseTimes() {
+        if (enabled_) std::fprintf(stderr, "gpu %s:%s\n", call_, text_.c_str());
+    }
+    // Closes the phase that ran since the last mark (the GPU's work is finished first).
+    void note(const char* what, double seconds) {
+        if (!enabled_) return;
+        char part[64];
+        std::snprintf(part, sizeof(part), " (%s %.4f s)", what, seconds);
+        text_ += part;
+    }
+    void mark(const char* phase) {
+        if (!enabled_) return;
+        glFinish();
+        const auto now = std::chrono::steady_clock::now();
+        char part[64];
+        std::snprintf(part, sizeof(part), " %s %.4f s", phase, std::chrono::duration<double>(now - last_).count());
+        text_ += part;
+        last_ = now;
+    }
+
+private:
+    const char* call_;
+    bool enabled_;
+    std::string text_;
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
 std::string glString(GLenum name) {
@@ -80,7 +113,9 @@ public:
     void nearest(const Mesh& mesh, const Grid& grid, const RunControl& control, std::vector<float>& distance,
                  std::vector<std::uint32_t>& triangle) override {
         Session session(*this);
+        PhaseTimes times("nearest");
         const FlatBvh tree(mesh);
+        times.mark("tree");
         checkFits(tree.triangles.size() * sizeof(FlatBvh::Triangle), "the mesh's triangles");
         Buffer nodes, triangles, samples, seeds, distances, nearestBuffer;
         nodes.upload(tree.nodes);
@@ -100,8 +135,9 @@ public:
         nearestBuffer.bind(5);
         distance.resize(grid.sampleCount());
         triangle.resize(grid.sampleCount());
-
         const render::Program& program = compiled(nearest_, "nearest.comp");
+        times.mark("upload+compile");
+        double downloadSeconds = 0;
         program.use();
         glProgramUniform3i(program.id(), glGetUniformLocation(program.id(), "dims"), dims.x, dims.y, dims.z);
         const GLint slabZ = glGetUniformLocation(program.id(), "slabZ"), firstBrickZ = glGetUniformLocation(program.id(), "firstBrickZ");
@@ -122,15 +158,20 @@ public:
                 report(control, double(std::min(z1, bz * 4 + 4)) / dims.z);
             }
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+            const auto downloadStart = std::chrono::steady_clock::now();
             const std::size_t offset = std::size_t(z0) * layerSamples, count = std::size_t(z1 - z0) * layerSamples;
             distances.download(distance.data() + offset, count);
             nearestBuffer.download(triangle.data() + offset, count);
+            downloadSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - downloadStart).count();
         }
+        times.mark("dispatch+download");
+        if (downloadSeconds > 0) times.note("of which download", downloadSeconds);
     }
 
     std::vector<std::int32_t> windingNumbers(const std::vector<glm::dvec3>& corners, const Grid& grid,
                                              const RunControl& control) override {
         Session session(*this);
+        PhaseTimes times("winding");
         const glm::ivec3 dims = grid.dims;
         const std::size_t triangleCount = corners.size() / 3;
         checkFits(corners.size() * sizeof(glm::dvec3), "the closed surface's triangles");
@@ -172,6 +213,7 @@ public:
         std::vector<std::int32_t> out(grid.sampleCount());
         const render::Program& rowsProgram = compiled(windingRows_, "winding_rows.comp");
         const render::Program& prefixProgram = compiled(windingPrefix_, "winding_prefix.comp");
+        times.mark("upload+rows+compile");
         for (const render::Program* p : {&rowsProgram, &prefixProgram}) {
             glProgramUniform3i(p->id(), glGetUniformLocation(p->id(), "dims"), dims.x, dims.y, dims.z);
         }
@@ -211,6 +253,7 @@ public:
             winding.download(out.data() + std::size_t(z0) * layerSamples, std::size_t(z1 - z0) * layerSamples);
             report(control, double(z0 / slabLayers + 1) / slabCount);
         }
+        times.mark("tiles+dispatch+download");
         return out;
     }
 
