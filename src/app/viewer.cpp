@@ -172,6 +172,7 @@ private:
             field_ = std::move(result->field);
             signSummary_ = "sign: " + field_->parameter("sign");
             if (result->checked) signSummary_ += " (" + result->signReason + ")\nmesh check: " + result->check.describe();
+            if (!result->deviceReason.empty()) signSummary_ += "\ndevice: " + result->deviceReason;
             const Grid& g = field_->grid;
             lastSeconds_ = seconds;
             lastRate_ = double(g.sampleCount()) / std::max(seconds, 1e-9);
@@ -263,6 +264,9 @@ private:
             int sign = int(settings_.sign);
             ImGui::Combo("Sign", &sign, "default\0auto\0rays\0pseudonormal\0winding\0");
             settings_.sign = SignMethod(sign);
+            int device = int(settings_.device); // the GPU device has its own context, so it runs on the worker thread
+            ImGui::Combo("Device", &device, "cpu\0gpu\0auto\0");
+            settings_.device = Device(device);
             if (ImGui::Button("Generate")) {
                 if (!mesh_) {
                     error_ = "load a model first";
