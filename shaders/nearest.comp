@@ -23,7 +23,7 @@ layout(std430, binding = 0) readonly buffer Nodes { Node nodes[]; };
 layout(std430, binding = 1) readonly buffer Triangles { Triangle triangles[]; };
 // Sample coordinates: x for each i, then y for each j, then z for each k (as the CPU rounds them).
 layout(std430, binding = 2) readonly buffer Samples { float samples[]; };
-layout(std430, binding = 3) buffer Seeds { uint seeds[]; }; // one triangle (leaf order) per brick
+layout(std430, binding = 3) buffer Seeds { uint seeds[]; }; // one triangle (leaf order) per brick of the layer
 layout(std430, binding = 4) writeonly buffer Distances { float distances[]; };
 layout(std430, binding = 5) writeonly buffer Nearest { uint nearestTriangle[]; };
 
@@ -181,7 +181,7 @@ void main() {
         float best2 = 1.0 / 0.0;
         uint best = 0u;
         walk(samplePosition(min(b * 4, dims - 1)), best2, best);
-        seeds[b.x + bricks.x * (b.y + bricks.y * b.z)] = best;
+        seeds[b.x + bricks.x * b.y] = best;
         return;
     }
     // One work group per brick, one invocation per sample.
@@ -190,7 +190,7 @@ void main() {
     const ivec3 s = b * 4 + ivec3(lane & 3u, (lane >> 2) & 3u, lane >> 4);
     if (any(greaterThanEqual(s, dims))) return;
     const vec3 p = samplePosition(s);
-    uint best = seeds[b.x + bricks.x * (b.y + bricks.y * b.z)];
+    uint best = seeds[b.x + bricks.x * b.y];
     float best2 = triangleDistance2(p, triangles[best].a.xyz, triangles[best].b.xyz, triangles[best].c.xyz);
     walk(p, best2, best);
     const Triangle t = triangles[best];

@@ -123,8 +123,8 @@ public:
         samples.upload(sampleCoordinates(grid));
         const glm::ivec3 dims = grid.dims, bricks = (dims + 3) / 4;
         const std::size_t layerSamples = std::size_t(dims.x) * std::size_t(dims.y);
-        const int slabLayers = this->slabLayers(layerSamples * sizeof(float), 4);
-        seeds.allocate(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z) * sizeof(std::uint32_t));
+        const int slabLayers = this->slabLayers(layerSamples * sizeof(float), 4, dims.z);
+        seeds.allocate(std::size_t(bricks.x) * std::size_t(bricks.y) * sizeof(std::uint32_t)); // one layer of bricks
         distances.allocate(layerSamples * std::size_t(slabLayers) * sizeof(float));
         nearestBuffer.allocate(layerSamples * std::size_t(slabLayers) * sizeof(std::uint32_t));
         nodes.bind(0);
@@ -185,7 +185,7 @@ public:
         }
         samples.upload(sampleCoordinates(grid));
         const std::size_t rowLength = std::size_t(dims.x) + 1;
-        const int slabLayers = this->slabLayers(rowLength * std::size_t(dims.y) * sizeof(std::int32_t), 1);
+        const int slabLayers = this->slabLayers(rowLength * std::size_t(dims.y) * sizeof(std::int32_t), 1, dims.z);
         counts.allocate(rowLength * std::size_t(dims.y) * std::size_t(slabLayers) * sizeof(std::int32_t));
         winding.allocate(std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(slabLayers) * sizeof(std::int32_t));
         cornerBuffer.bind(0);
@@ -288,16 +288,17 @@ private:
         return out;
     }
 
-    // Layers per slab so that a slab's buffer stays under slabBytes_: a
-    // multiple of `multiple`, at least one multiple.
-    int slabLayers(std::size_t layerBytes, int multiple) const {
+    // Layers per slab so that a slab's buffer stays under slabBytes_: a multiple of `multiple`, at
+    // least one multiple, and no more than the grid's `layers` need.
+    int slabLayers(std::size_t layerBytes, int multiple, int gridLayers) const {
         const std::size_t budget = slabBytes_;
         const std::size_t layers = budget / std::max<std::size_t>(layerBytes, 1) / std::size_t(multiple) * std::size_t(multiple);
         if (layers == 0) {
             throw Error("the grid's layers are too large for the GPU (" + std::to_string(layerBytes * std::size_t(multiple) >> 20) +
                         " MiB for " + std::to_string(multiple) + ", the limit is " + std::to_string(budget >> 20) + " MiB); use --device cpu");
         }
-        return int(std::min<std::size_t>(layers, 1 << 20));
+        const std::size_t needed = (std::size_t(gridLayers) + std::size_t(multiple) - 1) / std::size_t(multiple) * std::size_t(multiple);
+        return int(std::min(layers, needed));
     }
 
     void checkFits(std::size_t bytes, const char* what) const {
