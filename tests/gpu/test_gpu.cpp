@@ -131,6 +131,31 @@ TEST_F(Gpu, EqualsTheCpu) {
     }
 }
 
+// Rows of samples through the mesh's shared edges and vertices, where only the symbolic
+// tie-breaking decides which triangle a row crosses: a cube whose padding puts samples at -2..2 in
+// whole units, so rows run through its corners and along its edges, and a finer grid whose
+// diagonal rows (j = k) run along the faces' diagonals.
+TEST_F(Gpu, EqualsTheCpuWhereRowsHitEdgesAndVertices) {
+    const Mesh cube = test::box({1.0f, 1.0f, 1.0f});
+    for (const auto& [res, padding] : {std::pair{5, 0.75f}, std::pair{16, 0.1f}}) {
+        for (SignMethod sign : {SignMethod::Winding, SignMethod::Pseudonormal}) {
+            SCOPED_TRACE("res " + std::to_string(res) + ", sign " + toString(sign));
+            BakeSettings settings;
+            settings.res = res;
+            settings.padding = padding;
+            settings.sign = sign;
+            settings.device = Device::Cpu;
+            const BakeResult cpu = test::bakeMesh(cube, settings);
+            settings.device = Device::Gpu;
+            const BakeResult gpu = test::bakeMesh(cube, settings);
+            if (res == 5) {
+                ASSERT_EQ(cpu.field.grid.sample(1, 1, 1), glm::vec3(-1.0f)) << "samples should sit on the cube's corners";
+            }
+            expectEqualFields(cpu, gpu);
+        }
+    }
+}
+
 TEST_F(Gpu, IsDeterministic) {
     const Mesh bunny = loadObj(test::bundledBunnyPath());
     const BakeResult first = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
