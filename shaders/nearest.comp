@@ -39,7 +39,16 @@ float boxDistance2(vec3 p, vec3 lo, vec3 hi) {
     return dot(d, d);
 }
 
-// Squared distance from p to triangle (a, b, c), by Voronoi regions (Ericson 5.1.5), in float.
+// Squared distance from p to segment s + t d, t in [0, 1].
+float segmentDistance2(vec3 p, vec3 s, vec3 d) {
+    const float len2 = dot(d, d);
+    const float t = len2 > 0.0 ? clamp(dot(p - s, d) / len2, 0.0, 1.0) : 0.0;
+    const vec3 q = p - (s + d * t);
+    return dot(q, q);
+}
+
+// Squared distance from p to triangle (a, b, c), by Voronoi regions (Ericson 5.1.5), in float,
+// with the same guards as the double version below so that slivers never give NaN.
 float triangleDistance2(vec3 p, vec3 a, vec3 b, vec3 c) {
     const vec3 ab = b - a, ac = c - a, ap = p - a;
     const float d1 = dot(ab, ap), d2 = dot(ac, ap);
@@ -48,7 +57,7 @@ float triangleDistance2(vec3 p, vec3 a, vec3 b, vec3 c) {
     const float d3 = dot(ab, bp), d4 = dot(ac, bp);
     if (d3 >= 0.0 && d4 <= d3) return dot(bp, bp);
     const float vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0) {
         const vec3 q = ap - ab * (d1 / (d1 - d3));
         return dot(q, q);
     }
@@ -56,18 +65,22 @@ float triangleDistance2(vec3 p, vec3 a, vec3 b, vec3 c) {
     const float d5 = dot(ab, cp), d6 = dot(ac, cp);
     if (d6 >= 0.0 && d5 <= d6) return dot(cp, cp);
     const float vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0) {
         const vec3 q = ap - ac * (d2 / (d2 - d6));
         return dot(q, q);
     }
     const float va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0) {
         const vec3 q = bp - (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
         return dot(q, q);
     }
-    const float denominator = 1.0 / (va + vb + vc);
-    const vec3 q = ap - ab * (vb * denominator) - ac * (vc * denominator);
-    return dot(q, q);
+    const float sum = va + vb + vc;
+    if (sum > 0.0) {
+        const vec3 q = ap - ab * (vb / sum) - ac * (vc / sum);
+        return dot(q, q);
+    }
+    // A (nearly) zero-area triangle: its nearest point is on one of its edges.
+    return min(segmentDistance2(p, a, ab), min(segmentDistance2(p, b, c - b), segmentDistance2(p, a, ac)));
 }
 
 // The CPU's closestPointOnTriangle (src/core/geometry.cpp), in double: the squared distance.

@@ -242,6 +242,9 @@ public:
                 glUniform1i(firstTile, GLint(start));
                 glDispatchCompute(GLuint(std::min(kMaxGroups, work.size() - start)), 1, 1);
                 glFinish();
+                // The slab's crossings are most of its work; its suffix sums and download the rest.
+                const double slabDone = std::min(1.0, double(start + kMaxGroups) / double(work.size()));
+                report(control, (double(z0 / slabLayers) + 0.9 * slabDone) / slabCount);
             }
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             prefixProgram.use();
