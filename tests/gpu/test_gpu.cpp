@@ -4,6 +4,8 @@
 // cancellation. The bad-context suite (GpuBadContext) runs in its own process with
 // MESA_GL_VERSION_OVERRIDE=3.3 (tests/CMakeLists.txt), since Mesa reads that once per process.
 #include "gpu/gl_device.hpp"
+#include "render/egl_context.hpp"
+#include "render/gl.hpp"
 #include "sdfgen/device.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
@@ -15,6 +17,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <optional>
+#include <thread>
 
 namespace sdfgen {
 namespace {
@@ -176,6 +180,25 @@ TEST_F(Gpu, StreamsSlabs) {
     const BakeResult gpu = bakeOn(holed, 18, Device::Gpu, SignMethod::Winding);
     gpu::registerGlDevice();
     expectEqualFields(cpu, gpu);
+}
+
+// As in the viewer: a window's context current on the main thread, the bake on a worker thread
+// (the device makes its own context current there and releases it), then drawing again.
+TEST_F(Gpu, BakesOnAWorkerThreadBesideAnotherContext) {
+    const std::unique_ptr<render::GlContext> window = render::createEglContext({16, 16});
+    const Mesh sphere = cutOpen(test::icosphere(1.0f, 2), {0, 1, 0}, 0.8f);
+    std::optional<BakeResult> gpu;
+    std::thread worker([&] { gpu = bakeOn(sphere, 12, Device::Gpu, SignMethod::Winding); });
+    worker.join();
+    ASSERT_TRUE(gpu.has_value());
+    expectEqualFields(bakeOn(sphere, 12, Device::Cpu, SignMethod::Winding), *gpu);
+    window->makeCurrent();
+    glClearColor(0.0f, 1.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    unsigned char pixel[4] = {0, 0, 0, 0};
+    glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
+    EXPECT_EQ(pixel[1], 255);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
 TEST_F(Gpu, Cancels) {
