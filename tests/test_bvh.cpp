@@ -1,5 +1,7 @@
 // The BVH's nearest hit equals brute force over every triangle.
 #include "core/bvh.hpp"
+#include "core/exact.hpp"
+#include "sdfgen/grid.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -110,6 +112,99 @@ TEST(Bvh, CoincidentTrianglesStillSplit) {
     RayHit hit;
     ASSERT_TRUE(tree.intersect({0.2f, 0.2f, 1.0f}, {0, 0, -1}, kInf, hit));
     EXPECT_FLOAT_EQ(hit.t, 1.0f);
+}
+
+
+// Every triangle of the mesh that forEachOverlap reports for a box around everything (first copies only).
+std::size_t trianglesReached(const Bvh& tree) {
+    const float big = std::numeric_limits<float>::max();
+    std::size_t count = 0;
+    tree.forEachOverlap({glm::vec3(-big), glm::vec3(big)}, [&](std::uint32_t) { ++count; });
+    return count;
+}
+
+// Regression (fuzzing): centroid spans beyond the float range, or so small that their inverse
+// overflows, made the binning index its bins with int(inf or NaN) and crash.
+TEST(Bvh, BuildsAtAnyFloatSpan) {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    auto addTetrahedron = [&](glm::vec3 o, float s) {
+        const unsigned base = unsigned(positions.size());
+        positions.insert(positions.end(), {o, o + glm::vec3(s, 0, 0), o + glm::vec3(0, s, 0), o + glm::vec3(0, 0, s)});
+        for (glm::uvec3 f : {glm::uvec3(0, 2, 1), glm::uvec3(0, 1, 3), glm::uvec3(0, 3, 2), glm::uvec3(1, 2, 3)}) triangles.push_back(f + base);
+    };
+    // Centres 6e38 apart on x (the float span overflows) and on every axis.
+    for (float x : {-3e38f, 0.0f, 3e38f}) addTetrahedron({x, -x, x}, 1e37f);
+    const Mesh huge = buildMesh("huge", positions, triangles);
+    // A cube of side 3e-38 with one corner moved to z = 1e-40: spans whose inverse overflows.
+    Mesh tiny = test::box({1.5e-38f, 1.5e-38f, 1.5e-38f});
+    tiny.positions[0].z = 1e-40f;
+    tiny = buildMesh("tiny", tiny.positions, tiny.triangles);
+    for (const Mesh* mesh : std::initializer_list<const Mesh*>{&huge, &tiny}) {
+        const Bvh tree(*mesh);
+        EXPECT_LE(tree.depth(), Bvh::kMaxDepth) << mesh->source;
+        EXPECT_EQ(trianglesReached(tree), mesh->triangleCount()) << mesh->source;
+        const glm::vec3 centre = mesh->bounds.min * 0.5f + mesh->bounds.max * 0.5f;
+        RayHit hit;
+        tree.intersect(centre, {0, 0, 1}, kInf, hit); // must not crash; float overflow may miss
+        PointPacket packet;
+        packet.px = simd::splat(centre.x);
+        packet.py = simd::splat(centre.y);
+        packet.pz = simd::splat(centre.z);
+        packet.bestSquared = simd::splat(kInf);
+        packet.triangle = simd::splat(0);
+        tree.nearest(packet);
+        EXPECT_LT(std::uint32_t(packet.triangle[0]), mesh->triangleCount()) << mesh->source;
+    }
+}
+
+// Centroids spaced exponentially make every SAH split peel off one triangle; the build must
+// still bound its depth and its leaves, and keep every triangle.
+TEST(Bvh, ExponentiallySpacedTrianglesKeepDepthAndLeavesBounded) {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    for (int i = 0; i < 120; ++i) {
+        const float x = std::ldexp(1.0f, i - 60);
+        const unsigned base = unsigned(positions.size());
+        positions.insert(positions.end(), {{x, 0, 0}, {x, 1, 0}, {x, 0, 1}});
+        triangles.emplace_back(base, base + 1, base + 2);
+    }
+    const Mesh mesh = buildMesh("exponential", positions, triangles);
+    const Bvh tree(mesh);
+    EXPECT_LE(tree.depth(), Bvh::kMaxDepth);
+    EXPECT_EQ(trianglesReached(tree), mesh.triangleCount());
+    RayHit hit;
+    for (int i : {0, 60, 119}) { // a ray along +x from just before triangle i hits it
+        const float x = std::ldexp(1.0f, i - 60);
+        ASSERT_TRUE(tree.intersect({x * 0.75f, 0.2f, 0.2f}, {1, 0, 0}, kInf, hit)) << i;
+        EXPECT_EQ(hit.triangle, std::uint32_t(i));
+    }
+}
+
+// Regression: a stack of copies made every query that reached it visit each copy (quadratic time
+// for 1e5 copies of a tetrahedron). The tree holds one copy and answers as before.
+TEST(Bvh, CopiesOfTrianglesAreHeldOnce) {
+    const Mesh one = test::box({1.0f, 0.5f, 0.25f});
+    std::vector<glm::uvec3> triangles;
+    for (int copy = 0; copy < 2000; ++copy) {
+        for (std::size_t t = 0; t < one.triangleCount(); ++t) {
+            glm::uvec3 f = one.triangles[t];
+            if (copy % 3 == 1) f = {f.y, f.z, f.x}; // the same triangle starting at another corner
+            triangles.push_back(f);
+        }
+    }
+    const Mesh copies = buildMesh("copies", one.positions, triangles);
+    const Bvh tree(copies);
+    EXPECT_EQ(tree.triangleCount(), one.triangleCount());
+    EXPECT_EQ(trianglesReached(tree), one.triangleCount());
+    const Grid grid = makeGrid(copies.bounds, 12, 0.2f);
+    const NearestField expected = computeNearest(one, Bvh(one), grid, RunControl{});
+    const NearestField actual = computeNearest(copies, tree, grid, RunControl{});
+    EXPECT_EQ(actual.distance, expected.distance);
+    RayHit hit;
+    ASSERT_TRUE(tree.intersect({0.2f, 0.2f, 2.0f}, {0, 0, -1}, kInf, hit));
+    EXPECT_FLOAT_EQ(hit.t, 1.75f);
+    EXPECT_EQ(copies.triangles[hit.triangle], one.triangles[hit.triangle]); // the first copy
 }
 
 } // namespace

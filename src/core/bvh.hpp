@@ -35,7 +35,10 @@ struct PointPacket {
 
 // The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of
 // axis-aligned boxes (each inner node splits its triangles along one axis), built with the binned
-// surface area heuristic and stored as a flat depth-first node array.
+// surface area heuristic and stored as a flat depth-first node array. Exact copies of a triangle
+// are held once (queries report the first copy). Any finite float input builds: binning works in
+// double, and skewed inputs fall back to median splits, so depth stays within kMaxDepth and
+// leaves within kMaxLeafSize.
 class Bvh {
 public:
     static constexpr int kMaxLeafSize = 8;
@@ -59,6 +62,8 @@ public:
     void forEachOverlap(const Bounds& box, Visit&& visit) const;
 
     std::size_t nodeCount() const { return nodes_.size(); }
+    // Distinct triangles held: exact copies of a triangle are stored once (see TriangleCopies).
+    std::size_t triangleCount() const { return triangleIds_.size(); }
     int depth() const { return depth_; }
     const Bounds& bounds() const { return bounds_; }
 

@@ -1,39 +1,85 @@
 #include "core/sign.hpp"
+#include "core/duplicates.hpp"
 #include "core/parallel.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <numeric>
 
 namespace sdfgen {
 
 namespace {
 
-// A fan closing one boundary loop, with what bounds its winding number from afar.
-// Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so mesh + fans is closed.
+// Where sample (i, j, k) is, in the coordinates the mesh is stored in. The one place that knows.
+glm::dvec3 samplePoint(const Grid& grid, int i, int j, int k) { return glm::dvec3(grid.sample(i, j, k)); }
+
+// A fan closing one boundary loop, counted `weight` times, with what bounds its winding number
+// from afar. Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so that mesh +
+// fans is closed.
 struct Cap {
     std::vector<glm::dvec3> loop;
-    glm::dvec3 centre;
+    glm::dvec3 centre{0.0};
     double radius = 0; // every point of the fan is within this of centre
     double area = 0;
+    int weight = 1;
 };
 
+Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
+    Cap cap;
+    cap.loop = std::move(loop);
+    cap.weight = weight;
+    for (const glm::dvec3& v : cap.loop) cap.centre += v;
+    cap.centre /= double(cap.loop.size());
+    for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+        const glm::dvec3& from = cap.loop[i];
+        const glm::dvec3& to = cap.loop[(i + 1) % cap.loop.size()];
+        cap.radius = std::max(cap.radius, glm::length(from - cap.centre));
+        cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
+    }
+    return cap;
+}
+
+// Loops longer than this are closed by several small fans (see addLoop).
+constexpr std::size_t kMaxCapEdges = 8;
+
+// Closes `loop` by fans of at most kMaxCapEdges edges each, all near the loop: its runs of
+// kMaxCapEdges edges, each closed by the chord back to the run's start, and then (recursively)
+// the polygon of those chords, whose edges cancel the chords. One fan over a long loop (a
+// terrain's border) would span the whole sheet: every sample near the sheet would be near it and
+// pay for its whole loop; small fans stay near the border and are bounded from afar.
+void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps) {
+    if (loop.size() <= kMaxCapEdges + 1) {
+        caps.push_back(makeCap(loop, weight));
+        return;
+    }
+    std::vector<glm::dvec3> coarse;
+    for (std::size_t start = 0; start < loop.size(); start += kMaxCapEdges) {
+        const std::size_t end = std::min(start + kMaxCapEdges, loop.size()); // the run's last vertex is loop[end % size]
+        std::vector<glm::dvec3> run(loop.begin() + std::ptrdiff_t(start), loop.begin() + std::ptrdiff_t(end));
+        run.push_back(loop[end % loop.size()]);
+        caps.push_back(makeCap(std::move(run), weight));
+        coarse.push_back(loop[start]);
+    }
+    addLoop(coarse, weight, caps);
+}
+
+// The caps of the mesh's boundary: equal loops (copies of open triangles) become one cap with a
+// weight, so that a stack of copies is evaluated once.
 std::vector<Cap> makeCaps(const MeshTopology& topology) {
+    std::map<std::vector<std::uint32_t>, int> loops; // rotated to start at the smallest vertex
+    for (std::vector<std::uint32_t> loop : topology.boundaryLoops()) {
+        std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+        ++loops[loop];
+    }
     std::vector<Cap> caps;
-    for (const std::vector<std::uint32_t>& loop : topology.boundaryLoops()) {
-        Cap cap;
-        cap.centre = glm::dvec3(0.0);
-        for (std::uint32_t v : loop) cap.centre += topology.position(v);
-        cap.centre /= double(loop.size());
-        for (std::size_t i = 0; i < loop.size(); ++i) {
-            const glm::dvec3& from = topology.position(loop[i]);
-            const glm::dvec3& to = topology.position(loop[(i + 1) % loop.size()]);
-            cap.loop.push_back(from);
-            cap.radius = std::max(cap.radius, glm::length(from - cap.centre));
-            cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
-        }
-        caps.push_back(std::move(cap));
+    for (const auto& [loop, weight] : loops) {
+        std::vector<glm::dvec3> points;
+        for (std::uint32_t v : loop) points.push_back(topology.position(v));
+        addLoop(points, weight, caps);
     }
     return caps;
 }
@@ -72,10 +118,129 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
     return 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
 }
 
-// Upper bound of |winding number| of a fan seen from p: area / (4π d²), d the distance to the fan.
-double fanBound(const glm::dvec3& p, const Cap& cap) {
-    const double d = glm::length(p - cap.centre) - cap.radius;
-    return d > 0.0 ? cap.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+// The cap's winding number at p, times its weight.
+double fanWinding(const glm::dvec3& p, const Cap& cap) { return cap.weight * fanSolidAngle(p, cap) / (4.0 * M_PI); }
+
+// A bounding-sphere hierarchy over the caps: |winding number| of everything under a node, seen
+// from a point at distance d > 0 from its sphere, is at most area / (4π d²) (the solid angle of a
+// surface is at most its area over the squared distance to its nearest point).
+class CapTree {
+public:
+    struct Node {
+        glm::dvec3 centre;
+        double radius, area;   // area: the sum of |weight| * area below
+        std::uint32_t first;   // inner: first child (the second is first + 1); leaf: the cap
+        bool leaf;
+    };
+
+    explicit CapTree(const std::vector<Cap>& caps) : caps_(caps) {
+        if (caps.empty()) return;
+        std::vector<std::uint32_t> order(caps.size());
+        std::iota(order.begin(), order.end(), 0u);
+        nodes_.reserve(2 * caps.size());
+        nodes_.push_back({});
+        build(0, order, 0, order.size());
+    }
+
+    bool empty() const { return nodes_.empty(); }
+    const Node& node(std::uint32_t index) const { return nodes_[index]; }
+    const Cap& cap(const Node& leaf) const { return caps_[leaf.first]; }
+
+    // The winding-number bound of a node for every point within `reach` of p (infinite when the
+    // ball touches the node's sphere).
+    double bound(const Node& node, const glm::dvec3& p, double reach) const {
+        const double d = glm::length(p - node.centre) - node.radius - reach;
+        return d > 0.0 ? node.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+    }
+
+private:
+    void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) {
+        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        double area = 0.0;
+        for (std::size_t i = begin; i < end; ++i) {
+            const Cap& c = caps_[order[i]];
+            lo = glm::min(lo, c.centre - c.radius);
+            hi = glm::max(hi, c.centre + c.radius);
+            area += std::abs(c.weight) * c.area;
+        }
+        Node node;
+        node.centre = 0.5 * (lo + hi);
+        node.radius = 0.0;
+        for (std::size_t i = begin; i < end; ++i) {
+            const Cap& c = caps_[order[i]];
+            node.radius = std::max(node.radius, glm::length(c.centre - node.centre) + c.radius);
+        }
+        node.area = area;
+        if (end - begin == 1) {
+            node.first = order[begin];
+            node.leaf = true;
+            nodes_[index] = node;
+            return;
+        }
+        const glm::dvec3 extent = hi - lo;
+        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+        const std::size_t middle = begin + (end - begin) / 2;
+        std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle), order.begin() + std::ptrdiff_t(end),
+                         [&](std::uint32_t l, std::uint32_t r) {
+                             const double cl = caps_[l].centre[axis], cr = caps_[r].centre[axis];
+                             return cl != cr ? cl < cr : l < r;
+                         });
+        node.first = std::uint32_t(nodes_.size());
+        node.leaf = false;
+        nodes_[index] = node;
+        nodes_.push_back({});
+        nodes_.push_back({});
+        build(node.first, order, begin, middle);
+        build(node.first + 1, order, middle, end);
+    }
+
+    const std::vector<Cap>& caps_;
+    std::vector<Node> nodes_;
+};
+
+// Nodes whose winding number bound is below this are summed as bounds rather than opened.
+constexpr double kFarBound = 0.01;
+
+// A node left unopened with the bound it was accepted with.
+struct FarNode {
+    double bound;
+    std::uint32_t node;
+    bool operator<(const FarNode& other) const { return bound < other.bound; }
+};
+
+// Opens the tree from `start` around a ball (p, reach): leaves that may be near go to `near`,
+// nodes bounded below kFarBound to `far` (with their sum in `farSum`).
+void collect(const CapTree& tree, std::uint32_t start, const glm::dvec3& p, double reach, std::vector<std::uint32_t>& near,
+             std::vector<FarNode>& far, double& farSum) {
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = start;
+    while (top > 0) {
+        const std::uint32_t index = stack[--top];
+        const CapTree::Node& node = tree.node(index);
+        const double bound = tree.bound(node, p, reach);
+        if (bound < kFarBound) {
+            if (bound > 0.0) {
+                far.push_back({bound, index});
+                farSum += bound;
+            }
+        } else if (node.leaf) {
+            near.push_back(index);
+        } else {
+            stack[top++] = node.first + 1;
+            stack[top++] = node.first;
+        }
+    }
+}
+
+// Samples per brick edge: the cap tree is opened once per brick of brickEdge³ samples.
+constexpr int kBrickEdge = 4;
+
+// Candidate rows of a coordinate range [lo, hi] on an axis with `count` samples from `first` at
+// spacing h: one wider each way (the exact test decides), clamped before any conversion to int.
+std::pair<int, int> sampleRange(double lo, double hi, double first, double h, int count) {
+    const double from = std::floor((lo - first) / h) - 1.0, to = std::ceil((hi - first) / h) + 1.0;
+    return {int(std::clamp(from, 0.0, double(count))), int(std::clamp(to, -1.0, double(count - 1)))};
 }
 
 } // namespace
@@ -89,79 +254,173 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
 }
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control) {
+                                          const RunControl& control, WindingStats* stats) {
     const std::vector<Cap> caps = makeCaps(topology);
+    const CapTree capTree(caps);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
 
-    // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans.
+    // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans,
+    //    copies of a triangle counted once with their number as the weight.
+    struct ScanTriangle {
+        glm::dvec3 a, b, c;
+        int weight;
+    };
+    const TriangleCopies copies = findTriangleCopies(mesh);
+    std::vector<ScanTriangle> capTriangles;
+    for (const Cap& cap : caps) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            capTriangles.push_back({cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight});
+        }
+    }
+    const std::size_t scanCount = copies.unique.size() + capTriangles.size();
+    auto scanTriangle = [&](std::size_t index) {
+        if (index >= copies.unique.size()) return capTriangles[index - copies.unique.size()];
+        const std::uint32_t t = copies.unique[index];
+        return ScanTriangle{glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)),
+                            int(copies.count[index])};
+    };
     struct Crossing {
         double x;
-        int sign; // +1 where the surface faces +x: moving along +x leaves the solid there
+        int sign; // +weight where the surface faces +x: moving along +x leaves the solid there
     };
     std::vector<std::vector<Crossing>> rows(std::size_t(ny) * std::size_t(nz));
-    const glm::dvec3 first(grid.sample(0, 0, 0));
+    const glm::dvec3 first = samplePoint(grid, 0, 0, 0);
     const double h = grid.voxel;
-    auto addTriangle = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-        // Candidate rows from the projected bounds, one wider each way; the exact test decides.
-        const double ylo = std::min({a.y, b.y, c.y}), yhi = std::max({a.y, b.y, c.y});
-        const double zlo = std::min({a.z, b.z, c.z}), zhi = std::max({a.z, b.z, c.z});
-        const int j0 = std::max(0, int(std::floor((ylo - first.y) / h)) - 1);
-        const int j1 = std::min(ny - 1, int(std::ceil((yhi - first.y) / h)) + 1);
-        const int k0 = std::max(0, int(std::floor((zlo - first.z) / h)) - 1);
-        const int k1 = std::min(nz - 1, int(std::ceil((zhi - first.z) / h)) + 1);
-        for (int k = k0; k <= k1; ++k) {
-            for (int j = j0; j <= j1; ++j) {
-                const glm::vec3 s = grid.sample(0, j, k);
-                int orientation;
-                glm::dvec3 w;
-                if (!pointInTriangle2d({s.y, s.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) continue;
-                rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back({w.x * a.x + w.y * b.x + w.z * c.x, orientation});
+    // Parallel over bands of z planes: each band's rows are written by its item alone, from the
+    // triangles bucketed to it in index order.
+    constexpr int kBandPlanes = 4;
+    const int bands = (nz + kBandPlanes - 1) / kBandPlanes;
+    std::vector<std::pair<int, int>> planes(scanCount);
+    std::vector<std::uint32_t> bandStart(std::size_t(bands) + 1, 0);
+    for (std::size_t index = 0; index < scanCount; ++index) {
+        const ScanTriangle s = scanTriangle(index);
+        planes[index] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
+        if (planes[index].first > planes[index].second) continue;
+        for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) ++bandStart[std::size_t(band) + 1];
+    }
+    for (int band = 0; band < bands; ++band) bandStart[std::size_t(band) + 1] += bandStart[std::size_t(band)];
+    std::vector<std::uint32_t> bandTriangles(bandStart.back());
+    {
+        std::vector<std::uint32_t> fill(bandStart.begin(), bandStart.end() - 1);
+        for (std::size_t index = 0; index < scanCount; ++index) {
+            if (planes[index].first > planes[index].second) continue;
+            for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) {
+                bandTriangles[fill[std::size_t(band)]++] = std::uint32_t(index);
             }
         }
-    };
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        addTriangle(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
     }
-    for (const Cap& cap : caps) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) addTriangle(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
-    }
-
-    // 2. Per row: the closed surface's winding number is the signed count of crossings ahead (+x);
-    //    then the fans' winding number is subtracted where it might matter.
-    std::vector<std::uint8_t> inside(grid.sampleCount());
-    parallelFor(rows.size(), control, [&](std::size_t row) {
-        const int j = int(row % std::size_t(ny)), k = int(row / std::size_t(ny));
-        std::vector<Crossing>& crossings = rows[row];
-        std::sort(crossings.begin(), crossings.end(), [](const Crossing& l, const Crossing& r) { return l.x > r.x; });
-        int ahead = 0;
-        std::size_t next = 0;
-        for (int i = nx - 1; i >= 0; --i) {
-            const glm::dvec3 p(grid.sample(i, j, k));
-            while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
-            // The fans' winding number is subtracted only where it could reach 1/2: near fans
-            // exactly, far ones within their bounds, and all exactly when the bounds leave doubt.
-            bool in = ahead >= 1;
-            double far = 0.0;
-            for (const Cap& cap : caps) far += fanBound(p, cap);
-            if (far >= 0.45) {
-                double near = 0.0;
-                far = 0.0;
-                for (const Cap& cap : caps) {
-                    const double bound = fanBound(p, cap);
-                    if (bound < 0.02) far += bound;
-                    else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
+    parallelFor(std::size_t(bands), control.phase(0.0, 0.3), [&](std::size_t band) {
+        const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
+        for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
+            const ScanTriangle s = scanTriangle(bandTriangles[n]);
+            const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
+            const int k0 = std::max(bandLo, planes[bandTriangles[n]].first), k1 = std::min(bandHi, planes[bandTriangles[n]].second);
+            for (int k = k0; k <= k1; ++k) {
+                for (int j = j0; j <= j1; ++j) {
+                    const glm::dvec3 q = samplePoint(grid, 0, j, k);
+                    int orientation;
+                    glm::dvec3 w;
+                    if (!pointInTriangle2d({q.y, q.z}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation, w)) continue;
+                    rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back(
+                        {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation * s.weight});
                 }
-                double w = double(ahead) - near;
-                if (std::fabs(w - 0.5) <= far) {
-                    for (const Cap& cap : caps) {
-                        if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
-                    }
-                }
-                in = w > 0.5;
             }
-            inside[grid.index(i, j, k)] = in;
         }
     });
+
+    // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
+    //    crossings ahead (+x); then the fans' winding number is subtracted where it might matter.
+    std::vector<std::uint8_t> inside(grid.sampleCount());
+    std::atomic<std::size_t> fanEvaluations{0};
+    const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
+    parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
+        const int jb = kBrickEdge * int(block % std::size_t(blocksY)), kb = kBrickEdge * int(block / std::size_t(blocksY));
+        const int je = std::min(ny, jb + kBrickEdge), ke = std::min(nz, kb + kBrickEdge);
+        std::vector<int> ahead(std::size_t(kBrickEdge * kBrickEdge) * std::size_t(nx));
+        for (int k = kb; k < ke; ++k) {
+            for (int j = jb; j < je; ++j) {
+                std::vector<Crossing>& crossings = rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)];
+                std::sort(crossings.begin(), crossings.end(), [](const Crossing& l, const Crossing& r) { return l.x > r.x; });
+                int* rowAhead = &ahead[std::size_t((k - kb) * kBrickEdge + (j - jb)) * std::size_t(nx)];
+                int count = 0;
+                std::size_t next = 0;
+                for (int i = nx - 1; i >= 0; --i) {
+                    const double x = samplePoint(grid, i, j, k).x;
+                    while (next < crossings.size() && crossings[next].x > x) count += crossings[next++].sign;
+                    rowAhead[i] = count;
+                }
+                std::vector<Crossing>().swap(crossings); // done with this row
+            }
+        }
+        std::vector<std::uint32_t> near, opened;
+        std::vector<FarNode> far, heap;
+        std::size_t evaluations = 0;
+        for (int ib = 0; ib < nx; ib += kBrickEdge) {
+            const int ie = std::min(nx, ib + kBrickEdge);
+            near.clear();
+            far.clear();
+            double brickFar = 0.0;
+            if (!capTree.empty()) {
+                const glm::dvec3 lo = samplePoint(grid, ib, jb, kb), hi = samplePoint(grid, ie - 1, je - 1, ke - 1);
+                collect(capTree, 0, 0.5 * (lo + hi), 0.5 * glm::length(hi - lo), near, far, brickFar);
+            }
+            for (int k = kb; k < ke; ++k) {
+                for (int j = jb; j < je; ++j) {
+                    const int* rowAhead = &ahead[std::size_t((k - kb) * kBrickEdge + (j - jb)) * std::size_t(nx)];
+                    for (int i = ib; i < ie; ++i) {
+                        if (capTree.empty()) { // a closed surface: w is the integer count
+                            inside[grid.index(i, j, k)] = rowAhead[i] >= 1;
+                            continue;
+                        }
+                        const glm::dvec3 p = samplePoint(grid, i, j, k);
+                        // w = crossings - fans; the fans under `far` add at most farSum either way.
+                        double w = rowAhead[i], farSum = brickFar;
+                        heap.clear();
+                        for (std::uint32_t index : near) {
+                            const CapTree::Node& leaf = capTree.node(index);
+                            const double bound = capTree.bound(leaf, p, 0.0);
+                            if (bound < kFarBound) {
+                                heap.push_back({bound, index});
+                                farSum += bound;
+                            } else {
+                                w -= fanWinding(p, capTree.cap(leaf));
+                                ++evaluations;
+                            }
+                        }
+                        // Exact: while the bounds leave w on either side of 1/2, open the loosest.
+                        if (std::fabs(w - 0.5) <= farSum) {
+                            heap.insert(heap.end(), far.begin(), far.end());
+                            std::make_heap(heap.begin(), heap.end());
+                            while (!heap.empty() && std::fabs(w - 0.5) <= farSum) {
+                                std::pop_heap(heap.begin(), heap.end());
+                                const FarNode loosest = heap.back();
+                                heap.pop_back();
+                                farSum -= loosest.bound;
+                                const CapTree::Node& node = capTree.node(loosest.node);
+                                if (node.leaf) {
+                                    w -= fanWinding(p, capTree.cap(node));
+                                    ++evaluations;
+                                    continue;
+                                }
+                                const std::size_t before = heap.size();
+                                opened.clear();
+                                for (std::uint32_t child : {node.first, node.first + 1}) collect(capTree, child, p, 0.0, opened, heap, farSum);
+                                for (std::size_t n = before; n < heap.size(); ++n) std::push_heap(heap.begin(), heap.begin() + std::ptrdiff_t(n) + 1);
+                                for (std::uint32_t index : opened) w -= fanWinding(p, capTree.cap(capTree.node(index)));
+                                evaluations += opened.size();
+                            }
+                        }
+                        inside[grid.index(i, j, k)] = w > 0.5;
+                    }
+                }
+            }
+        }
+        fanEvaluations += evaluations;
+    });
+    if (stats) {
+        stats->caps = caps.size();
+        stats->fanEvaluations = fanEvaluations;
+    }
     return inside;
 }
 

@@ -1,4 +1,5 @@
 #include "core/topology.hpp"
+#include "core/duplicates.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -150,10 +151,18 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
     edgeCheck_.nonManifoldVertices = std::size_t(std::count(pinched.begin(), pinched.end(), true));
 
     // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
+    // Each vertex keeps a cursor to its first unused outgoing edge, so many copies of one edge
+    // (a stack of duplicated open triangles) cost linear time.
     std::sort(boundary.begin(), boundary.end());
     std::vector<bool> used(boundary.size(), false);
-    auto firstOut = [&](std::uint32_t vertex) {
-        return std::size_t(std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(vertex, 0u)) - boundary.begin());
+    std::unordered_map<std::uint32_t, std::size_t> nextOut; // vertex -> first possibly unused edge from it
+    for (std::size_t e = boundary.size(); e-- > 0;) nextOut[boundary[e].first] = e;
+    auto takeOut = [&](std::uint32_t vertex) {
+        const auto it = nextOut.find(vertex);
+        if (it == nextOut.end()) return boundary.size();
+        std::size_t& next = it->second;
+        while (next < boundary.size() && boundary[next].first == vertex && used[next]) ++next;
+        return next < boundary.size() && boundary[next].first == vertex ? next : boundary.size();
     };
     for (std::size_t start = 0; start < boundary.size(); ++start) {
         if (used[start]) continue;
@@ -164,10 +173,8 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
             loop.push_back(boundary[edge].first);
             const std::uint32_t head = boundary[edge].second;
             if (head == boundary[start].first) break;
-            std::size_t next = firstOut(head);
-            while (next < boundary.size() && boundary[next].first == head && used[next]) ++next;
-            if (next >= boundary.size() || boundary[next].first != head) break; // cannot happen for a cycle
-            edge = next;
+            edge = takeOut(head);
+            if (edge >= boundary.size()) break; // cannot happen for a cycle
         }
         loops_.push_back(std::move(loop));
     }
@@ -175,8 +182,12 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
 
 MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
     MeshCheck result = edgeCheck_;
-    const std::size_t n = mesh.triangleCount();
-    for (std::uint32_t t = 0; t < n; ++t) {
+    // The tree holds one copy of each repeated triangle (it visits first copies only); a crossing
+    // pair counts once per pair of copies, as it would triangle by triangle.
+    const TriangleCopies copies = findTriangleCopies(mesh);
+    std::vector<std::uint32_t> copiesOf(mesh.triangleCount(), 0);
+    for (std::size_t i = 0; i < copies.unique.size(); ++i) copiesOf[copies.unique[i]] = copies.count[i];
+    for (std::uint32_t t : copies.unique) {
         Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
                    glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
         tree.forEachOverlap(box, [&](std::uint32_t u) {
@@ -201,7 +212,7 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
                     crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
                 }
             }
-            result.selfIntersections += crossing;
+            if (crossing) result.selfIntersections += std::size_t(copiesOf[t]) * copiesOf[u];
         });
     }
     return result;
