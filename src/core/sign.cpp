@@ -23,7 +23,7 @@ glm::dvec3 samplePoint(const Grid& grid, int i, int j, int k) { return glm::dvec
 struct Cap {
     std::vector<glm::dvec3> loop;
     glm::dvec3 centre{0.0};
-    double radius = 0; // every point of the fan is within this of centre
+    glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
     double area = 0;
     int weight = 1;
 };
@@ -34,17 +34,19 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
     cap.weight = weight;
     for (const glm::dvec3& v : cap.loop) cap.centre += v;
     cap.centre /= double(cap.loop.size());
+    cap.lo = cap.hi = cap.centre;
     for (std::size_t i = 0; i < cap.loop.size(); ++i) {
         const glm::dvec3& from = cap.loop[i];
         const glm::dvec3& to = cap.loop[(i + 1) % cap.loop.size()];
-        cap.radius = std::max(cap.radius, glm::length(from - cap.centre));
+        cap.lo = glm::min(cap.lo, from);
+        cap.hi = glm::max(cap.hi, from);
         cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
     }
     return cap;
 }
 
 // Loops longer than this are closed by several small fans (see addLoop).
-constexpr std::size_t kMaxCapEdges = 8;
+constexpr std::size_t kMaxCapEdges = 4;
 
 // Closes `loop` by fans of at most kMaxCapEdges edges each, all near the loop: its runs of
 // kMaxCapEdges edges, each closed by the chord back to the run's start, and then (recursively)
@@ -121,14 +123,15 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
 // The cap's winding number at p, times its weight.
 double fanWinding(const glm::dvec3& p, const Cap& cap) { return cap.weight * fanSolidAngle(p, cap) / (4.0 * M_PI); }
 
-// A bounding-sphere hierarchy over the caps: |winding number| of everything under a node, seen
-// from a point at distance d > 0 from its sphere, is at most area / (4π d²) (the solid angle of a
-// surface is at most its area over the squared distance to its nearest point).
+// A bounding-box hierarchy over the caps: |winding number| of everything under a node, seen from a
+// point at distance d > 0 from its box, is at most area / (4π d²) (the solid angle of a surface is
+// at most its area over the squared distance to its nearest point). Boxes, not spheres: the small
+// fans along a border are slivers, and a sphere around one would reach far across the sheet.
 class CapTree {
 public:
     struct Node {
-        glm::dvec3 centre;
-        double radius, area;   // area: the sum of |weight| * area below
+        glm::dvec3 lo, hi;
+        double area;           // the sum of |weight| * area below
         std::uint32_t first;   // inner: first child (the second is first + 1); leaf: the cap
         bool leaf;
     };
@@ -147,9 +150,9 @@ public:
     const Cap& cap(const Node& leaf) const { return caps_[leaf.first]; }
 
     // The winding-number bound of a node for every point within `reach` of p (infinite when the
-    // ball touches the node's sphere).
+    // ball touches the node's box).
     double bound(const Node& node, const glm::dvec3& p, double reach) const {
-        const double d = glm::length(p - node.centre) - node.radius - reach;
+        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0))) - reach;
         return d > 0.0 ? node.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
     }
 
@@ -157,19 +160,18 @@ private:
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) {
         glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
         double area = 0.0;
+        glm::dvec3 centreLo = lo, centreHi = hi;
         for (std::size_t i = begin; i < end; ++i) {
             const Cap& c = caps_[order[i]];
-            lo = glm::min(lo, c.centre - c.radius);
-            hi = glm::max(hi, c.centre + c.radius);
+            lo = glm::min(lo, c.lo);
+            hi = glm::max(hi, c.hi);
+            centreLo = glm::min(centreLo, c.centre);
+            centreHi = glm::max(centreHi, c.centre);
             area += std::abs(c.weight) * c.area;
         }
         Node node;
-        node.centre = 0.5 * (lo + hi);
-        node.radius = 0.0;
-        for (std::size_t i = begin; i < end; ++i) {
-            const Cap& c = caps_[order[i]];
-            node.radius = std::max(node.radius, glm::length(c.centre - node.centre) + c.radius);
-        }
+        node.lo = lo;
+        node.hi = hi;
         node.area = area;
         if (end - begin == 1) {
             node.first = order[begin];
@@ -177,7 +179,7 @@ private:
             nodes_[index] = node;
             return;
         }
-        const glm::dvec3 extent = hi - lo;
+        const glm::dvec3 extent = centreHi - centreLo;
         const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
         const std::size_t middle = begin + (end - begin) / 2;
         std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle), order.begin() + std::ptrdiff_t(end),
@@ -232,6 +234,59 @@ void collect(const CapTree& tree, std::uint32_t start, const glm::dvec3& p, doub
         }
     }
 }
+
+// The exact winding number's side of 1/2 at one sample: w starts as the crossing count, fans are
+// subtracted as they are measured, and `pending` holds unopened nodes (a max-heap by bound once
+// settle() runs) whose bounds sum to at most farSum.
+struct Refinement {
+    const CapTree& tree;
+    glm::dvec3 p;
+    double w, farSum;
+    std::vector<FarNode>& pending;
+    std::size_t& evaluations;
+
+    // A node for p: measured if it is a fan p may touch, opened if an inner node p may touch,
+    // else pending with its bound.
+    void add(std::uint32_t index) {
+        const CapTree::Node& node = tree.node(index);
+        const double bound = tree.bound(node, p, 0.0);
+        if (bound <= 0.0) return; // no area
+        if (std::isfinite(bound)) {
+            pending.push_back({bound, index});
+            farSum += bound;
+        } else if (node.leaf) {
+            w -= fanWinding(p, tree.cap(node));
+            ++evaluations;
+        } else {
+            add(node.first);
+            add(node.first + 1);
+        }
+    }
+    // The margin covers the rounding of the running sum.
+    bool doubtful() const { return std::fabs(w - 0.5) <= farSum * (1.0 + 1e-12) + 1e-15; }
+
+    void settle() {
+        if (!doubtful()) return;
+        std::make_heap(pending.begin(), pending.end());
+        while (!pending.empty() && doubtful()) {
+            std::pop_heap(pending.begin(), pending.end());
+            const FarNode loosest = pending.back();
+            pending.pop_back();
+            farSum -= loosest.bound;
+            const CapTree::Node& node = tree.node(loosest.node);
+            if (node.leaf) {
+                w -= fanWinding(p, tree.cap(node));
+                ++evaluations;
+                continue;
+            }
+            for (std::uint32_t child : {node.first, node.first + 1}) {
+                const std::size_t before = pending.size();
+                add(child);
+                for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
+            }
+        }
+    }
+};
 
 // Samples per brick edge: the cap tree is opened once per brick of brickEdge³ samples.
 constexpr int kBrickEdge = 4;
@@ -352,8 +407,8 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
                 std::vector<Crossing>().swap(crossings); // done with this row
             }
         }
-        std::vector<std::uint32_t> near, opened;
-        std::vector<FarNode> far, heap;
+        std::vector<std::uint32_t> near;
+        std::vector<FarNode> far, pending;
         std::size_t evaluations = 0;
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             const int ie = std::min(nx, ib + kBrickEdge);
@@ -373,44 +428,14 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
                             continue;
                         }
                         const glm::dvec3 p = samplePoint(grid, i, j, k);
-                        // w = crossings - fans; the fans under `far` add at most farSum either way.
-                        double w = rowAhead[i], farSum = brickFar;
-                        heap.clear();
-                        for (std::uint32_t index : near) {
-                            const CapTree::Node& leaf = capTree.node(index);
-                            const double bound = capTree.bound(leaf, p, 0.0);
-                            if (bound < kFarBound) {
-                                heap.push_back({bound, index});
-                                farSum += bound;
-                            } else {
-                                w -= fanWinding(p, capTree.cap(leaf));
-                                ++evaluations;
-                            }
-                        }
-                        // Exact: while the bounds leave w on either side of 1/2, open the loosest.
-                        if (std::fabs(w - 0.5) <= farSum) {
-                            heap.insert(heap.end(), far.begin(), far.end());
-                            std::make_heap(heap.begin(), heap.end());
-                            while (!heap.empty() && std::fabs(w - 0.5) <= farSum) {
-                                std::pop_heap(heap.begin(), heap.end());
-                                const FarNode loosest = heap.back();
-                                heap.pop_back();
-                                farSum -= loosest.bound;
-                                const CapTree::Node& node = capTree.node(loosest.node);
-                                if (node.leaf) {
-                                    w -= fanWinding(p, capTree.cap(node));
-                                    ++evaluations;
-                                    continue;
-                                }
-                                const std::size_t before = heap.size();
-                                opened.clear();
-                                for (std::uint32_t child : {node.first, node.first + 1}) collect(capTree, child, p, 0.0, opened, heap, farSum);
-                                for (std::size_t n = before; n < heap.size(); ++n) std::push_heap(heap.begin(), heap.begin() + std::ptrdiff_t(n) + 1);
-                                for (std::uint32_t index : opened) w -= fanWinding(p, capTree.cap(capTree.node(index)));
-                                evaluations += opened.size();
-                            }
-                        }
-                        inside[grid.index(i, j, k)] = w > 0.5;
+                        // w = crossings - fans. Fans that p may touch are measured; every other
+                        // node waits in `pending` with its bound, and while their sum leaves w on
+                        // either side of 1/2 the loosest is opened (measured, if a fan).
+                        Refinement refine{capTree, p, double(rowAhead[i]), brickFar, pending, evaluations};
+                        pending.assign(far.begin(), far.end());
+                        for (std::uint32_t index : near) refine.add(index);
+                        refine.settle();
+                        inside[grid.index(i, j, k)] = refine.w > 0.5;
                     }
                 }
             }
