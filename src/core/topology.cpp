@@ -1,5 +1,6 @@
 #include "core/topology.hpp"
 #include "core/duplicates.hpp"
+#include "core/parallel.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -180,41 +181,49 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
     }
 }
 
-MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
+MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunControl& control) const {
     MeshCheck result = edgeCheck_;
     // The tree holds one copy of each repeated triangle (it visits first copies only); a crossing
     // pair counts once per pair of copies, as it would triangle by triangle.
     const TriangleCopies copies = findTriangleCopies(mesh);
     std::vector<std::uint32_t> copiesOf(mesh.triangleCount(), 0);
     for (std::size_t i = 0; i < copies.unique.size(); ++i) copiesOf[copies.unique[i]] = copies.count[i];
-    for (std::uint32_t t : copies.unique) {
-        Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
-                   glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
-        tree.forEachOverlap(box, [&](std::uint32_t u) {
-            if (u <= t) return;
-            const glm::uvec3 a = corners_[t], b = corners_[u];
-            int shared = 0;
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
-            if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
-            const glm::dvec3 pa[3] = {positions_[a[0]], positions_[a[1]], positions_[a[2]]};
-            const glm::dvec3 pb[3] = {positions_[b[0]], positions_[b[1]], positions_[b[2]]};
-            bool crossing = false;
-            // An edge that touches the shared vertex cannot cross the other triangle's interior
-            // (it starts on it), so only edges away from a shared vertex are tested.
-            for (int e = 0; e < 3 && !crossing; ++e) {
-                const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
-                if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
-                    crossing = segmentCrossesTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+    // In parallel over chunks of triangles, each counting its own pairs: the sum is the same for any
+    // thread count.
+    constexpr std::size_t kChunk = 256;
+    std::vector<std::size_t> crossings((copies.unique.size() + kChunk - 1) / kChunk, 0);
+    parallelFor(crossings.size(), control, [&](std::size_t chunk) {
+        for (std::size_t n = chunk * kChunk; n < std::min(copies.unique.size(), (chunk + 1) * kChunk); ++n) {
+            const std::uint32_t t = copies.unique[n];
+            Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
+                       glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
+            tree.forEachOverlap(box, [&](std::uint32_t u) {
+                if (u <= t) return;
+                const glm::uvec3 a = corners_[t], b = corners_[u];
+                int shared = 0;
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
+                if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
+                const glm::dvec3 pa[3] = {positions_[a[0]], positions_[a[1]], positions_[a[2]]};
+                const glm::dvec3 pb[3] = {positions_[b[0]], positions_[b[1]], positions_[b[2]]};
+                bool crossing = false;
+                // An edge that touches the shared vertex cannot cross the other triangle's interior
+                // (it starts on it), so only edges away from a shared vertex are tested.
+                for (int e = 0; e < 3 && !crossing; ++e) {
+                    const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
+                    if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
+                        crossing = segmentCrossesTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+                    }
+                    const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
+                    if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
+                        crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
+                    }
                 }
-                const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
-                if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
-                    crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
-                }
-            }
-            if (crossing) result.selfIntersections += std::size_t(copiesOf[t]) * copiesOf[u];
-        });
-    }
+                if (crossing) crossings[chunk] += std::size_t(copiesOf[t]) * copiesOf[u];
+            });
+        }
+    });
+    for (std::size_t count : crossings) result.selfIntersections += count;
     return result;
 }
 

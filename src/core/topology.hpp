@@ -3,6 +3,7 @@
 #include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/mesh_check.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include <glm/vec3.hpp>
 #include <cstdint>
@@ -16,8 +17,8 @@ class MeshTopology {
 public:
     explicit MeshTopology(const Mesh& mesh);
 
-    // The counts MeshCheck lists; self-intersections are found with the tree.
-    MeshCheck check(const Mesh& mesh, const Bvh& tree) const;
+    // The counts MeshCheck lists; self-intersections are found with the tree, in parallel.
+    MeshCheck check(const Mesh& mesh, const Bvh& tree, const RunControl& control = {}) const;
 
     // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
