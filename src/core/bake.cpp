@@ -31,6 +31,29 @@ const char* toString(SignMethod sign) {
     return "?";
 }
 
+namespace {
+
+// Sign auto: pseudonormal when the mesh check proves it right, else winding; records why.
+SignMethod chooseSign(const Mesh& mesh, const Bvh& tree, const MeshTopology& topology, const RunControl& control, BakeResult& result) {
+    result.checked = true;
+    result.check = topology.check(mesh, tree, control);
+    if (result.check.closedAndClean()) {
+        result.signReason = "pseudonormal: the mesh is closed, manifold, consistently oriented and free of self-intersections";
+        return SignMethod::Pseudonormal;
+    }
+    const MeshCheck& c = result.check;
+    std::string problems;
+    for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
+                                      {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
+                                      {c.selfIntersections, "self-intersections"}}) {
+        if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
+    }
+    result.signReason = "winding: the mesh has " + problems;
+    return SignMethod::Winding;
+}
+
+} // namespace
+
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
     const Grid grid = makeGrid(mesh.bounds, settings.res, settings.padding);
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
@@ -51,6 +74,24 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
         field = computeBruteForce(mesh, grid, control);
         result.sign = SignMethod::Winding;
         result.distanceSeconds = since(start);
+    } else if (settings.method == DistanceMethod::Exact && sign != SignMethod::Rays) {
+        // The sign method is settled first, so the exact pass writes (pseudonormal-)signed
+        // distances straight into the field and the winding sign negates in place: the field is
+        // the only per-sample array.
+        const MeshTopology topology(mesh);
+        if (sign == SignMethod::Auto) sign = chooseSign(mesh, tree, topology, control.phase(0.0, 0.1), result);
+        result.signSeconds = since(start);
+        const Clock::time_point distanceStart = Clock::now();
+        field.values.resize(grid.sampleCount());
+        computeExactField(mesh, tree, grid, sign == SignMethod::Pseudonormal ? &topology : nullptr, field.values.data(),
+                          control.phase(0.1, sign == SignMethod::Winding ? 0.8 : 1.0));
+        result.distanceSeconds = since(distanceStart);
+        const Clock::time_point windingStart = Clock::now();
+        if (sign == SignMethod::Winding) applyWindingSign(mesh, topology, grid, field.values.data(), control.phase(0.8, 1.0));
+        result.signSeconds += since(windingStart);
+        result.sign = sign;
+        field.source = mesh.source;
+        field.grid = grid;
     } else {
         // Distances first, then signs; each phase reports its share of the progress bar.
         std::vector<float> distance;
@@ -76,24 +117,7 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
             for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = rayField.values[i] < 0.0f;
         } else {
             const MeshTopology topology(mesh);
-            if (sign == SignMethod::Auto) {
-                result.checked = true;
-                result.check = topology.check(mesh, tree);
-                if (result.check.closedAndClean()) {
-                    sign = SignMethod::Pseudonormal;
-                    result.signReason = "pseudonormal: the mesh is closed, manifold, consistently oriented and free of self-intersections";
-                } else {
-                    sign = SignMethod::Winding;
-                    const MeshCheck& c = result.check;
-                    std::string problems;
-                    for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
-                                                      {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
-                                                      {c.selfIntersections, "self-intersections"}}) {
-                        if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
-                    }
-                    result.signReason = "winding: the mesh has " + problems;
-                }
-            }
+            if (sign == SignMethod::Auto) sign = chooseSign(mesh, tree, topology, control.phase(0.8, 0.8), result);
             if (sign == SignMethod::Pseudonormal && nearest.triangle.empty()) {
                 nearest = computeNearest(mesh, tree, grid, control.phase(0.5, 0.8)); // ray distances, auto chose pseudonormal
             }

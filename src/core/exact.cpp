@@ -1,18 +1,24 @@
 #include "core/exact.hpp"
 #include "core/geometry.hpp"
 #include "core/parallel.hpp"
+#include "core/topology.hpp"
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <cmath>
 #include <limits>
 
 namespace sdfgen {
 
-NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control) {
+namespace {
+
+// Where sample (i, j, k) is, in the coordinates the mesh is stored in. The one place that knows.
+glm::vec3 samplePoint(const Grid& grid, int i, int j, int k) { return grid.sample(i, j, k); }
+
+// The exact nearest triangle of every sample: store(index, triangle, closest point in double).
+template <class Store>
+void forEachNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control, const Store& store) {
     using namespace simd;
-    NearestField result;
-    result.distance.resize(grid.sampleCount());
-    result.triangle.resize(grid.sampleCount());
     const glm::ivec3 dims = grid.dims;
     // A packet is a 2x2x2 block of samples (lane bits: x, y, z), the most compact set of eight;
     // a work item is a column of blocks along x.
@@ -27,7 +33,7 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
             for (int lane = 0; lane < 8; ++lane) {
                 // Lanes past the grid's end repeat the last sample; they are not stored.
                 cell[lane] = glm::min(glm::ivec3(i0 + (lane & 1), j0 + ((lane >> 1) & 1), k0 + (lane >> 2)), dims - 1);
-                const glm::vec3 p = grid.sample(cell[lane].x, cell[lane].y, cell[lane].z);
+                const glm::vec3 p = samplePoint(grid, cell[lane].x, cell[lane].y, cell[lane].z);
                 packet.px[lane] = p.x;
                 packet.py[lane] = p.y;
                 packet.pz[lane] = p.z;
@@ -52,16 +58,35 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
                 const glm::ivec3 c = cell[lane];
                 if (c != glm::ivec3(i0 + (lane & 1), j0 + ((lane >> 1) & 1), k0 + (lane >> 2))) continue;
                 const std::uint32_t t = std::uint32_t(packet.triangle[lane]);
-                const glm::dvec3 p(grid.sample(c.x, c.y, c.z));
+                const glm::dvec3 p(samplePoint(grid, c.x, c.y, c.z));
                 const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)),
                                                                     glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
-                const std::size_t index = grid.index(c.x, c.y, c.z);
-                result.distance[index] = float(std::sqrt(closest.distanceSquared));
-                result.triangle[index] = t;
+                store(grid.index(c.x, c.y, c.z), t, p, closest);
             }
         }
     });
+}
+
+} // namespace
+
+NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control) {
+    NearestField result;
+    result.distance.resize(grid.sampleCount());
+    result.triangle.resize(grid.sampleCount());
+    forEachNearest(mesh, tree, grid, control, [&](std::size_t index, std::uint32_t t, const glm::dvec3&, const ClosestPoint& closest) {
+        result.distance[index] = float(std::sqrt(closest.distanceSquared));
+        result.triangle[index] = t;
+    });
     return result;
+}
+
+void computeExactField(const Mesh& mesh, const Bvh& tree, const Grid& grid, const MeshTopology* pseudonormalSigns,
+                       float* values, const RunControl& control) {
+    forEachNearest(mesh, tree, grid, control, [&](std::size_t index, std::uint32_t t, const glm::dvec3& p, const ClosestPoint& closest) {
+        const float distance = float(std::sqrt(closest.distanceSquared));
+        const bool inside = pseudonormalSigns && glm::dot(p - closest.point, pseudonormalSigns->pseudonormal(t, closest.feature)) < 0.0;
+        values[index] = inside ? -distance : distance;
+    });
 }
 
 Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& control) {

@@ -21,6 +21,14 @@ struct NearestField {
 // The winner is re-measured in double precision. Independent of the thread count.
 NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control);
 
+class MeshTopology;
+// The same search, writing each sample's exact distance straight into values[grid.index(i, j, k)]
+// (grid.sampleCount() floats), negated where the closest feature's angle-weighted pseudonormal
+// says inside when `pseudonormalSigns` is given (as insideByPseudonormal would): no per-sample
+// side arrays, so a bake needs the field's own memory only.
+void computeExactField(const Mesh& mesh, const Bvh& tree, const Grid& grid, const MeshTopology* pseudonormalSigns,
+                       float* values, const RunControl& control);
+
 // The reference: for every sample, the distance to every triangle and the winding number summed
 // over every triangle, all in double (inside where it exceeds 1/2). O(samples x triangles).
 Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& control);

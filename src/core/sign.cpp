@@ -308,8 +308,12 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
     return sum / (4.0 * M_PI);
 }
 
-std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control, WindingStats* stats) {
+namespace {
+
+// The winding sign of every sample: store(index, inside).
+template <class Store>
+void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, const RunControl& control,
+                  WindingStats* stats, const Store& store) {
     const std::vector<Cap> caps = makeCaps(topology);
     const CapTree capTree(caps);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
@@ -385,7 +389,6 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
 
     // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
     //    crossings ahead (+x); then the fans' winding number is subtracted where it might matter.
-    std::vector<std::uint8_t> inside(grid.sampleCount());
     std::atomic<std::size_t> fanEvaluations{0};
     const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
@@ -424,7 +427,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
                     const int* rowAhead = &ahead[std::size_t((k - kb) * kBrickEdge + (j - jb)) * std::size_t(nx)];
                     for (int i = ib; i < ie; ++i) {
                         if (capTree.empty()) { // a closed surface: w is the integer count
-                            inside[grid.index(i, j, k)] = rowAhead[i] >= 1;
+                            store(grid.index(i, j, k), rowAhead[i] >= 1);
                             continue;
                         }
                         const glm::dvec3 p = samplePoint(grid, i, j, k);
@@ -435,7 +438,7 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
                         pending.assign(far.begin(), far.end());
                         for (std::uint32_t index : near) refine.add(index);
                         refine.settle();
-                        inside[grid.index(i, j, k)] = refine.w > 0.5;
+                        store(grid.index(i, j, k), refine.w > 0.5);
                     }
                 }
             }
@@ -446,7 +449,22 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         stats->caps = caps.size();
         stats->fanEvaluations = fanEvaluations;
     }
+}
+
+} // namespace
+
+std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
+                                          const RunControl& control, WindingStats* stats) {
+    std::vector<std::uint8_t> inside(grid.sampleCount());
+    windingSigns(mesh, topology, grid, control, stats, [&](std::size_t index, bool in) { inside[index] = in; });
     return inside;
+}
+
+void applyWindingSign(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* values,
+                      const RunControl& control, WindingStats* stats) {
+    windingSigns(mesh, topology, grid, control, stats, [&](std::size_t index, bool in) {
+        if (in) values[index] = -values[index];
+    });
 }
 
 std::vector<std::uint8_t> insideByPseudonormal(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,

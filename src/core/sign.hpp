@@ -29,6 +29,10 @@ struct WindingStats {
 // self-intersections, overlapping shells and flipped parts.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
                                           const RunControl& control, WindingStats* stats = nullptr);
+// The same signs applied in place: values[i] (unsigned distances, grid order) is negated where
+// the sample is inside. No per-sample side array.
+void applyWindingSign(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* values,
+                      const RunControl& control, WindingStats* stats = nullptr);
 
 // The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
 // for closed, manifold, consistently oriented meshes without self-intersections.
