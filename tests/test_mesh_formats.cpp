@@ -149,8 +149,8 @@ TEST_F(MeshFormats, BadFilesAreOneLineErrors) {
     for (const auto& [name, contents] : std::vector<std::pair<std::string, std::string>>{
              {"garbage.stl", std::string("solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0\n")},
              {"garbage.ply", std::string("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n")},
-             {"garbage.glb", std::string("glTF\x02\x00\x00\x00 this is not a binary glTF", 37)},
-             {"garbage.fbx", std::string("Kaydara FBX Binary  \x00\x1a\x00 truncated", 34)},
+             {"garbage.glb", std::string("glTF\x02\x00\x00\x00 this is not a binary glTF", 34)},
+             {"garbage.fbx", std::string("Kaydara FBX Binary  \x00\x1a\x00 truncated", 33)},
              {"empty.off", std::string("")}}) {
         SCOPED_TRACE(name);
         const std::string file = write(name, contents);
