@@ -103,12 +103,16 @@ and "did not stop when cancelled: killed" in [l for l in lines if "stuck" in l["
 and [l["seconds"] < 1.5 for l in lines if "bunny" in l["mesh"]] == [True]'
 check "the timeouts took seconds, not the bake's time (took $elapsed s)" $python -c "import sys; sys.exit(not float(sys.argv[1]) < 8)" "$elapsed"
 
-# A memory budget: res 400 needs 256 MiB for the values alone.
+# A memory budget: res 400 needs 256 MiB for the values alone. The budget is an address-space
+# limit, which AddressSanitizer's shadow memory cannot live under: not checked in that build.
 printf '%s\n' "$bunny" >"$work/big.txt"
-# (Under AddressSanitizer, allocator_may_return_null makes its allocator throw bad_alloc as glibc's does.)
-ASAN_OPTIONS=allocator_may_return_null=1 "$sdfgen" batch "$work/big.txt" --out "$work/big" --format sdf --res 400 --memory 200 --status "$work/big.jsonl" --timeout 20 >/dev/null 2>&1
-check "a mesh over the memory budget fails and says so" json_check "$work/big.jsonl" '
+if ldd "$sdfgen" | grep -q libasan; then
+  echo "batch test: the memory budget check is skipped under AddressSanitizer"
+else
+  "$sdfgen" batch "$work/big.txt" --out "$work/big" --format sdf --res 400 --memory 200 --status "$work/big.jsonl" --timeout 20 >/dev/null 2>&1
+  check "a mesh over the memory budget fails and says so" json_check "$work/big.jsonl" '
 len(lines) == 1 and lines[0]["status"] == "failed" and "out of memory" in lines[0]["error"] and "200 MiB" in lines[0]["error"]'
+fi
 
 # Killed at any moment, a batch resumes: kill the whole batch (parent and child) while it bakes, rerun.
 for n in 1 2 3 4 5 6; do printf '%s\tb%d.sdf\n' "$bunny" $n; done >"$work/resume.txt"
