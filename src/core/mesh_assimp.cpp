@@ -84,11 +84,12 @@ Mesh loadWithAssimp(const std::string& path) {
 Mesh loadMesh(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a mesh file");
-    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    // Pipes, FIFOs and /dev/stdin have no extension: they are read as OBJ text.
+    // OBJ is read once by loadObj (which reports unreadable files itself): opening a FIFO or pipe
+    // here first would swallow its contents. Pipes and /dev/stdin have no extension: OBJ text.
     if (extension == ".obj" || extension.empty()) return loadObj(path);
+    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     if (!Assimp::Importer().IsExtensionSupported(extension)) {
         throw Error(path + ": unknown mesh format '" + extension + "'" +
                     "; known: .obj, .stl, .ply, .off, .gltf, .glb, .fbx, .dae, .3ds, .3mf and the other formats Assimp reads");
