@@ -19,30 +19,25 @@ DistancePass exactDistance(const BakeContext& context, const RunControl& control
 }
 
 DistancePass rayDistance(const BakeContext& context, const RunControl& control) {
-    const Field rays = generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control);
-    DistancePass pass;
-    pass.distance.resize(rays.values.size());
-    pass.inside.emplace(rays.values.size());
-    for (std::size_t i = 0; i < rays.values.size(); ++i) {
-        pass.distance[i] = std::fabs(rays.values[i]);
-        (*pass.inside)[i] = rays.values[i] < 0.0f;
-    }
-    return pass;
+    return splitSigned(generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control).values);
 }
 
 DistancePass bruteDistance(const BakeContext& context, const RunControl& control) {
-    const Field brute = computeBruteForce(context.mesh, context.grid, control);
-    DistancePass pass;
-    pass.distance.resize(brute.values.size());
-    pass.inside.emplace(brute.values.size());
-    for (std::size_t i = 0; i < brute.values.size(); ++i) {
-        pass.distance[i] = std::fabs(brute.values[i]);
-        (*pass.inside)[i] = brute.values[i] < 0.0f;
-    }
-    return pass;
+    return splitSigned(computeBruteForce(context.mesh, context.grid, control).values);
 }
 
 } // namespace
+
+DistancePass splitSigned(const std::vector<float>& values) {
+    DistancePass pass;
+    pass.distance.resize(values.size());
+    pass.inside.emplace(values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        pass.distance[i] = std::fabs(values[i]);
+        (*pass.inside)[i] = values[i] < 0.0f;
+    }
+    return pass;
+}
 
 const std::vector<DistanceMethodInfo>& distanceMethods() {
     static const std::vector<DistanceMethodInfo> methods = {

@@ -56,6 +56,9 @@ struct SignMethodInfo {
     std::vector<std::uint8_t> (*run)(const BakeContext& context, DistancePass& pass, const RunControl& control);
 };
 
+// A signed field's magnitudes and inside flags (for methods that sign as they measure).
+DistancePass splitSigned(const std::vector<float>& values);
+
 const std::vector<DistanceMethodInfo>& distanceMethods();
 const std::vector<SignMethodInfo>& signMethods(); // Auto and Default are decided in bake(), not listed
 const DistanceMethodInfo& distanceMethod(DistanceMethod id);

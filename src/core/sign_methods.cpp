@@ -28,10 +28,7 @@ std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistanceP
 
 std::vector<std::uint8_t> raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
     if (pass.inside) return std::move(*pass.inside); // the ray method's own vote
-    const Field rays = generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control);
-    std::vector<std::uint8_t> inside(rays.values.size());
-    for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = rays.values[i] < 0.0f;
-    return inside;
+    return std::move(*splitSigned(generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control).values).inside);
 }
 
 } // namespace
