@@ -47,6 +47,16 @@ Field loadText(const std::string& path);
 // NumPy .npy (npy.cpp) and .npz (npz.cpp), OpenVDB (vdb.cpp), NRRD (nrrd.cpp).
 void saveNpy(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadNpy(const std::string& path);
+// One .npy member of an .npz archive: its header (or whole small array) and the data after it.
+struct NpzMember {
+    std::string name;
+    std::string head;
+    const void* data = nullptr;
+    std::size_t size = 0;
+};
+// Writes the members as an .npz (stored zip, as numpy.savez lays it out), atomically.
+void writeNpz(const std::string& path, const std::vector<NpzMember>& members);
+
 void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadNpz(const std::string& path);
 void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);

@@ -35,16 +35,8 @@ std::string zipProblem(zip_error_t* error) {
     return text;
 }
 
-// One .npy member: its header (or whole small array) and, for the field, the values after it.
-struct Member {
-    std::string name;
-    std::string head;
-    const void* data = nullptr;
-    std::size_t size = 0;
-};
-
 // The archive in memory, as numpy.savez lays it out.
-std::string buildArchive(const std::vector<Member>& members, const std::string& path) {
+std::string buildArchive(const std::vector<NpzMember>& members, const std::string& path) {
     zip_error_t error;
     zip_error_init(&error);
     std::unique_ptr<zip_source_t, ZipSourceFree> buffer(zip_source_buffer_create(nullptr, 0, 0, &error));
@@ -52,7 +44,7 @@ std::string buildArchive(const std::vector<Member>& members, const std::string& 
     zip_t* archive = zip_open_from_source(buffer.get(), ZIP_CREATE | ZIP_TRUNCATE, &error);
     if (!archive) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
     zip_source_keep(buffer.get()); // the archive releases its reference on close; the bytes stay here
-    for (const Member& m : members) {
+    for (const NpzMember& m : members) {
         // The field's values go in as they are, behind their header (libzip only reads fragments).
         const zip_buffer_fragment_t fragments[2] = {
             {reinterpret_cast<zip_uint8_t*>(const_cast<char*>(m.head.data())), m.head.size()},
@@ -151,10 +143,15 @@ private:
 
 } // namespace
 
+void writeNpz(const std::string& path, const std::vector<NpzMember>& members) {
+    const std::string archive = buildArchive(members, path);
+    writeFieldFile(path, [&](std::ostream& out) { out.write(archive.data(), std::streamsize(archive.size())); });
+}
+
 void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const Grid& g = field.grid;
-    const std::vector<Member> members = {
+    const std::vector<NpzMember> members = {
         {"sdf.npy", npyFieldHeader(field), field.values.data(), field.values.size() * sizeof(float)},
         {"origin.npy", npyFloat64Array({double(g.origin.x), double(g.origin.y), double(g.origin.z)}, false)},
         {"voxel_size.npy", npyFloat64Array({double(g.voxel)}, true)},
@@ -162,8 +159,7 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
         {"method.npy", npyUnicodeScalar(methodLine(field))},
         {"source.npy", npyUnicodeScalar(field.source)},
     };
-    const std::string archive = buildArchive(members, path);
-    writeFieldFile(path, [&](std::ostream& out) { out.write(archive.data(), std::streamsize(archive.size())); });
+    writeNpz(path, members);
 }
 
 Field loadNpz(const std::string& path) {
