@@ -156,6 +156,7 @@ if not _OPTIONS["no-tests"] then
       sdfgen_gtest_program("tests/*.cpp")
       sdfgen_openvdb_headers()
       sdfgen_use_core()
+      links { "gmpxx", "gmp" } -- GMP's rationals, the exact reference of the predicate tests
       sdfgen_use_gtest()
 
    -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
