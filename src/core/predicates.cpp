@@ -25,6 +25,7 @@ inline void twoSum(double a, double b, double& s, double& e) {
 class ExactSum {
 public:
     void add(double x) {
+        if (x == 0.0) return;
         int kept = 0;
         for (int i = 0; i < count_; ++i) {
             double sum, error;
@@ -63,9 +64,17 @@ void addDeterminant(ExactSum& sum, const glm::vec3& p, const glm::vec3& q, const
     addMonomial(p.z, q.y, r.x, -sign);
 }
 
-// The sign of (b - a) × (c - a) in 2D, exactly: det(b, c) - det(a, c) + det(a, b), six products of
-// two floats, each exact in double.
+// The sign of (b - a) × (c - a) in 2D, exactly. In double first: each of the two products passes
+// through 4 roundings, so as for orient3d below (4 + 128u) u times the computed sum of their
+// magnitudes bounds the error. Otherwise det(b, c) - det(a, c) + det(a, b), six products of two
+// floats, each exact in double, summed exactly.
 int orient2d(const glm::vec2& a, const glm::vec2& b, const glm::vec2& c) {
+    const double left = (double(b.x) - a.x) * (double(c.y) - a.y), right = (double(b.y) - a.y) * (double(c.x) - a.x);
+    const double area = left - right;
+    constexpr double u = DBL_EPSILON / 2;
+    const double bound = (4.0 + 128.0 * u) * u * (std::fabs(left) + std::fabs(right));
+    if (area > bound) return 1;
+    if (area < -bound) return -1;
     ExactSum sum;
     sum.add(double(b.x) * double(c.y));
     sum.add(-double(b.y) * double(c.x));
@@ -129,6 +138,9 @@ int orient3d(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const g
     const double bound = (8.0 + 256.0 * u) * u * permanent;
     if (volume > bound) return 1;
     if (volume < -bound) return -1;
+    // A zero permanent means a zero difference in every monomial (differences of floats are exact
+    // when they round to zero), as for points on an axis-aligned plane: the volume is exactly 0.
+    if (permanent == 0.0) return 0;
     return orient3dExact(a, b, c, d);
 }
 
