@@ -1,12 +1,13 @@
--- premake5.lua: premake5 description of the sdfgen build, for gmake2 (and IDE project) users on
--- Linux with GCC or Clang.
+-- premake5.lua: premake5 description of the sdfgen build, for gmake2 users on Linux with GCC or
+-- Clang.
 --
 -- CMakeLists.txt is the real build; this file mirrors it (same projects, sources, flags and system
 -- libraries) and tests/premake/check.lua keeps the two in step (ctest runs it). Library names and
 -- paths are those of the Debian packages in extern/debian-packages.txt.
 -- Platforms: Linux only. The code uses POSIX (mkstemp, fsync, sysconf, signals), /proc/self/exe
 -- and GCC/Clang vector extensions, so Visual Studio and Xcode projects generated from this file
--- do not build; porting would need those replaced first.
+-- do not build; porting would need those replaced first. Generating for another target OS
+-- (premake5 --os=windows or macosx, or running premake there) stops with an error.
 --
 --   premake5 gmake2 && make -C build-premake/gmake2 config=release -j2
 --   premake5 --no-native gmake2
@@ -15,6 +16,10 @@
 --
 -- The Python module (python/, pybind11) is built by CMake only: it needs CMake's FindPython to
 -- match the interpreter's headers and extension suffix, which premake has no equivalent for.
+
+if os.target and os.target() ~= "linux" then
+   error("sdfgen builds on Linux only (POSIX calls, /proc/self/exe, GCC/Clang vector extensions); target was " .. os.target())
+end
 
 newoption {
    trigger = "no-native",
@@ -51,15 +56,13 @@ end
 -- The compile flags CMake's sdfgen_flags target gives sdfgen's own code (not the extern/ glue).
 function sdfgen_flags()
    warnings "Extra"
-   filter "toolset:not msc*"
-      if not _OPTIONS["no-native"] then
-         buildoptions { "-march=native" }
-      end
-      if _OPTIONS["sanitize"] then
-         buildoptions { "-fsanitize=address,undefined", "-fno-omit-frame-pointer", "-fno-sanitize-recover=all" }
-         linkoptions { "-fsanitize=address,undefined" }
-      end
-   filter {}
+   if not _OPTIONS["no-native"] then
+      buildoptions { "-march=native" }
+   end
+   if _OPTIONS["sanitize"] then
+      buildoptions { "-fsanitize=address,undefined", "-fno-omit-frame-pointer", "-fno-sanitize-recover=all" }
+      linkoptions { "-fsanitize=address,undefined" }
+   end
 end
 
 -- What linking sdfgen_core brings along (CMake: its PUBLIC include directory and link libraries).
@@ -143,10 +146,7 @@ if not _OPTIONS["no-tests"] then
 
    -- Links gtest after the project's own libraries, then our warning and tuning flags.
    function sdfgen_use_gtest()
-      links { "gtest_main", "gtest" }
-      filter "system:not windows"
-         links { "pthread" }
-      filter {}
+      links { "gtest_main", "gtest", "pthread" }
       sdfgen_flags()
    end
    -- GoogleTest suite (tests/CMakeLists.txt), from Debian's libgtest-dev: static libgtest.a and
@@ -156,6 +156,7 @@ if not _OPTIONS["no-tests"] then
       sdfgen_gtest_program("tests/*.cpp")
       sdfgen_openvdb_headers()
       sdfgen_use_core()
+      links { "gmpxx", "gmp" } -- GMP's rationals, the exact reference of the predicate tests
       sdfgen_use_gtest()
 
    -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).

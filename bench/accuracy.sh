@@ -2,10 +2,18 @@
 # Accuracy table: each method and sign against the brute-force reference (every triangle for every
 # sample in double, exact winding number), on the same grid.
 # Usage: bench/accuracy.sh [--res N] [MESH ...]   (default: the bundled bunny and ../shared/meshes/*.obj)
+#        bench/accuracy.sh --rays-table [bench_ray_error options]
+# --rays-table prints instead the ray method's error against a sphere's analytic distance for
+# 16 to 1024 rays (bench/ray_error.cpp; the table of the README's "Ray sampling").
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 res=48
 meshes=()
+if [ "${1:-}" = --rays-table ]; then
+  shift
+  "$root/scripts/build.sh" "$root/build" -DCMAKE_BUILD_TYPE=Release -- bench_ray_error >/dev/null
+  exec "$root/build/bench/bench_ray_error" "$@"
+fi
 while [ $# -gt 0 ]; do
   case $1 in
     --res) res=$2; shift 2 ;;

@@ -1,10 +1,13 @@
 // peer_embree: an Intel Embree 3 baseline on the same mesh and grid as `sdfgen bake`.
 //
-//   peer_embree MESH.obj --res N [--padding 0.1] [--rays 64] -o OUT.sdf
+//   peer_embree MESH.obj --res N [--padding 0.1] [--rays 64] [--method exact|rays] -o OUT.sdf
 //
-// Distance: the exact distance to the nearest triangle, by rtcPointQuery with a callback that
-// computes the exact point-triangle distance and shrinks the query radius as closer triangles turn
-// up. Sign: --rays rays per sample along sdfgen's spherical Fibonacci directions
+// Distance (--method exact, the default): the exact distance to the nearest triangle, by
+// rtcPointQuery with a callback that computes the exact point-triangle distance and shrinks the
+// query radius as closer triangles turn up. --method rays is sdfgen's `--method rays` on Embree:
+// the distance is the nearest hit of the sign's rays (every ray traced, those after the vote is
+// decided only as far as the nearest hit so far), or the distance to the mesh box's farthest
+// corner when no ray hits. Sign: --rays rays per sample along sdfgen's spherical Fibonacci directions
 // (sphereDirections: z_i = 1 - (2i+1)/N, phi_i = i * golden angle), traced as rtcIntersect8 packets
 // of eight neighbouring samples; a sample is inside (negative) when more than half of the rays that
 // hit anything first hit a back face, as in sdfgen's ray sign. A sample stops tracing once the
@@ -16,7 +19,11 @@
 // onto the triangle (0,0,0) (1,0,0) (0,1,0) reports Ng = +z). So a back face is dir . Ng > 0.
 //
 // Prints `embree: <s> s (scene <s>, distance <s>, sign <s>)`: the whole process from the start of
-// loading to the end of saving, then the scene build, the distance pass and the sign pass.
+// loading to the end of saving, then the scene build, the distance pass and the sign pass (with
+// --method rays the distance pass is part of the ray pass, reported as sign).
+//
+// Everything runs in the mesh's local coordinates, as in sdfgen (sample positions by
+// localPosition, distances scaled by mesh.unit when stored).
 #include "peer_common.hpp"
 
 #include "core/directions.hpp"
@@ -111,6 +118,7 @@ int run(const peer::Options& options) {
     const Mesh mesh = loadMesh(options.mesh);
     const Grid grid = makeGrid(mesh.worldBounds(), options.res, options.padding);
     const std::vector<glm::vec3> directions = sphereDirections(options.rays);
+    const bool raysMethod = options.method == "rays";
     clock.lap();
 
     RTCDevice device = rtcNewDevice(nullptr);
@@ -139,7 +147,7 @@ int run(const peer::Options& options) {
 
     Field field;
     field.source = options.mesh;
-    field.method = "embree";
+    field.method = raysMethod ? "embree-rays" : "embree";
     field.parameters = {{"rays", std::to_string(options.rays)}, {"res", std::to_string(options.res)},
                         {"padding", peer::numberText(options.padding)}};
     field.grid = grid;
@@ -150,17 +158,18 @@ int run(const peer::Options& options) {
     // rounding) instead of infinity, and Embree skips every node farther away. Should nothing turn up
     // within it after all, the query runs again unbounded. The result is the exact nearest distance
     // either way.
-    const float slack = 1e-4f * grid.voxel;
-    tbb::parallel_for(tbb::blocked_range<int>(0, grid.dims.z, 1), [&](const tbb::blocked_range<int>& slices) {
+    const float voxel = float(grid.voxel / mesh.unit); // in local units
+    const float slack = 1e-4f * voxel;
+    if (!raysMethod) tbb::parallel_for(tbb::blocked_range<int>(0, grid.dims.z, 1), [&](const tbb::blocked_range<int>& slices) {
         flushDenormals();
         for (int k = slices.begin(); k != slices.end(); ++k) {
             for (int j = 0; j < grid.dims.y; ++j) {
                 float previous = std::numeric_limits<float>::infinity();
                 for (int i = 0; i < grid.dims.x; ++i) {
-                    const glm::vec3 p = grid.sample(i, j, k);
+                    const glm::vec3 p(localPosition(mesh, grid, i, j, k));
                     ClosestQuery closest;
                     closest.mesh = &mesh;
-                    for (float radius = (previous + grid.voxel) * 1.0001f + slack;; radius = std::numeric_limits<float>::infinity()) {
+                    for (float radius = (previous + voxel) * 1.0001f + slack;; radius = std::numeric_limits<float>::infinity()) {
                         RTCPointQuery query;
                         query.x = p.x;
                         query.y = p.y;
@@ -173,7 +182,7 @@ int run(const peer::Options& options) {
                         if (closest.distanceSquared < std::numeric_limits<double>::infinity() || std::isinf(radius)) break;
                     }
                     previous = float(std::sqrt(closest.distanceSquared));
-                    field.values[grid.index(i, j, k)] = previous;
+                    field.values[grid.index(i, j, k)] = float(double(previous) * mesh.unit);
                 }
             }
         }
@@ -182,7 +191,8 @@ int run(const peer::Options& options) {
 
     // Signs: majority of back-face first hits among the rays that hit anything. Eight neighbouring
     // samples of a row trace each direction together as one rtcIntersect8 packet (parallel rays a
-    // voxel apart: a coherent packet); a lane drops out once its vote is decided.
+    // voxel apart: a coherent packet); a lane drops out once its vote is decided, or with --method
+    // rays traces on only as far as its nearest hit.
     const int rays = int(directions.size());
     tbb::parallel_for(tbb::blocked_range<int>(0, grid.dims.z, 1), [&](const tbb::blocked_range<int>& slices) {
         flushDenormals();
@@ -196,14 +206,18 @@ int run(const peer::Options& options) {
                 for (int i0 = 0; i0 < grid.dims.x; i0 += 8) {
                     const int lanes = std::min(8, grid.dims.x - i0);
                     int back[8] = {}, front[8] = {};
+                    float nearest[8];
+                    std::fill(nearest, nearest + 8, std::numeric_limits<float>::infinity());
+                    bool voting[8];
                     for (int r = 0; r < rays; ++r) {
                         const int remaining = rays - r;
                         int active = 0;
                         for (int l = 0; l < 8; ++l) {
-                            const bool open = l < lanes && !(back[l] > front[l] + remaining || front[l] >= back[l] + remaining);
+                            voting[l] = l < lanes && !(back[l] > front[l] + remaining || front[l] >= back[l] + remaining);
+                            const bool open = voting[l] || (raysMethod && l < lanes);
                             valid[l] = open ? -1 : 0;
                             active += open;
-                            const glm::vec3 p = grid.sample(i0 + std::min(l, lanes - 1), j, k);
+                            const glm::vec3 p(localPosition(mesh, grid, i0 + std::min(l, lanes - 1), j, k));
                             packet.ray.org_x[l] = p.x;
                             packet.ray.org_y[l] = p.y;
                             packet.ray.org_z[l] = p.z;
@@ -212,7 +226,7 @@ int run(const peer::Options& options) {
                             packet.ray.dir_y[l] = directions[r].y;
                             packet.ray.dir_z[l] = directions[r].z;
                             packet.ray.time[l] = 0.0f;
-                            packet.ray.tfar[l] = std::numeric_limits<float>::infinity();
+                            packet.ray.tfar[l] = voting[l] ? std::numeric_limits<float>::infinity() : nearest[l];
                             packet.ray.mask[l] = ~0u;
                             packet.ray.id[l] = unsigned(l);
                             packet.ray.flags[l] = 0;
@@ -223,13 +237,21 @@ int run(const peer::Options& options) {
                         rtcIntersect8(valid, scene, &context, &packet);
                         for (int l = 0; l < lanes; ++l) {
                             if (!valid[l] || packet.hit.geomID[l] == RTC_INVALID_GEOMETRY_ID) continue;
+                            nearest[l] = std::min(nearest[l], packet.ray.tfar[l]);
+                            if (!voting[l]) continue;
                             const float facing = packet.hit.Ng_x[l] * directions[r].x + packet.hit.Ng_y[l] * directions[r].y +
                                                  packet.hit.Ng_z[l] * directions[r].z;
                             (facing > 0.0f ? back[l] : front[l]) += 1;
                         }
                     }
                     for (int l = 0; l < lanes; ++l) {
-                        if (back[l] > front[l]) field.values[grid.index(i0 + l, j, k)] *= -1.0f;
+                        float& value = field.values[grid.index(i0 + l, j, k)];
+                        if (raysMethod) {
+                            const glm::vec3 p(localPosition(mesh, grid, i0 + l, j, k));
+                            const glm::vec3 far = glm::max(glm::abs(p - mesh.bounds.min), glm::abs(p - mesh.bounds.max));
+                            value = float(double(back[l] + front[l] > 0 ? nearest[l] : glm::length(far)) * mesh.unit);
+                        }
+                        if (back[l] > front[l]) value = -value;
                     }
                 }
             }

@@ -33,17 +33,18 @@ namespace {
 using namespace sdfgen;
 
 // Farthest corner of the grid's box from the mesh's nearest vertex, in voxels: a first guess at the
-// exterior band (not a bound: a sample inside a concavity can be farther from the surface).
-float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid) {
+// exterior band (not a bound: a sample inside a concavity can be farther from the surface). In the
+// mesh's local coordinates, with `origin` and `voxel` the grid's in local units.
+float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid, const glm::vec3& origin, float voxel) {
     float farthest = 0.0f;
     for (int c = 0; c < 8; ++c) {
-        const glm::vec3 corner = grid.origin + glm::vec3(c & 1 ? grid.dims.x : 0, c & 2 ? grid.dims.y : 0,
-                                                         c & 4 ? grid.dims.z : 0) * grid.voxel;
+        const glm::vec3 corner = origin + glm::vec3(c & 1 ? grid.dims.x : 0, c & 2 ? grid.dims.y : 0,
+                                                    c & 4 ? grid.dims.z : 0) * voxel;
         float nearest = INFINITY;
         for (const glm::vec3& p : mesh.positions) nearest = std::min(nearest, glm::distance(corner, p));
         farthest = std::max(farthest, nearest);
     }
-    return farthest / grid.voxel;
+    return farthest / voxel;
 }
 
 int run(const peer::Options& options) {
@@ -60,14 +61,17 @@ int run(const peer::Options& options) {
     for (const glm::uvec3& t : mesh.triangles) triangles.emplace_back(t.x, t.y, t.z);
     const std::vector<openvdb::Vec4I> quads;
 
-    const double h = grid.voxel;
+    // Everything in the mesh's local coordinates, as in sdfgen: the points are mesh.positions, the
+    // grid's origin and voxel are converted, the distances scaled by mesh.unit when stored.
+    const double h = grid.voxel / mesh.unit;
+    const glm::dvec3 origin = mesh.toLocal(grid.origin);
     openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(h);
-    transform->postTranslate(openvdb::Vec3d(grid.origin.x + 0.5 * h, grid.origin.y + 0.5 * h, grid.origin.z + 0.5 * h));
+    transform->postTranslate(openvdb::Vec3d(origin.x + 0.5 * h, origin.y + 0.5 * h, origin.z + 0.5 * h));
 
     const glm::vec3 extent = mesh.bounds.extent();
     const float smallest = std::min(extent.x, std::min(extent.y, extent.z));
-    const float interiorBand = std::ceil(0.5f * smallest / grid.voxel) + 2.0f;
-    float exteriorBand = std::ceil(cornerDistanceVoxels(mesh, grid)) + 2.0f;
+    const float interiorBand = std::ceil(0.5f * smallest / float(h)) + 2.0f;
+    float exteriorBand = std::ceil(cornerDistanceVoxels(mesh, grid, glm::vec3(origin), float(h))) + 2.0f;
     const float largestBand = 4.0f * std::ceil(glm::length(glm::vec3(grid.dims))) + 4.0f;
 
     clock.lap();
@@ -93,7 +97,7 @@ int run(const peer::Options& options) {
                     for (int j = 0; j < grid.dims.y; ++j) {
                         for (int i = 0; i < grid.dims.x; ++i) {
                             const openvdb::Coord ijk(i, j, k);
-                            field.values[grid.index(i, j, k)] = accessor.getValue(ijk);
+                            field.values[grid.index(i, j, k)] = float(double(accessor.getValue(ijk)) * mesh.unit);
                             count += accessor.isValueOn(ijk) ? 0 : 1;
                         }
                     }

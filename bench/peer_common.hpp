@@ -20,7 +20,8 @@ struct Options {
     std::string output;
     int res = 64;
     float padding = 0.1f;
-    int rays = 64; // peer_embree only
+    int rays = 64;                // peer_embree only
+    std::string method = "exact"; // peer_embree only: exact (point queries) or rays (nearest ray hit)
 };
 
 // Parses `NAME MESH.obj --res N [--padding F] [--rays N] -o OUT.sdf`; --rays only when withRays.
@@ -35,6 +36,8 @@ inline int parseOptions(CLI::App& app, Options& options, bool withRays, int argc
     if (withRays) {
         app.add_option("--rays", options.rays, "rays per sample for the inside/outside vote")
             ->capture_default_str()->check(CLI::Range(1, 1 << 20));
+        app.add_option("--method", options.method, "distances: exact (point queries) or rays (nearest hit of the rays)")
+            ->capture_default_str()->check(CLI::IsMember({"exact", "rays"}));
     }
     try {
         app.parse(argc, argv);

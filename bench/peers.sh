@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Usage: bench/peers.sh [MESH.obj ...] [--res 128]
+# Usage: bench/peers.sh [MESH.obj ...] [--res 128] [--method rays]
 #
 # Bakes each mesh (default: ../shared/meshes/stanford-bunny.obj next to the repository if it is
 # there, else assets/bunny.obj) with `sdfgen bake` (default settings) and with each peer driver that
@@ -8,26 +8,37 @@
 # seconds of the whole process and the ratio to sdfgen's, followed by `sdfgen compare` of sdfgen's
 # field against each peer's (when this sdfgen has the compare command).
 #
-# Builds sdfgen and the peers in build-peers/ (Release). The fields go to
-# build-peers/peers-out/. JOBS=N limits the build's parallel jobs.
+# --method rays compares the ray method (the original report's: distance = nearest hit of 64 rays,
+# sign by their back-face vote) instead: `sdfgen bake --method rays` against `peer_embree --method
+# rays`, the same method on Embree (OpenVDB has no ray method and is left out).
+#
+# Builds sdfgen and the peers in build-peers/ (Release; BUILD=DIR uses another build folder). The
+# fields go to BUILD/peers-out/. JOBS=N limits the build's parallel jobs.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-build=$root/build-peers
+build=${BUILD:-$root/build-peers}
 out=$build/peers-out
 
 usage() { sed -n '2,/^set -e/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//'; }
 res=128
+method=exact
 meshes=()
 while [ $# -gt 0 ]; do
   case $1 in
     --res) [ $# -ge 2 ] || { echo "peers.sh: --res needs a value" >&2; exit 2; }; res=$2; shift 2 ;;
     --res=*) res=${1#--res=}; shift ;;
+    --method) [ $# -ge 2 ] || { echo "peers.sh: --method needs a value" >&2; exit 2; }; method=$2; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     -*) echo "peers.sh: unknown option $1" >&2; usage >&2; exit 2 ;;
     *) meshes+=("$1"); shift ;;
   esac
 done
 [[ $res =~ ^[1-9][0-9]*$ ]] || { echo "peers.sh: --res must be a positive integer (got '$res')" >&2; exit 2; }
+case $method in
+  exact) candidates=(openvdb embree); method_args=() ;;
+  rays) candidates=(embree); method_args=(--method rays) ;;
+  *) echo "peers.sh: --method must be exact or rays (got '$method')" >&2; exit 2 ;;
+esac
 if [ ${#meshes[@]} -eq 0 ]; then
   if [ -f "$root/../shared/meshes/stanford-bunny.obj" ]; then
     meshes=("$(cd "$root/../shared/meshes" && pwd)/stanford-bunny.obj")
@@ -48,7 +59,7 @@ cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >"$bui
   { cat "$build/peers-configure.log" >&2; echo "peers.sh: configuring $build failed" >&2; exit 1; }
 targets=$(cmake --build "$build" --target help 2>/dev/null || true)
 peers=()
-for peer in openvdb embree; do
+for peer in "${candidates[@]}"; do
   if grep -qw "peer_$peer" <<<"$targets"; then
     peers+=("$peer")
   else
@@ -82,10 +93,10 @@ status=0
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh" .obj)
   echo
-  echo "== $mesh, --res $res, $(nproc) cores"
+  echo "== $mesh, --res $res, --method $method, $(nproc) cores"
   names=() times=() notes=()
   base=$out/$name-sdfgen.sdf
-  if ! run sdfgen "$out/$name-sdfgen.log" "$sdfgen" bake "$mesh" --res "$res" -o "$base"; then
+  if ! run sdfgen "$out/$name-sdfgen.log" "$sdfgen" bake "$mesh" --res "$res" "${method_args[@]}" -o "$base"; then
     echo "peers.sh: sdfgen bake failed on $mesh:" >&2
     tail -n 5 "$out/$name-sdfgen.log" >&2
     status=1
@@ -94,7 +105,7 @@ for mesh in "${meshes[@]}"; do
   names+=(sdfgen) times+=("$seconds") notes+=("$(grep -- ' -> ' "$out/$name-sdfgen.log" | tail -n 1 || tail -n 1 "$out/$name-sdfgen.log")")
   ran=()
   for peer in "${peers[@]}"; do
-    if run "$peer" "$out/$name-$peer.log" "$build/bench/peer_$peer" "$mesh" --res "$res" -o "$out/$name-$peer.sdf"; then
+    if run "$peer" "$out/$name-$peer.log" "$build/bench/peer_$peer" "$mesh" --res "$res" "${method_args[@]}" -o "$out/$name-$peer.sdf"; then
       names+=("$peer") times+=("$seconds") notes+=("$(grep "^$peer:" "$out/$name-$peer.log" | tail -n 1)")
       ran+=("$peer")
     else

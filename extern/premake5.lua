@@ -29,18 +29,11 @@ project "glad"
    language "C"
    files { glad_source, GLAD_DIR .. "/include/glad/gl.h" }
    includedirs { GLAD_DIR .. "/include" }
-   filter "system:windows"
-      prebuildcommands { 'if not exist "' .. path.translate(glad_source, "\\") .. '" ' .. glad_command }
-   filter "system:not windows"
-      prebuildcommands { 'test -f "' .. glad_source .. '" || ' .. glad_command }
-   filter {}
+   prebuildcommands { 'test -f "' .. glad_source .. '" || ' .. glad_command }
 
 function sdfgen_use_glad()
    includedirs { GLAD_DIR .. "/include" }
-   links { "glad" }
-   filter "system:not windows"
-      links { "dl" }
-   filter {}
+   links { "glad", "dl" }
 end
 
 -- Dear ImGui: the library is Debian's libimgui (static, and built against Debian's libstb, so it

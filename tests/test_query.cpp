@@ -104,7 +104,13 @@ TEST(PointQuery, MatchesBruteForceAtRandomPoints) {
             ASSERT_NEAR(unsignedDistance[i], truth, 1e-6) << i;
             const glm::dvec3 q(closest[3 * i], closest[3 * i + 1], closest[3 * i + 2]);
             EXPECT_NEAR(glm::length(q - p), truth, 1e-6) << i;
-            EXPECT_GE(triangle[i], 0);
+            // The nearest triangle reported is one at the true distance.
+            ASSERT_GE(triangle[i], 0) << i;
+            ASSERT_LT(std::size_t(triangle[i]), mesh.triangleCount()) << i;
+            const std::size_t t = std::size_t(triangle[i]);
+            EXPECT_NEAR(std::sqrt(closestPointOnTriangle(local, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                         glm::dvec3(mesh.vertex(t, 2))).distanceSquared) * mesh.unit,
+                        truth, 1e-6) << i;
             const double w = windingNumber(mesh, local);
             EXPECT_NEAR(winding[i], w, 1e-9) << i;
             if (std::fabs(w - 0.5) > 1e-6) {

@@ -10,7 +10,7 @@ struct MeshCheck {
     std::size_t nonManifoldEdges = 0;    // edges with three or more triangles
     std::size_t inconsistentEdges = 0;   // edges whose two triangles run the same way: flipped faces
     std::size_t nonManifoldVertices = 0; // vertices whose triangles form several fans (pinches)
-    std::size_t selfIntersections = 0;   // pairs of triangles that cross each other
+    std::size_t selfIntersections = 0;   // pairs of triangles with a common point beyond shared vertices (exact)
     double signedVolume = 0;             // enclosed by the triangles as oriented (negative: they face inwards)
     // Closed, manifold along edges and consistently oriented, but with negative volume: every face
     // points inwards. Sign auto then swaps inside and outside, as if the faces were flipped.

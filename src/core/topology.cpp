@@ -1,4 +1,5 @@
 #include "core/topology.hpp"
+#include "core/predicates.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -22,21 +23,6 @@ struct PositionHash {
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
-}
-
-// Sign of the volume of tetrahedron (a, b, c, d): which side of plane abc d lies on.
-int orient3d(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
-    const double v = glm::dot(glm::cross(b - a, c - a), d - a);
-    return (v > 0.0) - (v < 0.0);
-}
-
-// Whether segment pq passes through the interior of triangle abc (touching does not count).
-bool segmentCrossesTriangle(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b,
-                            const glm::dvec3& c) {
-    const int sp = orient3d(a, b, c, p), sq = orient3d(a, b, c, q);
-    if (sp == 0 || sq == 0 || sp == sq) return false;
-    const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
-    return s1 != 0 && s1 == s2 && s2 == s3;
 }
 
 } // namespace
@@ -197,19 +183,20 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
             for (int i = 0; i < 3; ++i)
                 for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
             if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
-            const glm::dvec3 pa[3] = {positions_[a[0]], positions_[a[1]], positions_[a[2]]};
-            const glm::dvec3 pb[3] = {positions_[b[0]], positions_[b[1]], positions_[b[2]]};
+            // The merged positions are the mesh's floats, which the exact predicates take.
+            const glm::vec3 pa[3] = {glm::vec3(positions_[a[0]]), glm::vec3(positions_[a[1]]), glm::vec3(positions_[a[2]])};
+            const glm::vec3 pb[3] = {glm::vec3(positions_[b[0]]), glm::vec3(positions_[b[1]]), glm::vec3(positions_[b[2]])};
             bool crossing = false;
-            // An edge that touches the shared vertex cannot cross the other triangle's interior
-            // (it starts on it), so only edges away from a shared vertex are tested.
+            // An edge from a shared vertex meets the other triangle there, so only edges away from
+            // shared vertices are tested: any other common point makes the pair self-intersecting.
             for (int e = 0; e < 3 && !crossing; ++e) {
                 const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
                 if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
-                    crossing = segmentCrossesTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+                    crossing = segmentMeetsTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
                 }
                 const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
                 if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
-                    crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
+                    crossing = segmentMeetsTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
                 }
             }
             result.selfIntersections += crossing;

@@ -10,20 +10,7 @@ python=/usr/bin/python3
 work=$(mktemp -d)
 trap 'kill -9 $pending 2>/dev/null; rm -rf "$work"' EXIT
 pending=
-passed=0
-failed=0
-
-check() { # check DESCRIPTION COMMAND...: the command succeeds
-  local what=$1
-  shift
-  if "$@" >"$work/check.out" 2>&1; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAILED: $what"
-    sed 's/^/    /' "$work/check.out" | head -20
-  fi
-}
+. "$(dirname "$0")/../support/check.sh"
 
 # A few small closed meshes, one open one and two broken ones.
 mkdir -p "$work/meshes/sub"
@@ -33,17 +20,6 @@ printf 'v 0 0 0\nv 2 0 0\nv 0 2 0\nv 0 0 2\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n
 printf 'v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\nf 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n' >"$work/meshes/octahedron.obj"
 printf 'v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n' >"$work/meshes/broken.obj"
 printf 'v 0 0 0\nv 1 0 0\nl 1 2\n' >"$work/meshes/lines.obj"
-
-# json_check FILE PYTHON_EXPRESSION: every line is one JSON object; `lines` (a list of them) satisfies the expression.
-json_check() {
-  $python -c '
-import json, sys
-lines = [json.loads(l) for l in open(sys.argv[1])]
-ok = eval("(" + sys.argv[2] + ")")
-if not ok:
-    print("\n".join(json.dumps(l) for l in lines)); sys.exit(1)
-' "$1" "$2"
-}
 
 out=$work/out
 "$sdfgen" batch "$work/meshes" --out "$out" --format sdf --res 12 --status "$work/status.jsonl" --jobs 2 >"$work/run1.txt" 2>&1
@@ -152,5 +128,4 @@ check "sample without -n is an error" bash -c "! '$sdfgen' sample '$work/meshes/
 
 check "bad arguments are one-line errors" bash -c "'$sdfgen' batch '$work/nothing' --out '$work/x' 2>&1 | grep -q 'nothing: no such file or folder'"
 
-echo "batch test: $passed passed, $failed failed"
-[ $failed -eq 0 ]
+check_summary batch

@@ -39,19 +39,8 @@ cleanup() {
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM
-passed=0
-failed=0
-check() { # check DESCRIPTION COMMAND...
-  local what=$1
-  shift
-  if "$@" >"$work/check.out" 2>&1; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAILED: $what"
-    sed 's/^/    /' "$work/check.out" | head -20
-  fi
-}
+. "$(dirname "$0")/../support/check.sh"
+
 # poll SECONDS COMMAND...: until the command succeeds or the deadline passes.
 poll() {
   local deadline=$(($(date +%s) + $1))
@@ -130,16 +119,6 @@ chmod +x "$work/job.sh"
 submit() { # submit RUN: one job array of four tasks, waiting for it; logs in logs/RUN.TASK
   timeout 120 sbatch --array=0-3 --wait -o "$work/logs/$1.%a" -e "$work/logs/$1.%a" "$work/job.sh"
 }
-json_check() { # json_check PYTHON_EXPRESSION over `lines` (the status file) and `runs` (its lines grouped per run)
-  $python -c '
-import json, sys
-lines = [json.loads(l) for l in open(sys.argv[1])]
-ok = eval("(" + sys.argv[2] + ")")
-if not ok:
-    print("\n".join(json.dumps(l) for l in lines)); sys.exit(1)
-' "$work/status.jsonl" "$1"
-}
-
 submit first >"$work/sbatch1.txt" 2>&1
 rc=$?
 check "sbatch --wait reports the failed meshes' task (exit $rc)" test $rc -ne 0 -a $rc -ne 124
@@ -150,7 +129,7 @@ for mesh in tet sub/open sub/tet octahedron cube; do
     '$sdfgen' bake '$data/$mesh.obj' -o '$work/direct.sdf' --res 16 >/dev/null && '$sdfgen' compare '$work/direct.sdf' '$work/out/$mesh.sdf' | grep -q 'max 0 '"
 done
 check "no output for the broken meshes, no partial files" bash -c "test ! -e '$work/out/broken.sdf' -a ! -e '$work/out/bad-index.sdf' && test -z \"\$(find '$work/out' -name '.*')\""
-check "one status line per mesh, each mesh in exactly one of the four shards" json_check '
+check "one status line per mesh, each mesh in exactly one of the four shards" json_check "$work/status.jsonl" '
 len(lines) == 7 and len({l["mesh"] for l in lines}) == 7
 and sorted(l["shard"] for l in lines) == ["0/4", "0/4", "1/4", "1/4", "2/4", "2/4", "3/4"]
 and all(l["status"] == "done" and l["error"] is None and max(l["dims"]) == 16 and l["voxel"] > 0 and l["sign"].startswith("auto/")
@@ -163,12 +142,11 @@ and "bad-index.obj" in [l for l in lines if "bad-index" in l["mesh"]][0]["error"
 # The same job again: every finished mesh is skipped (files untouched), the broken ones fail again.
 stat -c '%n %i %y' "$work"/out/*.sdf "$work"/out/sub/*.sdf >"$work/before.txt"
 submit second >"$work/sbatch2.txt" 2>&1
-check "the second run skipped every finished mesh and baked nothing" json_check '
+check "the second run skipped every finished mesh and baked nothing" json_check "$work/status.jsonl" '
 len(lines) == 14 and sorted(l["status"] for l in lines[7:]) == ["failed"] * 2 + ["skipped"] * 5
 and sorted(l["mesh"] for l in lines[7:]) == sorted(l["mesh"] for l in lines[:7])'
 stat -c '%n %i %y' "$work"/out/*.sdf "$work"/out/sub/*.sdf >"$work/after.txt"
 check "the outputs were not rewritten" cmp "$work/before.txt" "$work/after.txt"
 check "no job is left in the queue" bash -c "test -z \"\$(squeue -h)\""
 
-echo "slurm test: $passed passed, $failed failed"
-[ $failed -eq 0 ]
+check_summary slurm

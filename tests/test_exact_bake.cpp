@@ -1,0 +1,59 @@
+// The exact bake's determinism across thread counts and its cancellation from the progress callback.
+#include "sdfgen/error.hpp"
+#include "core/bake.hpp"
+#include "support/reference.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#include <atomic>
+#include <cstring>
+
+namespace sdfgen {
+namespace {
+
+using namespace test;
+
+TEST(ExactBake, BitIdenticalForAnyThreadCount) {
+    const Mesh mesh = loadMesh(test::bundledBunnyPath());
+    for (SignMethod sign : {SignMethod::Winding, SignMethod::Pseudonormal}) {
+        const Field one = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 1).field;
+        const Field many = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 5).field;
+        ASSERT_EQ(one.values.size(), many.values.size());
+        EXPECT_EQ(std::memcmp(one.values.data(), many.values.data(), one.values.size() * sizeof(float)), 0) << toString(sign);
+    }
+    const Mesh small = test::torus(1.0f, 0.3f, 24, 12);
+    const Field one = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 1).field;
+    const Field many = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 5).field;
+    EXPECT_EQ(std::memcmp(one.values.data(), many.values.data(), one.values.size() * sizeof(float)), 0) << "brute";
+}
+
+TEST(ExactBake, HonoursCancelFromTheProgressCallback) {
+    const Mesh mesh = test::icosphere(1.0f, 2);
+    const Bvh tree(mesh);
+    struct Case {
+        DistanceMethod method;
+        SignMethod sign;
+        double at; // progress fraction at which to cancel
+    };
+    for (const Case& c : {Case{DistanceMethod::Exact, SignMethod::Auto, 0.2}, Case{DistanceMethod::Exact, SignMethod::Winding, 0.85},
+                          Case{DistanceMethod::Exact, SignMethod::Pseudonormal, 0.85}, Case{DistanceMethod::Brute, SignMethod::Winding, 0.2}}) {
+        std::atomic<bool> cancel{false};
+        RunControl control;
+        control.threads = 1;
+        control.cancel = &cancel;
+        double last = 0;
+        control.progress = [&](double f) {
+            last = f;
+            if (f > c.at) cancel = true;
+        };
+        BakeSettings settings;
+        settings.res = 24;
+        settings.method = c.method;
+        settings.sign = c.sign;
+        EXPECT_THROW(bake(mesh, tree, settings, control), Cancelled) << toString(c.method) << " " << toString(c.sign);
+        EXPECT_LT(last, 1.0);
+    }
+}
+
+} // namespace
+} // namespace sdfgen
