@@ -2,6 +2,8 @@
 #include "sdfgen/error.hpp"
 
 #include <atomic>
+#include <chrono>
+#include <cstdint>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -207,14 +209,35 @@ void applyMode(const std::string& path, int fd, const Target& target) {
     }
 }
 
+// A suffix no other writer is using: the process id and 64 bits mixed from a clock and a counter.
+std::string uniqueSuffix() {
+    static std::atomic<std::uint64_t> counter{0};
+    std::uint64_t x = std::uint64_t(std::chrono::steady_clock::now().time_since_epoch().count()) ^
+                      (counter.fetch_add(1) * 0x9E3779B97F4A7C15ull);
+    x ^= x >> 30; x *= 0xBF58476D1CE4E5B9ull; x ^= x >> 27; x *= 0x94D049BB133111EBull; x ^= x >> 31; // splitmix64
+    char text[40];
+    std::snprintf(text, sizeof(text), "%ld-%016llx", long(getpid()), static_cast<unsigned long long>(x));
+    return text;
+}
+
 // A temporary file beside the target, removed (and unregistered from the signal handler) when
 // this goes out of scope before commit().
 class Temporary {
 public:
-    Temporary(const std::string& path, const Target& target) : path_(path), target_(target), name_(target.path + ".tmp-XXXXXX") {
-        fd_ = mkostemp(name_.data(), O_CLOEXEC);
-        if (fd_ < 0) throw Error(path + ": cannot create a temporary file beside it (" + reason(errno) + ")");
-        registration_ = std::make_unique<TempRegistration>(name_);
+    // The name is registered with the signal handler before the file exists (O_EXCL), so a signal
+    // landing at any moment after creation finds it; mkstemp would leave a window in between.
+    Temporary(const std::string& path, const Target& target) : path_(path), target_(target) {
+        for (int attempt = 0; fd_ < 0; ++attempt) {
+            name_ = target.path + ".tmp-" + uniqueSuffix();
+            registration_ = std::make_unique<TempRegistration>(name_);
+            fd_ = ::open(name_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+            if (fd_ >= 0) break;
+            const int error = errno;
+            registration_.reset();
+            if (error != EEXIST || attempt == 100) {
+                throw Error(path + ": cannot create a temporary file beside it (" + reason(error) + ")");
+            }
+        }
     }
     ~Temporary() {
         if (fd_ >= 0) close(fd_);

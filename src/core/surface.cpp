@@ -1,4 +1,5 @@
 #include "core/surface.hpp"
+#include "core/atomic_file.hpp"
 #include "core/formats/format.hpp"
 #include "core/formats/vdb.hpp"
 #include "sdfgen/error.hpp"
@@ -121,7 +122,7 @@ void saveSurface(const SurfaceMesh& mesh, const std::string& path) {
     } else {
         throw Error(path + ": unknown surface format " + (extension.empty() ? "(no extension)" : "'" + extension + "'") + "; known: .obj, .ply");
     }
-    formats::writeFieldFile(path, [&](std::ostream& out) { out.write(bytes.data(), std::streamsize(bytes.size())); });
+    writeFileAtomically(path, [&](std::ostream& out) { out.write(bytes.data(), std::streamsize(bytes.size())); });
 }
 
 } // namespace sdfgen

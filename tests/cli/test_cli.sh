@@ -208,6 +208,15 @@ chmod 600 "$work/real.sdf"
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/real.sdf" --res 5
 expect 0 '^600$' -- stat -c %a "$work/real.sdf"
 expect 0 '^640$' -- sh -c 'umask 027; "$1" bake "$2" -o "$3" --res 4 >/dev/null && stat -c %a "$3"' sh "$sdfgen" "$work/tet.obj" "$work/umask.sdf"
+# The binary formats write through the same atomic writer: through symlinks, modes kept.
+for ext in npy npz vdb nrrd; do
+  "$sdfgen" bake "$work/tet.obj" -o "$work/real.$ext" --res 4 >/dev/null
+  ln -s "real.$ext" "$work/link.$ext"
+  chmod 600 "$work/real.$ext"
+  expect 0 '5x5x5' -- "$sdfgen" bake "$work/tet.obj" -o "$work/link.$ext" --res 5
+  expect 0 '' -- test -L "$work/link.$ext"
+  expect 0 '^600$' -- stat -c %a "$work/real.$ext"
+done
 # A full device (our own node, so that a regression replaces a scratch file and not /dev/full).
 if mknod "$work/full-device.sdf" c 1 7 2>/dev/null; then
   expect 1 'full-device.sdf: write failed \(No space left on device\)' -- "$sdfgen" bake "$work/tet.obj" -o "$work/full-device.sdf" --res 4

@@ -1,17 +1,11 @@
-// What every field format shares: the atomic write, the checks on saved and loaded fields, and
-// the method line.
+// What every field format shares: the checks on saved and loaded fields, and the method line.
 #include "core/formats/format.hpp"
 #include "sdfgen/error.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fcntl.h>
-#include <fstream>
 #include <limits>
-#include <sys/stat.h>
-#include <unistd.h>
 
 namespace sdfgen::formats {
 
@@ -45,35 +39,6 @@ void checkValuesAndNames(const Field& field, const std::string& path) {
 }
 
 } // namespace
-
-void writeFieldFile(const std::string& path, const std::function<void(std::ostream&)>& write) {
-    std::string tempPath = path + ".tmp-XXXXXX";
-    const int fd = mkstemp(tempPath.data());
-    if (fd < 0) throw Error(path + ": cannot create a temporary file beside it (" + std::strerror(errno) + ")");
-    fchmod(fd, 0644); // mkstemp makes the file private; a saved field is an ordinary document
-    close(fd);
-    auto removeTemp = [&] { std::remove(tempPath.c_str()); };
-    try {
-        {
-            std::ofstream out(tempPath, std::ios::binary | std::ios::trunc);
-            if (!out) throw Error(path + ": cannot open the temporary file (" + std::strerror(errno) + ")");
-            write(out);
-            out.flush();
-            if (!out) throw Error(path + ": write failed (" + std::strerror(errno) + ")");
-        }
-        const int syncFd = open(tempPath.c_str(), O_RDONLY);
-        const bool synced = syncFd >= 0 && fsync(syncFd) == 0;
-        const std::string reason = std::strerror(errno);
-        if (syncFd >= 0) close(syncFd);
-        if (!synced) throw Error(path + ": write failed (" + reason + ")");
-        if (std::rename(tempPath.c_str(), path.c_str()) != 0) {
-            throw Error(path + ": cannot replace the file (" + std::strerror(errno) + ")");
-        }
-    } catch (...) {
-        removeTemp();
-        throw;
-    }
-}
 
 void checkField(const Field& field, const std::string& path) {
     checkGrid(field.grid, path);

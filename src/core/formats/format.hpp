@@ -23,10 +23,6 @@ struct FieldFormat {
 // Every registered format, in the order the help texts list them.
 const std::vector<FieldFormat>& fieldFormats();
 
-// Writes the bytes `write` produces to `path` atomically (temporary file beside it, fsync, rename);
-// every binary format's final write goes through here. Throws Error("PATH: problem").
-void writeFieldFile(const std::string& path, const std::function<void(std::ostream&)>& write);
-
 // The rules every writer checks before writing anything and every reader checks on what it read:
 // values match the grid, the grid is valid, values are finite, source and method fit on one line
 // (the text format's rules). Throws Error naming `path`.

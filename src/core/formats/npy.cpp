@@ -1,6 +1,7 @@
 // NumPy .npy: the field as a float32 (nx, ny, nz) array in Fortran order, so that a[i, j, k] is
 // sample (i, j, k) and the data on disk is Field::values as is. The file carries no grid; .npz does.
 #include "core/formats/npy.hpp"
+#include "core/atomic_file.hpp"
 #include "core/formats/format.hpp"
 #include "sdfgen/error.hpp"
 
@@ -366,7 +367,7 @@ std::string parseNpyString(const std::string& bytes, const std::string& where) {
 void saveNpy(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const std::string header = npyFieldHeader(field);
-    writeFieldFile(path, [&](std::ostream& out) {
+    writeFileAtomically(path, [&](std::ostream& out) {
         out.write(header.data(), std::streamsize(header.size()));
         out.write(reinterpret_cast<const char*>(field.values.data()), std::streamsize(field.values.size() * sizeof(float)));
     });

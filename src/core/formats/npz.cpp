@@ -2,6 +2,7 @@
 // sdf (the values, as in .npy), origin (3, float64), voxel_size (float64 scalar), dims (3, int64),
 // method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k).
 #include "core/formats/format.hpp"
+#include "core/atomic_file.hpp"
 #include "core/formats/npy.hpp"
 #include "sdfgen/error.hpp"
 
@@ -145,7 +146,7 @@ private:
 
 void writeNpz(const std::string& path, const std::vector<NpzMember>& members) {
     const std::string archive = buildArchive(members, path);
-    writeFieldFile(path, [&](std::ostream& out) { out.write(archive.data(), std::streamsize(archive.size())); });
+    writeFileAtomically(path, [&](std::ostream& out) { out.write(archive.data(), std::streamsize(archive.size())); });
 }
 
 void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {

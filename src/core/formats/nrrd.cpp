@@ -2,6 +2,7 @@
 // little-endian float32, x fastest. "space origin" is the centre of the first sample and "space
 // directions" the voxel edges, so that sample (i, j, k) is at origin + (i + 1/2, j + 1/2, k + 1/2) h.
 #include "core/formats/format.hpp"
+#include "core/atomic_file.hpp"
 #include "sdfgen/error.hpp"
 
 #include <cerrno>
@@ -75,7 +76,7 @@ void saveNrrd(const Field& field, const std::string& path, const SaveOptions&) {
            << "sdfgen_source:=" << field.source << '\n'
            << '\n';
     const std::string head = header.str();
-    writeFieldFile(path, [&](std::ostream& out) {
+    writeFileAtomically(path, [&](std::ostream& out) {
         out.write(head.data(), std::streamsize(head.size()));
         out.write(reinterpret_cast<const char*>(field.values.data()), std::streamsize(field.values.size() * sizeof(float)));
     });

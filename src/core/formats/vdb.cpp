@@ -4,6 +4,7 @@
 // and the rest are inactive +-V h, as OpenVDB level sets are. The grid's sdfgen_* metadata keep
 // the exact grid, method and source.
 #include "core/formats/format.hpp"
+#include "core/atomic_file.hpp"
 #include "core/formats/vdb.hpp"
 #include "sdfgen/error.hpp"
 
@@ -104,7 +105,7 @@ void saveVdb(const Field& field, const std::string& path, const SaveOptions& opt
     grid->insertMeta("sdfgen_method", openvdb::StringMetadata(methodLine(field)));
     grid->insertMeta("sdfgen_source", openvdb::StringMetadata(field.source));
 
-    writeFieldFile(path, [&](std::ostream& out) {
+    writeFileAtomically(path, [&](std::ostream& out) {
         try {
             openvdb::io::Stream stream(out);
             // Blosc pays off on a narrow band's few leaves; a dense grid of distances hardly
