@@ -8,7 +8,7 @@
 #   - OpenVDB's meshToSignedDistanceField on the same grid (bench/openvdb_sdf.cpp, also writing
 #     .npy), when its driver is given or built (cmake --build build --target peer_openvdb), and
 #     the same-run ratio of whole-process seconds (OpenVDB / sdfgen).
-# --repeat N keeps the fastest of N runs of each (the peak memory of the last).
+# --repeat N keeps the fastest of N runs of each (the peak memory of sdfgen's last).
 #
 # Meshes: the ones given, else the Stanford bunny from the shared meshes (../shared/meshes next to
 # the repository) when present, else the bundled bunny. The machine is usually shared: compare
@@ -62,13 +62,13 @@ for mesh in "${meshes[@]}"; do
     # bench's columns: mesh triangles dims sign load tree distance sign save total voxels/s ...
     row=$(awk 'f { print; exit } /^mesh/ { f = 1 }' "$tmp/bench")
     timed total "$sdfgen" bake "$mesh" --res "$res" -o "$tmp/sdfgen.npy"
+    sdfgen_rss=$rss
     samples=$(awk '{ split($3, d, "x"); print d[1] * d[2] * d[3] }' <<<"$row")
     vdb=- ratio=-
     if [ -x "$openvdb" ]; then
       timed vdb "$openvdb" "$mesh" --res "$res" -o "$tmp/openvdb.npy" && ratio=$(awk -v a="$vdb" -v b="$total" 'BEGIN { printf "%.2f", a / b }')
-      timed total "$sdfgen" bake "$mesh" --res "$res" -o "$tmp/sdfgen.npy" # again, for the peak memory of sdfgen
     fi
-    awk -v res="$res" -v total="$total" -v samples="$samples" -v rss="$rss" -v vdb="$vdb" -v ratio="$ratio" \
+    awk -v res="$res" -v total="$total" -v samples="$samples" -v rss="$sdfgen_rss" -v vdb="$vdb" -v ratio="$ratio" \
       '{ printf "%-20s %4s %9s %-20s %6s %6s %8s %6s %6s %7s %10.0f %7s %8s %7s\n", $1, res, $2, $4, $5, $6, $7, $8, $9, total, samples / total, rss, vdb, ratio }' <<<"$row"
   done
 done
