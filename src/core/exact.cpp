@@ -27,7 +27,6 @@ struct alignas(32) CandidateBound {
     std::uint32_t packet;
 };
 
-
 // The samples [lo, hi) of a grid as a float box in local coordinates, with its centre and the
 // distance from the centre to its farthest corner (rounded up). Sample positions grow with their
 // indices and float rounding keeps that order, so the box is spanned by the corner samples.
