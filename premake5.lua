@@ -107,9 +107,10 @@ project "sdfgen_render"
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
    sdfgen_flags()
 
--- System libraries a program linking sdfgen_render needs (CMake: sdfgen::osmesa, which is OSMesa,
--- and sdfgen::stb, Debian's libstb.so with the stb_image and stb_image_write implementations).
-SDFGEN_RENDER_LINKS = { "OSMesa", "stb" }
+-- System libraries a program linking sdfgen_render needs (CMake: sdfgen::osmesa, which is dl, as
+-- libOSMesa is opened at run time, and sdfgen::stb, Debian's libstb.so with the stb_image and
+-- stb_image_write implementations).
+SDFGEN_RENDER_LINKS = { "dl", "stb" }
 
 function sdfgen_use_render()
    links { "sdfgen_render" }

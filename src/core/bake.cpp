@@ -4,7 +4,6 @@
 
 #include <glm/geometric.hpp>
 #include <algorithm>
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,23 +48,17 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     BakeResult result;
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    const Clock::time_point start = Clock::now();
-    DistancePass pass = method.run(context, control.phase(0.0, 0.7));
-    result.distanceSeconds = since(start);
-
-    const Clock::time_point signStart = Clock::now();
-    std::vector<std::uint8_t> inside;
-    if (method.fixedSign) {
-        sign = method.defaultSign;
-        inside = std::move(*pass.inside);
-    } else {
-        bool flipped = false; // an inside-out mesh, fixed by auto
+    // The sign is settled first (auto checks the mesh), so that a method that can sign as it
+    // measures (exact with the pseudonormal) writes the signed field in one pass.
+    const Clock::time_point checkStart = Clock::now();
+    BakeContext methodContext = context;
+    if (!method.fixedSign) {
         if (sign == SignMethod::Auto) {
             result.checked = true;
             result.check = context.check();
             sign = resolveAutoSign(result.check, &result.signReason);
             if (result.check.insideOut) {
-                flipped = true;
+                methodContext.flipped = true;
                 result.signReason += "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
                                      "are swapped as if every face were flipped";
             }
@@ -76,18 +69,31 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
                                                                    : "inside and outside are swapped") +
                                       "; --sign auto fixes it");
         }
-        BakeContext signContext = context;
-        signContext.flipped = flipped;
-        inside = signMethod(sign).run(signContext, pass, control.phase(0.7, 1.0));
+        methodContext.sign = sign;
+    }
+    const double checkSeconds = since(checkStart);
+
+    const Clock::time_point start = Clock::now();
+    const bool signsInline = !method.fixedSign && sign == method.signsInline;
+    DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
+    result.distanceSeconds = since(start);
+
+    const Clock::time_point signStart = Clock::now();
+    std::vector<std::uint8_t> inside;
+    if (method.fixedSign) {
+        sign = method.defaultSign;
+        inside = std::move(*pass.inside);
+    } else if (!pass.signedAsAsked) {
+        inside = signMethod(sign).run(methodContext, pass, control.phase(0.7, 1.0));
     }
     result.sign = sign;
-    result.signSeconds = since(signStart);
+    result.signSeconds = checkSeconds + since(signStart);
 
     Field& field = result.field;
     field.source = context.mesh.source;
     field.grid = context.grid;
     field.values = std::move(pass.distance);
-    for (std::size_t i = 0; i < field.values.size(); ++i) {
+    for (std::size_t i = 0; i < inside.size(); ++i) {
         if (inside[i]) field.values[i] = -field.values[i];
     }
     // Never a silently wrong field: float distances overflow on meshes far beyond unit scale.
@@ -107,6 +113,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
+    const WideBvh wide(mesh, tree);
     const Grid grid = makeGrid(mesh.worldBounds(), settings.res, settings.padding);
     std::optional<MeshTopology> topology;
     std::optional<MeshCheck> check;
@@ -114,7 +121,7 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
         if (!topology) topology.emplace(mesh);
         return *topology;
     };
-    const BakeContext context{mesh, tree, grid, settings, topologyOf, [&]() -> const MeshCheck& {
+    const BakeContext context{mesh, tree, wide, grid, settings, topologyOf, [&]() -> const MeshCheck& {
                                   if (!check) check = topologyOf().check(mesh, tree);
                                   return *check;
                               }};

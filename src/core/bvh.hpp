@@ -58,6 +58,21 @@ public:
     template <class Visit>
     void forEachOverlap(const Bounds& box, Visit&& visit) const;
 
+    // The tree's shape, read by structures derived from it (core/wide_bvh.hpp). Node 0 is the root;
+    // an inner node's children are `first` and `second`, a leaf holds `count` Mesh triangle indices.
+    struct NodeView {
+        Bounds box;
+        std::uint32_t first, second;
+        const std::uint32_t* triangles;
+        std::uint32_t count; // 0 for an inner node
+    };
+    NodeView node(std::uint32_t index) const {
+        const Node& n = nodes_[index];
+        const Bounds box{{n.min[0], n.min[1], n.min[2]}, {n.max[0], n.max[1], n.max[2]}};
+        if (n.count == 0) return {box, index + 1, n.index, nullptr, 0};
+        return {box, 0, 0, triangleIds_.data() + n.index, n.count};
+    }
+
     std::size_t nodeCount() const { return nodes_.size(); }
     int depth() const { return depth_; }
     const Bounds& bounds() const { return bounds_; }

@@ -10,11 +10,14 @@ namespace sdfgen {
 
 namespace {
 
+// Straight into the field: signed by the closest feature's pseudonormal when that is the sign,
+// unsigned for the winding sign (which negates in place), with no per-sample side arrays.
 DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
-    NearestField nearest = computeNearest(context.mesh, context.tree, context.grid, control);
     DistancePass pass;
-    pass.distance = std::move(nearest.distance);
-    pass.nearestTriangle = std::move(nearest.triangle);
+    pass.distance.resize(context.grid.sampleCount());
+    pass.signedAsAsked = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares
+    computeExactField(context.mesh, context.wide, context.grid, pass.signedAsAsked ? &context.topology() : nullptr, context.flipped,
+                      pass.distance.data(), control);
     return pass;
 }
 
@@ -41,10 +44,12 @@ DistancePass splitSigned(const std::vector<float>& values) {
 
 const std::vector<DistanceMethodInfo>& distanceMethods() {
     static const std::vector<DistanceMethodInfo> methods = {
-        {DistanceMethod::Exact, "exact", "the true distance to the nearest triangle", exactDistance, SignMethod::Auto, false},
-        {DistanceMethod::Rays, "rays", "the original report's ray sampling (an upper bound)", rayDistance, SignMethod::Rays, false},
+        {DistanceMethod::Exact, "exact", "the true distance to the nearest triangle", exactDistance, SignMethod::Auto, false,
+         SignMethod::Pseudonormal},
+        {DistanceMethod::Rays, "rays", "the original report's ray sampling (an upper bound)", rayDistance, SignMethod::Rays, false,
+         SignMethod::Default},
         {DistanceMethod::Brute, "brute", "every triangle for every sample in double, signed by the exact winding number (the reference)",
-         bruteDistance, SignMethod::Winding, true},
+         bruteDistance, SignMethod::Winding, true, SignMethod::Default},
     };
     return methods;
 }

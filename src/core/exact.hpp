@@ -3,6 +3,7 @@
 #include "sdfgen/grid.hpp"
 #include "core/parallel.hpp"
 #include "core/bvh.hpp"
+#include "core/wide_bvh.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -15,11 +16,34 @@ struct NearestField {
     std::vector<std::uint32_t> triangle;
 };
 
-// For each row of samples, eight neighbours at a time search the tree nearest-first, starting
-// from the exact distance to the triangles the previous eight found (the field is 1-Lipschitz, so
-// a neighbour's triangle is nearly always the answer or close to it and prunes most of the tree).
-// The winner is re-measured in double precision. Independent of the thread count.
+class MeshTopology;
+
+// Samples are visited in bricks of 8x8x8: one tree search from the brick's centre bounds the
+// distance of every sample in it (the field is 1-Lipschitz), and the leaf packets within that
+// bound of the brick are collected once; each 4x4x4 quarter narrows that list the same way, and
+// each sample scans only its quarter's list (boxes eight at a time), seeded by the packet that
+// held its neighbour's answer. The answer is the nearest triangle by WideBvh's float distance,
+// ties to the lower index (as WideBvh::nearest, so point queries agree bit for bit); its distance
+// is re-measured in double. Independent of the thread count.
+NearestField computeNearest(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const RunControl& control);
 NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control);
+
+// The same search writing each sample's exact distance (world units) straight into
+// values[grid.index(i, j, k)] (grid.sampleCount() floats): negated where the closest feature's
+// angle-weighted pseudonormal points away from the sample when `pseudonormal` is given (the other
+// way round when `flipped`), unsigned otherwise. No per-sample side arrays.
+void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
+                       float* values, const RunControl& control);
+
+// Inside flags (1 = inside) by the angle-weighted pseudonormal of each sample's closest feature,
+// found by the same search (for distance methods that do not find nearest triangles).
+std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,
+                                                 bool flipped, const RunControl& control);
+
+// The nearest triangle to one point (local coordinates) by the same float distance and tie rule
+// as the grid's samples; `hint` (in/out, WideBvh::kEmpty at first) is the packet that held the
+// previous answer, a seed for the next nearby point.
+std::uint32_t nearestTriangle(const WideBvh& tree, const glm::vec3& p, std::uint32_t& hint);
 
 // The reference: for every sample, the distance to every triangle and the winding number summed
 // over every triangle, all in double (inside where it exceeds 1/2). O(samples x triangles).

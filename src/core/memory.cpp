@@ -48,7 +48,7 @@ std::uint64_t availableMemoryBytes() {
 std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings) {
     const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double triangles = double(mesh.triangleCount()), vertices = double(mesh.positions.size());
-    constexpr double kFloat = 4, kIndex = 4, kFlag = 1;
+    constexpr double kFloat = 4, kFlag = 1;
     const double result = samples * kFloat; // the field's values
 
     if (settings.method == DistanceMethod::Brute) return std::uint64_t(result + triangles * 3 * sizeof(glm::dvec3));
@@ -71,12 +71,13 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double winding = topology + rows * 24 + 16 * (projected / (h * h) + triangles);
     const double pseudonormal = topology;
 
-    // Per-sample buffers alive at the peak, while the signs are computed (see bake.cpp).
-    double perSample = kFlag;                    // inside flags
+    // Per-sample buffers alive at the peak, while the signs are computed (see bake.cpp). Exact
+    // distances go straight into the field (signed there by the pseudonormal, or negated in place
+    // from the winding sign's flags), so only the flags are extra.
+    const bool signsInline = settings.method == DistanceMethod::Exact && sign == SignMethod::Pseudonormal;
+    double perSample = signsInline ? 0 : kFlag;  // inside flags
     if (rays) perSample += kFloat;               // the ray field
     if (settings.method == DistanceMethod::Rays) perSample += kFloat; // |ray distance|
-    const bool nearest = settings.method == DistanceMethod::Exact || sign == SignMethod::Pseudonormal || sign == SignMethod::Auto;
-    if (nearest) perSample += kFloat + kIndex;   // NearestField: distance and triangle
     double signBytes = 0;
     if (sign == SignMethod::Winding) signBytes = winding;
     else if (sign == SignMethod::Pseudonormal) signBytes = pseudonormal;

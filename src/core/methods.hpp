@@ -4,6 +4,7 @@
 // method is its function plus one registry line (and its enum value in sdfgen/bake.hpp).
 #include "core/bvh.hpp"
 #include "core/topology.hpp"
+#include "core/wide_bvh.hpp"
 #include "sdfgen/bake.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
@@ -21,19 +22,23 @@ namespace sdfgen {
 struct BakeContext {
     const Mesh& mesh;
     const Bvh& tree;
+    const WideBvh& wide; // the tree collapsed for closest-point searches
     const Grid& grid;
     const BakeSettings& settings;
     std::function<const MeshTopology&()> topology;
     std::function<const MeshCheck&()> check;
     bool flipped = false; // the mesh is inside out: sign methods swap inside and outside
+    // The sign bake() settled on before the distance pass (never Auto there), Default when the
+    // method signs by itself.
+    SignMethod sign = SignMethod::Default;
 };
 
-// A distance pass's output. `distance` is unsigned, in world units. A method may also leave what
-// sign methods can reuse: the nearest triangle of each sample (pseudonormal) or inside flags of
-// its own (the ray vote, the reference's winding number).
+// A distance pass's output. `distance` is unsigned, in world units, unless `signedAsAsked`: then
+// it already carries the context's sign and no sign method runs. A method may also leave inside
+// flags of its own (the ray vote, the reference's winding number).
 struct DistancePass {
     std::vector<float> distance;
-    std::vector<std::uint32_t> nearestTriangle;
+    bool signedAsAsked = false;
     std::optional<std::vector<std::uint8_t>> inside;
 };
 
@@ -46,6 +51,9 @@ struct DistanceMethodInfo {
     SignMethod defaultSign;
     // Set for methods whose own inside flags are the only sign they allow (the reference).
     bool fixedSign;
+    // The sign this method writes as it measures when the context asks for it (its pass is then
+    // the whole bake), Default for none.
+    SignMethod signsInline;
 };
 
 struct SignMethodInfo {

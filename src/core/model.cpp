@@ -3,6 +3,7 @@
 #include "sdfgen/model.hpp"
 #include "core/bake.hpp"
 #include "core/bvh.hpp"
+#include "core/exact.hpp"
 #include "core/geometry.hpp"
 #include "core/parallel.hpp"
 #include "core/sign.hpp"
@@ -20,7 +21,7 @@
 namespace sdfgen {
 
 struct Model::Impl {
-    explicit Impl(Mesh m) : mesh(std::move(m)), tree(mesh) {}
+    explicit Impl(Mesh m) : mesh(std::move(m)), tree(mesh), wide(mesh, tree) {}
 
     const MeshTopology& topology() const {
         std::call_once(topologyOnce, [&] { topology_.emplace(mesh); });
@@ -37,6 +38,7 @@ struct Model::Impl {
 
     Mesh mesh;
     Bvh tree;
+    WideBvh wide; // the closest-point searches of bakes and queries alike
 
 private:
     mutable std::once_flag topologyOnce, checkOnce, capsOnce;
@@ -59,7 +61,7 @@ const MeshCheck& Model::check(const RunControl&) const { return impl_->check(); 
 BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) const {
     const Impl& m = *impl_;
     const Grid grid = makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
-    const BakeContext context{m.mesh, m.tree, grid, settings, [&m]() -> const MeshTopology& { return m.topology(); },
+    const BakeContext context{m.mesh, m.tree, m.wide, grid, settings, [&m]() -> const MeshTopology& { return m.topology(); },
                               [&m]() -> const MeshCheck& { return m.check(); }};
     return sdfgen::bake(context, control);
 }
@@ -87,10 +89,10 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (needWinding) m.caps();
     if (out.signedDistance && sign == SignMethod::Pseudonormal) m.topology();
 
-    // Points are visited in Morton order of their position, so that a packet's eight points are
-    // neighbours (one bound prunes for all lanes) and each packet is seeded by the one before.
-    // Results do not depend on the order (ties go to the lower triangle index), and the blocks are
-    // fixed, so they never depend on the thread count either.
+    // Points are visited in Morton order of their position, so that each point's search is seeded
+    // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
+    // to the lower triangle index, as for the grid's samples), and the blocks are fixed, so they
+    // never depend on the thread count either.
     std::vector<std::uint64_t> keys(count);
     {
         const Bounds& box = mesh.bounds;
@@ -118,66 +120,34 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     constexpr std::size_t kBlock = 256;
     const std::size_t blocks = (count + kBlock - 1) / kBlock;
     parallelFor(blocks, control, [&](std::size_t block) {
-        using namespace simd;
         const std::size_t begin = block * kBlock, end = std::min(count, begin + kBlock);
-        i8 previous = splat(-1);
-        for (std::size_t first = begin; first < end; first += 8) {
-            glm::dvec3 local[8];
-            const int lanes = int(std::min<std::size_t>(8, end - first));
-            for (int lane = 0; lane < 8; ++lane) {
-                const double* p = points + 3 * std::size_t(order[first + std::size_t(std::min(lane, lanes - 1))]);
-                local[lane] = mesh.toLocal({p[0], p[1], p[2]});
-            }
-            std::uint32_t nearest[8] = {};
+        std::uint32_t hint = WideBvh::kEmpty;
+        for (std::size_t at = begin; at < end; ++at) {
+            const std::size_t index = order[at];
+            const glm::dvec3 p = mesh.toLocal({points[3 * index], points[3 * index + 1], points[3 * index + 2]});
             if (needNearest) {
-                PointPacket packet;
-                for (int lane = 0; lane < 8; ++lane) {
-                    packet.px[lane] = float(local[lane].x);
-                    packet.py[lane] = float(local[lane].y);
-                    packet.pz[lane] = float(local[lane].z);
+                const std::uint32_t t = nearestTriangle(m.wide, glm::vec3(p), hint);
+                const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                                    glm::dvec3(mesh.vertex(t, 2)));
+                const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
+                if (out.unsignedDistance) out.unsignedDistance[index] = distance;
+                if (out.triangle) out.triangle[index] = std::int64_t(t);
+                if (out.closestPoint) {
+                    const glm::dvec3 world = mesh.toWorld(closest.point);
+                    for (int a = 0; a < 3; ++a) out.closestPoint[3 * index + std::size_t(a)] = world[a];
                 }
-                packet.bestSquared = splat(std::numeric_limits<float>::infinity());
-                packet.triangle = splat(0);
-                for (int lane = 0; lane < 8; ++lane) {
-                    const std::int32_t seed = previous[lane];
-                    if (seed < 0 || (lane > 0 && seed == previous[lane - 1])) continue;
-                    const f8 d = m.tree.distanceSquared(packet.px, packet.py, packet.pz, std::uint32_t(seed));
-                    const i8 closer = d < packet.bestSquared;
-                    packet.bestSquared = select(closer, d, packet.bestSquared);
-                    packet.triangle = select(closer, splat(seed), packet.triangle);
+                if (out.signedDistance) {
+                    bool inside;
+                    if (sign == SignMethod::Pseudonormal) {
+                        inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
+                    } else {
+                        inside = insideFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
+                    }
+                    out.signedDistance[index] = inside ? -distance : distance;
                 }
-                packet.bestSquared *= 1.000001f; // as in computeNearest: rounding never hides a nearer triangle
-                m.tree.nearest(packet);
-                previous = packet.triangle;
-                for (int lane = 0; lane < 8; ++lane) nearest[lane] = std::uint32_t(packet.triangle[lane]);
             }
-            for (int lane = 0; lane < lanes; ++lane) {
-                const std::size_t index = order[first + std::size_t(lane)];
-                const glm::dvec3& p = local[lane];
-                if (needNearest) {
-                    const std::uint32_t t = nearest[lane];
-                    const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
-                                                                        glm::dvec3(mesh.vertex(t, 2)));
-                    const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
-                    if (out.unsignedDistance) out.unsignedDistance[index] = distance;
-                    if (out.triangle) out.triangle[index] = std::int64_t(t);
-                    if (out.closestPoint) {
-                        const glm::dvec3 world = mesh.toWorld(closest.point);
-                        for (int a = 0; a < 3; ++a) out.closestPoint[3 * index + std::size_t(a)] = world[a];
-                    }
-                    if (out.signedDistance) {
-                        bool inside;
-                        if (sign == SignMethod::Pseudonormal) {
-                            inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
-                        } else {
-                            inside = insideFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
-                        }
-                        out.signedDistance[index] = inside ? -distance : distance;
-                    }
-                }
-                if (out.windingNumber) {
-                    out.windingNumber[index] = windingFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p));
-                }
+            if (out.windingNumber) {
+                out.windingNumber[index] = windingFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p));
             }
         }
     });

@@ -13,17 +13,10 @@ std::vector<std::uint8_t> windingSign(const BakeContext& context, DistancePass&,
     return insideByWinding(context.mesh, context.topology(), context.grid, control, context.flipped);
 }
 
-std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
-    if (pass.nearestTriangle.empty()) {
-        // Distances from a method that does not find nearest triangles (rays): find them now.
-        pass.nearestTriangle = computeNearest(context.mesh, context.tree, context.grid, control.phase(0.0, 0.8)).triangle;
-    }
-    std::vector<std::uint8_t> inside =
-        insideByPseudonormal(context.mesh, context.topology(), context.grid, pass.nearestTriangle, control.phase(0.8, 1.0));
-    if (context.flipped) {
-        for (std::uint8_t& in : inside) in = !in; // every pseudonormal of the flipped mesh is negated
-    }
-    return inside;
+// For distance methods that do not sign as they measure (rays): one more closest-feature search.
+std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistancePass&, const RunControl& control) {
+    // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
+    return insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(), context.flipped, control);
 }
 
 std::vector<std::uint8_t> raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {

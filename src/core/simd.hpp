@@ -4,6 +4,9 @@
 // lowers it to narrower vectors. The same templates also accept plain float, so one routine
 // serves both a single ray and a packet.
 #include <cstdint>
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
 
 namespace sdfgen::simd {
 
@@ -18,16 +21,32 @@ inline f8 max(f8 a, f8 b) { return a > b ? a : b; }
 inline float min(float a, float b) { return a < b ? a : b; }
 inline float max(float a, float b) { return a > b ? a : b; }
 
+inline f8 sqrt(f8 x) {
+#ifdef __AVX__
+    return f8(_mm256_sqrt_ps(__m256(x)));
+#else
+    f8 r;
+    for (int lane = 0; lane < 8; ++lane) r[lane] = __builtin_sqrtf(x[lane]);
+    return r;
+#endif
+}
+
 // Lane-wise select: mask lanes are all ones (true) or zero.
 inline f8 select(i8 mask, f8 a, f8 b) { return mask ? a : b; }
 inline i8 select(i8 mask, i8 a, i8 b) { return mask ? a : b; }
 inline float select(bool mask, float a, float b) { return mask ? a : b; }
 
-inline bool any(i8 mask) {
-    std::int32_t bits = 0;
-    for (int lane = 0; lane < 8; ++lane) bits |= mask[lane];
-    return bits != 0;
+// One bit per lane (bit i set where lane i is true): a single movemask with AVX.
+inline unsigned mask(i8 lanes) {
+#ifdef __AVX__
+    return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps((__m256i)lanes)));
+#else
+    unsigned bits = 0;
+    for (int lane = 0; lane < 8; ++lane) bits |= unsigned(lanes[lane] != 0) << lane;
+    return bits;
+#endif
 }
+inline bool any(i8 lanes) { return mask(lanes) != 0; }
 inline bool any(bool mask) { return mask; }
 
 } // namespace sdfgen::simd

@@ -85,7 +85,7 @@ printf '%s\n' "$bunny" >"$work/big.txt"
 if ldd "$sdfgen" | grep -q libasan; then
   echo "batch test: the memory budget check is skipped under AddressSanitizer"
 else
-  "$sdfgen" batch "$work/big.txt" --out "$work/big" --format sdf --res 400 --memory 200 --status "$work/big.jsonl" --timeout 20 >/dev/null 2>&1
+  "$sdfgen" batch "$work/big.txt" --out "$work/big" --format sdf --res 500 --memory 200 --status "$work/big.jsonl" --timeout 20 >/dev/null 2>&1
   check "a mesh over the memory budget fails and says so" json_check "$work/big.jsonl" '
 len(lines) == 1 and lines[0]["status"] == "failed" and "out of memory" in lines[0]["error"] and "200 MiB" in lines[0]["error"]'
 fi

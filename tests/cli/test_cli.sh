@@ -183,10 +183,11 @@ expect fail "^--padding: 'nan' is not a finite number" -- "$sdfgen" bake "$work/
 vexpect fail "^sdfgen: --size '1e10x5' must be two whole numbers" -- "$sdfgen" render "$work/tet.obj" --size 1e10x5 -o "$work/x.png"
 vexpect fail "^sdfgen: --background.*'nan' is not a finite number" -- "$sdfgen" render "$work/tet.obj" --background nan,0,0 -o "$work/x.png"
 vexpect fail "^sdfgen: --background '2,0,0': each channel must be in 0..1" -- "$sdfgen" render "$work/tet.obj" --background 2,0,0 -o "$work/x.png"
-# Memory: the whole bake's buffers are counted up front (a grid that fits at 4 bytes per sample
-# but not at the ~13 the exact method with sign auto holds), with the figure in the message.
+# Memory: the whole bake's buffers are counted up front (a grid whose field fits at 4 bytes per
+# sample but not with the winding sign's inside flags that sign auto may need, 5 bytes), with the
+# figure in the message.
 avail_kib=$(awk '/^MemAvailable:/ {print $2}' /proc/meminfo)
-res=$(awk -v kib="$avail_kib" 'BEGIN { printf "%d", (kib * 1024 / 8) ^ (1 / 3) }')
+res=$(awk -v kib="$avail_kib" 'BEGIN { printf "%d", (kib * 1024 / 4.5) ^ (1 / 3) }')
 expect 1 "^sdfgen: grid ${res}x${res}x${res} \(method exact, sign auto\) needs about [0-9]+ MiB but only [0-9]+ MiB of memory is available" -- \
   timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res "$res" --padding 0
 # Outputs: never the input (also through a symbolic or hard link); written through symlinks;

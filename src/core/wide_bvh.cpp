@@ -1,0 +1,239 @@
+#include "core/wide_bvh.hpp"
+
+#include <glm/geometric.hpp>
+#include <algorithm>
+#include <cfloat>
+#include <limits>
+
+namespace sdfgen {
+
+namespace {
+
+float halfArea(const Bounds& b) {
+    const glm::vec3 e = glm::max(b.max - b.min, glm::vec3(0.0f));
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+// Squared distances from p to the eight child boxes of a node (infinite for empty slots).
+inline simd::f8 boxDistanceSquared(const WideBvh::Node& n, float px, float py, float pz) {
+    using namespace simd;
+    const f8 zero = splat(0.0f);
+    const f8 dx = max(max(n.minX - px, px - n.maxX), zero);
+    const f8 dy = max(max(n.minY - py, py - n.maxY), zero);
+    const f8 dz = max(max(n.minZ - pz, pz - n.maxZ), zero);
+    return dx * dx + dy * dy + dz * dz;
+}
+
+// The bound a box's float distance is compared with: kSlack wider, never infinite (so that empty
+// slots, whose distance is infinite, are never explored).
+inline float boxBound(float bestSquared) { return std::min(bestSquared * WideBvh::kSlack, FLT_MAX); }
+
+} // namespace
+
+WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
+    struct Child {
+        Bounds box;
+        std::uint32_t slot; // node index, or kLeaf | packet index
+    };
+    // Triangles under each binary node, to find the subtrees that fit one packet.
+    std::vector<std::uint32_t> below(tree.nodeCount());
+    for (std::size_t i = tree.nodeCount(); i-- > 0;) { // children follow their parent
+        const Bvh::NodeView n = tree.node(std::uint32_t(i));
+        below[i] = n.count > 0 ? n.count : below[n.first] + below[n.second];
+    }
+    const float inf = std::numeric_limits<float>::infinity();
+
+    // A packet of at most eight triangles; its box is the union of theirs.
+    auto makePacket = [&](const std::uint32_t* ids, std::size_t count) {
+        TrianglePacket p;
+        Bounds box{glm::vec3(inf), glm::vec3(-inf)};
+        for (int lane = 0; lane < kWidth; ++lane) {
+            const std::uint32_t id = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
+            const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
+            box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
+            box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
+            const glm::vec3 ab = b - a, ac = c - a, bc = c - b, ca = a - c;
+            const glm::vec3 normal = mesh.faceNormals[id];
+            const glm::vec3 inAB = glm::cross(normal, ab), inBC = glm::cross(normal, bc), inCA = glm::cross(normal, ca);
+            auto inverse = [](const glm::vec3& e) {
+                const float len2 = glm::dot(e, e);
+                return len2 > 0.0f ? 1.0f / len2 : 0.0f;
+            };
+            p.ax[lane] = a.x, p.ay[lane] = a.y, p.az[lane] = a.z;
+            p.abx[lane] = ab.x, p.aby[lane] = ab.y, p.abz[lane] = ab.z;
+            p.acx[lane] = ac.x, p.acy[lane] = ac.y, p.acz[lane] = ac.z;
+            p.bcx[lane] = bc.x, p.bcy[lane] = bc.y, p.bcz[lane] = bc.z;
+            p.nx[lane] = normal.x, p.ny[lane] = normal.y, p.nz[lane] = normal.z;
+            p.inABx[lane] = inAB.x, p.inABy[lane] = inAB.y, p.inABz[lane] = inAB.z;
+            p.inBCx[lane] = inBC.x, p.inBCy[lane] = inBC.y, p.inBCz[lane] = inBC.z;
+            p.inCAx[lane] = inCA.x, p.inCAy[lane] = inCA.y, p.inCAz[lane] = inCA.z;
+            p.invAB[lane] = inverse(ab), p.invBC[lane] = inverse(bc), p.invCA[lane] = inverse(ca);
+            p.id[lane] = std::int32_t(id);
+        }
+        packets_.push_back(p);
+        leafBounds_.push_back(box);
+        return Child{box, kLeaf | std::uint32_t(packets_.size() - 1)};
+    };
+    auto makeNode = [&](const std::vector<Child>& children) {
+        Node node;
+        node.minX = node.minY = node.minZ = simd::splat(inf);
+        node.maxX = node.maxY = node.maxZ = simd::splat(-inf);
+        Bounds box{glm::vec3(inf), glm::vec3(-inf)};
+        for (int slot = 0; slot < kWidth; ++slot) node.child[slot] = kEmpty;
+        for (std::size_t c = 0; c < children.size(); ++c) {
+            const Bounds& b = children[c].box;
+            const int slot = int(c);
+            node.minX[slot] = b.min.x, node.minY[slot] = b.min.y, node.minZ[slot] = b.min.z;
+            node.maxX[slot] = b.max.x, node.maxY[slot] = b.max.y, node.maxZ[slot] = b.max.z;
+            node.child[slot] = children[c].slot;
+            box.min = glm::min(box.min, b.min);
+            box.max = glm::max(box.max, b.max);
+        }
+        nodes_.push_back(node);
+        return Child{box, std::uint32_t(nodes_.size() - 1)};
+    };
+    // A list of triangles of any length (a binary leaf at the depth limit may hold more than
+    // eight): packets of eight under as many levels of nodes as it takes.
+    auto chunks = [&](auto& self, const std::uint32_t* ids, std::size_t count) -> Child {
+        if (count <= std::size_t(kWidth)) return makePacket(ids, count);
+        std::size_t span = kWidth;
+        while (span * kWidth < count) span *= kWidth;
+        std::vector<Child> children;
+        for (std::size_t at = 0; at < count; at += span) children.push_back(self(self, ids + at, std::min(span, count - at)));
+        return makeNode(children);
+    };
+    // Each wide node takes a binary subtree and opens its largest inner descendants until it has
+    // eight children; subtrees of at most eight triangles become packets.
+    auto gather = [&](std::uint32_t binary, std::vector<std::uint32_t>& ids) {
+        std::vector<std::uint32_t> pending{binary};
+        while (!pending.empty()) {
+            const Bvh::NodeView n = tree.node(pending.back());
+            pending.pop_back();
+            if (n.count > 0) ids.insert(ids.end(), n.triangles, n.triangles + n.count);
+            else pending.push_back(n.second), pending.push_back(n.first);
+        }
+    };
+    auto fits = [&](std::uint32_t binary) { return below[binary] <= std::uint32_t(kWidth); };
+    // Each wide node takes a binary subtree and opens its largest inner descendants until it has
+    // eight children. Subtrees of at most eight triangles become packets, several of them sharing
+    // one where they fit together (fuller packets: fewer lanes measured twice).
+    auto build = [&](auto& self, std::uint32_t binary) -> Child {
+        const Bvh::NodeView root = tree.node(binary);
+        if (root.count > std::uint32_t(kWidth)) return chunks(chunks, root.triangles, root.count);
+        if (fits(binary)) {
+            std::vector<std::uint32_t> ids;
+            gather(binary, ids);
+            return makePacket(ids.data(), ids.size());
+        }
+        std::vector<std::uint32_t> open{root.first, root.second};
+        while (open.size() < std::size_t(kWidth)) {
+            int widest = -1;
+            float largest = -1.0f;
+            for (std::size_t c = 0; c < open.size(); ++c) {
+                const Bvh::NodeView n = tree.node(open[c]);
+                if (n.count > 0 || fits(open[c])) continue;
+                const float area = halfArea(n.box);
+                if (area > largest) largest = area, widest = int(c);
+            }
+            if (widest < 0) break;
+            const Bvh::NodeView n = tree.node(open[std::size_t(widest)]);
+            open[std::size_t(widest)] = n.first;
+            open.push_back(n.second);
+        }
+        std::vector<Child> children;
+        std::vector<std::vector<std::uint32_t>> bins; // first fit, largest subtrees first
+        std::vector<std::uint32_t> small;
+        for (std::uint32_t c : open) {
+            if (fits(c)) small.push_back(c);
+            else children.push_back(self(self, c));
+        }
+        std::stable_sort(small.begin(), small.end(), [&](std::uint32_t l, std::uint32_t r) { return below[l] > below[r]; });
+        for (std::uint32_t c : small) {
+            std::vector<std::uint32_t>* bin = nullptr;
+            for (auto& b : bins) {
+                if (b.size() + below[c] <= std::size_t(kWidth)) {
+                    bin = &b;
+                    break;
+                }
+            }
+            if (!bin) bin = &bins.emplace_back();
+            gather(c, *bin);
+        }
+        for (const auto& b : bins) children.push_back(makePacket(b.data(), b.size()));
+        return makeNode(children);
+    };
+    const Child root = build(build, 0);
+    // Nodes were made children first, so the root is last; searches start at node 0.
+    if (root.slot & kLeaf) makeNode({root});
+    std::rotate(nodes_.begin(), nodes_.end() - 1, nodes_.end());
+    for (Node& n : nodes_) {
+        for (std::uint32_t& c : n.child) {
+            if (c != kEmpty && !(c & kLeaf)) ++c;
+        }
+    }
+}
+
+std::uint32_t WideBvh::nearest(float px, float py, float pz, NearestSoFar& best) const {
+    struct Entry {
+        float distanceSquared;
+        std::uint32_t child;
+    };
+    // Each node pushes at most kWidth entries and pops one: the stack never exceeds
+    // (kWidth - 1) * depth + 1 (see kStackSize).
+    Entry stack[kStackSize];
+    int top = 0;
+    std::uint32_t node = 0, winner = kEmpty;
+    for (;;) {
+        // Push the node's children within the bound, farthest first, so the nearest is tried first.
+        const simd::f8 d = boxDistanceSquared(nodes_[node], px, py, pz);
+        unsigned hits = simd::mask(d <= boxBound(best.distanceSquared));
+        const int base = top;
+        for (; hits != 0; hits &= hits - 1) {
+            const int slot = __builtin_ctz(hits);
+            const Entry e{d[slot], nodes_[node].child[slot]};
+            int at = top++;
+            while (at > base && stack[at - 1].distanceSquared < e.distanceSquared) {
+                stack[at] = stack[at - 1];
+                --at;
+            }
+            stack[at] = e;
+        }
+        // Pop until an inner node within the bound; scan the packets on the way.
+        node = kEmpty;
+        while (top > 0) {
+            const Entry e = stack[--top];
+            if (e.distanceSquared > boxBound(best.distanceSquared)) continue;
+            if (e.child & kLeaf) {
+                const NearestSoFar before = best;
+                scanPacket(packets_[e.child & ~kLeaf], px, py, pz, best);
+                if (best.triangle != before.triangle || best.distanceSquared != before.distanceSquared) winner = e.child & ~kLeaf;
+                continue;
+            }
+            node = e.child;
+            break;
+        }
+        if (node == kEmpty) return winner;
+    }
+}
+
+void WideBvh::collectLeaves(const float lo[3], const float hi[3], float reach, std::vector<std::uint32_t>& packets) const {
+    using namespace simd;
+    const float bound = std::min(reach * reach * kSlack, FLT_MAX);
+    std::uint32_t stack[kStackSize];
+    int top = 0;
+    stack[top++] = 0;
+    const f8 zero = splat(0.0f);
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        const f8 dx = max(max(n.minX - hi[0], lo[0] - n.maxX), zero);
+        const f8 dy = max(max(n.minY - hi[1], lo[1] - n.maxY), zero);
+        const f8 dz = max(max(n.minZ - hi[2], lo[2] - n.maxZ), zero);
+        for (unsigned hits = mask(dx * dx + dy * dy + dz * dz <= bound); hits != 0; hits &= hits - 1) {
+            const std::uint32_t child = n.child[__builtin_ctz(hits)];
+            if (child & kLeaf) packets.push_back(child & ~kLeaf);
+            else stack[top++] = child;
+        }
+    }
+}
+
+} // namespace sdfgen
