@@ -4,7 +4,6 @@
 
 #include <glm/geometric.hpp>
 #include <algorithm>
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -46,11 +45,22 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
                     " does not apply");
     }
 
+    // The compute device (device.hpp) measures exact distances and counts winding numbers; the
+    // other methods and the rest of the bake stay here.
+    if (settings.device == Device::Gpu && settings.method != DistanceMethod::Exact) {
+        throw Error(std::string("--device gpu computes exact distances; --method ") + method.name + " runs on the CPU");
+    }
     BakeResult result;
+    BakeContext deviceContext = context;
+    if (settings.method == DistanceMethod::Exact) {
+        deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
+        result.onDevice = deviceContext.device != nullptr;
+    }
+
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
     const Clock::time_point start = Clock::now();
-    DistancePass pass = method.run(context, control.phase(0.0, 0.7));
+    DistancePass pass = method.run(deviceContext, control.phase(0.0, 0.7));
     result.distanceSeconds = since(start);
 
     const Clock::time_point signStart = Clock::now();
@@ -76,7 +86,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
                                                                    : "inside and outside are swapped") +
                                       "; --sign auto fixes it");
         }
-        BakeContext signContext = context;
+        BakeContext signContext = deviceContext;
         signContext.flipped = flipped;
         inside = signMethod(sign).run(signContext, pass, control.phase(0.7, 1.0));
     }

@@ -11,6 +11,11 @@ namespace sdfgen {
 namespace {
 
 DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
+    if (context.device) {
+        DistancePass pass;
+        context.device->nearest(context.mesh, context.grid, control, pass.distance, pass.nearestTriangle);
+        return pass;
+    }
     NearestField nearest = computeNearest(context.mesh, context.tree, context.grid, control);
     DistancePass pass;
     pass.distance = std::move(nearest.distance);

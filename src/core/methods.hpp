@@ -26,6 +26,8 @@ struct BakeContext {
     std::function<const MeshTopology&()> topology;
     std::function<const MeshCheck&()> check;
     bool flipped = false; // the mesh is inside out: sign methods swap inside and outside
+    // Where the exact distance and the winding sign run (sdfgen/device.hpp); null: on the CPU.
+    ComputeDevice* device = nullptr;
 };
 
 // A distance pass's output. `distance` is unsigned, in world units. A method may also leave what

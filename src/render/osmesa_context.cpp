@@ -32,6 +32,7 @@ public:
             throw Error("OSMesa: could not make the context current");
         }
     }
+    void release() override { OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0); }
     glm::ivec2 framebufferSize() const override { return size_; }
     void present() override { glFinish(); }
 

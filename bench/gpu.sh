@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# GPU figures in one go, for a machine with a GPU (minutes of it): builds the release tree, prints
+# the OpenGL driver, checks GPU == CPU (the gpu-labelled tests on small grids, then the full grid
+# of the mesh at the two smaller resolutions with `sdfgen compare`), and times the mesh on the GPU
+# (best of 2, with the device's own phase times from SDFGEN_GPU_TIMES) and on the CPU.
+#
+# Usage: bench/gpu.sh [MESH.obj] [RES ...]
+#   default mesh: ../shared/meshes/stanford-bunny.obj when present (69,451 triangles), else the
+#   bundled bunny; default resolutions: 128 256 512. SDFGEN_BUILD picks the build folder (build-gpu).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${SDFGEN_BUILD:-$root/build-gpu}
+mesh=${1:-$root/../shared/meshes/stanford-bunny.obj}
+[ -f "$mesh" ] || mesh=$root/assets/bunny.obj
+shift || true
+resolutions=("$@")
+[ ${#resolutions[@]} -gt 0 ] || resolutions=(128 256 512)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+"$root/scripts/build.sh" "$build" -DCMAKE_BUILD_TYPE=Release -- sdfgen sdfgen_gpu_tests
+sdfgen=$build/sdfgen
+echo "== machine: $(nproc) cores; $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader 2>/dev/null || echo 'no nvidia-smi')"
+"$sdfgen" info
+
+echo "== GPU == CPU on small grids (ctest -L gpu)"
+ctest --test-dir "$build" -L gpu --output-on-failure
+
+echo "== $mesh"
+for res in "${resolutions[@]}"; do
+  if [ "$res" -le 256 ]; then
+    "$sdfgen" bake "$mesh" -o "$work/gpu.sdf" --res "$res" --device gpu
+    "$sdfgen" bake "$mesh" -o "$work/cpu.sdf" --res "$res" --device cpu
+    echo "-- res $res, GPU vs CPU, every sample:"
+    "$sdfgen" compare "$work/gpu.sdf" "$work/cpu.sdf"
+    rm -f "$work/gpu.sdf" "$work/cpu.sdf"
+  fi
+  echo "-- res $res, GPU (best of 2; first run opens the device and compiles the shaders):"
+  SDFGEN_GPU_TIMES=1 "$sdfgen" bench "$mesh" --res "$res" --device gpu --repeat 2
+  echo "-- res $res, CPU ($(nproc) threads):"
+  "$sdfgen" bench "$mesh" --res "$res" --device cpu
+done
