@@ -26,13 +26,14 @@ public:
         distance = std::move(field.distance);
         triangle = std::move(field.triangle);
     }
-    std::vector<std::int32_t> windingNumbers(const std::vector<glm::dvec3>& corners, const Grid& grid, const RunControl&) override {
+    std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const Grid& grid,
+                                             const RunControl&) override {
         ++*calls_;
         std::vector<std::int32_t> out(grid.sampleCount());
         for (int k = 0; k < grid.dims.z; ++k) {
             for (int j = 0; j < grid.dims.y; ++j) {
                 for (int i = 0; i < grid.dims.x; ++i) {
-                    const glm::dvec3 p(grid.sample(i, j, k));
+                    const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
                     double sum = 0;
                     for (std::size_t t = 0; t + 2 < corners.size(); t += 3) sum += solidAngle(p, corners[t], corners[t + 1], corners[t + 2]);
                     out[grid.index(i, j, k)] = std::int32_t(std::lround(sum / (4.0 * M_PI)));

@@ -88,7 +88,8 @@ constexpr std::size_t kMaxGroups = 16384;
 class GlDevice final : public ComputeDevice {
 public:
     GlDevice() : context_(render::createHeadlessContext({1, 1})) {
-        description_ = "GL vendor " + glString(GL_VENDOR) + ", renderer " + glString(GL_RENDERER) + ", version " + glString(GL_VERSION);
+        description_ = "GL vendor " + glString(GL_VENDOR) + ", renderer " + glString(GL_RENDERER) + ", version " + glString(GL_VERSION) +
+                       " through " + context_->kind();
         hardware_ = !isSoftwareRenderer(glString(GL_RENDERER));
         GLint64 limit = 0;
         glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);

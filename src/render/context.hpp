@@ -16,6 +16,8 @@ public:
     virtual glm::ivec2 framebufferSize() const = 0;
     // Shows what was drawn (swaps buffers in a window; finishes the frame offscreen).
     virtual void present() = 0;
+    // Which kind of context it is, for messages: "EGL", "OSMesa", "window".
+    virtual const char* kind() const { return "window"; }
 };
 
 } // namespace sdfgen::render

@@ -5,6 +5,7 @@
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -166,6 +167,7 @@ public:
     void release() override { eglMakeCurrent(setup_.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
     glm::ivec2 framebufferSize() const override { return size_; }
     void present() override { glFinish(); }
+    const char* kind() const override { return "EGL"; }
 
 private:
     void destroy() {
@@ -195,6 +197,11 @@ std::unique_ptr<GlContext> createEglContext(glm::ivec2 size) { return std::make_
 
 std::unique_ptr<GlContext> createHeadlessContext(glm::ivec2 size) {
     checkSize(size);
+    const char* only = std::getenv("SDFGEN_HEADLESS");
+    const std::string choice = only ? only : "";
+    if (choice == "egl") return createEglContext(size);
+    if (choice == "osmesa") return createOsMesaContext(size);
+    if (!choice.empty()) throw Error("SDFGEN_HEADLESS is '" + choice + "'; expected egl or osmesa (or unset: EGL, else OSMesa)");
     std::string eglFailure;
     try {
         return createEglContext(size);

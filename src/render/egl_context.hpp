@@ -15,8 +15,9 @@ std::unique_ptr<GlContext> createEglContext(glm::ivec2 size);
 // cannot list devices at all (then only making a context tells). Makes no context.
 bool eglMayHaveHardwareDevice();
 
-// The context headless work uses: EGL first, OSMesa (Mesa's llvmpipe) when EGL gives none.
-// Throws Error with both reasons when neither can make a 4.5 core context.
+// The context headless work uses: EGL first, OSMesa (Mesa's llvmpipe) when EGL gives none; only
+// one of them when the environment variable SDFGEN_HEADLESS is egl or osmesa. Throws Error with
+// the reasons when none can make a 4.5 core context.
 std::unique_ptr<GlContext> createHeadlessContext(glm::ivec2 size);
 
 } // namespace sdfgen::render

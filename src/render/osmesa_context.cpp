@@ -35,6 +35,7 @@ public:
     void release() override { OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0); }
     glm::ivec2 framebufferSize() const override { return size_; }
     void present() override { glFinish(); }
+    const char* kind() const override { return "OSMesa"; }
 
 private:
     glm::ivec2 size_;
