@@ -3,6 +3,8 @@
 // on closed, open, self-intersecting and overlapping meshes and the bundled bunny; determinism;
 // cancellation. The bad-context suite (GpuBadContext) runs in its own process with
 // MESA_GL_VERSION_OVERRIDE=3.3 (tests/CMakeLists.txt), since Mesa reads that once per process.
+#include "core/bake.hpp"
+#include "core/exact.hpp"
 #include "gpu/gl_device.hpp"
 #include "render/egl_context.hpp"
 #include "render/gl.hpp"
@@ -54,6 +56,14 @@ Mesh cutOpen(const Mesh& mesh, glm::vec3 axis, float cut) {
     return buildMesh(mesh.source + " (cut open)", mesh.positions, std::move(kept));
 }
 
+// `mesh` placed far from the world origin at a small scale: only local coordinates keep its float
+// work as exact as at unit size, and the device must sample at localPosition as the CPU does.
+Mesh farAway(const Mesh& mesh, double scale, glm::dvec3 offset) {
+    std::vector<glm::dvec3> positions = mesh.worldPositions();
+    for (glm::dvec3& p : positions) p = offset + p * scale;
+    return buildMesh(mesh.source + " (far away)", std::move(positions), mesh.triangles);
+}
+
 struct Shape {
     std::string name;
     Mesh mesh;
@@ -71,6 +81,8 @@ std::vector<Shape> shapes() {
         {"two overlapping shells", combined("two shells", {moved(sphere, {-0.5f, 0, 0}, false), moved(sphere, {0.5f, 0, 0}, false)}), 16},
         {"overlapping shells, one flipped", combined("flipped", {moved(sphere, {-0.5f, 0, 0}, false), moved(sphere, {0.5f, 0, 0}, true)}), 16},
         {"bunny", loadObj(test::bundledBunnyPath()), 20},
+        {"bunny far from the origin, small", farAway(loadObj(test::bundledBunnyPath()), 3e-3, {1e5, -2.5e5, 7e4}), 20},
+        {"holed sphere far from the origin, large", farAway(cutOpen(sphere, {0, 1, 0}, 0.8f), 1e4, {-3e7, 1e6, 5e8}), 16},
     };
 }
 
@@ -161,6 +173,26 @@ TEST_F(Gpu, EqualsTheCpuWhereRowsHitEdgesAndVertices) {
             }
             expectEqualFields(cpu, gpu);
         }
+    }
+}
+
+// Where several triangles are equally near (a cube's corners and edges seen from samples on whole
+// and half units, every distance exact in float), the nearest triangle is the lowest index, as on
+// the CPU, and the distances are the CPU's bit for bit.
+TEST_F(Gpu, NearestTriangleTiesGoToTheLowerIndex) {
+    const Mesh cube = test::box({1.0f, 1.0f, 1.0f});
+    const Bvh tree(cube);
+    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ASSERT_NE(device, nullptr);
+    for (int res : {5, 10}) {
+        SCOPED_TRACE("res " + std::to_string(res));
+        const Grid grid = makeGrid(cube.worldBounds(), res, 0.75);
+        ASSERT_EQ(grid.voxel, 5.0 / res);
+        const NearestField cpu = computeNearest(cube, tree, grid, {});
+        NearestField gpu;
+        device->nearest(cube, grid, {}, gpu.distance, gpu.triangle);
+        EXPECT_EQ(cpu.triangle, gpu.triangle);
+        EXPECT_EQ(cpu.distance, gpu.distance);
     }
 }
 
