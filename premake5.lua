@@ -94,9 +94,9 @@ project "sdfgen_core"
    includedirs { "include", "src" }
    sdfgen_openvdb_headers()
    sdfgen_flags()
-   -- The winding sign's crossings and the exact re-measure, reproduced bit for bit by the GPU
-   -- device's shaders: no fused multiply-adds (CMake: the same per-file option).
-   filter "files:src/core/geometry.cpp or files:src/core/sign.cpp"
+   -- The winding sign's crossings, the tree's float distances and the exact re-measure, reproduced
+   -- bit for bit by the GPU device's shaders: no fused multiply-adds (CMake: the same per-file option).
+   filter "files:src/core/geometry.cpp or files:src/core/sign.cpp or files:src/core/bvh.cpp"
       buildoptions { "-ffp-contract=off" }
    filter {}
 

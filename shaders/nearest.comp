@@ -4,14 +4,16 @@
 //
 // The mesh is a binary BVH flattened into SSBOs (src/gpu/flat_bvh.hpp): nodes (box, children
 // adjacent or a leaf's triangle range) and triangles in leaf order, each set up as src/core/bvh.cpp
-// sets up its distance triangles. Each invocation walks the tree nearest child first with a short
+// sets up its distance triangles, and the float distance is its Bvh::distanceSquared, operation
+// for operation (`precise`; bvh.cpp is compiled with -ffp-contract=off). Each invocation walks the tree nearest child first with a short
 // stack, pruned by its best squared distance so far; as on the CPU, ties are explored and go to the
 // lower triangle index, so the answer does not depend on the seeds or the order. Pass `seedPass` =
 // 1 finds the nearest triangle of one sample per 4x4x4 brick (its first corner); the main pass
 // starts every sample of the brick from the distance to that triangle (the field is 1-Lipschitz,
 // so the bound is tight and prunes most of the tree). The winner is re-measured in double as
-// src/core/geometry.cpp's closestPointOnTriangle measures it (`precise`: no fused multiply-adds;
-// that file is compiled with -ffp-contract=off).
+// src/core/geometry.cpp's closestPointOnTriangle measures it (`precise`: no fused multiply-adds,
+// as that file is compiled). Where the GPU's float and double operations are IEEE, as on Mesa's
+// llvmpipe, the distances and nearest triangles are the CPU's bit for bit.
 layout(local_size_x = 64) in;
 
 struct Node {
