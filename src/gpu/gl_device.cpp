@@ -169,6 +169,7 @@ public:
             nearestBuffer.download(triangle.data() + offset, count);
             downloadSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - downloadStart).count();
         }
+        checkErrors("the distance pass");
         times.mark("dispatch+download");
         if (downloadSeconds > 0) times.note("of which download", downloadSeconds);
     }
@@ -192,7 +193,10 @@ public:
         samples.upload(rounded(coordinates));
         exactSamples.upload(coordinates);
         const std::size_t rowLength = std::size_t(dims.x) + 1;
-        const int slabLayers = this->slabLayers(rowLength * std::size_t(dims.y) * sizeof(std::int32_t), 1, dims.z);
+        // The suffix sums run one invocation per row, 64 to a work group, in one dispatch per slab:
+        // a slab has at most 65535 x 64 rows (the smallest work group count GL allows).
+        const int maxLayers = std::max(1, int(std::size_t(65535 * 64) / std::size_t(dims.y)));
+        const int slabLayers = std::min(maxLayers, this->slabLayers(rowLength * std::size_t(dims.y) * sizeof(std::int32_t), 1, dims.z));
         counts.allocate(rowLength * std::size_t(dims.y) * std::size_t(slabLayers) * sizeof(std::int32_t));
         winding.allocate(std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(slabLayers) * sizeof(std::int32_t));
         cornerBuffer.bind(0);
@@ -264,6 +268,7 @@ public:
             winding.download(out.data() + std::size_t(z0) * layerSamples, std::size_t(z1 - z0) * layerSamples);
             report(control, double(z0 / slabLayers + 1) / slabCount);
         }
+        checkErrors("the winding pass");
         times.mark("tiles+dispatch+download");
         return out;
     }
@@ -322,6 +327,17 @@ private:
             throw Error(std::string(what) + " need " + std::to_string(bytes >> 20) + " MiB, more than the GPU's storage buffer limit of " +
                         std::to_string(maxBlockBytes_ >> 20) + " MiB; use --device cpu");
         }
+    }
+
+    // A driver error (out of GPU memory, a limit passed) would leave the buffers undefined: never a
+    // silently wrong field.
+    static void checkErrors(const char* pass) {
+        const GLenum error = glGetError();
+        if (error == GL_NO_ERROR) return;
+        while (glGetError() != GL_NO_ERROR) continue; // the rest of the queue, so the next call starts clean
+        const char* name = error == GL_OUT_OF_MEMORY ? "out of GPU memory" : error == GL_INVALID_VALUE ? "a value beyond the driver's limits"
+                                                                                                       : "an OpenGL error";
+        throw Error(std::string("GPU: ") + pass + " failed (" + name + ", code " + std::to_string(error) + "); use --device cpu");
     }
 
     static void checkCancel(const RunControl& control) {
