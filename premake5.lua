@@ -171,6 +171,10 @@ if not _OPTIONS["no-tests"] then
       sdfgen_openvdb_headers()
       sdfgen_use_core()
       sdfgen_use_gtest()
+      -- Checked bit for bit against src/core/bvh.cpp, which is compiled without contraction.
+      filter "files:tests/test_bvh.cpp"
+         buildoptions { "-ffp-contract=off" }
+      filter {}
 
    -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
    project "sdfgen_render_tests"
