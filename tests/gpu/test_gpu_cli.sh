@@ -47,5 +47,9 @@ expect fail '' -- test -e "$work/none.sdf"
 expect 0 'device: cpu' -- env MESA_GL_VERSION_OVERRIDE=3.3 "$sdfgen" bake "$bunny" -o "$work/auto.sdf" --res 8 --device auto
 expect 0 '^GPU device: none \(.*4\.5' -- env MESA_GL_VERSION_OVERRIDE=3.3 "$sdfgen" info
 
+# The context can be forced; a wrong name is named.
+expect 0 'through OSMesa' -- env SDFGEN_HEADLESS=osmesa "$sdfgen" info
+expect 0 "^GPU device: none \(--device gpu: SDFGEN_HEADLESS is 'vulkan'; expected egl or osmesa" -- env SDFGEN_HEADLESS=vulkan "$sdfgen" info
+
 echo "gpu-cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
