@@ -97,8 +97,13 @@ project "sdfgen_core"
    includedirs { "include", "src" }
    sdfgen_openvdb_headers()
    sdfgen_flags()
+   -- The winding sign's crossings, the tree's float distances and the exact re-measure, reproduced
+   -- bit for bit by the GPU device's shaders: no fused multiply-adds (CMake: the same per-file option).
+   filter "files:src/core/geometry.cpp or files:src/core/sign.cpp or files:src/core/bvh.cpp"
+      buildoptions { "-ffp-contract=off" }
+   filter {}
 
--- Renderers (OpenGL 4.5 through glad) and the OSMesa headless context. Shaders are read at run
+-- Renderers (OpenGL 4.5 through glad) and the headless contexts (EGL, else OSMesa). Shaders are read at run
 -- time from shaders/, beside the binary or in this source tree (SDFGEN_SOURCE_DIR).
 project "sdfgen_render"
    kind "StaticLib"
@@ -107,16 +112,24 @@ project "sdfgen_render"
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
    sdfgen_flags()
 
--- System libraries a program linking sdfgen_render needs (CMake: sdfgen::osmesa, which is dl, as
--- libOSMesa is opened at run time, and sdfgen::stb, Debian's libstb.so with the stb_image and
--- stb_image_write implementations).
-SDFGEN_RENDER_LINKS = { "dl", "stb" }
+-- System libraries a program linking sdfgen_render needs (CMake: sdfgen::egl, which is EGL,
+-- sdfgen::osmesa, which is dl, as libOSMesa is opened at run time, and sdfgen::stb, Debian's
+-- libstb.so with the stb_image and stb_image_write implementations).
+SDFGEN_RENDER_LINKS = { "EGL", "dl", "stb" }
 
 function sdfgen_use_render()
    links { "sdfgen_render" }
    links(SDFGEN_RENDER_LINKS)
    sdfgen_use_glad()
 end
+
+-- The GPU compute device: OpenGL 4.5 compute shaders (shaders/*.comp) in a headless context,
+-- registered with the core at run time (include/sdfgen/device.hpp).
+project "sdfgen_gpu"
+   kind "StaticLib"
+   files { "src/gpu/**.cpp", "src/gpu/**.hpp" }
+   includedirs { "include", "src", GLAD_DIR .. "/include" }
+   sdfgen_flags()
 
 -- The viewer: GLFW window context, Dear ImGui panel, background generation.
 project "sdfgen_app"
@@ -130,7 +143,7 @@ project "sdfgen"
    kind "ConsoleApp"
    files { "src/cli/**.cpp", "src/cli/**.hpp" }
    defines { 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"' }
-   links { "sdfgen_app" }
+   links { "sdfgen_app", "sdfgen_gpu" }
    sdfgen_use_imgui()
    sdfgen_use_render()
    sdfgen_use_core()
@@ -159,10 +172,22 @@ if not _OPTIONS["no-tests"] then
       sdfgen_use_core()
       links { "gmpxx", "gmp" } -- GMP's rationals, the exact reference of the predicate tests
       sdfgen_use_gtest()
+      -- Checked bit for bit against src/core/bvh.cpp, which is compiled without contraction.
+      filter "files:tests/test_bvh.cpp"
+         buildoptions { "-ffp-contract=off" }
+      filter {}
 
    -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
    project "sdfgen_render_tests"
       sdfgen_gtest_program("tests/render/*.cpp")
+      sdfgen_use_render()
+      sdfgen_use_core()
+      sdfgen_use_gtest()
+
+   -- The GPU device against the CPU (tests/CMakeLists.txt: sdfgen_gpu_tests).
+   project "sdfgen_gpu_tests"
+      sdfgen_gtest_program("tests/gpu/*.cpp")
+      links { "sdfgen_gpu" }
       sdfgen_use_render()
       sdfgen_use_core()
       sdfgen_use_gtest()

@@ -7,11 +7,11 @@ jobs=$(nproc)
 scripts/build.sh build -DCMAKE_BUILD_TYPE=Release
 ctest --test-dir build --output-on-failure -j "$jobs"
 # The sanitizer build is also the core-only build (-DSDFGEN_VIEWER=OFF): it proves the library and CLI
-# configure and build without OpenGL, GLFW, ImGui, OSMesa or glad. The render and GUI tests need the
+# configure and build without OpenGL, GLFW, ImGui, OSMesa, EGL or glad. The render, GUI and GPU tests need the
 # viewer, and Mesa's llvmpipe is not built with the sanitizers anyway; the install test links a
 # consumer without them.
 scripts/build.sh build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFGEN_SANITIZE=ON -DSDFGEN_VIEWER=OFF -- sdfgen sdfgen_tests
-LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui|install"
+LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui|gpu|install"
 # libFuzzer harnesses (OBJ loader, field reader, load -> tree -> bake) under ASan + UBSan, 15 s each,
 # from the seed corpus in tests/fuzz/corpus; tests/fuzz/run.sh 2h runs them for hours.
 tests/fuzz/run.sh 15s

@@ -3,6 +3,9 @@
 // wakes every 50 ms to pass progress to Python and to check for Ctrl+C, which cancels the work.
 #include "sdfgen/sdfgen.hpp"
 #include "sdfgen/sample.hpp"
+#if SDFGEN_PYTHON_GPU
+#include "gpu/gl_device.hpp"
+#endif
 
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -209,6 +212,9 @@ using namespace sdfgen::python;
 PYBIND11_MODULE(sdfgen, m) {
     m.doc() = "sdfgen: exact signed distance fields, point queries and DeepSDF-style samples from triangle meshes";
     m.attr("__version__") = "0.1.0";
+#if SDFGEN_PYTHON_GPU
+    gpu::registerGlDevice();
+#endif
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
@@ -332,6 +338,8 @@ PYBIND11_MODULE(sdfgen, m) {
             return d;
         })
         .def_property_readonly("sign", [](const PyField& f) { return f.field.parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
+        .def_property_readonly("device", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->deviceReason)) : py::object(py::none()); },
+                               "Where the bake ran and why, e.g. 'cpu: asked for' (None for a loaded field)")
         .def_property_readonly("sign_reason", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->signReason)) : py::object(py::none()); })
         .def_property_readonly("check", [](const PyField& f) {
             return f.bake && f.bake->checked ? py::object(checkToDict(f.bake->check)) : py::object(py::none());
@@ -373,8 +381,12 @@ PYBIND11_MODULE(sdfgen, m) {
     m.def(
         "bake",
         [](const PyMesh& mesh, int res, double padding, const std::string& method, const std::string& sign, int threads,
-           const py::object& progress, int rays) {
+           const py::object& progress, int rays, const std::string& device) {
             BakeSettings settings;
+            const std::map<std::string, Device> devices = {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}};
+            const auto named = devices.find(device);
+            if (named == devices.end()) throw py::value_error("device must be cpu, gpu or auto (got '" + device + "')");
+            settings.device = named->second;
             settings.res = res;
             settings.padding = padding;
             settings.method = methodFrom(method);
@@ -386,9 +398,10 @@ PYBIND11_MODULE(sdfgen, m) {
             return result;
         },
         py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
-        py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64,
+        py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "auto",
         "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
-        "Ctrl+C cancels.");
+        "Ctrl+C cancels. device: where exact distances and winding signs run: gpu (OpenGL 4.5 compute), cpu, or auto "
+        "(the GPU when a hardware OpenGL 4.5 driver is there).");
 
     m.def(
         "load_field",

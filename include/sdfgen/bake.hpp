@@ -1,4 +1,5 @@
 #pragma once
+#include "sdfgen/device.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh_check.hpp"
 
@@ -34,6 +35,8 @@ struct BakeSettings {
     DistanceMethod method = DistanceMethod::Exact;
     SignMethod sign = SignMethod::Default;
     int rays = 64; // for the rays method and the rays sign
+    // Where exact distances and winding signs run (see device.hpp); other methods run on the CPU.
+    Device device = Device::Auto;
 };
 
 // A bake's field and what was decided on the way.
@@ -46,6 +49,8 @@ struct BakeResult {
     std::vector<std::string> warnings; // e.g. an explicit sign on an inside-out mesh, for the summary and panel
     double distanceSeconds = 0; // time spent on distances (and on rays, when the sign needs them)
     double signSeconds = 0;     // time spent on the mesh check and the sign
+    bool onDevice = false;      // whether the compute device measured the distances (and winding signs)
+    std::string deviceReason;   // why the bake runs where it does, e.g. "gpu: GL vendor Mesa, renderer llvmpipe ..."
 };
 
 

@@ -420,6 +420,7 @@ private:
             FieldInfo info{"baked", result->field.method, seconds, double(g.sampleCount()) / std::max(seconds, 1e-9),
                            signSummaryOf(result->field)};
             if (result->checked) info.signSummary += " (" + result->signReason + ")\nmesh check: " + result->check.describe();
+            if (!result->deviceReason.empty()) info.signSummary += "\ndevice: " + result->deviceReason;
             const std::string dims = std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z);
             showField(std::move(result->field), info);
             setMessage(generationMessage_, Message::Level::Info, "done: " + dims + " voxels in " + std::to_string(seconds).substr(0, 5) + " s");
@@ -684,6 +685,11 @@ private:
         ImGui::Combo("Sign", &sign, "default\0auto\0rays\0pseudonormal\0winding\0");
         settings_.sign = SignMethod(sign);
         track("sign");
+        // The GPU device makes its own headless context current on the generation's worker thread.
+        int device = int(settings_.device);
+        ImGui::Combo("Device", &device, "cpu\0gpu\0auto\0");
+        settings_.device = Device(device);
+        track("device");
         ImGui::EndDisabled();
 
         Grid grid;

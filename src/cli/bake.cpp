@@ -57,6 +57,7 @@ void runBake(const BakeArgs& args) {
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
     for (const std::string& warning : result.warnings) std::fprintf(stderr, "sdfgen: warning: %s: %s\n", mesh.source.c_str(), warning.c_str());
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
+    if (!result.deviceReason.empty()) std::printf("device: %s\n", result.deviceReason.c_str());
 }
 
 } // namespace

@@ -38,6 +38,7 @@ struct Run {
     Grid grid;
     std::string sign;
     bool rays = false;
+    std::string device; // where it ran and why
 };
 
 Run runOnce(const std::string& path, const BenchArgs& args, const std::string& scratch) {
@@ -61,6 +62,7 @@ Run runOnce(const std::string& path, const BenchArgs& args, const std::string& s
     run.grid = result.field.grid;
     run.sign = result.field.parameter("sign");
     run.rays = !result.field.parameter("rays").empty();
+    run.device = result.deviceReason;
     return run;
 }
 
@@ -69,9 +71,9 @@ void runBench(const BenchArgs& args) {
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const std::string scratch =
         (std::filesystem::temp_directory_path() / ("sdfgen-bench-" + std::to_string(getpid()) + ".sdf")).string();
-    std::printf("sdfgen bench: method %s, sign %s, res %d, %d rays, padding %g, %d threads, best of %d\n",
+    std::printf("sdfgen bench: method %s, sign %s, res %d, %d rays, padding %g, %d threads, device %s, best of %d\n",
                 toString(args.settings.method), toString(args.settings.sign), args.settings.res, args.settings.rays,
-                double(args.settings.padding), threads, args.repeat);
+                double(args.settings.padding), threads, toString(args.settings.device), args.repeat);
     std::printf("%-22s %9s %13s %-22s %6s %6s %9s %7s %6s %8s %11s %11s %10s\n", "mesh", "triangles", "dims", "sign",
                 "load", "tree", "distance", "sign", "save", "total s", "voxels/s", "gen vox/s", "rays/s");
     for (const std::string& path : meshes) {
@@ -91,6 +93,7 @@ void runBench(const BenchArgs& args) {
                     std::filesystem::path(path).filename().string().c_str(), best.triangles, dims.c_str(), best.sign.c_str(),
                     t.load, t.tree, t.distance, t.sign, t.save, t.total(), samples / t.total(),
                     samples / (t.distance + t.sign), rays);
+        if (!best.device.empty()) std::printf("  device: %s\n", best.device.c_str());
     }
     std::puts("Seconds per phase; voxels/s counts the whole process, gen vox/s distances + signs; rays/s (ray method) "
               "counts the rays of the distance phase.");

@@ -9,6 +9,7 @@ namespace sdfgen::cli {
 
 // Each command adds its subcommand and options to the app and runs when it is chosen.
 void addBakeCommand(CLI::App& app);
+void addInfoCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);

@@ -3,6 +3,7 @@
 // file manager's "open with" runs) opens it on those meshes.
 #if SDFGEN_HAS_VIEWER
 #include "app/viewer.hpp"
+#include "gpu/gl_device.hpp"
 #endif
 #include "cli/commands.hpp"
 #include "sdfgen/error.hpp"
@@ -23,7 +24,9 @@ int main(int argc, char** argv) {
     sdfgen::cli::addSampleCommand(app);
     int exitCode = 0;
     sdfgen::cli::addBatchCommand(app, exitCode);
+    sdfgen::cli::addInfoCommand(app);
 #if SDFGEN_HAS_VIEWER
+    sdfgen::gpu::registerGlDevice();
     sdfgen::cli::addRenderCommand(app);
     std::vector<std::string> viewMeshes;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");

@@ -31,6 +31,12 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
     command.add_option("--padding", settings.padding, "Margin around the mesh, as a fraction of its longest side")
         ->check(finiteRange(0.0, 100.0))
         ->capture_default_str();
+    const std::map<std::string, Device> devices = {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}};
+    command.add_option("--device", settings.device,
+                       "Where exact distances and winding signs run: gpu (OpenGL 4.5 compute, also on Mesa's llvmpipe), "
+                       "cpu, or auto (the GPU when a hardware OpenGL 4.5 driver is there, else the CPU)")
+        ->transform(CLI::CheckedTransformer(devices, CLI::ignore_case))
+        ->default_str("auto");
     command.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
 }
 

@@ -1,4 +1,4 @@
-// `sdfgen render`: a PNG of any combination of views, drawn headless through OSMesa with the same
+// `sdfgen render`: a PNG of any combination of views, drawn headless (EGL, else OSMesa) with the same
 // renderers as the viewer window.
 #include "cli/commands.hpp"
 #include "sdfgen/model.hpp"
@@ -9,7 +9,7 @@
 #include "sdfgen/field_match.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
-#include "render/osmesa_context.hpp"
+#include "render/egl_context.hpp"
 #include "render/scene.hpp"
 
 #include <cmath>
@@ -106,7 +106,7 @@ void runRender(const RenderArgs& args) {
         field = model.bake(args.settings, control).field;
     }
 
-    std::unique_ptr<render::GlContext> context = render::createOsMesaContext(pixels);
+    std::unique_ptr<render::GlContext> context = render::createHeadlessContext(pixels);
     render::Scene scene;
     scene.views = views;
     scene.sliceNormal = sliceNormal;
@@ -150,7 +150,7 @@ void runRender(const RenderArgs& args) {
 
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
-    CLI::App* render = app.add_subcommand("render", "Render views of a mesh and its field to a PNG, headless (OSMesa, no display needed)");
+    CLI::App* render = app.add_subcommand("render", "Render views of a mesh and its field to a PNG, headless (EGL or OSMesa, no display needed)");
     render->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several make one scene")->required();
     render->add_option("-o,--output", args->output, "Output PNG file")->required();
     render->add_option("--sdf", args->sdf, "Field file to show (default: bake one from the mesh when a view needs it)");

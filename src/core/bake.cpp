@@ -45,13 +45,24 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
                     " does not apply");
     }
 
+    // The compute device (device.hpp) measures exact distances and counts winding numbers; the
+    // other methods and the rest of the bake stay here.
+    if (settings.device == Device::Gpu && settings.method != DistanceMethod::Exact) {
+        throw Error(std::string("--device gpu computes exact distances; --method ") + method.name + " runs on the CPU");
+    }
     BakeResult result;
+    BakeContext deviceContext = context;
+    if (settings.method == DistanceMethod::Exact) {
+        deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
+        result.onDevice = deviceContext.device != nullptr;
+    }
+
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
     // The sign is settled first (auto checks the mesh), so that a method that can sign as it
     // measures (exact with the pseudonormal) writes the signed field in one pass.
     const Clock::time_point checkStart = Clock::now();
-    BakeContext methodContext = context;
+    BakeContext methodContext = deviceContext;
     if (!method.fixedSign) {
         if (sign == SignMethod::Auto) {
             result.checked = true;
@@ -74,7 +85,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     const double checkSeconds = since(checkStart);
 
     const Clock::time_point start = Clock::now();
-    const bool signsInline = !method.fixedSign && sign == method.signsInline;
+    const bool signsInline = !method.fixedSign && sign == method.signsInline && !methodContext.device;
     DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
     result.distanceSeconds = since(start);
 

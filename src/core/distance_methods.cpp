@@ -13,6 +13,12 @@ namespace {
 // Straight into the field: signed by the closest feature's pseudonormal when that is the sign,
 // unsigned for the winding sign (which negates in place), with no per-sample side arrays.
 DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
+    if (context.device) {
+        // The device measures unsigned distances and the nearest triangles; the sign follows.
+        DistancePass pass;
+        context.device->nearest(context.mesh, context.grid, control, pass.distance, pass.nearestTriangle);
+        return pass;
+    }
     DistancePass pass;
     pass.distance.resize(context.grid.sampleCount());
     pass.signedAsAsked = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares

@@ -31,14 +31,18 @@ struct BakeContext {
     // The sign bake() settled on before the distance pass (never Auto there), Default when the
     // method signs by itself.
     SignMethod sign = SignMethod::Default;
+    // Where the exact distance and the winding sign run (sdfgen/device.hpp); null: on the CPU.
+    ComputeDevice* device = nullptr;
 };
 
 // A distance pass's output. `distance` is unsigned, in world units, unless `signedAsAsked`: then
 // it already carries the context's sign and no sign method runs. A method may also leave inside
-// flags of its own (the ray vote, the reference's winding number).
+// flags of its own (the ray vote, the reference's winding number), or, on a compute device, each
+// sample's nearest triangle for the pseudonormal sign.
 struct DistancePass {
     std::vector<float> distance;
     bool signedAsAsked = false;
+    std::vector<std::uint32_t> nearestTriangle;
     std::optional<std::vector<std::uint8_t>> inside;
 };
 

@@ -1,6 +1,7 @@
 // The sign methods: generalized winding number, angle-weighted pseudonormal, the report's ray vote.
 #include "core/exact.hpp"
 #include "core/methods.hpp"
+#include "core/parallel.hpp"
 #include "core/ray_generator.hpp"
 #include "core/sign.hpp"
 #include "sdfgen/error.hpp"
@@ -9,14 +10,51 @@ namespace sdfgen {
 
 namespace {
 
+// The winding sign with the compute device counting the closed surface's crossings (the mesh and
+// a fan over each hole, as insideByWinding closes it); the fans' own part is subtracted here.
+std::vector<std::uint8_t> windingSignOnDevice(const BakeContext& context, const RunControl& control) {
+    const Mesh& mesh = context.mesh;
+    const Grid& grid = context.grid;
+    const std::vector<Cap> caps = makeCaps(context.topology());
+    std::vector<glm::dvec3> closed;
+    closed.reserve(3 * mesh.triangleCount());
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        closed.insert(closed.end(), {glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2))});
+    }
+    for (const Cap& cap : caps) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) closed.insert(closed.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+    }
+    const std::vector<std::int32_t> ahead = context.device->windingNumbers(mesh, closed, grid, control.phase(0.0, 0.8));
+    const int orientation = context.flipped ? -1 : 1;
+    std::vector<std::uint8_t> inside(grid.sampleCount());
+    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+    parallelFor(rows, control.phase(0.8, 1.0), [&](std::size_t row) {
+        const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
+        for (int i = 0; i < grid.dims.x; ++i) {
+            const std::size_t index = grid.index(i, j, k);
+            inside[index] = insideFromCrossings(caps, localPosition(mesh, grid, i, j, k), ahead[index], orientation);
+        }
+    });
+    return inside;
+}
+
 std::vector<std::uint8_t> windingSign(const BakeContext& context, DistancePass&, const RunControl& control) {
+    if (context.device) return windingSignOnDevice(context, control);
     return insideByWinding(context.mesh, context.topology(), context.grid, control, context.flipped);
 }
 
-// For distance methods that do not sign as they measure (rays): one more closest-feature search.
-std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistancePass&, const RunControl& control) {
-    // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
-    return insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(), context.flipped, control);
+// For passes that did not sign as they measured: from the compute device's nearest triangles, or,
+// for methods that find none (rays), one more closest-feature search.
+std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+    if (pass.nearestTriangle.empty()) {
+        // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
+        return insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(), context.flipped, control);
+    }
+    std::vector<std::uint8_t> inside = insideByPseudonormal(context.mesh, context.topology(), context.grid, pass.nearestTriangle, control);
+    if (context.flipped) {
+        for (std::uint8_t& in : inside) in = !in;
+    }
+    return inside;
 }
 
 std::vector<std::uint8_t> raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {

@@ -71,8 +71,10 @@ public:
             throw Error("OSMesa: could not make the context current");
         }
     }
+    void release() override { osmesa_.makeCurrent(nullptr, nullptr, 0, 0, 0); }
     glm::ivec2 framebufferSize() const override { return size_; }
     void present() override { glFinish(); }
+    const char* kind() const override { return "OSMesa"; }
 
 private:
     const OsMesaLibrary& osmesa_ = OsMesaLibrary::get();

@@ -94,12 +94,18 @@ Program::Program(const std::string& vertexFile, const std::string& fragmentFile)
         glDeleteShader(vs);
         throw;
     }
+    link({vs, fs}, vertexFile + " + " + fragmentFile);
+}
+
+Program::Program(const std::string& computeFile) {
+    link({compile(GL_COMPUTE_SHADER, shaderDirectory() + "/" + computeFile)}, computeFile);
+}
+
+void Program::link(std::initializer_list<GLuint> shaders, const std::string& name) {
     id_ = glCreateProgram();
-    glAttachShader(id_, vs);
-    glAttachShader(id_, fs);
+    for (GLuint shader : shaders) glAttachShader(id_, shader);
     glLinkProgram(id_);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
+    for (GLuint shader : shaders) glDeleteShader(shader);
     GLint ok = 0;
     glGetProgramiv(id_, GL_LINK_STATUS, &ok);
     if (!ok) {
@@ -108,7 +114,7 @@ Program::Program(const std::string& vertexFile, const std::string& fragmentFile)
         std::string log(std::size_t(std::max(length, 1)), '\0');
         glGetProgramInfoLog(id_, length, nullptr, log.data());
         glDeleteProgram(id_);
-        throw Error(vertexFile + " + " + fragmentFile + ": program does not link: " + log);
+        throw Error(name + ": program does not link: " + log);
     }
 }
 

@@ -5,6 +5,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+#include <initializer_list>
 #include <string>
 #include <unordered_map>
 
@@ -15,11 +16,13 @@ namespace sdfgen::render {
 // Throws Error naming the places it looked when none has the files.
 std::string shaderDirectory();
 
-// A linked vertex + fragment program built from two files in shaderDirectory(). Compile and link
+// A linked vertex + fragment (or compute) program built from files in shaderDirectory(). Compile and link
 // errors throw Error with the file name and the driver's log.
 class Program {
 public:
     Program(const std::string& vertexFile, const std::string& fragmentFile);
+    // A compute program from one file.
+    explicit Program(const std::string& computeFile);
     ~Program();
     Program(const Program&) = delete;
     Program& operator=(const Program&) = delete;
@@ -37,6 +40,7 @@ public:
     void set(const char* name, const glm::mat4& value);
 
 private:
+    void link(std::initializer_list<GLuint> shaders, const std::string& name);
     GLint location(const char* name);
     GLuint id_ = 0;
     std::unordered_map<std::string, GLint> locations_;

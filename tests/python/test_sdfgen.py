@@ -71,6 +71,20 @@ def test_mesh_from_arrays_float32_and_float64():
     assert np.array_equal(double.vertices, TET_VERTICES)
 
 
+def test_bake_on_the_gpu_equals_the_cpu(bunny):
+    cpu = sdfgen.bake(bunny, res=16, sign="winding", device="cpu")
+    assert cpu.device == "cpu: asked for"
+    with pytest.raises(ValueError, match="device must be cpu, gpu or auto"):
+        sdfgen.bake(bunny, res=8, device="tpu")
+    try:
+        gpu = sdfgen.bake(bunny, res=16, sign="winding", device="gpu")
+    except sdfgen.Error as e:  # no OpenGL 4.5 here, or a module built without the renderer
+        pytest.skip(str(e))
+    assert gpu.device.startswith("gpu: GL vendor")
+    assert np.max(np.abs(np.abs(gpu.values) - np.abs(cpu.values))) <= 1e-4 * cpu.voxel_size
+    assert np.array_equal(np.signbit(gpu.values), np.signbit(cpu.values))
+
+
 def test_bake_values_are_a_fortran_view_kept_alive(bunny):
     field = sdfgen.bake(bunny, res=24)
     values = field.values

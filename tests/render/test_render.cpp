@@ -1,4 +1,5 @@
-// Render tests under OSMesa (Mesa llvmpipe, no display): screenshots of every view compared with
+// Render tests under OSMesa, or the context SDFGEN_HEADLESS names (ctest render-egl: EGL, as
+// `sdfgen render` draws; Mesa llvmpipe either way, no display): screenshots of every view compared with
 // reference images, checks that need no reference (not blank, toggling a view changes the image),
 // and the ray-marched silhouette against the rasterised one.
 //
@@ -12,6 +13,7 @@
 #include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
+#include "render/egl_context.hpp"
 #include "render/osmesa_context.hpp"
 #include "render/scene.hpp"
 #include "support/shapes.hpp"
@@ -43,7 +45,7 @@ struct Model {
 class RenderTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        context_ = createOsMesaContext(kSize).release();
+        context_ = (std::getenv("SDFGEN_HEADLESS") ? createHeadlessContext(kSize) : createOsMesaContext(kSize)).release();
         scene_ = new Scene();
         models_ = new std::map<std::string, Model>();
         // The generated torus at res 64; the bundled bunny at res 128, as in the silhouette test.

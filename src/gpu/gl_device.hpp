@@ -1,0 +1,18 @@
+#pragma once
+#include "sdfgen/device.hpp"
+
+#include <memory>
+
+namespace sdfgen::gpu {
+
+// The OpenGL 4.5 compute device (shaders/nearest.comp, winding_rows.comp, winding_prefix.comp) in
+// its own headless context (EGL, else OSMesa). Throws Error when no 4.5 core context can be made.
+std::unique_ptr<ComputeDevice> openGlDevice();
+
+// Registers openGlDevice with the core (registerComputeDevice), for bakes with Device::Gpu or Auto.
+void registerGlDevice();
+
+// Whether a driver name (GL_RENDERER) is a CPU emulation of a GPU: llvmpipe, softpipe, swrast.
+bool isSoftwareRenderer(const std::string& renderer);
+
+} // namespace sdfgen::gpu

@@ -1,0 +1,282 @@
+// The GPU compute device (src/gpu) against the CPU, under whatever OpenGL 4.5 driver the machine
+// has (Mesa's llvmpipe in CI): the same distances (within 1e-4 voxel) and not one sign different,
+// on closed, open, self-intersecting and overlapping meshes and the bundled bunny; determinism;
+// cancellation. The bad-context suite (GpuBadContext) runs in its own process with
+// MESA_GL_VERSION_OVERRIDE=3.3 (tests/CMakeLists.txt), since Mesa reads that once per process.
+#include "core/bake.hpp"
+#include "core/exact.hpp"
+#include "gpu/gl_device.hpp"
+#include "render/egl_context.hpp"
+#include "render/gl.hpp"
+#include "sdfgen/device.hpp"
+#include "support/checks.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <thread>
+
+namespace sdfgen {
+namespace {
+
+Mesh combined(const std::string& name, const std::vector<Mesh>& parts) {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    for (const Mesh& part : parts) {
+        const unsigned shift = unsigned(positions.size());
+        positions.insert(positions.end(), part.positions.begin(), part.positions.end());
+        for (const glm::uvec3& t : part.triangles) triangles.push_back(t + glm::uvec3(shift));
+    }
+    return buildMesh(name, std::move(positions), std::move(triangles));
+}
+
+Mesh moved(const Mesh& mesh, glm::vec3 offset, bool flip) {
+    std::vector<glm::vec3> positions = mesh.positions;
+    for (glm::vec3& p : positions) p += offset;
+    std::vector<glm::uvec3> triangles = mesh.triangles;
+    if (flip) {
+        for (glm::uvec3& t : triangles) std::swap(t.y, t.z);
+    }
+    return buildMesh(mesh.source, std::move(positions), std::move(triangles));
+}
+
+// `mesh` without the triangles whose centroid lies beyond `cut` along `axis`: holes.
+Mesh cutOpen(const Mesh& mesh, glm::vec3 axis, float cut) {
+    std::vector<glm::uvec3> kept;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const glm::vec3 centroid = (mesh.vertex(t, 0) + mesh.vertex(t, 1) + mesh.vertex(t, 2)) / 3.0f;
+        if (glm::dot(centroid, axis) <= cut) kept.push_back(mesh.triangles[t]);
+    }
+    return buildMesh(mesh.source + " (cut open)", mesh.positions, std::move(kept));
+}
+
+// `mesh` placed far from the world origin at a small scale: only local coordinates keep its float
+// work as exact as at unit size, and the device must sample at localPosition as the CPU does.
+Mesh farAway(const Mesh& mesh, double scale, glm::dvec3 offset) {
+    std::vector<glm::dvec3> positions = mesh.worldPositions();
+    for (glm::dvec3& p : positions) p = offset + p * scale;
+    return buildMesh(mesh.source + " (far away)", std::move(positions), mesh.triangles);
+}
+
+struct Shape {
+    std::string name;
+    Mesh mesh;
+    int res;
+};
+
+std::vector<Shape> shapes() {
+    const Mesh sphere = test::icosphere(1.0f, 2);
+    return {
+        {"icosphere (closed)", sphere, 16},
+        {"box (closed, faces on grid planes)", test::box({1.0f, 0.5f, 0.25f}), 16},
+        {"torus (closed)", test::torus(1.0f, 0.3f, 24, 12), 16},
+        {"sphere with a hole", cutOpen(sphere, {0, 1, 0}, 0.8f), 16},
+        {"torus with holes", cutOpen(test::torus(1.0f, 0.3f, 24, 12), glm::normalize(glm::vec3(1, 0.2f, 0.1f)), 0.9f), 16},
+        {"two overlapping shells", combined("two shells", {moved(sphere, {-0.5f, 0, 0}, false), moved(sphere, {0.5f, 0, 0}, false)}), 16},
+        {"overlapping shells, one flipped", combined("flipped", {moved(sphere, {-0.5f, 0, 0}, false), moved(sphere, {0.5f, 0, 0}, true)}), 16},
+        {"bunny", loadObj(test::bundledBunnyPath()), 20},
+        {"bunny far from the origin, small", farAway(loadObj(test::bundledBunnyPath()), 3e-3, {1e5, -2.5e5, 7e4}), 20},
+        {"holed sphere far from the origin, large", farAway(cutOpen(sphere, {0, 1, 0}, 0.8f), 1e4, {-3e7, 1e6, 5e8}), 16},
+    };
+}
+
+// Every sample within 1e-4 voxel of the CPU's distance and not one sign different.
+void expectEqualFields(const BakeResult& cpu, const BakeResult& gpu) {
+    EXPECT_FALSE(cpu.onDevice);
+    EXPECT_TRUE(gpu.onDevice);
+    EXPECT_EQ(cpu.sign, gpu.sign);
+    EXPECT_EQ(cpu.field.method, gpu.field.method);
+    const std::vector<float>& a = cpu.field.values;
+    const std::vector<float>& b = gpu.field.values;
+    ASSERT_EQ(a.size(), b.size());
+    const double voxel = cpu.field.grid.voxel;
+    double worst = 0;
+    std::size_t signs = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        worst = std::max(worst, std::fabs(double(std::fabs(a[i])) - double(std::fabs(b[i]))) / voxel);
+        signs += std::signbit(a[i]) != std::signbit(b[i]);
+    }
+    EXPECT_LE(worst, 1e-4);
+    EXPECT_EQ(signs, 0u) << "of " << a.size() << " samples";
+}
+
+BakeResult bakeOn(const Mesh& mesh, int res, Device device, SignMethod sign, const RunControl& control = {}) {
+    BakeSettings settings;
+    settings.res = res;
+    settings.sign = sign;
+    settings.device = device;
+    const Bvh tree(mesh);
+    return bake(mesh, tree, settings, control);
+}
+
+class Gpu : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { gpu::registerGlDevice(); }
+};
+
+TEST_F(Gpu, OpensAndDescribesItsDriver) {
+    std::string why;
+    ComputeDevice* device = selectComputeDevice(Device::Gpu, &why);
+    ASSERT_NE(device, nullptr);
+    EXPECT_NE(device->description().find("renderer"), std::string::npos) << device->description();
+    // gpu-osmesa (tests/CMakeLists.txt) runs this with SDFGEN_HEADLESS=osmesa.
+    const char* only = std::getenv("SDFGEN_HEADLESS");
+    const std::string through = only && std::string(only) == "osmesa" ? "through OSMesa" : "through EGL";
+    EXPECT_NE(device->description().find(through), std::string::npos) << device->description();
+    // Auto takes the device only when it is hardware.
+    EXPECT_EQ(selectComputeDevice(Device::Auto) != nullptr, device->hardware());
+    EXPECT_EQ(selectComputeDevice(Device::Cpu), nullptr);
+    EXPECT_TRUE(gpu::isSoftwareRenderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
+    EXPECT_FALSE(gpu::isSoftwareRenderer("NVIDIA H200/PCIe/SSE2"));
+}
+
+// Sign auto (pseudonormal on the closed clean meshes, from the GPU's nearest triangles; winding on
+// the others) and, where auto picks pseudonormal, winding as well.
+TEST_F(Gpu, EqualsTheCpu) {
+    for (const Shape& shape : shapes()) {
+        SCOPED_TRACE(shape.name);
+        const BakeResult cpu = bakeOn(shape.mesh, shape.res, Device::Cpu, SignMethod::Auto);
+        expectEqualFields(cpu, bakeOn(shape.mesh, shape.res, Device::Gpu, SignMethod::Auto));
+        if (cpu.sign == SignMethod::Pseudonormal) {
+            SCOPED_TRACE("sign winding");
+            expectEqualFields(bakeOn(shape.mesh, shape.res, Device::Cpu, SignMethod::Winding),
+                              bakeOn(shape.mesh, shape.res, Device::Gpu, SignMethod::Winding));
+        }
+    }
+}
+
+// Rows of samples through the mesh's shared edges and vertices, where only the symbolic
+// tie-breaking decides which triangle a row crosses: a cube whose padding puts samples at -2..2 in
+// whole units, so rows run through its corners and along its edges, and a finer grid whose
+// diagonal rows (j = k) run along the faces' diagonals.
+TEST_F(Gpu, EqualsTheCpuWhereRowsHitEdgesAndVertices) {
+    const Mesh cube = test::box({1.0f, 1.0f, 1.0f});
+    for (const auto& [res, padding] : {std::pair{5, 0.75f}, std::pair{16, 0.1f}}) {
+        for (SignMethod sign : {SignMethod::Winding, SignMethod::Pseudonormal}) {
+            SCOPED_TRACE("res " + std::to_string(res) + ", sign " + toString(sign));
+            BakeSettings settings;
+            settings.res = res;
+            settings.padding = padding;
+            settings.sign = sign;
+            settings.device = Device::Cpu;
+            const BakeResult cpu = test::bakeMesh(cube, settings);
+            settings.device = Device::Gpu;
+            const BakeResult gpu = test::bakeMesh(cube, settings);
+            if (res == 5) {
+                ASSERT_EQ(cpu.field.grid.position(1, 1, 1), glm::dvec3(-1.0)) << "samples should sit on the cube's corners";
+            }
+            expectEqualFields(cpu, gpu);
+        }
+    }
+}
+
+// Where several triangles are equally near (a cube's corners and edges seen from samples on whole
+// and half units, every distance exact in float), the nearest triangle is the lowest index, as on
+// the CPU, and the distances are the CPU's bit for bit.
+TEST_F(Gpu, NearestTriangleTiesGoToTheLowerIndex) {
+    const Mesh cube = test::box({1.0f, 1.0f, 1.0f});
+    const Bvh tree(cube);
+    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ASSERT_NE(device, nullptr);
+    for (int res : {5, 10}) {
+        SCOPED_TRACE("res " + std::to_string(res));
+        const Grid grid = makeGrid(cube.worldBounds(), res, 0.75);
+        ASSERT_EQ(grid.voxel, 5.0 / res);
+        const NearestField cpu = computeNearest(cube, tree, grid, {});
+        NearestField gpu;
+        device->nearest(cube, grid, {}, gpu.distance, gpu.triangle);
+        EXPECT_EQ(cpu.triangle, gpu.triangle);
+        EXPECT_EQ(cpu.distance, gpu.distance);
+    }
+}
+
+TEST_F(Gpu, IsDeterministic) {
+    const Mesh bunny = loadObj(test::bundledBunnyPath());
+    const BakeResult first = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
+    const BakeResult second = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
+    ASSERT_EQ(first.field.values.size(), second.field.values.size());
+    EXPECT_EQ(std::memcmp(first.field.values.data(), second.field.values.data(), first.field.values.size() * sizeof(float)), 0);
+}
+
+// Large grids go through in slabs with bounded buffers: a tiny budget (the test hook) makes this
+// small grid take many, with the last one partly filled.
+TEST_F(Gpu, StreamsSlabs) {
+    const Mesh holed = cutOpen(test::torus(1.0f, 0.3f, 24, 12), {0, 0, 1}, 0.5f);
+    const BakeResult cpu = bakeOn(holed, 18, Device::Cpu, SignMethod::Winding);
+    ASSERT_EQ(setenv("SDFGEN_GPU_SLAB_BYTES", "4000", 1), 0);
+    std::unique_ptr<ComputeDevice> small = gpu::openGlDevice();
+    unsetenv("SDFGEN_GPU_SLAB_BYTES");
+    registerComputeDevice([&small] { return std::move(small); });
+    const BakeResult gpu = bakeOn(holed, 18, Device::Gpu, SignMethod::Winding);
+    gpu::registerGlDevice();
+    expectEqualFields(cpu, gpu);
+}
+
+// As in the viewer: a window's context current on the main thread, the bake on a worker thread
+// (the device makes its own context current there and releases it), then drawing again.
+TEST_F(Gpu, BakesOnAWorkerThreadBesideAnotherContext) {
+    const std::unique_ptr<render::GlContext> window = render::createEglContext({16, 16});
+    const Mesh sphere = cutOpen(test::icosphere(1.0f, 2), {0, 1, 0}, 0.8f);
+    std::optional<BakeResult> gpu;
+    std::thread worker([&] { gpu = bakeOn(sphere, 12, Device::Gpu, SignMethod::Winding); });
+    worker.join();
+    ASSERT_TRUE(gpu.has_value());
+    expectEqualFields(bakeOn(sphere, 12, Device::Cpu, SignMethod::Winding), *gpu);
+    window->makeCurrent();
+    glClearColor(0.0f, 1.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    unsigned char pixel[4] = {0, 0, 0, 0};
+    glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
+    EXPECT_EQ(pixel[1], 255);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+TEST_F(Gpu, Cancels) {
+    const Mesh bunny = loadObj(test::bundledBunnyPath());
+    std::atomic<bool> cancel{false};
+    RunControl control;
+    control.cancel = &cancel;
+    double reported = 0;
+    // Cancel at the first progress report: the next dispatch must not start.
+    control.progress = [&](double fraction) {
+        reported = fraction;
+        cancel = true;
+    };
+    EXPECT_THROW(bakeOn(bunny, 48, Device::Gpu, SignMethod::Winding, control), Cancelled);
+    EXPECT_GT(reported, 0.0);
+    EXPECT_LT(reported, 0.5);
+}
+
+TEST_F(Gpu, RefusesMethodsItDoesNotRun) {
+    BakeSettings settings;
+    settings.res = 8;
+    settings.method = DistanceMethod::Rays;
+    settings.device = Device::Gpu;
+    const std::string message = test::errorFrom([&] { test::bakeMesh(test::box({1, 1, 1}), settings); });
+    EXPECT_NE(message.find("--device gpu"), std::string::npos) << message;
+}
+
+// Under MESA_GL_VERSION_OVERRIDE=3.3 (its own ctest): no 4.5 context, a clear error for gpu, the CPU for auto.
+TEST(GpuBadContext, ClearErrorAndAutoFallsBack) {
+    const char* override = std::getenv("MESA_GL_VERSION_OVERRIDE");
+    ASSERT_TRUE(override && std::string(override) == "3.3") << "run with MESA_GL_VERSION_OVERRIDE=3.3";
+    const std::string message = test::errorFrom([] { gpu::openGlDevice(); });
+    EXPECT_NE(message.find("4.5"), std::string::npos) << message;
+    gpu::registerGlDevice();
+    const Mesh sphere = test::icosphere(1.0f, 1);
+    const std::string gpuMessage = test::errorFrom([&] { bakeOn(sphere, 8, Device::Gpu, SignMethod::Winding); });
+    EXPECT_NE(gpuMessage.find("--device gpu"), std::string::npos) << gpuMessage;
+    const BakeResult automatic = bakeOn(sphere, 8, Device::Auto, SignMethod::Winding);
+    EXPECT_FALSE(automatic.onDevice);
+    EXPECT_NE(automatic.deviceReason.find("cpu"), std::string::npos) << automatic.deviceReason;
+    EXPECT_EQ(automatic.field.values.size(), 8u * 8u * 8u);
+}
+
+} // namespace
+} // namespace sdfgen

@@ -1,0 +1,131 @@
+// The core's compute-device hook (sdfgen/device.hpp) without OpenGL: which device a bake picks,
+// and that a bake on a device uses its distances and winding numbers (with the holes' fractional
+// part still added on the CPU). The device here is a stand-in that answers on the CPU, by brute
+// force for the winding numbers; the real GPU device is tested in tests/gpu.
+#include "core/exact.hpp"
+#include "core/geometry.hpp"
+#include "sdfgen/device.hpp"
+#include "support/checks.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#include <cmath>
+
+namespace sdfgen {
+namespace {
+
+class StandInDevice final : public ComputeDevice {
+public:
+    StandInDevice(bool hardware, int* calls) : hardware_(hardware), calls_(calls) {}
+    std::string description() const override { return "stand-in"; }
+    bool hardware() const override { return hardware_; }
+    void nearest(const Mesh& mesh, const Grid& grid, const RunControl& control, std::vector<float>& distance,
+                 std::vector<std::uint32_t>& triangle) override {
+        ++*calls_;
+        NearestField field = computeNearest(mesh, Bvh(mesh), grid, control);
+        distance = std::move(field.distance);
+        triangle = std::move(field.triangle);
+    }
+    std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const Grid& grid,
+                                             const RunControl&) override {
+        ++*calls_;
+        std::vector<std::int32_t> out(grid.sampleCount());
+        for (int k = 0; k < grid.dims.z; ++k) {
+            for (int j = 0; j < grid.dims.y; ++j) {
+                for (int i = 0; i < grid.dims.x; ++i) {
+                    const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
+                    double sum = 0;
+                    for (std::size_t t = 0; t + 2 < corners.size(); t += 3) sum += solidAngle(p, corners[t], corners[t + 1], corners[t + 2]);
+                    out[grid.index(i, j, k)] = std::int32_t(std::lround(sum / (4.0 * M_PI)));
+                }
+            }
+        }
+        return out;
+    }
+
+private:
+    bool hardware_;
+    int* calls_;
+};
+
+BakeResult bakeOn(const Mesh& mesh, Device device, SignMethod sign) {
+    BakeSettings settings;
+    settings.res = 12;
+    settings.sign = sign;
+    settings.device = device;
+    return test::bakeMesh(mesh, settings);
+}
+
+// The icosphere without its top cap: a hole, so the winding sign needs the fans' fractional part.
+Mesh holedSphere() {
+    const Mesh sphere = test::icosphere(1.0f, 2);
+    std::vector<glm::uvec3> kept;
+    for (std::size_t t = 0; t < sphere.triangleCount(); ++t) {
+        if ((sphere.vertex(t, 0).y + sphere.vertex(t, 1).y + sphere.vertex(t, 2).y) / 3.0f <= 0.8f) kept.push_back(sphere.triangles[t]);
+    }
+    return buildMesh("holed sphere", sphere.positions, std::move(kept));
+}
+
+class DeviceHook : public ::testing::Test {
+protected:
+    void TearDown() override { registerComputeDevice({}); }
+};
+
+TEST_F(DeviceHook, ChoosesWhereTheBakeRuns) {
+    registerComputeDevice({});
+    std::string why;
+    EXPECT_EQ(selectComputeDevice(Device::Cpu, &why), nullptr);
+    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
+    EXPECT_CONTAINS(why, "built without a GPU device");
+    EXPECT_CONTAINS(test::errorFrom([] { selectComputeDevice(Device::Gpu); }), "--device gpu: this program was built without a GPU device");
+
+    registerComputeDevice([]() -> std::unique_ptr<ComputeDevice> { throw Error("no context today"); });
+    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
+    EXPECT_CONTAINS(why, "no context today");
+    EXPECT_CONTAINS(test::errorFrom([] { selectComputeDevice(Device::Gpu); }), "no context today");
+
+    int calls = 0;
+    registerComputeDevice([&] { return std::make_unique<StandInDevice>(false, &calls); });
+    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr) << "a software device is not taken by auto";
+    EXPECT_CONTAINS(why, "runs on the CPU");
+    EXPECT_NE(selectComputeDevice(Device::Gpu), nullptr);
+    // A probe that finds no hardware spares opening anything.
+    bool opened = false;
+    registerComputeDevice([&] { opened = true; return std::make_unique<StandInDevice>(true, &calls); }, [] { return false; });
+    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
+    EXPECT_FALSE(opened);
+    registerComputeDevice([&] { return std::make_unique<StandInDevice>(true, &calls); });
+    EXPECT_NE(selectComputeDevice(Device::Auto, &why), nullptr);
+    EXPECT_EQ(why, "gpu: stand-in");
+}
+
+// A bake on the device uses its answers, and gives the CPU's field: pseudonormal from its nearest
+// triangles, and winding from its integers plus the fans' part near the hole.
+TEST_F(DeviceHook, BakesWithTheDevicesAnswers) {
+    int calls = 0;
+    registerComputeDevice([&] { return std::make_unique<StandInDevice>(true, &calls); });
+    for (const Mesh& mesh : {test::icosphere(1.0f, 2), holedSphere()}) {
+        for (SignMethod sign : {SignMethod::Auto, SignMethod::Winding}) {
+            SCOPED_TRACE(mesh.source + ", sign " + toString(sign));
+            const BakeResult cpu = bakeOn(mesh, Device::Cpu, sign);
+            const int before = calls;
+            const BakeResult device = bakeOn(mesh, Device::Gpu, sign);
+            EXPECT_TRUE(device.onDevice);
+            EXPECT_FALSE(cpu.onDevice);
+            EXPECT_EQ(calls - before, device.sign == SignMethod::Winding ? 2 : 1);
+            EXPECT_EQ(cpu.sign, device.sign);
+            EXPECT_EQ(cpu.field.values, device.field.values);
+        }
+    }
+    // Other methods stay on the CPU: refused for gpu, quietly for auto.
+    BakeSettings settings;
+    settings.res = 8;
+    settings.method = DistanceMethod::Rays;
+    settings.device = Device::Gpu;
+    EXPECT_CONTAINS(test::errorFrom([&] { test::bakeMesh(test::box({1, 1, 1}), settings); }), "--method rays runs on the CPU");
+    settings.device = Device::Auto;
+    EXPECT_FALSE(test::bakeMesh(test::box({1, 1, 1}), settings).onDevice);
+}
+
+} // namespace
+} // namespace sdfgen
