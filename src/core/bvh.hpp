@@ -35,7 +35,10 @@ struct PointPacket {
 
 // The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of
 // axis-aligned boxes (each inner node splits its triangles along one axis), built with the binned
-// surface area heuristic and stored as a flat depth-first node array.
+// surface area heuristic and stored as a flat depth-first node array. Exact copies of a triangle
+// are held once, as their first copy (the lowest index: queries report it, as brute force would).
+// Any finite float input builds: binning works in double, and skewed inputs fall back to median
+// splits, so depth stays below kMaxDepth and leaves within kMaxLeafSize.
 class Bvh {
 public:
     static constexpr int kMaxLeafSize = 8;
@@ -59,6 +62,11 @@ public:
     void forEachOverlap(const Bounds& box, Visit&& visit) const;
 
     std::size_t nodeCount() const { return nodes_.size(); }
+    // Distinct triangles held: exact copies of a triangle are stored once (see TriangleCopies).
+    std::size_t triangleCount() const { return triangleIds_.size(); }
+    // How often a triangle the tree reports (a first copy) occurs in the mesh: what a visit
+    // stands for. 0 for the later copies, which the tree never reports.
+    std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }
     int depth() const { return depth_; }
     const Bounds& bounds() const { return bounds_; }
 
@@ -88,6 +96,7 @@ private:
     std::vector<DistanceTriangle> distanceTriangles_; // in leaf order
     std::vector<std::uint32_t> leafSlot_;     // Mesh triangle index -> leaf order
     std::vector<std::uint32_t> triangleIds_;  // leaf order -> Mesh triangle index
+    std::vector<std::uint32_t> copies_;       // Mesh triangle index -> its count if a first copy, else 0
     Bounds bounds_;
     int depth_ = 0;
 };

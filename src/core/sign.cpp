@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace sdfgen {
 
@@ -44,18 +45,30 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
     return 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
 }
 
-// Upper bound of |winding number| of a fan seen from p: area / (4π d²), d the distance to the fan.
+// Upper bound of |winding number| of a (weighted) fan seen from p: area / (4π d²), d the distance
+// to the fan.
 double fanBound(const glm::dvec3& p, const Cap& cap) {
     const double d = glm::length(p - cap.centre) - cap.radius;
-    return d > 0.0 ? cap.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+    return d > 0.0 ? cap.weight * cap.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
 }
+
+// The fan's winding number at p, times its weight.
+double fanWinding(const glm::dvec3& p, const Cap& cap) { return cap.weight * fanSolidAngle(p, cap) / (4.0 * M_PI); }
 
 } // namespace
 
 std::vector<Cap> makeCaps(const MeshTopology& topology) {
+    // Equal loops (rotated to start at their smallest vertex) become one cap with a weight, so that
+    // a stack of copies of an open triangle is one fan, evaluated once.
+    std::map<std::vector<std::uint32_t>, int> loops;
+    for (std::vector<std::uint32_t> loop : topology.boundaryLoops()) {
+        std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+        ++loops[loop];
+    }
     std::vector<Cap> caps;
-    for (const std::vector<std::uint32_t>& loop : topology.boundaryLoops()) {
+    for (const auto& [loop, weight] : loops) {
         Cap cap;
+        cap.weight = weight;
         cap.centre = glm::dvec3(0.0);
         for (std::uint32_t v : loop) cap.centre += topology.position(v);
         cap.centre /= double(loop.size());
@@ -82,12 +95,12 @@ bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int 
     for (const Cap& cap : caps) {
         const double bound = fanBound(p, cap);
         if (bound < 0.02) far += bound;
-        else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
+        else near += fanWinding(p, cap);
     }
     double w = double(ahead) - near;
     if (std::fabs(orientation * w - 0.5) <= far) {
         for (const Cap& cap : caps) {
-            if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+            if (fanBound(p, cap) < 0.02) w -= fanWinding(p, cap);
         }
     }
     return orientation * w > 0.5;
@@ -95,7 +108,7 @@ bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int 
 
 double windingFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead) {
     double w = double(ahead);
-    for (const Cap& cap : caps) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+    for (const Cap& cap : caps) w -= fanWinding(p, cap);
     return w;
 }
 
@@ -104,20 +117,20 @@ int crossingsAhead(const Mesh& mesh, const Bvh& tree, const std::vector<Cap>& ca
     // sample's position counts exactly the crossings its row scan counts ahead of it.
     const glm::vec3 line(p); // rows pass through float (y, z)
     int ahead = 0;
-    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
         int orientation;
         glm::dvec3 w;
         if (!pointInTriangle2d({line.y, line.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
-        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation;
+        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
     };
     Bounds ray;
     ray.min = glm::vec3(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), line.y, line.z);
     ray.max = glm::vec3(std::numeric_limits<float>::infinity(), line.y, line.z);
     tree.forEachOverlap(ray, [&](std::uint32_t t) {
-        count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+        count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), int(tree.copies(t)));
     });
     for (const Cap& cap : caps) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight);
     }
     return ahead;
 }
@@ -139,12 +152,12 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
     // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans.
     struct Crossing {
         double x;
-        int sign; // +1 where the surface faces +x: moving along +x leaves the solid there
+        int sign; // +weight where the surface faces +x: moving along +x leaves the solid there
     };
     std::vector<std::vector<Crossing>> rows(std::size_t(ny) * std::size_t(nz));
     const glm::dvec3 first = localPosition(mesh, grid, 0, 0, 0);
     const double h = grid.voxel / mesh.unit;
-    auto addTriangle = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    auto addTriangle = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
         // Candidate rows from the projected bounds, one wider each way; the exact test decides.
         const double ylo = std::min({a.y, b.y, c.y}), yhi = std::max({a.y, b.y, c.y});
         const double zlo = std::min({a.z, b.z, c.z}), zhi = std::max({a.z, b.z, c.z});
@@ -158,15 +171,18 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
                 int orientation;
                 glm::dvec3 w;
                 if (!pointInTriangle2d({s.y, s.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) continue;
-                rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back({w.x * a.x + w.y * b.x + w.z * c.x, orientation});
+                rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back({w.x * a.x + w.y * b.x + w.z * c.x, orientation * weight});
             }
         }
     };
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        addTriangle(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+    // Copies of a triangle cross once, with their number as the weight.
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        if (const int weight = int(topology.copies(t))) {
+            addTriangle(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), weight);
+        }
     }
     for (const Cap& cap : caps) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) addTriangle(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) addTriangle(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight);
     }
 
     // 2. Per row: the closed surface's winding number is the signed count of crossings ahead (+x);

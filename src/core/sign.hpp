@@ -10,16 +10,18 @@
 
 namespace sdfgen {
 
-// A fan closing one boundary loop, with what bounds its winding number from afar.
-// Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so mesh + fans is closed.
+// A fan closing one boundary loop, counted `weight` times, with what bounds its winding number from
+// afar. Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so mesh + fans is closed.
 struct Cap {
     std::vector<glm::dvec3> loop;
     glm::dvec3 centre;
     double radius = 0; // every point of the fan is within this of centre
     double area = 0;
+    int weight = 1;    // equal loops (copies of open triangles) share one cap
 };
 
-// One fan per boundary loop of the mesh: the mesh with its fans is closed.
+// One fan per distinct boundary loop of the mesh, weighted by how often the loop occurs: the mesh
+// with its fans is closed.
 std::vector<Cap> makeCaps(const MeshTopology& topology);
 
 // Inside flag and exact winding number at p, given `ahead`, the signed count of crossings of the

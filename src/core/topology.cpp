@@ -1,4 +1,5 @@
 #include "core/topology.hpp"
+#include "core/duplicates.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -161,10 +162,18 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
                            edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
 
     // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
+    // Each vertex keeps a cursor to its first possibly unused outgoing edge, so many copies of one
+    // edge (a stack of duplicated open triangles) cost linear time, not quadratic.
     std::sort(boundary.begin(), boundary.end());
     std::vector<bool> used(boundary.size(), false);
-    auto firstOut = [&](std::uint32_t vertex) {
-        return std::size_t(std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(vertex, 0u)) - boundary.begin());
+    std::unordered_map<std::uint32_t, std::size_t> nextOut; // vertex -> its first outgoing edge not known used
+    for (std::size_t e = boundary.size(); e-- > 0;) nextOut[boundary[e].first] = e;
+    auto takeOut = [&](std::uint32_t vertex) {
+        const auto it = nextOut.find(vertex);
+        if (it == nextOut.end()) return boundary.size();
+        std::size_t& next = it->second;
+        while (next < boundary.size() && boundary[next].first == vertex && used[next]) ++next;
+        return next < boundary.size() && boundary[next].first == vertex ? next : boundary.size();
     };
     for (std::size_t start = 0; start < boundary.size(); ++start) {
         if (used[start]) continue;
@@ -175,19 +184,23 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
             loop.push_back(boundary[edge].first);
             const std::uint32_t head = boundary[edge].second;
             if (head == boundary[start].first) break;
-            std::size_t next = firstOut(head);
-            while (next < boundary.size() && boundary[next].first == head && used[next]) ++next;
-            if (next >= boundary.size() || boundary[next].first != head) break; // cannot happen for a cycle
-            edge = next;
+            edge = takeOut(head);
+            if (edge >= boundary.size()) break; // cannot happen for a cycle
         }
         loops_.push_back(std::move(loop));
     }
+
+    const TriangleCopies copies = findTriangleCopies(mesh);
+    copies_.assign(n, 0);
+    for (std::size_t i = 0; i < copies.unique.size(); ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
 MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
     MeshCheck result = edgeCheck_;
     const std::size_t n = mesh.triangleCount();
+    // The tree reports first copies only: each crossing pair of them stands for copies(t) x copies(u).
     for (std::uint32_t t = 0; t < n; ++t) {
+        if (tree.copies(t) == 0) continue;
         Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
                    glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
         tree.forEachOverlap(box, [&](std::uint32_t u) {
@@ -212,7 +225,7 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
                     crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
                 }
             }
-            result.selfIntersections += crossing;
+            if (crossing) result.selfIntersections += std::size_t(tree.copies(t)) * tree.copies(u);
         });
     }
     return result;

@@ -16,13 +16,17 @@ class MeshTopology {
 public:
     explicit MeshTopology(const Mesh& mesh);
 
-    // The counts MeshCheck lists; self-intersections are found with the tree.
+    // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
+    // repeated triangles counted once per pair of copies (as triangle by triangle).
     MeshCheck check(const Mesh& mesh, const Bvh& tree) const;
 
     // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
     const std::vector<std::vector<std::uint32_t>>& boundaryLoops() const { return loops_; }
     const glm::dvec3& position(std::uint32_t vertex) const { return positions_[vertex]; }
+    // How often triangle t occurs in the mesh if it is the first of its exact copies, else 0 (see
+    // TriangleCopies): passes that stack triangles weigh the first copy and skip the others.
+    std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }
     // Closed and consistently oriented with negative volume (see MeshCheck::insideOut).
     bool insideOut() const { return edgeCheck_.insideOut; }
 
@@ -36,6 +40,7 @@ private:
     std::vector<glm::dvec3> vertexNormals_;
     std::vector<glm::dvec3> edgeNormals_; // 3 per triangle: AB, BC, CA
     std::vector<std::vector<std::uint32_t>> loops_;
+    std::vector<std::uint32_t> copies_;
     MeshCheck edgeCheck_; // everything but self-intersections
 };
 
