@@ -152,9 +152,9 @@ TEST(TriangleCopies, StackedOpenTrianglesShareOneFan) {
     const Mesh many = repeated(open, kCopies);
     const MeshTopology topology(many);
     EXPECT_EQ(topology.boundaryLoops().size(), std::size_t(kCopies));
-    const std::vector<Cap> caps = makeCaps(topology);
-    ASSERT_EQ(caps.size(), 1u);
-    EXPECT_EQ(caps[0].weight, kCopies);
+    const WindingCaps caps(topology);
+    ASSERT_EQ(caps.caps().size(), 1u);
+    EXPECT_EQ(caps.caps()[0].weight, kCopies);
 
     const Grid grid = makeGrid(many.worldBounds(), 12, 0.15);
     const std::vector<std::uint8_t> inside = insideByWinding(many, topology, grid, RunControl{});

@@ -30,9 +30,9 @@ struct Model::Impl {
         std::call_once(checkOnce, [&] { check_ = topology().check(mesh, tree); });
         return check_;
     }
-    const std::vector<Cap>& caps() const {
-        std::call_once(capsOnce, [&] { caps_ = makeCaps(topology()); });
-        return caps_;
+    const WindingCaps& caps() const {
+        std::call_once(capsOnce, [&] { caps_.emplace(topology()); });
+        return *caps_;
     }
 
     Mesh mesh;
@@ -42,7 +42,7 @@ private:
     mutable std::once_flag topologyOnce, checkOnce, capsOnce;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
-    mutable std::vector<Cap> caps_;
+    mutable std::optional<WindingCaps> caps_;
 };
 
 Model Model::load(const std::string& path, const RunControl& control) { return Model(loadMesh(path), control); }
@@ -170,13 +170,13 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                         if (sign == SignMethod::Pseudonormal) {
                             inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                         } else {
-                            inside = insideFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
+                            inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
                         }
                         out.signedDistance[index] = inside ? -distance : distance;
                     }
                 }
                 if (out.windingNumber) {
-                    out.windingNumber[index] = windingFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                    out.windingNumber[index] = m.caps().winding(p, crossingsAhead(mesh, m.tree, m.caps(), p));
                 }
             }
         }
