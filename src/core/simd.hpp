@@ -4,6 +4,9 @@
 // lowers it to narrower vectors. The same templates also accept plain float, so one routine
 // serves both a single ray and a packet.
 #include <cstdint>
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
 
 namespace sdfgen::simd {
 
@@ -23,10 +26,16 @@ inline f8 select(i8 mask, f8 a, f8 b) { return mask ? a : b; }
 inline i8 select(i8 mask, i8 a, i8 b) { return mask ? a : b; }
 inline float select(bool mask, float a, float b) { return mask ? a : b; }
 
+// Whether any lane is set (masks are all ones or zero per lane): one movemask with AVX, else an OR
+// over the lanes.
 inline bool any(i8 mask) {
+#ifdef __AVX__
+    return _mm256_movemask_ps(_mm256_castsi256_ps(__m256i(mask))) != 0;
+#else
     std::int32_t bits = 0;
     for (int lane = 0; lane < 8; ++lane) bits |= mask[lane];
     return bits != 0;
+#endif
 }
 inline bool any(bool mask) { return mask; }
 

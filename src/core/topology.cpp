@@ -1,5 +1,6 @@
 #include "core/topology.hpp"
 #include "core/duplicates.hpp"
+#include "core/parallel.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -195,39 +196,48 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
     for (std::size_t i = 0; i < copies.unique.size(); ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
-MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
+MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunControl& control) const {
     MeshCheck result = edgeCheck_;
     const std::size_t n = mesh.triangleCount();
-    // The tree reports first copies only: each crossing pair of them stands for copies(t) x copies(u).
-    for (std::uint32_t t = 0; t < n; ++t) {
-        if (tree.copies(t) == 0) continue;
-        Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
-                   glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
-        tree.forEachOverlap(box, [&](std::uint32_t u) {
-            if (u <= t) return;
-            const glm::uvec3 a = corners_[t], b = corners_[u];
-            int shared = 0;
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
-            if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
-            const glm::dvec3 pa[3] = {positions_[a[0]], positions_[a[1]], positions_[a[2]]};
-            const glm::dvec3 pb[3] = {positions_[b[0]], positions_[b[1]], positions_[b[2]]};
-            bool crossing = false;
-            // An edge that touches the shared vertex cannot cross the other triangle's interior
-            // (it starts on it), so only edges away from a shared vertex are tested.
-            for (int e = 0; e < 3 && !crossing; ++e) {
-                const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
-                if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
-                    crossing = segmentCrossesTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+    // In parallel over fixed chunks of triangles, each counting its own pairs into its own slot:
+    // the sum is the same for any thread count. The tree reports first copies only: each crossing
+    // pair of them stands for copies(t) x copies(u) pairs.
+    constexpr std::size_t kChunk = 256;
+    std::vector<std::size_t> crossings((n + kChunk - 1) / kChunk, 0);
+    parallelFor(crossings.size(), control, [&](std::size_t chunk) {
+        std::size_t found = 0;
+        for (std::uint32_t t = std::uint32_t(chunk * kChunk); t < std::min(n, (chunk + 1) * kChunk); ++t) {
+            if (tree.copies(t) == 0) continue;
+            Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
+                       glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
+            tree.forEachOverlap(box, [&](std::uint32_t u) {
+                if (u <= t) return;
+                const glm::uvec3 a = corners_[t], b = corners_[u];
+                int shared = 0;
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
+                if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
+                const glm::dvec3 pa[3] = {positions_[a[0]], positions_[a[1]], positions_[a[2]]};
+                const glm::dvec3 pb[3] = {positions_[b[0]], positions_[b[1]], positions_[b[2]]};
+                bool crossing = false;
+                // An edge that touches the shared vertex cannot cross the other triangle's interior
+                // (it starts on it), so only edges away from a shared vertex are tested.
+                for (int e = 0; e < 3 && !crossing; ++e) {
+                    const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
+                    if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
+                        crossing = segmentCrossesTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+                    }
+                    const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
+                    if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
+                        crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
+                    }
                 }
-                const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
-                if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
-                    crossing = segmentCrossesTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
-                }
-            }
-            if (crossing) result.selfIntersections += std::size_t(tree.copies(t)) * tree.copies(u);
-        });
-    }
+                if (crossing) found += std::size_t(tree.copies(t)) * tree.copies(u);
+            });
+        }
+        crossings[chunk] = found;
+    });
+    for (std::size_t count : crossings) result.selfIntersections += count;
     return result;
 }
 

@@ -3,6 +3,7 @@
 #include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/mesh_check.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include <glm/vec3.hpp>
 #include <cstdint>
@@ -18,7 +19,8 @@ public:
 
     // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
     // repeated triangles counted once per pair of copies (as triangle by triangle).
-    MeshCheck check(const Mesh& mesh, const Bvh& tree) const;
+    // In parallel; the same counts for any thread count. Throws Cancelled when control.cancel is raised.
+    MeshCheck check(const Mesh& mesh, const Bvh& tree, const RunControl& control = {}) const;
 
     // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
