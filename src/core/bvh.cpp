@@ -1,6 +1,8 @@
 #include "core/bvh.hpp"
 #include "core/duplicates.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -12,6 +14,7 @@ namespace sdfgen {
 namespace {
 
 constexpr int kBins = 16;
+constexpr std::size_t kParallelBuild = 4096; // triangles below which a subtree is built serially
 constexpr double kTraversalCost = 1.0; // relative to one ray/triangle test
 
 Bounds emptyBounds() {
@@ -47,10 +50,14 @@ Bvh::Bvh(const Mesh& mesh) {
         centroids[i] = boxes[i].min * 0.5f + boxes[i].max * 0.5f;
         order[i] = std::uint32_t(i);
     }
-    nodes_.reserve(2 * n);
+    Subtree tree;
+    tree.nodes.reserve(2 * n);
+    tree.ids.reserve(n);
+    build(tree, order, 0, n, centroids, boxes, 0);
+    nodes_ = std::move(tree.nodes);
+    triangleIds_ = std::move(tree.ids);
+    depth_ = tree.depth;
     triangles_.reserve(n);
-    triangleIds_.reserve(n);
-    build(order, 0, n, centroids, boxes, 0);
     for (std::uint32_t& id : triangleIds_) id = copies.unique[id];
     bounds_ = {glm::vec3(nodes_[0].min[0], nodes_[0].min[1], nodes_[0].min[2]),
                glm::vec3(nodes_[0].max[0], nodes_[0].max[1], nodes_[0].max[2])};
@@ -75,29 +82,45 @@ Bvh::Bvh(const Mesh& mesh) {
     for (std::size_t i = 0; i < n; ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
-std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                            const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth) {
-    depth_ = std::max(depth_, depth);
+std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
+                         const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth) {
+    std::vector<Node>& nodes = out.nodes;
+    std::vector<std::uint32_t>& ids = out.ids;
+    out.depth = std::max(out.depth, depth);
     Bounds box = emptyBounds(), centroidBox = emptyBounds();
     for (std::size_t i = begin; i < end; ++i) {
         grow(box, boxes[order[i]]);
         grow(centroidBox, {centroids[order[i]], centroids[order[i]]});
     }
-    const std::uint32_t nodeIndex = std::uint32_t(nodes_.size());
-    nodes_.push_back({{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}, 0, 0, 0});
+    const std::uint32_t nodeIndex = std::uint32_t(nodes.size());
+    nodes.push_back({{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}, 0, 0, 0});
     const std::size_t count = end - begin;
 
     auto makeLeaf = [&] {
-        nodes_[nodeIndex].index = std::uint32_t(triangleIds_.size());
-        nodes_[nodeIndex].count = std::uint16_t(count);
-        triangleIds_.insert(triangleIds_.end(), order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end));
+        nodes[nodeIndex].index = std::uint32_t(ids.size());
+        nodes[nodeIndex].count = std::uint16_t(count);
+        ids.insert(ids.end(), order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end));
         return nodeIndex;
     };
     auto children = [&](std::size_t middle, int axis) {
-        build(order, begin, middle, centroids, boxes, depth + 1);
-        const std::uint32_t second = build(order, middle, end, centroids, boxes, depth + 1);
-        nodes_[nodeIndex].index = second;
-        nodes_[nodeIndex].axis = std::uint16_t(axis);
+        nodes[nodeIndex].axis = std::uint16_t(axis);
+        if (count < kParallelBuild) {
+            build(out, order, begin, middle, centroids, boxes, depth + 1);
+            nodes[nodeIndex].index = build(out, order, middle, end, centroids, boxes, depth + 1);
+            return nodeIndex;
+        }
+        // The halves touch disjoint ranges of `order`; the second is built apart and appended.
+        Subtree second;
+        tbb::parallel_invoke([&] { build(out, order, begin, middle, centroids, boxes, depth + 1); },
+                             [&] { build(second, order, middle, end, centroids, boxes, depth + 1); });
+        const std::uint32_t nodeBase = std::uint32_t(nodes.size()), idBase = std::uint32_t(ids.size());
+        for (Node node : second.nodes) {
+            node.index += node.count == 0 ? nodeBase : idBase;
+            nodes.push_back(node);
+        }
+        ids.insert(ids.end(), second.ids.begin(), second.ids.end());
+        out.depth = std::max(out.depth, second.depth);
+        nodes[nodeIndex].index = nodeBase;
         return nodeIndex;
     };
     auto buildMedian = [&] {

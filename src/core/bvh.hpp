@@ -80,8 +80,15 @@ private:
     };
     static_assert(sizeof(Node) == 32, "nodes are half a cache line");
 
-    std::uint32_t build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                        const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth);
+    // Nodes in depth-first order with node and triangle indices relative to the subtree; big
+    // subtrees are built in parallel and spliced, which gives the serial layout exactly.
+    struct Subtree {
+        std::vector<Node> nodes;
+        std::vector<std::uint32_t> ids;
+        int depth = 0;
+    };
+    static std::uint32_t build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
+                               const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth);
 
     std::vector<Node> nodes_;
     // A triangle set up for branch-free point distance: corner a, edges, unit normal, the in-plane
