@@ -1,14 +1,17 @@
-// The setup phases (tree build, topology, mesh check, crossing scan) in parallel: the same results
-// for any thread count.
+// The setup phases (tree build, topology, mesh check, crossing scan): the same results for any
+// thread count, progress that never runs backwards, and cancel honoured inside each.
 #include "core/bvh.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/model.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
-#include <tbb/task_arena.h>
+#include <atomic>
+#include <functional>
 #include <limits>
-#include <memory>
+#include <mutex>
 
 namespace sdfgen {
 namespace {
@@ -53,11 +56,13 @@ TEST(SetupPhases, MeshCheckCountsAreTheSameForAnyThreadCount) {
 // the serial one exactly (same nodes, same leaf order), so queries are too.
 TEST(SetupPhases, ParallelTreeBuildGivesTheSerialLayout) {
     const Mesh mesh = overlappingShells(5); // 40960 triangles: several levels built in parallel
-    std::unique_ptr<Bvh> serial;
-    tbb::task_arena(1).execute([&] { serial = std::make_unique<Bvh>(mesh); });
+    RunControl one;
+    one.threads = 1;
+    const auto serial = std::make_unique<Bvh>(mesh, one);
     for (int threads : {2, 4}) {
-        std::unique_ptr<Bvh> parallel;
-        tbb::task_arena(threads).execute([&] { parallel = std::make_unique<Bvh>(mesh); });
+        RunControl control;
+        control.threads = threads;
+        const auto parallel = std::make_unique<Bvh>(mesh, control);
         EXPECT_EQ(parallel->nodeCount(), serial->nodeCount());
         EXPECT_EQ(parallel->depth(), serial->depth());
         EXPECT_EQ(visitOrder(*parallel), visitOrder(*serial));
@@ -71,6 +76,89 @@ TEST(SetupPhases, ParallelTreeBuildGivesTheSerialLayout) {
         EXPECT_FALSE(a.empty());
     }
     EXPECT_EQ(visitOrder(*serial).size(), mesh.triangleCount());
+}
+
+// What a phase reported, and a cancel flag it may raise itself after `cancelAfter` reports.
+struct Watch {
+    std::mutex mutex;
+    std::vector<double> reports;
+    std::atomic<bool> cancel{false};
+    int cancelAfter = -1;
+
+    RunControl control(int threads = 0) {
+        RunControl c;
+        c.threads = threads;
+        c.cancel = &cancel;
+        c.progress = [this](double f) {
+            std::lock_guard<std::mutex> lock(mutex);
+            reports.push_back(f);
+            if (int(reports.size()) == cancelAfter) cancel = true;
+        };
+        return c;
+    }
+    void expectMonotoneToOne(const char* phase) {
+        ASSERT_GE(reports.size(), 2u) << phase;
+        for (std::size_t i = 1; i < reports.size(); ++i) ASSERT_LE(reports[i - 1], reports[i]) << phase << " report " << i;
+        EXPECT_EQ(reports.back(), 1.0) << phase;
+    }
+};
+
+using Phase = std::function<void(const RunControl&)>;
+
+std::vector<std::pair<const char*, Phase>> phases(const Mesh& mesh, const Bvh& tree, const MeshTopology& topology) {
+    return {
+        {"tree build", [&](const RunControl& c) { Bvh built(mesh, c); }},
+        {"topology", [&](const RunControl& c) { MeshTopology built(mesh, c); }},
+        {"mesh check", [&](const RunControl& c) { topology.check(mesh, tree, c); }},
+        {"winding sign (crossing scan and fans)",
+         [&](const RunControl& c) { insideByWinding(mesh, topology, makeGrid(mesh.worldBounds(), 48, 0.1), c); }},
+    };
+}
+
+TEST(SetupPhases, ProgressNeverRunsBackwardsAndEndsAtOne) {
+    const Mesh mesh = overlappingShells(5);
+    const Bvh tree(mesh);
+    const MeshTopology topology(mesh);
+    for (const auto& [name, run] : phases(mesh, tree, topology)) {
+        for (int threads : {1, 4}) {
+            Watch watch;
+            run(watch.control(threads));
+            watch.expectMonotoneToOne(name);
+        }
+    }
+}
+
+TEST(SetupPhases, CancelStopsEachPhaseBeforeItEnds) {
+    const Mesh mesh = overlappingShells(5);
+    const Bvh tree(mesh);
+    const MeshTopology topology(mesh);
+    for (const auto& [name, run] : phases(mesh, tree, topology)) {
+        Watch before; // raised before the phase starts
+        before.cancel = true;
+        EXPECT_THROW(run(before.control()), Cancelled) << name;
+        Watch during; // raised by the phase's first progress report
+        during.cancelAfter = 1;
+        EXPECT_THROW(run(during.control(2)), Cancelled) << name;
+        ASSERT_FALSE(during.reports.empty()) << name;
+        EXPECT_LT(during.reports.back(), 1.0) << name << " ran to the end";
+    }
+}
+
+TEST(SetupPhases, ModelHonoursCancelInItsTreeAndCheck) {
+    const Mesh mesh = overlappingShells(4);
+    Watch tree;
+    tree.cancel = true;
+    EXPECT_THROW(Model(mesh, tree.control()), Cancelled);
+    Watch building;
+    const Model model(mesh, building.control());
+    building.expectMonotoneToOne("Model tree");
+    Watch check;
+    check.cancel = true;
+    EXPECT_THROW(model.check(check.control()), Cancelled);
+    // A cancelled check is not cached: the next one runs, with its own progress.
+    Watch again;
+    EXPECT_GT(model.check(again.control()).selfIntersections, 0u);
+    again.expectMonotoneToOne("Model check");
 }
 
 } // namespace

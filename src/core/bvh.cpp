@@ -2,6 +2,7 @@
 #include "core/duplicates.hpp"
 
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -33,7 +34,7 @@ double halfArea(const Bounds& b) {
 
 } // namespace
 
-Bvh::Bvh(const Mesh& mesh) {
+Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     // Exact copies of a triangle have the same distance and the same hits, and a stack of them
     // would make every query that reaches it visit each one: the tree holds the first copy only
     // (the lowest index, so the tie rule of nearest() is unchanged).
@@ -53,7 +54,12 @@ Bvh::Bvh(const Mesh& mesh) {
     Subtree tree;
     tree.nodes.reserve(2 * n);
     tree.ids.reserve(n);
-    build(tree, order, 0, n, centroids, boxes, 0);
+    ProgressCounter progress(control, n);
+    const BuildInput input{centroids, boxes, progress};
+    tbb::task_arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic).execute([&] {
+        build(tree, order, 0, n, input, 0);
+    });
+    progress.finish();
     nodes_ = std::move(tree.nodes);
     triangleIds_ = std::move(tree.ids);
     depth_ = tree.depth;
@@ -83,7 +89,10 @@ Bvh::Bvh(const Mesh& mesh) {
 }
 
 std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                         const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth) {
+                         const BuildInput& input, int depth) {
+    const std::vector<glm::vec3>& centroids = input.centroids;
+    const std::vector<Bounds>& boxes = input.boxes;
+    input.progress.checkCancel();
     std::vector<Node>& nodes = out.nodes;
     std::vector<std::uint32_t>& ids = out.ids;
     out.depth = std::max(out.depth, depth);
@@ -100,19 +109,20 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
         nodes[nodeIndex].index = std::uint32_t(ids.size());
         nodes[nodeIndex].count = std::uint16_t(count);
         ids.insert(ids.end(), order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end));
+        input.progress.add(count);
         return nodeIndex;
     };
     auto children = [&](std::size_t middle, int axis) {
         nodes[nodeIndex].axis = std::uint16_t(axis);
         if (count < kParallelBuild) {
-            build(out, order, begin, middle, centroids, boxes, depth + 1);
-            nodes[nodeIndex].index = build(out, order, middle, end, centroids, boxes, depth + 1);
+            build(out, order, begin, middle, input, depth + 1);
+            nodes[nodeIndex].index = build(out, order, middle, end, input, depth + 1);
             return nodeIndex;
         }
         // The halves touch disjoint ranges of `order`; the second is built apart and appended.
         Subtree second;
-        tbb::parallel_invoke([&] { build(out, order, begin, middle, centroids, boxes, depth + 1); },
-                             [&] { build(second, order, middle, end, centroids, boxes, depth + 1); });
+        tbb::parallel_invoke([&] { build(out, order, begin, middle, input, depth + 1); },
+                             [&] { build(second, order, middle, end, input, depth + 1); });
         const std::uint32_t nodeBase = std::uint32_t(nodes.size()), idBase = std::uint32_t(ids.size());
         for (Node node : second.nodes) {
             node.index += node.count == 0 ? nodeBase : idBase;

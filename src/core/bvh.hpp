@@ -1,7 +1,9 @@
 #pragma once
 #include "sdfgen/mesh.hpp"
+#include "core/parallel.hpp"
 #include "core/ray.hpp"
 #include "core/simd.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -44,7 +46,9 @@ public:
     static constexpr int kMaxLeafSize = 8;
     static constexpr int kMaxDepth = 48;
 
-    explicit Bvh(const Mesh& mesh);
+    // Built on control.threads threads, reporting progress (triangles placed in leaves); throws
+    // Cancelled soon after control.cancel is raised.
+    explicit Bvh(const Mesh& mesh, const RunControl& control = {});
 
     // Nearest hit with 0 <= t < tMax along origin + t * direction; false when there is none.
     bool intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const;
@@ -87,8 +91,13 @@ private:
         std::vector<std::uint32_t> ids;
         int depth = 0;
     };
+    struct BuildInput {
+        const std::vector<glm::vec3>& centroids;
+        const std::vector<Bounds>& boxes;
+        ProgressCounter& progress;
+    };
     static std::uint32_t build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                               const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth);
+                               const BuildInput& input, int depth);
 
     std::vector<Node> nodes_;
     // A triangle set up for branch-free point distance: corner a, edges, unit normal, the in-plane

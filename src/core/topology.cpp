@@ -50,7 +50,10 @@ std::string MeshCheck::describe() const {
            (insideOut ? ", inside out (negative volume)" : "");
 }
 
-MeshTopology::MeshTopology(const Mesh& mesh) {
+MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
+    // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
+    constexpr std::size_t kStages = 6;
+    ProgressCounter progress(control, kStages);
     // Merge vertices with identical coordinates (-0 and +0 alike).
     std::unordered_map<glm::vec3, std::uint32_t, PositionHash> merged;
     std::vector<std::uint32_t> remap(mesh.positions.size());
@@ -68,6 +71,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         faceNormals_[t] = glm::dvec3(mesh.faceNormals[t]);
     }
 
+    progress.add(1);
     // Every triangle edge as (low vertex, high vertex, triangle, which edge, runs low->high).
     struct EdgeUse {
         std::uint32_t lo, hi, triangle;
@@ -87,6 +91,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
     });
 
+    progress.add(1);
     edgeNormals_.resize(3 * n);
     for (std::size_t t = 0; t < n; ++t) {
         for (int e = 0; e < 3; ++e) edgeNormals_[3 * t + e] = faceNormals_[t];
@@ -132,6 +137,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         begin = end;
     }
 
+    progress.add(1);
     // Angle-weighted vertex normals, and the fans around each vertex.
     vertexNormals_.assign(positions_.size(), glm::dvec3(0.0));
     std::vector<std::uint32_t> fanRoot(positions_.size(), UINT32_MAX);
@@ -162,6 +168,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
     edgeCheck_.insideOut = edgeCheck_.boundaryEdges == 0 && edgeCheck_.nonManifoldEdges == 0 &&
                            edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
 
+    progress.add(1);
     // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
     // Each vertex keeps a cursor to its first possibly unused outgoing edge, so many copies of one
     // edge (a stack of duplicated open triangles) cost linear time, not quadratic.
@@ -191,9 +198,12 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         loops_.push_back(std::move(loop));
     }
 
+    progress.add(1);
     const TriangleCopies copies = findTriangleCopies(mesh);
     copies_.assign(n, 0);
     for (std::size_t i = 0; i < copies.unique.size(); ++i) copies_[copies.unique[i]] = copies.count[i];
+    progress.add(1);
+    progress.finish();
 }
 
 MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunControl& control) const {

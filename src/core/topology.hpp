@@ -15,7 +15,8 @@ namespace sdfgen {
 // Connectivity of a mesh whose coincident vertices are merged (OBJ files often repeat positions).
 class MeshTopology {
 public:
-    explicit MeshTopology(const Mesh& mesh);
+    // Reports progress and throws Cancelled (between its stages) when control.cancel is raised.
+    explicit MeshTopology(const Mesh& mesh, const RunControl& control = {});
 
     // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
     // repeated triangles counted once per pair of copies (as triangle by triangle).
