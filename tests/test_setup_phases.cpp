@@ -52,6 +52,27 @@ TEST(SetupPhases, MeshCheckCountsAreTheSameForAnyThreadCount) {
     }
 }
 
+// Regression (a Debug build found it): two mirror-symmetric shells cross only where their edges
+// meet, exactly; the check tested edges against triangle interiors alone and counted no crossing
+// at -O0 (at -O3 fused multiply-adds' rounding happened to find some). Edge-through-edge counts.
+TEST(SetupPhases, MeshCheckCountsEdgeThroughEdgeCrossings) {
+    // In exact integers: A's edge on the z axis passes through the edge y = z = 0 shared by B and
+    // B'; A and B' overlap along the segment from the origin to (0, -1, 0), A touches B there.
+    const Mesh mesh = buildMesh("edge through edge",
+                                std::vector<glm::dvec3>{{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {-1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}},
+                                {{0, 1, 2}, {3, 4, 5}, {4, 3, 6}});
+    EXPECT_EQ(MeshTopology(mesh).check(mesh, Bvh(mesh)).selfIntersections, 2u);
+    // Two unit spheres, their centres 1 apart on x: mirror images of each other.
+    const Mesh sphere = test::icosphere(1.0f, 2);
+    std::vector<glm::dvec3> positions;
+    for (const glm::dvec3& p : sphere.worldPositions()) positions.push_back(p - glm::dvec3(0.5, 0, 0));
+    for (const glm::dvec3& p : sphere.worldPositions()) positions.push_back(p + glm::dvec3(0.5, 0, 0));
+    std::vector<glm::uvec3> triangles = sphere.triangles;
+    for (const glm::uvec3& t : sphere.triangles) triangles.push_back(t + glm::uvec3(unsigned(sphere.positions.size())));
+    const Mesh shells = buildMesh("mirror shells", positions, triangles);
+    EXPECT_GE(MeshTopology(shells).check(shells, Bvh(shells)).selfIntersections, 64u);
+}
+
 // Subtrees above a few thousand triangles are built in parallel and spliced: the layout must be
 // the serial one exactly (same nodes, same leaf order), so queries are too.
 TEST(SetupPhases, ParallelTreeBuildGivesTheSerialLayout) {

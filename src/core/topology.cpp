@@ -32,13 +32,18 @@ int orient3d(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, cons
     return (v > 0.0) - (v < 0.0);
 }
 
-// Whether segment pq passes through the interior of triangle abc (touching does not count).
+// Whether segment pq passes through triangle abc from one side of its plane to the other: through
+// its interior, or exactly through one of its edges or corners (one or two of the edge tests
+// zero). The exact cases matter: two mirror-symmetric shells cross each other only where their
+// edges meet (every crossing of the surfaces is edge through edge), and a test of the interior
+// alone finds no crossing there at all. An endpoint on the plane (touching) does not count.
 bool segmentCrossesTriangle(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b,
                             const glm::dvec3& c) {
     const int sp = orient3d(a, b, c, p), sq = orient3d(a, b, c, q);
     if (sp == 0 || sq == 0 || sp == sq) return false;
     const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
-    return s1 != 0 && s1 == s2 && s2 == s3;
+    const bool positive = s1 > 0 || s2 > 0 || s3 > 0, negative = s1 < 0 || s2 < 0 || s3 < 0;
+    return positive != negative; // every nonzero test agrees (all three zero is impossible here)
 }
 
 } // namespace
