@@ -34,16 +34,16 @@ using namespace sdfgen;
 
 // Farthest corner of the grid's box from the mesh's nearest vertex, in voxels: a first guess at the
 // exterior band (not a bound: a sample inside a concavity can be farther from the surface).
-float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid) {
-    float farthest = 0.0f;
+float cornerDistanceVoxels(const std::vector<glm::dvec3>& world, const Grid& grid) {
+    double farthest = 0.0;
     for (int c = 0; c < 8; ++c) {
-        const glm::vec3 corner = grid.origin + glm::vec3(c & 1 ? grid.dims.x : 0, c & 2 ? grid.dims.y : 0,
-                                                         c & 4 ? grid.dims.z : 0) * grid.voxel;
-        float nearest = INFINITY;
-        for (const glm::vec3& p : mesh.positions) nearest = std::min(nearest, glm::distance(corner, p));
+        const glm::dvec3 corner = grid.origin + glm::dvec3(c & 1 ? grid.dims.x : 0, c & 2 ? grid.dims.y : 0,
+                                                           c & 4 ? grid.dims.z : 0) * grid.voxel;
+        double nearest = INFINITY;
+        for (const glm::dvec3& p : world) nearest = std::min(nearest, glm::distance(corner, p));
         farthest = std::max(farthest, nearest);
     }
-    return farthest / grid.voxel;
+    return float(farthest / grid.voxel);
 }
 
 int run(const peer::Options& options) {
@@ -52,9 +52,11 @@ int run(const peer::Options& options) {
     const Grid grid = makeGrid(mesh.worldBounds(), options.res, options.padding);
 
     openvdb::initialize();
+    // OpenVDB takes world positions (the transform below is the grid's, in world units).
+    const std::vector<glm::dvec3> world = mesh.worldPositions();
     std::vector<openvdb::Vec3s> points;
-    points.reserve(mesh.positions.size());
-    for (const glm::vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+    points.reserve(world.size());
+    for (const glm::dvec3& p : world) points.emplace_back(float(p.x), float(p.y), float(p.z));
     std::vector<openvdb::Vec3I> triangles;
     triangles.reserve(mesh.triangles.size());
     for (const glm::uvec3& t : mesh.triangles) triangles.emplace_back(t.x, t.y, t.z);
@@ -64,10 +66,10 @@ int run(const peer::Options& options) {
     openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(h);
     transform->postTranslate(openvdb::Vec3d(grid.origin.x + 0.5 * h, grid.origin.y + 0.5 * h, grid.origin.z + 0.5 * h));
 
-    const glm::vec3 extent = mesh.bounds.extent();
-    const float smallest = std::min(extent.x, std::min(extent.y, extent.z));
-    const float interiorBand = std::ceil(0.5f * smallest / grid.voxel) + 2.0f;
-    float exteriorBand = std::ceil(cornerDistanceVoxels(mesh, grid)) + 2.0f;
+    const glm::dvec3 extent = glm::dvec3(mesh.bounds.extent()) * mesh.unit;
+    const double smallest = std::min(extent.x, std::min(extent.y, extent.z));
+    const float interiorBand = float(std::ceil(0.5 * smallest / grid.voxel) + 2.0);
+    float exteriorBand = std::ceil(cornerDistanceVoxels(world, grid)) + 2.0f;
     const float largestBand = 4.0f * std::ceil(glm::length(glm::vec3(grid.dims))) + 4.0f;
 
     clock.lap();
