@@ -61,14 +61,16 @@ trap 'rm -rf "$tmp"' EXIT
 timed() {
   local start end
   start=$(date +%s.%N)
-  if timeout "$limit" /usr/bin/time -v "$@" >"$tmp/out" 2>"$tmp/time"; then
-    end=$(date +%s.%N)
-    awk -v s="$start" -v e="$end" 'BEGIN { printf "%.2f", e - s }'
-  else
-    echo ">$limit"
-  fi
+  local rc=0
+  timeout "$limit" /usr/bin/time -v "$@" >"$tmp/out" 2>"$tmp/time" || rc=$?
+  end=$(date +%s.%N)
+  case $rc in
+    0) awk -v s="$start" -v e="$end" 'BEGIN { printf "%.2f", e - s }' ;;
+    124) echo ">$limit" ;;
+    *) echo "failed" ;;
+  esac
 }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a ~ /^>/) printf ">%.1f", substr(a, 2) / b; else printf "%.2f", a / b }'; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "failed") printf "-"; else if (a ~ /^>/) printf ">%.1f", substr(a, 2) / b; else printf "%.2f", a / b }'; }
 
 printf '%-18s %4s %9s %-17s %6s %6s %8s %7s %7s %10s %6s %8s %7s %8s %7s\n' \
   mesh res triangles sign load tree distance sign total voxels/s "RSS MB" before ratio openvdb ratio
@@ -77,7 +79,10 @@ for mesh in "${meshes[@]}"; do
     # tetra-copies is about copies, not resolution: one small grid.
     [ "$(basename "$mesh")" = tetra-copies.obj ] && [ "$res" != "${resolutions%% *}" ] && continue
     wall=$(timed "$sdfgen" bench "$mesh" --res "$res")
-    case $wall in '>'*) echo "hard.sh: sdfgen ran past ${limit}s on $mesh"; continue ;; esac
+    case $wall in
+      '>'*) echo "hard.sh: sdfgen ran past ${limit}s on $mesh"; continue ;;
+      failed) echo "hard.sh: sdfgen failed on $mesh:"; tail -n 3 "$tmp/time"; continue ;;
+    esac
     row=$(awk 'f { print; exit } /^mesh/ { f = 1 }' "$tmp/out")
     rss=$(awk '/Maximum resident/ { printf "%.0f", $NF / 1024 }' "$tmp/time")
     old=- oldRatio=- vdb=- vdbRatio=-
