@@ -1,5 +1,6 @@
 #include "core/bake.hpp"
 #include "core/memory.hpp"
+#include "core/parallel.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
@@ -128,12 +129,13 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
     const Grid grid = makeGrid(mesh.worldBounds(), settings.res, settings.padding);
     std::optional<MeshTopology> topology;
     std::optional<MeshCheck> check;
+    const RunControl lazy = quiet(control); // built inside the bake's phases (see Model::bake)
     auto topologyOf = [&]() -> const MeshTopology& {
-        if (!topology) topology.emplace(mesh);
+        if (!topology) topology.emplace(mesh, lazy);
         return *topology;
     };
     const BakeContext context{mesh, tree, wide, grid, settings, topologyOf, [&]() -> const MeshCheck& {
-                                  if (!check) check = topologyOf().check(mesh, tree);
+                                  if (!check) check = topologyOf().check(mesh, tree, lazy);
                                   return *check;
                               }};
     return bake(context, control);

@@ -1,4 +1,8 @@
 #include "core/bvh.hpp"
+#include "core/duplicates.hpp"
+
+#include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -11,7 +15,8 @@ namespace sdfgen {
 namespace {
 
 constexpr int kBins = 16;
-constexpr float kTraversalCost = 1.0f; // relative to one ray/triangle test
+constexpr std::size_t kParallelBuild = 4096; // triangles below which a subtree is built serially
+constexpr double kTraversalCost = 1.0; // relative to one ray/triangle test
 
 Bounds emptyBounds() {
     return {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(-std::numeric_limits<float>::max())};
@@ -20,31 +25,49 @@ void grow(Bounds& b, const Bounds& other) {
     b.min = glm::min(b.min, other.min);
     b.max = glm::max(b.max, other.max);
 }
-float halfArea(const Bounds& b) {
-    const glm::vec3 e = glm::max(b.max - b.min, glm::vec3(0.0f));
+// In double: float extents overflow for coordinates beyond ±1.7e38 and products underflow below
+// 1e-19, and the surface area heuristic must still compare them.
+double halfArea(const Bounds& b) {
+    const glm::dvec3 e = glm::max(glm::dvec3(b.max) - glm::dvec3(b.min), glm::dvec3(0.0));
     return e.x * e.y + e.y * e.z + e.z * e.x;
 }
 
 } // namespace
 
-Bvh::Bvh(const Mesh& mesh) {
-    const std::size_t n = mesh.triangleCount();
+Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
+    // Exact copies of a triangle have the same distance and the same hits, and a stack of them
+    // would make every query that reaches it visit each one: the tree holds the first copy only
+    // (the lowest index, so the tie rule of nearest() is unchanged).
+    const TriangleCopies copies = findTriangleCopies(mesh);
+    const std::size_t n = copies.unique.size();
     std::vector<Bounds> boxes(n);
     std::vector<glm::vec3> centroids(n);
     std::vector<std::uint32_t> order(n);
     for (std::size_t i = 0; i < n; ++i) {
-        const glm::vec3 a = mesh.vertex(i, 0), b = mesh.vertex(i, 1), c = mesh.vertex(i, 2);
+        const std::uint32_t t = copies.unique[i];
+        const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
         boxes[i] = {glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))};
-        centroids[i] = (boxes[i].min + boxes[i].max) * 0.5f;
+        // Half of each before adding: the sum of two coordinates near the float limit overflows.
+        centroids[i] = boxes[i].min * 0.5f + boxes[i].max * 0.5f;
         order[i] = std::uint32_t(i);
     }
-    nodes_.reserve(2 * n);
+    Subtree tree;
+    tree.nodes.reserve(2 * n);
+    tree.ids.reserve(n);
+    ProgressCounter progress(control, n);
+    const BuildInput input{centroids, boxes, progress};
+    tbb::task_arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic).execute([&] {
+        build(tree, order, 0, n, input, 0);
+    });
+    progress.finish();
+    nodes_ = std::move(tree.nodes);
+    triangleIds_ = std::move(tree.ids);
+    depth_ = tree.depth;
     triangles_.reserve(n);
-    triangleIds_.reserve(n);
-    build(order, 0, n, centroids, boxes, 0);
+    for (std::uint32_t& id : triangleIds_) id = copies.unique[id];
     bounds_ = {glm::vec3(nodes_[0].min[0], nodes_[0].min[1], nodes_[0].min[2]),
                glm::vec3(nodes_[0].max[0], nodes_[0].max[1], nodes_[0].max[2])};
-    leafSlot_.resize(n);
+    leafSlot_.resize(mesh.triangleCount());
     distanceTriangles_.reserve(n);
     for (std::size_t slot = 0; slot < n; ++slot) {
         const std::uint32_t id = triangleIds_[slot];
@@ -60,32 +83,81 @@ Bvh::Bvh(const Mesh& mesh) {
         distanceTriangles_.push_back({a, ab, ac, normal, glm::cross(normal, ab), glm::cross(normal, bc),
                                       glm::cross(normal, ca), inverse(ab), inverse(bc), inverse(ca)});
     }
+    copies_.assign(mesh.triangleCount(), 0);
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) leafSlot_[t] = leafSlot_[copies.first[t]];
+    for (std::size_t i = 0; i < n; ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
-std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                            const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth) {
-    depth_ = std::max(depth_, depth);
+std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
+                         const BuildInput& input, int depth) {
+    const std::vector<glm::vec3>& centroids = input.centroids;
+    const std::vector<Bounds>& boxes = input.boxes;
+    input.progress.checkCancel();
+    std::vector<Node>& nodes = out.nodes;
+    std::vector<std::uint32_t>& ids = out.ids;
+    out.depth = std::max(out.depth, depth);
     Bounds box = emptyBounds(), centroidBox = emptyBounds();
     for (std::size_t i = begin; i < end; ++i) {
         grow(box, boxes[order[i]]);
         grow(centroidBox, {centroids[order[i]], centroids[order[i]]});
     }
-    const std::uint32_t nodeIndex = std::uint32_t(nodes_.size());
-    nodes_.push_back({{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}, 0, 0, 0});
+    const std::uint32_t nodeIndex = std::uint32_t(nodes.size());
+    nodes.push_back({{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}, 0, 0, 0});
     const std::size_t count = end - begin;
 
     auto makeLeaf = [&] {
-        nodes_[nodeIndex].index = std::uint32_t(triangleIds_.size());
-        nodes_[nodeIndex].count = std::uint16_t(count);
-        triangleIds_.insert(triangleIds_.end(), order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end));
+        nodes[nodeIndex].index = std::uint32_t(ids.size());
+        nodes[nodeIndex].count = std::uint16_t(count);
+        ids.insert(ids.end(), order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end));
+        input.progress.add(count);
         return nodeIndex;
     };
-    if (count <= 1 || depth >= kMaxDepth) return makeLeaf();
+    auto children = [&](std::size_t middle, int axis) {
+        nodes[nodeIndex].axis = std::uint16_t(axis);
+        if (count < kParallelBuild) {
+            build(out, order, begin, middle, input, depth + 1);
+            nodes[nodeIndex].index = build(out, order, middle, end, input, depth + 1);
+            return nodeIndex;
+        }
+        // The halves touch disjoint ranges of `order`; the second is built apart and appended.
+        Subtree second;
+        tbb::parallel_invoke([&] { build(out, order, begin, middle, input, depth + 1); },
+                             [&] { build(second, order, middle, end, input, depth + 1); });
+        const std::uint32_t nodeBase = std::uint32_t(nodes.size()), idBase = std::uint32_t(ids.size());
+        for (Node node : second.nodes) {
+            node.index += node.count == 0 ? nodeBase : idBase;
+            nodes.push_back(node);
+        }
+        ids.insert(ids.end(), second.ids.begin(), second.ids.end());
+        out.depth = std::max(out.depth, second.depth);
+        nodes[nodeIndex].index = nodeBase;
+        return nodeIndex;
+    };
+    auto buildMedian = [&] {
+        if (count <= std::size_t(kMaxLeafSize)) return makeLeaf();
+        int axis = 0;
+        for (int a = 1; a < 3; ++a) {
+            if (double(centroidBox.max[a]) - centroidBox.min[a] > double(centroidBox.max[axis]) - centroidBox.min[axis]) axis = a;
+        }
+        const std::size_t middle = begin + count / 2;
+        std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle),
+                         order.begin() + std::ptrdiff_t(end), [&](std::uint32_t l, std::uint32_t r) {
+                             return centroids[l][axis] != centroids[r][axis] ? centroids[l][axis] < centroids[r][axis] : l < r;
+                         });
+        return children(middle, axis);
+    };
+    if (count <= 1) return makeLeaf();
+    // The SAH may peel off one triangle per level (exponentially spaced centroids do that), so once
+    // halving at every level left is just enough to reach kMaxLeafSize before kMaxDepth, the node
+    // splits at the median instead: depth and leaf size stay bounded on any input.
+    int levelsNeeded = 0;
+    while ((std::size_t(kMaxLeafSize) << levelsNeeded) < count) ++levelsNeeded;
+    if (levelsNeeded >= kMaxDepth - depth - 1) return buildMedian();
 
     // Binned SAH: try kBins - 1 planes on each axis, keep the cheapest split.
     int bestAxis = -1, bestPlane = 0;
-    float bestCost = std::numeric_limits<float>::max();
-    const glm::vec3 centroidExtent = centroidBox.max - centroidBox.min;
+    double bestCost = std::numeric_limits<double>::max();
+    const glm::dvec3 centroidExtent = glm::dvec3(centroidBox.max) - glm::dvec3(centroidBox.min); // no float overflow
     // Bins in double, clamped before the conversion to int: at any float span (subnormal extents
     // included) a bin index is always a valid one, never int(inf) or int(NaN).
     auto binOf = [&](float centroid, float lo, double scale) {
@@ -93,8 +165,8 @@ std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, s
         return bin >= double(kBins - 1) ? kBins - 1 : bin > 0.0 ? int(bin) : 0;
     };
     for (int axis = 0; axis < 3; ++axis) {
-        if (!(centroidExtent[axis] > 0.0f)) continue;
-        const double scale = kBins / double(centroidExtent[axis]);
+        if (!(centroidExtent[axis] > 0.0)) continue;
+        const double scale = kBins / centroidExtent[axis];
         if (!std::isfinite(scale)) continue;
         Bounds binBox[kBins];
         std::size_t binCount[kBins] = {};
@@ -105,7 +177,7 @@ std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, s
             ++binCount[bin];
             grow(binBox[bin], boxes[t]);
         }
-        float rightArea[kBins];
+        double rightArea[kBins];
         std::size_t rightCount[kBins];
         Bounds acc = emptyBounds();
         std::size_t accCount = 0;
@@ -121,7 +193,7 @@ std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, s
             grow(acc, binBox[plane - 1]);
             accCount += binCount[plane - 1];
             if (accCount == 0 || rightCount[plane] == 0) continue;
-            const float cost = halfArea(acc) * float(accCount) + rightArea[plane] * float(rightCount[plane]);
+            const double cost = halfArea(acc) * double(accCount) + rightArea[plane] * double(rightCount[plane]);
             if (cost < bestCost) {
                 bestCost = cost;
                 bestAxis = axis;
@@ -130,29 +202,16 @@ std::uint32_t Bvh::build(std::vector<std::uint32_t>& order, std::size_t begin, s
         }
     }
 
-    std::size_t middle;
-    int splitAxis;
-    if (bestAxis >= 0) {
-        const float leafCost = float(count);
-        const float splitCost = kTraversalCost + bestCost / halfArea(box);
-        if (splitCost >= leafCost && count <= std::size_t(kMaxLeafSize)) return makeLeaf();
-        const double scale = kBins / double(centroidExtent[bestAxis]);
-        const float lo = centroidBox.min[bestAxis];
-        auto* split = std::partition(order.data() + begin, order.data() + end,
-                                     [&](std::uint32_t t) { return binOf(centroids[t][bestAxis], lo, scale) < bestPlane; });
-        middle = std::size_t(split - order.data());
-        splitAxis = bestAxis;
-    } else {
-        // All centroids coincide: no plane separates them, so halve the list to bound the leaf size.
-        if (count <= std::size_t(kMaxLeafSize)) return makeLeaf();
-        middle = begin + count / 2;
-        splitAxis = 0;
-    }
-    build(order, begin, middle, centroids, boxes, depth + 1);
-    const std::uint32_t second = build(order, middle, end, centroids, boxes, depth + 1);
-    nodes_[nodeIndex].index = second;
-    nodes_[nodeIndex].axis = std::uint16_t(splitAxis);
-    return nodeIndex;
+    if (bestAxis < 0) return buildMedian(); // all centroids coincide: no plane separates them
+    // A box of zero area (all triangles in one axis-aligned plane segment) splits by count alone.
+    const double area = halfArea(box);
+    const double splitCost = area > 0.0 ? kTraversalCost + bestCost / area : kTraversalCost;
+    if (splitCost >= double(count) && count <= std::size_t(kMaxLeafSize)) return makeLeaf();
+    const double scale = kBins / centroidExtent[bestAxis];
+    const float lo = centroidBox.min[bestAxis];
+    auto* split = std::partition(order.data() + begin, order.data() + end,
+                                 [&](std::uint32_t t) { return binOf(centroids[t][bestAxis], lo, scale) < bestPlane; });
+    return children(std::size_t(split - order.data()), bestAxis);
 }
 
 void Bvh::intersect(RayPacket& packet) const {

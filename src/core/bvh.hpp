@@ -1,7 +1,9 @@
 #pragma once
 #include "sdfgen/mesh.hpp"
+#include "core/parallel.hpp"
 #include "core/ray.hpp"
 #include "core/simd.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -35,13 +37,18 @@ struct PointPacket {
 
 // The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of
 // axis-aligned boxes (each inner node splits its triangles along one axis), built with the binned
-// surface area heuristic and stored as a flat depth-first node array.
+// surface area heuristic and stored as a flat depth-first node array. Exact copies of a triangle
+// are held once, as their first copy (the lowest index: queries report it, as brute force would).
+// Any finite float input builds: binning works in double, and skewed inputs fall back to median
+// splits, so depth stays below kMaxDepth and leaves within kMaxLeafSize.
 class Bvh {
 public:
     static constexpr int kMaxLeafSize = 8;
     static constexpr int kMaxDepth = 48;
 
-    explicit Bvh(const Mesh& mesh);
+    // Built on control.threads threads, reporting progress (triangles placed in leaves); throws
+    // Cancelled soon after control.cancel is raised.
+    explicit Bvh(const Mesh& mesh, const RunControl& control = {});
 
     // Nearest hit with 0 <= t < tMax along origin + t * direction; false when there is none.
     bool intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const;
@@ -74,6 +81,11 @@ public:
     }
 
     std::size_t nodeCount() const { return nodes_.size(); }
+    // Distinct triangles held: exact copies of a triangle are stored once (see TriangleCopies).
+    std::size_t triangleCount() const { return triangleIds_.size(); }
+    // How often a triangle the tree reports (a first copy) occurs in the mesh: what a visit
+    // stands for. 0 for the later copies, which the tree never reports.
+    std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }
     int depth() const { return depth_; }
     const Bounds& bounds() const { return bounds_; }
 
@@ -87,8 +99,20 @@ private:
     };
     static_assert(sizeof(Node) == 32, "nodes are half a cache line");
 
-    std::uint32_t build(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
-                        const std::vector<glm::vec3>& centroids, const std::vector<Bounds>& boxes, int depth);
+    // Nodes in depth-first order with node and triangle indices relative to the subtree; big
+    // subtrees are built in parallel and spliced, which gives the serial layout exactly.
+    struct Subtree {
+        std::vector<Node> nodes;
+        std::vector<std::uint32_t> ids;
+        int depth = 0;
+    };
+    struct BuildInput {
+        const std::vector<glm::vec3>& centroids;
+        const std::vector<Bounds>& boxes;
+        ProgressCounter& progress;
+    };
+    static std::uint32_t build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
+                               const BuildInput& input, int depth);
 
     std::vector<Node> nodes_;
     // A triangle set up for branch-free point distance: corner a, edges, unit normal, the in-plane
@@ -103,6 +127,7 @@ private:
     std::vector<DistanceTriangle> distanceTriangles_; // in leaf order
     std::vector<std::uint32_t> leafSlot_;     // Mesh triangle index -> leaf order
     std::vector<std::uint32_t> triangleIds_;  // leaf order -> Mesh triangle index
+    std::vector<std::uint32_t> copies_;       // Mesh triangle index -> its count if a first copy, else 0
     Bounds bounds_;
     int depth_ = 0;
 };

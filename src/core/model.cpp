@@ -21,19 +21,23 @@
 namespace sdfgen {
 
 struct Model::Impl {
-    explicit Impl(Mesh m) : mesh(std::move(m)), tree(mesh), wide(mesh, tree) {}
+    Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control), wide(mesh, tree) {}
 
-    const MeshTopology& topology() const {
-        std::call_once(topologyOnce, [&] { topology_.emplace(mesh); });
+    // Built on first use, with the control of that use (a cancelled build is retried by the next).
+    const MeshTopology& topology(const RunControl& control = {}) const {
+        std::call_once(topologyOnce, [&] { topology_.emplace(mesh, control); });
         return *topology_;
     }
-    const MeshCheck& check() const {
-        std::call_once(checkOnce, [&] { check_ = topology().check(mesh, tree); });
+    const MeshCheck& check(const RunControl& control = {}) const {
+        std::call_once(checkOnce, [&] {
+            const MeshTopology& built = topology(control.phase(0.0, 0.5));
+            check_ = built.check(mesh, tree, control.phase(0.5, 1.0));
+        });
         return check_;
     }
-    const std::vector<Cap>& caps() const {
-        std::call_once(capsOnce, [&] { caps_ = makeCaps(topology()); });
-        return caps_;
+    const WindingCaps& caps(const RunControl& control = {}) const {
+        std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
+        return *caps_;
     }
 
     Mesh mesh;
@@ -44,25 +48,28 @@ private:
     mutable std::once_flag topologyOnce, checkOnce, capsOnce;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
-    mutable std::vector<Cap> caps_;
+    mutable std::optional<WindingCaps> caps_;
 };
 
 Model Model::load(const std::string& path, const RunControl& control) { return Model(loadMesh(path), control); }
 
-Model::Model(Mesh mesh, const RunControl&) : impl_(std::make_unique<Impl>(std::move(mesh))) {}
+Model::Model(Mesh mesh, const RunControl& control) : impl_(std::make_unique<Impl>(std::move(mesh), control)) {}
 Model::~Model() = default;
 Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
 
 const Mesh& Model::mesh() const { return impl_->mesh; }
 
-const MeshCheck& Model::check(const RunControl&) const { return impl_->check(); }
+const MeshCheck& Model::check(const RunControl& control) const { return impl_->check(control); }
 
 BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) const {
     const Impl& m = *impl_;
     const Grid grid = makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
-    const BakeContext context{m.mesh, m.tree, m.wide, grid, settings, [&m]() -> const MeshTopology& { return m.topology(); },
-                              [&m]() -> const MeshCheck& { return m.check(); }};
+    // Topology and check, when a method needs them, are built inside the bake's phases: they honour
+    // its cancel flag and threads, and report no progress of their own (it would run backwards).
+    const RunControl lazy = quiet(control);
+    const BakeContext context{m.mesh, m.tree, m.wide, grid, settings, [&m, &lazy]() -> const MeshTopology& { return m.topology(lazy); },
+                              [&m, &lazy]() -> const MeshCheck& { return m.check(lazy); }};
     return sdfgen::bake(context, control);
 }
 
@@ -73,7 +80,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
     bool flipped = false; // as bake: auto swaps inside and outside of an inside-out mesh
     if (out.signedDistance && sign == SignMethod::Auto) {
-        flipped = m.check().insideOut;
+        flipped = m.check(quiet(control)).insideOut;
         sign = resolveAutoSign(m.check());
     }
     if (out.signedDistance && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
@@ -86,8 +93,8 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     const bool needNearest = out.signedDistance || out.unsignedDistance || out.closestPoint || out.triangle;
     const bool needWinding = out.windingNumber || (out.signedDistance && sign == SignMethod::Winding);
     // Build what the workers share before they start.
-    if (needWinding) m.caps();
-    if (out.signedDistance && sign == SignMethod::Pseudonormal) m.topology();
+    if (needWinding) m.caps(quiet(control));
+    if (out.signedDistance && sign == SignMethod::Pseudonormal) m.topology(quiet(control));
 
     // Points are visited in Morton order of their position, so that each point's search is seeded
     // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
@@ -141,13 +148,13 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     if (sign == SignMethod::Pseudonormal) {
                         inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                     } else {
-                        inside = insideFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
+                        inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
                     }
                     out.signedDistance[index] = inside ? -distance : distance;
                 }
             }
             if (out.windingNumber) {
-                out.windingNumber[index] = windingFromCrossings(m.caps(), p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                out.windingNumber[index] = m.caps().winding(p, crossingsAhead(mesh, m.tree, m.caps(), p));
             }
         }
     });

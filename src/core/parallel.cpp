@@ -16,11 +16,39 @@ RunControl RunControl::phase(double from, double to) const {
     return part;
 }
 
+ProgressCounter::ProgressCounter(const RunControl& control, std::size_t total)
+    : control_(control), total_(std::max<std::size_t>(total, 1)), step_(std::max<std::size_t>(1, total / 200)) {}
+
+void ProgressCounter::checkCancel() const {
+    if (control_.cancel && control_.cancel->load(std::memory_order_relaxed)) throw Cancelled();
+}
+
+void ProgressCounter::add(std::size_t units) {
+    checkCancel();
+    const std::size_t before = done_.fetch_add(units, std::memory_order_relaxed), after = before + units;
+    if (!control_.progress || before / step_ == after / step_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (after <= reported_) return; // a later count was reported first
+    reported_ = after;
+    control_.progress(std::min(1.0, double(after) / double(total_)));
+}
+
+void ProgressCounter::finish() {
+    if (control_.progress) control_.progress(1.0);
+}
+
+RunControl quiet(const RunControl& control) {
+    RunControl part = control;
+    part.progress = nullptr;
+    return part;
+}
+
 void parallelFor(std::size_t count, const RunControl& control, const std::function<void(std::size_t)>& body) {
     const int threads = control.threads > 0 ? control.threads : tbb::this_task_arena::max_concurrency();
     std::atomic<std::size_t> finished{0};
     std::atomic<bool> stopped{false};
     std::mutex progressMutex;
+    std::size_t reported = 0; // under progressMutex: reports never run backwards
     // About 200 reports in all: enough for a smooth bar, few enough to cost nothing.
     const std::size_t reportEvery = std::max<std::size_t>(1, count / 200);
     auto cancelled = [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); };
@@ -37,7 +65,10 @@ void parallelFor(std::size_t count, const RunControl& control, const std::functi
                 body(i);
                 const std::size_t done = finished.fetch_add(1, std::memory_order_relaxed) + 1;
                 if (control.progress && done % reportEvery == 0 && progressMutex.try_lock()) {
-                    control.progress(double(done) / double(count));
+                    if (done > reported) {
+                        reported = done;
+                        control.progress(double(done) / double(count));
+                    }
                     progressMutex.unlock();
                 }
             }

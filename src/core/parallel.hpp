@@ -1,8 +1,10 @@
 #pragma once
 #include "sdfgen/run_control.hpp"
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
+#include <mutex>
 
 namespace sdfgen {
 
@@ -10,5 +12,27 @@ namespace sdfgen {
 // finish and checking the cancel flag between items; throws Cancelled if it was raised. Items must
 // be independent so that the result never depends on the thread count or the schedule.
 void parallelFor(std::size_t count, const RunControl& control, const std::function<void(std::size_t)>& body);
+
+// Progress and cancel for work done in units from any number of threads (a serial loop, a tree
+// build): about 200 reports in all, never backwards, and Cancelled thrown from add() or
+// checkCancel() once the cancel flag is raised.
+class ProgressCounter {
+public:
+    ProgressCounter(const RunControl& control, std::size_t total);
+    void add(std::size_t units);
+    void checkCancel() const;
+    void finish(); // reports 1 (all done)
+
+private:
+    const RunControl& control_;
+    std::size_t total_, step_;
+    std::atomic<std::size_t> done_{0};
+    std::mutex mutex_;
+    std::size_t reported_ = 0; // under mutex_
+};
+
+// A copy of `control` that keeps its threads and cancel flag but reports no progress: for work
+// done lazily inside another phase, whose own fractions would run backwards in that phase's bar.
+RunControl quiet(const RunControl& control);
 
 } // namespace sdfgen

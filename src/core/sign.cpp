@@ -3,8 +3,11 @@
 
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <numeric>
 
 namespace sdfgen {
 
@@ -44,80 +47,234 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
     return 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
 }
 
-// Upper bound of |winding number| of a fan seen from p: area / (4π d²), d the distance to the fan.
-double fanBound(const glm::dvec3& p, const Cap& cap) {
-    const double d = glm::length(p - cap.centre) - cap.radius;
-    return d > 0.0 ? cap.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+// The cap's winding number at p, times its weight.
+double fanWinding(const glm::dvec3& p, const Cap& cap) { return cap.weight * fanSolidAngle(p, cap) / (4.0 * M_PI); }
+
+Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
+    Cap cap;
+    cap.loop = std::move(loop);
+    cap.weight = weight;
+    for (const glm::dvec3& v : cap.loop) cap.centre += v;
+    cap.centre /= double(cap.loop.size());
+    cap.lo = cap.hi = cap.centre;
+    for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+        const glm::dvec3& from = cap.loop[i];
+        const glm::dvec3& to = cap.loop[(i + 1) % cap.loop.size()];
+        cap.lo = glm::min(cap.lo, from);
+        cap.hi = glm::max(cap.hi, from);
+        cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
+    }
+    return cap;
+}
+
+// Closes `loop` by fans of at most kMaxCapEdges edges each, all near the loop: its runs of
+// kMaxCapEdges edges, each closed by the chord back to the run's start, and then (recursively)
+// the polygon of those chords, whose edges cancel the chords. One fan over a long loop (a
+// terrain's border) would span the whole sheet: every sample near the sheet would be near it and
+// pay for its whole loop; small fans stay near the border and are bounded from afar.
+void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps) {
+    constexpr std::size_t kEdges = WindingCaps::kMaxCapEdges;
+    if (loop.size() <= kEdges + 1) {
+        caps.push_back(makeCap(loop, weight));
+        return;
+    }
+    std::vector<glm::dvec3> coarse;
+    for (std::size_t start = 0; start < loop.size(); start += kEdges) {
+        const std::size_t end = std::min(start + kEdges, loop.size()); // the run's last vertex is loop[end % size]
+        std::vector<glm::dvec3> run(loop.begin() + std::ptrdiff_t(start), loop.begin() + std::ptrdiff_t(end));
+        run.push_back(loop[end % loop.size()]);
+        caps.push_back(makeCap(std::move(run), weight));
+        coarse.push_back(loop[start]);
+    }
+    addLoop(coarse, weight, caps);
+}
+
+// A node left unopened, with its bound.
+struct Pending {
+    double bound;
+    std::uint32_t node;
+    bool operator<(const Pending& other) const { return bound < other.bound; }
+};
+
+// Candidate rows of a coordinate range [lo, hi] on an axis with `count` samples from `first` at
+// spacing h: one wider each way (the exact test decides), clamped before any conversion to int.
+std::pair<int, int> sampleRange(double lo, double hi, double first, double h, int count) {
+    const double from = std::floor((lo - first) / h) - 1.0, to = std::ceil((hi - first) / h) + 1.0;
+    return {int(std::clamp(from, 0.0, double(count))), int(std::clamp(to, -1.0, double(count - 1)))};
 }
 
 } // namespace
 
-std::vector<Cap> makeCaps(const MeshTopology& topology) {
-    std::vector<Cap> caps;
-    for (const std::vector<std::uint32_t>& loop : topology.boundaryLoops()) {
-        Cap cap;
-        cap.centre = glm::dvec3(0.0);
-        for (std::uint32_t v : loop) cap.centre += topology.position(v);
-        cap.centre /= double(loop.size());
-        for (std::size_t i = 0; i < loop.size(); ++i) {
-            const glm::dvec3& from = topology.position(loop[i]);
-            const glm::dvec3& to = topology.position(loop[(i + 1) % loop.size()]);
-            cap.loop.push_back(from);
-            cap.radius = std::max(cap.radius, glm::length(from - cap.centre));
-            cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
-        }
-        caps.push_back(std::move(cap));
+WindingCaps::WindingCaps(const MeshTopology& topology) {
+    // Equal loops (rotated to start at their smallest vertex) become one cap with a weight, so that
+    // a stack of copies of an open triangle is one fan, evaluated once.
+    std::map<std::vector<std::uint32_t>, int> loops;
+    for (std::vector<std::uint32_t> loop : topology.boundaryLoops()) {
+        std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+        ++loops[loop];
     }
-    return caps;
+    for (const auto& [loop, weight] : loops) {
+        std::vector<glm::dvec3> points;
+        for (std::uint32_t v : loop) points.push_back(topology.position(v));
+        addLoop(points, weight, caps_);
+    }
+    if (caps_.empty()) return;
+    std::vector<std::uint32_t> order(caps_.size());
+    std::iota(order.begin(), order.end(), 0u);
+    nodes_.reserve(2 * caps_.size());
+    nodes_.push_back({});
+    build(0, order, 0, order.size());
 }
 
-bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead, int orientation) {
-    // The fans' winding number is subtracted only where it could reach 1/2: near fans exactly,
-    // far ones within their bounds, and all exactly when the bounds leave doubt.
-    double far = 0.0;
-    for (const Cap& cap : caps) far += fanBound(p, cap);
-    if (far < 0.45) return orientation * ahead >= 1;
-    double near = 0.0;
-    far = 0.0;
-    for (const Cap& cap : caps) {
-        const double bound = fanBound(p, cap);
-        if (bound < 0.02) far += bound;
-        else near += fanSolidAngle(p, cap) / (4.0 * M_PI);
+void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) {
+    Node node{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max()), 0.0, 0, false};
+    glm::dvec3 centreLo = node.lo, centreHi = node.hi;
+    for (std::size_t i = begin; i < end; ++i) {
+        const Cap& c = caps_[order[i]];
+        node.lo = glm::min(node.lo, c.lo);
+        node.hi = glm::max(node.hi, c.hi);
+        centreLo = glm::min(centreLo, c.centre);
+        centreHi = glm::max(centreHi, c.centre);
+        node.area += std::abs(c.weight) * c.area;
     }
-    double w = double(ahead) - near;
-    if (std::fabs(orientation * w - 0.5) <= far) {
-        for (const Cap& cap : caps) {
-            if (fanBound(p, cap) < 0.02) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+    if (end - begin == 1) {
+        node.first = order[begin];
+        node.leaf = true;
+        nodes_[index] = node;
+        return;
+    }
+    // Median split along the centres' longest extent: depth log2(caps), leaves of one cap.
+    const glm::dvec3 extent = centreHi - centreLo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const std::size_t middle = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle), order.begin() + std::ptrdiff_t(end),
+                     [&](std::uint32_t l, std::uint32_t r) {
+                         const double cl = caps_[l].centre[axis], cr = caps_[r].centre[axis];
+                         return cl != cr ? cl < cr : l < r;
+                     });
+    node.first = std::uint32_t(nodes_.size());
+    nodes_[index] = node;
+    nodes_.push_back({});
+    nodes_.push_back({});
+    build(node.first, order, begin, middle);
+    build(node.first + 1, order, middle, end);
+}
+
+double WindingCaps::bound(const Node& node, const glm::dvec3& p, double reach) const {
+    const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0))) - reach;
+    return d > 0.0 ? node.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+}
+
+bool WindingCaps::inside(const glm::dvec3& p, int ahead, int orientation, std::size_t* evaluations) const {
+    if (nodes_.empty()) return orientation * ahead >= 1; // a closed surface: w is the integer count
+    // w = ahead - fans. Nodes whose box holds p are opened (fans measured) at once; every other
+    // node waits in `pending` with its bound, and while their sum leaves orientation * w on either
+    // side of 1/2, the loosest is opened. The same steps for the same p, ahead and caps, wherever
+    // the call comes from: the bake's samples and point queries agree to the bit.
+    thread_local std::vector<Pending> pending;
+    pending.clear();
+    double w = double(ahead), farSum = 0.0;
+    std::size_t measured = 0;
+    auto measure = [&](const Node& leaf) {
+        w -= fanWinding(p, caps_[leaf.first]);
+        ++measured;
+    };
+    auto add = [&](std::uint32_t start) {
+        std::uint32_t stack[128];
+        int top = 0;
+        stack[top++] = start;
+        while (top > 0) {
+            const std::uint32_t index = stack[--top];
+            const Node& node = nodes_[index];
+            const double b = bound(node, p, 0.0);
+            if (b <= 0.0) continue; // no area
+            if (std::isfinite(b)) {
+                pending.push_back({b, index});
+                farSum += b;
+            } else if (node.leaf) {
+                measure(node);
+            } else {
+                stack[top++] = node.first + 1;
+                stack[top++] = node.first;
+            }
+        }
+    };
+    // The margin covers the rounding of the running sums.
+    auto doubtful = [&] { return std::fabs(orientation * w - 0.5) <= farSum * (1.0 + 1e-12) + 1e-15; };
+    add(0);
+    if (doubtful()) { // most samples are decided here; the others refine, loosest node first
+        std::make_heap(pending.begin(), pending.end());
+        while (!pending.empty() && doubtful()) {
+            std::pop_heap(pending.begin(), pending.end());
+            const Pending loosest = pending.back();
+            pending.pop_back();
+            farSum -= loosest.bound;
+            const Node& node = nodes_[loosest.node];
+            if (node.leaf) {
+                measure(node);
+                continue;
+            }
+            const std::size_t before = pending.size();
+            add(node.first);
+            add(node.first + 1);
+            for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
         }
     }
+    if (evaluations) *evaluations += measured;
     return orientation * w > 0.5;
 }
 
-double windingFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead) {
+bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
+    // Nodes bounded below kFarBound are summed, not opened; a fan the ball may touch (or that is
+    // bounded above kFarBound) ends the search. With the sum below 0.45, every point of the ball
+    // has orientation * w within 0.45 of the integer orientation * ahead, so inside() can only
+    // answer orientation * ahead >= 1 there.
+    constexpr double kFarBound = 0.01, kMaxSum = 0.45;
+    if (nodes_.empty()) return true;
+    double sum = 0.0;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        const double b = bound(node, p, reach);
+        if (b < kFarBound) {
+            if ((sum += b) >= kMaxSum) return false;
+        } else if (node.leaf) {
+            return false;
+        } else {
+            stack[top++] = node.first + 1;
+            stack[top++] = node.first;
+        }
+    }
+    return true;
+}
+
+double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
     double w = double(ahead);
-    for (const Cap& cap : caps) w -= fanSolidAngle(p, cap) / (4.0 * M_PI);
+    for (const Cap& cap : caps_) w -= fanWinding(p, cap);
     return w;
 }
 
-int crossingsAhead(const Mesh& mesh, const Bvh& tree, const std::vector<Cap>& caps, const glm::dvec3& p) {
+int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
     // The same line and the same predicates as insideByWinding's row through p, so that a query at a
     // sample's position counts exactly the crossings its row scan counts ahead of it.
     const glm::vec3 line(p); // rows pass through float (y, z)
     int ahead = 0;
-    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
         int orientation;
         glm::dvec3 w;
         if (!pointInTriangle2d({line.y, line.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
-        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation;
+        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
     };
     Bounds ray;
     ray.min = glm::vec3(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), line.y, line.z);
     ray.max = glm::vec3(std::numeric_limits<float>::infinity(), line.y, line.z);
     tree.forEachOverlap(ray, [&](std::uint32_t t) {
-        count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+        count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), int(tree.copies(t)));
     });
-    for (const Cap& cap : caps) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight);
     }
     return ahead;
 }
@@ -131,60 +288,135 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
 }
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control, bool flipped) {
+                                          const RunControl& control, bool flipped, WindingStats* stats) {
     const int orientation = flipped ? -1 : 1;
-    const std::vector<Cap> caps = makeCaps(topology);
+    const WindingCaps caps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
 
-    // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans.
+    // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans,
+    //    copies of a triangle counted once with their number as the weight.
+    struct ScanTriangle {
+        glm::dvec3 a, b, c;
+        int weight;
+    };
+    std::vector<std::uint32_t> firstCopies;
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        if (topology.copies(t)) firstCopies.push_back(t);
+    }
+    std::vector<ScanTriangle> capTriangles;
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            capTriangles.push_back({cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight});
+        }
+    }
+    const std::size_t scanCount = firstCopies.size() + capTriangles.size();
+    auto scanTriangle = [&](std::size_t index) {
+        if (index >= firstCopies.size()) return capTriangles[index - firstCopies.size()];
+        const std::uint32_t t = firstCopies[index];
+        return ScanTriangle{glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)),
+                            int(topology.copies(t))};
+    };
     struct Crossing {
         double x;
-        int sign; // +1 where the surface faces +x: moving along +x leaves the solid there
+        int sign; // +weight where the surface faces +x: moving along +x leaves the solid there
     };
     std::vector<std::vector<Crossing>> rows(std::size_t(ny) * std::size_t(nz));
     const glm::dvec3 first = localPosition(mesh, grid, 0, 0, 0);
     const double h = grid.voxel / mesh.unit;
-    auto addTriangle = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-        // Candidate rows from the projected bounds, one wider each way; the exact test decides.
-        const double ylo = std::min({a.y, b.y, c.y}), yhi = std::max({a.y, b.y, c.y});
-        const double zlo = std::min({a.z, b.z, c.z}), zhi = std::max({a.z, b.z, c.z});
-        const int j0 = std::max(0, int(std::floor((ylo - first.y) / h)) - 1);
-        const int j1 = std::min(ny - 1, int(std::ceil((yhi - first.y) / h)) + 1);
-        const int k0 = std::max(0, int(std::floor((zlo - first.z) / h)) - 1);
-        const int k1 = std::min(nz - 1, int(std::ceil((zhi - first.z) / h)) + 1);
-        for (int k = k0; k <= k1; ++k) {
-            for (int j = j0; j <= j1; ++j) {
-                const glm::vec3 s(localPosition(mesh, grid, 0, j, k)); // rows pass through float (y, z)
-                int orientation;
-                glm::dvec3 w;
-                if (!pointInTriangle2d({s.y, s.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) continue;
-                rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back({w.x * a.x + w.y * b.x + w.z * c.x, orientation});
+    // Parallel over bands of z planes: each band's rows are written by its item alone, from the
+    // triangles bucketed to it in index order (so each row's crossings are the same for any
+    // thread count).
+    constexpr int kBandPlanes = 4;
+    const int bands = (nz + kBandPlanes - 1) / kBandPlanes;
+    std::vector<std::pair<int, int>> planes(scanCount);
+    std::vector<std::uint32_t> bandStart(std::size_t(bands) + 1, 0);
+    for (std::size_t index = 0; index < scanCount; ++index) {
+        const ScanTriangle s = scanTriangle(index);
+        planes[index] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
+        if (planes[index].first > planes[index].second) continue;
+        for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) ++bandStart[std::size_t(band) + 1];
+    }
+    for (int band = 0; band < bands; ++band) bandStart[std::size_t(band) + 1] += bandStart[std::size_t(band)];
+    std::vector<std::uint32_t> bandTriangles(bandStart.back());
+    {
+        std::vector<std::uint32_t> fill(bandStart.begin(), bandStart.end() - 1);
+        for (std::size_t index = 0; index < scanCount; ++index) {
+            if (planes[index].first > planes[index].second) continue;
+            for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) {
+                bandTriangles[fill[std::size_t(band)]++] = std::uint32_t(index);
             }
         }
-    };
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        addTriangle(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
     }
-    for (const Cap& cap : caps) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) addTriangle(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre);
-    }
-
-    // 2. Per row: the closed surface's winding number is the signed count of crossings ahead (+x);
-    //    then the fans' winding number is subtracted where it might matter.
-    std::vector<std::uint8_t> inside(grid.sampleCount());
-    parallelFor(rows.size(), control, [&](std::size_t row) {
-        const int j = int(row % std::size_t(ny)), k = int(row / std::size_t(ny));
-        std::vector<Crossing>& crossings = rows[row];
-        std::sort(crossings.begin(), crossings.end(), [](const Crossing& l, const Crossing& r) { return l.x > r.x; });
-        int ahead = 0;
-        std::size_t next = 0;
-        for (int i = nx - 1; i >= 0; --i) {
-            const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
-            while (next < crossings.size() && crossings[next].x > p.x) ahead += crossings[next++].sign;
-            const bool in = insideFromCrossings(caps, p, ahead, orientation);
-            inside[grid.index(i, j, k)] = in;
+    parallelFor(std::size_t(bands), control.phase(0.0, 0.3), [&](std::size_t band) {
+        const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
+        for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
+            const ScanTriangle s = scanTriangle(bandTriangles[n]);
+            const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
+            const int k0 = std::max(bandLo, planes[bandTriangles[n]].first), k1 = std::min(bandHi, planes[bandTriangles[n]].second);
+            for (int k = k0; k <= k1; ++k) {
+                for (int j = j0; j <= j1; ++j) {
+                    const glm::vec3 q(localPosition(mesh, grid, 0, j, k)); // rows pass through float (y, z)
+                    int orientation2d;
+                    glm::dvec3 w;
+                    if (!pointInTriangle2d({q.y, q.z}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
+                    rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back(
+                        {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
+                }
+            }
         }
     });
+    planes = {};
+    bandTriangles = {};
+
+    // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
+    //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
+    //    subtracted wherever it might matter.
+    constexpr int kBrickEdge = 4;
+    std::vector<std::uint8_t> inside(grid.sampleCount());
+    std::atomic<std::size_t> fanEvaluations{0};
+    const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
+    parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
+        const int jb = kBrickEdge * int(block % std::size_t(blocksY)), kb = kBrickEdge * int(block / std::size_t(blocksY));
+        const int je = std::min(ny, jb + kBrickEdge), ke = std::min(nz, kb + kBrickEdge);
+        std::vector<int> ahead(std::size_t(kBrickEdge * kBrickEdge) * std::size_t(nx));
+        auto rowAhead = [&](int j, int k) { return &ahead[std::size_t((k - kb) * kBrickEdge + (j - jb)) * std::size_t(nx)]; };
+        for (int k = kb; k < ke; ++k) {
+            for (int j = jb; j < je; ++j) {
+                std::vector<Crossing>& crossings = rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)];
+                std::sort(crossings.begin(), crossings.end(), [](const Crossing& l, const Crossing& r) { return l.x > r.x; });
+                int* counts = rowAhead(j, k);
+                int count = 0;
+                std::size_t next = 0;
+                for (int i = nx - 1; i >= 0; --i) {
+                    const double x = localPosition(mesh, grid, i, j, k).x;
+                    while (next < crossings.size() && crossings[next].x > x) count += crossings[next++].sign;
+                    counts[i] = count;
+                }
+                std::vector<Crossing>().swap(crossings); // done with this row
+            }
+        }
+        std::size_t evaluations = 0;
+        for (int ib = 0; ib < nx; ib += kBrickEdge) {
+            const int ie = std::min(nx, ib + kBrickEdge);
+            const glm::dvec3 lo = localPosition(mesh, grid, ib, jb, kb), hi = localPosition(mesh, grid, ie - 1, je - 1, ke - 1);
+            // A brick no fan can reach is decided by the counts (inside() would answer the same).
+            const bool byCounts = caps.farFromEveryFan(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) * (1.0 + 1e-9));
+            for (int k = kb; k < ke; ++k) {
+                for (int j = jb; j < je; ++j) {
+                    const int* counts = rowAhead(j, k);
+                    for (int i = ib; i < ie; ++i) {
+                        inside[grid.index(i, j, k)] = byCounts ? orientation * counts[i] >= 1
+                                                               : caps.inside(localPosition(mesh, grid, i, j, k), counts[i], orientation, &evaluations);
+                    }
+                }
+            }
+        }
+        fanEvaluations += evaluations;
+    });
+    if (stats) {
+        stats->caps = caps.caps().size();
+        stats->fanEvaluations = fanEvaluations;
+    }
     return inside;
 }
 

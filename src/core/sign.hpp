@@ -10,41 +10,86 @@
 
 namespace sdfgen {
 
-// A fan closing one boundary loop, with what bounds its winding number from afar.
-// Its triangles are (loop[i + 1], loop[i], centre): the loop reversed, so mesh + fans is closed.
+// A fan closing one boundary loop (or a run of one), counted `weight` times. Its triangles are
+// (loop[i + 1], loop[i], centre): the loop reversed, so that mesh + fans is closed.
 struct Cap {
     std::vector<glm::dvec3> loop;
-    glm::dvec3 centre;
-    double radius = 0; // every point of the fan is within this of centre
+    glm::dvec3 centre{0.0};
+    glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
     double area = 0;
+    int weight = 1; // equal loops (copies of open triangles) share one cap
 };
 
-// One fan per boundary loop of the mesh: the mesh with its fans is closed.
-std::vector<Cap> makeCaps(const MeshTopology& topology);
+// The fans that close a mesh's boundary, and a bounding-box hierarchy over them that bounds their
+// winding number from afar: seen from a point at distance d > 0 from a node's box, everything
+// under the node has |winding number| <= area / (4π d²) (a surface's solid angle is at most its
+// area over the squared distance to its nearest point). Boxes, not spheres: the small fans along a
+// border are slivers, and a sphere around one would reach far across the sheet.
+class WindingCaps {
+public:
+    // Equal boundary loops become one cap with a weight; loops longer than kMaxCapEdges are closed
+    // by several small fans near the loop (runs of it closed by chords, then the chords' polygon).
+    static constexpr std::size_t kMaxCapEdges = 4;
 
-// Inside flag and exact winding number at p, given `ahead`, the signed count of crossings of the
-// mesh and its fans along +x from p (the closed surface's winding number): the fans' own winding
-// number is subtracted, in insideFromCrossings only where it could move w across 1/2. Orientation -1
-// tells inside by -w > 1/2, for a mesh that is inside out.
-bool insideFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead, int orientation = 1);
-double windingFromCrossings(const std::vector<Cap>& caps, const glm::dvec3& p, int ahead);
+    explicit WindingCaps(const MeshTopology& topology);
+
+    const std::vector<Cap>& caps() const { return caps_; }
+    bool empty() const { return caps_.empty(); }
+
+    // Inside flag at p, given `ahead`, the signed count of crossings of the mesh and the fans along
+    // +x from p (the closed surface's winding number): inside where orientation * w > 1/2, w the
+    // exact winding number (ahead minus the fans'). Lazy: fans are measured only while the bounds of
+    // the rest leave doubt, loosest node first, down to every fan exactly; so the answer is that of
+    // w in double and p pays only for the fans that can move w across 1/2. Orientation -1 is for a
+    // mesh that is inside out. `evaluations` (when given) counts the fans measured.
+    bool inside(const glm::dvec3& p, int ahead, int orientation, std::size_t* evaluations = nullptr) const;
+    // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
+    // to move the winding number by 0.45 (then inside() returns orientation * ahead >= 1 there).
+    bool farFromEveryFan(const glm::dvec3& p, double reach) const;
+    // The exact winding number at p given `ahead`: every fan measured.
+    double winding(const glm::dvec3& p, int ahead) const;
+
+private:
+    struct Node {
+        glm::dvec3 lo, hi;
+        double area;         // the sum of |weight| * area below
+        std::uint32_t first; // inner: first child (the second is first + 1); leaf: the cap
+        bool leaf;
+    };
+    void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    // The winding-number bound of a node for every point within `reach` of p (infinite when the
+    // ball touches the node's box).
+    double bound(const Node& node, const glm::dvec3& p, double reach) const;
+
+    std::vector<Cap> caps_;
+    std::vector<Node> nodes_;
+};
 
 // `ahead` for one point p (local coordinates), from the tree: what insideByWinding's row scan
-// finds for a sample at p.
-int crossingsAhead(const Mesh& mesh, const Bvh& tree, const std::vector<Cap>& caps, const glm::dvec3& p);
+// finds for a sample at p (copies of a triangle and caps counted with their weight).
+int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p);
+
+// What the winding sign did, for tests and benchmarks.
+struct WindingStats {
+    std::size_t caps = 0;           // fans closing the boundary (equal loops share one, long ones are split)
+    std::size_t fanEvaluations = 0; // fan solid angles measured, over all samples
+};
 
 // Inside flags (1 = inside) for every sample of a grid, by one of the sign methods.
 
 // The generalized winding number w (Jacobson et al. 2013), inside where w > 1/2, computed exactly.
-// The mesh is closed with a fan over each boundary loop; the closed surface's winding number is an
-// integer, counted for whole rows at once from the signed crossings of each row's line (robust 2D
-// point-in-triangle tests in double with symbolic tie-breaking, so shared edges count once). The
-// fans' own winding number is subtracted wherever it could reach 1/2, bounded by area / distance²,
-// exactly in double; elsewhere it cannot change the answer. Robust to holes, self-intersections,
-// overlapping shells and flipped parts; exact (no hierarchy error) and linear in samples.
-// With `flipped`, inside is where -w > 1/2: the signs of the mesh with every face flipped.
+// The mesh is closed with small fans over its boundary loops; the closed surface's winding number
+// is an integer, counted for whole rows at once from the signed crossings of each row's line
+// (robust 2D point-in-triangle tests in double with symbolic tie-breaking, so shared edges count
+// once; copies of a triangle count once with their number as weight), scanned in parallel by bands
+// of z planes. The fans' own winding number is subtracted wherever it could move w across 1/2
+// (WindingCaps::inside): a brick of 4³ samples that no fan can reach is decided by the counts
+// alone, every other sample opens the fan tree lazily. So signs are those of the exact w, and a
+// sample pays only for the fans near it. Robust to holes, self-intersections, overlapping shells
+// and flipped parts. With `flipped`, inside is where -w > 1/2: the signs of the mesh with every
+// face flipped.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control, bool flipped = false);
+                                          const RunControl& control, bool flipped = false, WindingStats* stats = nullptr);
 
 // The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
 // for closed, manifold, consistently oriented meshes without self-intersections.

@@ -6,6 +6,8 @@
 #include "core/sign.hpp"
 #include "sdfgen/error.hpp"
 
+#include <cstdlib>
+
 namespace sdfgen {
 
 namespace {
@@ -15,14 +17,22 @@ namespace {
 std::vector<std::uint8_t> windingSignOnDevice(const BakeContext& context, const RunControl& control) {
     const Mesh& mesh = context.mesh;
     const Grid& grid = context.grid;
-    const std::vector<Cap> caps = makeCaps(context.topology());
+    const WindingCaps caps(context.topology());
     std::vector<glm::dvec3> closed;
     closed.reserve(3 * mesh.triangleCount());
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         closed.insert(closed.end(), {glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2))});
     }
-    for (const Cap& cap : caps) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) closed.insert(closed.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+    // A cap shared by equal loops counts once per loop, as each loop's own fan would.
+    for (const Cap& cap : caps.caps()) {
+        for (int copy = 0; copy < std::abs(cap.weight); ++copy) {
+            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+                const glm::dvec3& a = cap.loop[(i + 1) % cap.loop.size()];
+                const glm::dvec3& b = cap.loop[i];
+                if (cap.weight > 0) closed.insert(closed.end(), {a, b, cap.centre});
+                else closed.insert(closed.end(), {b, a, cap.centre});
+            }
+        }
     }
     const std::vector<std::int32_t> ahead = context.device->windingNumbers(mesh, closed, grid, control.phase(0.0, 0.8));
     const int orientation = context.flipped ? -1 : 1;
@@ -32,7 +42,7 @@ std::vector<std::uint8_t> windingSignOnDevice(const BakeContext& context, const 
         const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
         for (int i = 0; i < grid.dims.x; ++i) {
             const std::size_t index = grid.index(i, j, k);
-            inside[index] = insideFromCrossings(caps, localPosition(mesh, grid, i, j, k), ahead[index], orientation);
+            inside[index] = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index], orientation);
         }
     });
     return inside;

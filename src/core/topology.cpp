@@ -1,4 +1,6 @@
 #include "core/topology.hpp"
+#include "core/duplicates.hpp"
+#include "core/parallel.hpp"
 #include "core/predicates.hpp"
 
 #include <glm/geometric.hpp>
@@ -34,7 +36,10 @@ std::string MeshCheck::describe() const {
            (insideOut ? ", inside out (negative volume)" : "");
 }
 
-MeshTopology::MeshTopology(const Mesh& mesh) {
+MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
+    // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
+    constexpr std::size_t kStages = 6;
+    ProgressCounter progress(control, kStages);
     // Merge vertices with identical coordinates (-0 and +0 alike).
     std::unordered_map<glm::vec3, std::uint32_t, PositionHash> merged;
     std::vector<std::uint32_t> remap(mesh.positions.size());
@@ -52,6 +57,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         faceNormals_[t] = glm::dvec3(mesh.faceNormals[t]);
     }
 
+    progress.add(1);
     // Every triangle edge as (low vertex, high vertex, triangle, which edge, runs low->high).
     struct EdgeUse {
         std::uint32_t lo, hi, triangle;
@@ -71,6 +77,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
     });
 
+    progress.add(1);
     edgeNormals_.resize(3 * n);
     for (std::size_t t = 0; t < n; ++t) {
         for (int e = 0; e < 3; ++e) edgeNormals_[3 * t + e] = faceNormals_[t];
@@ -116,6 +123,7 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
         begin = end;
     }
 
+    progress.add(1);
     // Angle-weighted vertex normals, and the fans around each vertex.
     vertexNormals_.assign(positions_.size(), glm::dvec3(0.0));
     std::vector<std::uint32_t> fanRoot(positions_.size(), UINT32_MAX);
@@ -146,11 +154,20 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
     edgeCheck_.insideOut = edgeCheck_.boundaryEdges == 0 && edgeCheck_.nonManifoldEdges == 0 &&
                            edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
 
+    progress.add(1);
     // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
+    // Each vertex keeps a cursor to its first possibly unused outgoing edge, so many copies of one
+    // edge (a stack of duplicated open triangles) cost linear time, not quadratic.
     std::sort(boundary.begin(), boundary.end());
     std::vector<bool> used(boundary.size(), false);
-    auto firstOut = [&](std::uint32_t vertex) {
-        return std::size_t(std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(vertex, 0u)) - boundary.begin());
+    std::unordered_map<std::uint32_t, std::size_t> nextOut; // vertex -> its first outgoing edge not known used
+    for (std::size_t e = boundary.size(); e-- > 0;) nextOut[boundary[e].first] = e;
+    auto takeOut = [&](std::uint32_t vertex) {
+        const auto it = nextOut.find(vertex);
+        if (it == nextOut.end()) return boundary.size();
+        std::size_t& next = it->second;
+        while (next < boundary.size() && boundary[next].first == vertex && used[next]) ++next;
+        return next < boundary.size() && boundary[next].first == vertex ? next : boundary.size();
     };
     for (std::size_t start = 0; start < boundary.size(); ++start) {
         if (used[start]) continue;
@@ -161,47 +178,63 @@ MeshTopology::MeshTopology(const Mesh& mesh) {
             loop.push_back(boundary[edge].first);
             const std::uint32_t head = boundary[edge].second;
             if (head == boundary[start].first) break;
-            std::size_t next = firstOut(head);
-            while (next < boundary.size() && boundary[next].first == head && used[next]) ++next;
-            if (next >= boundary.size() || boundary[next].first != head) break; // cannot happen for a cycle
-            edge = next;
+            edge = takeOut(head);
+            if (edge >= boundary.size()) break; // cannot happen for a cycle
         }
         loops_.push_back(std::move(loop));
     }
+
+    progress.add(1);
+    const TriangleCopies copies = findTriangleCopies(mesh);
+    copies_.assign(n, 0);
+    for (std::size_t i = 0; i < copies.unique.size(); ++i) copies_[copies.unique[i]] = copies.count[i];
+    progress.add(1);
+    progress.finish();
 }
 
-MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree) const {
+MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunControl& control) const {
     MeshCheck result = edgeCheck_;
     const std::size_t n = mesh.triangleCount();
-    for (std::uint32_t t = 0; t < n; ++t) {
-        Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
-                   glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
-        tree.forEachOverlap(box, [&](std::uint32_t u) {
-            if (u <= t) return;
-            const glm::uvec3 a = corners_[t], b = corners_[u];
-            int shared = 0;
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
-            if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
-            // The merged positions are the mesh's floats, which the exact predicates take.
-            const glm::vec3 pa[3] = {glm::vec3(positions_[a[0]]), glm::vec3(positions_[a[1]]), glm::vec3(positions_[a[2]])};
-            const glm::vec3 pb[3] = {glm::vec3(positions_[b[0]]), glm::vec3(positions_[b[1]]), glm::vec3(positions_[b[2]])};
-            bool crossing = false;
-            // An edge from a shared vertex meets the other triangle there, so only edges away from
-            // shared vertices are tested: any other common point makes the pair self-intersecting.
-            for (int e = 0; e < 3 && !crossing; ++e) {
-                const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
-                if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
-                    crossing = segmentMeetsTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+    // In parallel over fixed chunks of triangles, each counting its own pairs into its own slot:
+    // the sum is the same for any thread count. The tree reports first copies only: each crossing
+    // pair of them stands for copies(t) x copies(u) pairs.
+    constexpr std::size_t kChunk = 256;
+    std::vector<std::size_t> crossings((n + kChunk - 1) / kChunk, 0);
+    parallelFor(crossings.size(), control, [&](std::size_t chunk) {
+        std::size_t found = 0;
+        for (std::uint32_t t = std::uint32_t(chunk * kChunk); t < std::min(n, (chunk + 1) * kChunk); ++t) {
+            if (tree.copies(t) == 0) continue;
+            Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
+                       glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
+            tree.forEachOverlap(box, [&](std::uint32_t u) {
+                if (u <= t) return;
+                const glm::uvec3 a = corners_[t], b = corners_[u];
+                int shared = 0;
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
+                if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
+                // The merged positions are the mesh's floats, which the exact predicates take.
+                const glm::vec3 pa[3] = {glm::vec3(positions_[a[0]]), glm::vec3(positions_[a[1]]), glm::vec3(positions_[a[2]])};
+                const glm::vec3 pb[3] = {glm::vec3(positions_[b[0]]), glm::vec3(positions_[b[1]]), glm::vec3(positions_[b[2]])};
+                bool crossing = false;
+                // An edge from a shared vertex meets the other triangle there, so only edges away from
+                // shared vertices are tested: any other common point makes the pair self-intersecting.
+                for (int e = 0; e < 3 && !crossing; ++e) {
+                    const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
+                    if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
+                        crossing = segmentMeetsTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
+                    }
+                    const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
+                    if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
+                        crossing = segmentMeetsTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
+                    }
                 }
-                const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
-                if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
-                    crossing = segmentMeetsTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
-                }
-            }
-            result.selfIntersections += crossing;
-        });
-    }
+                if (crossing) found += std::size_t(tree.copies(t)) * tree.copies(u);
+            });
+        }
+        crossings[chunk] = found;
+    });
+    for (std::size_t count : crossings) result.selfIntersections += count;
     return result;
 }
 

@@ -3,6 +3,7 @@
 #include "core/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/mesh_check.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include <glm/vec3.hpp>
 #include <cstdint>
@@ -14,15 +15,21 @@ namespace sdfgen {
 // Connectivity of a mesh whose coincident vertices are merged (OBJ files often repeat positions).
 class MeshTopology {
 public:
-    explicit MeshTopology(const Mesh& mesh);
+    // Reports progress and throws Cancelled (between its stages) when control.cancel is raised.
+    explicit MeshTopology(const Mesh& mesh, const RunControl& control = {});
 
-    // The counts MeshCheck lists; self-intersections are found with the tree.
-    MeshCheck check(const Mesh& mesh, const Bvh& tree) const;
+    // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
+    // repeated triangles counted once per pair of copies (as triangle by triangle).
+    // In parallel; the same counts for any thread count. Throws Cancelled when control.cancel is raised.
+    MeshCheck check(const Mesh& mesh, const Bvh& tree, const RunControl& control = {}) const;
 
     // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
     const std::vector<std::vector<std::uint32_t>>& boundaryLoops() const { return loops_; }
     const glm::dvec3& position(std::uint32_t vertex) const { return positions_[vertex]; }
+    // How often triangle t occurs in the mesh if it is the first of its exact copies, else 0 (see
+    // TriangleCopies): passes that stack triangles weigh the first copy and skip the others.
+    std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }
     // Closed and consistently oriented with negative volume (see MeshCheck::insideOut).
     bool insideOut() const { return edgeCheck_.insideOut; }
 
@@ -36,6 +43,7 @@ private:
     std::vector<glm::dvec3> vertexNormals_;
     std::vector<glm::dvec3> edgeNormals_; // 3 per triangle: AB, BC, CA
     std::vector<std::vector<std::uint32_t>> loops_;
+    std::vector<std::uint32_t> copies_;
     MeshCheck edgeCheck_; // everything but self-intersections
 };
 

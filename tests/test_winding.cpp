@@ -1,0 +1,190 @@
+// The winding sign on meshes that make it work hard: many holes, long open borders, copies and
+// coplanar overlaps. Signs must equal those of the reference winding number, sample by sample,
+// work must stay bounded by what is near, and point queries must agree with the bake.
+#include "core/bvh.hpp"
+#include "core/sign.hpp"
+#include "sdfgen/model.hpp"
+#include "core/topology.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <cmath>
+
+namespace sdfgen {
+namespace {
+
+// Every `every`-th triangle of `mesh` removed: that many separate holes.
+Mesh withHoles(const Mesh& mesh, std::size_t every) {
+    std::vector<glm::uvec3> kept;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        if (t % every != every / 2) kept.push_back(mesh.triangles[t]);
+    }
+    return buildMesh(mesh.source + " with holes", mesh.worldPositions(), kept);
+}
+
+// An open terrain-like sheet z = f(x, y) over [-1, 1]², n x n cells: one boundary loop of 4n edges.
+Mesh heightfield(int n, bool flip) {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    for (int j = 0; j <= n; ++j) {
+        for (int i = 0; i <= n; ++i) {
+            const float x = -1.0f + 2.0f * float(i) / float(n), y = -1.0f + 2.0f * float(j) / float(n);
+            positions.emplace_back(x, y, 0.3f * std::sin(3.0f * x) * std::cos(2.0f * y) + 0.1f * x * y);
+        }
+    }
+    auto at = [&](int i, int j) { return unsigned(j * (n + 1) + i); };
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            glm::uvec3 a(at(i, j), at(i + 1, j), at(i + 1, j + 1)), b(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+            if (flip) {
+                std::swap(a.y, a.z);
+                std::swap(b.y, b.z);
+            }
+            triangles.push_back(a);
+            triangles.push_back(b);
+        }
+    }
+    return buildMesh(flip ? "heightfield, flipped" : "heightfield", positions, triangles);
+}
+
+// Concatenation of two meshes.
+Mesh combined(const std::string& name, const Mesh& a, const Mesh& b) {
+    std::vector<glm::dvec3> positions = a.worldPositions(), more = b.worldPositions();
+    std::vector<glm::uvec3> triangles = a.triangles;
+    positions.insert(positions.end(), more.begin(), more.end());
+    for (const glm::uvec3& f : b.triangles) triangles.push_back(f + glm::uvec3(unsigned(a.positions.size())));
+    return buildMesh(name, positions, triangles);
+}
+
+Mesh moved(const Mesh& mesh, const glm::dvec3& offset) {
+    std::vector<glm::dvec3> positions = mesh.worldPositions();
+    for (glm::dvec3& p : positions) p += offset;
+    return buildMesh(mesh.source + " moved", positions, mesh.triangles);
+}
+
+// Compares insideByWinding with the reference winding number (times `weight`, for a mesh made of
+// `weight` copies of `reference`) at every sample whose reference w is not a rounding error from 1/2,
+// for the mesh and (flipped) for it inside out.
+void expectSignsEqualReference(const Mesh& mesh, const Mesh& reference, double weight, int res, WindingStats* stats = nullptr) {
+    const Grid grid = makeGrid(mesh.worldBounds(), res, 0.15);
+    const MeshTopology topology(mesh);
+    const std::vector<std::uint8_t> inside = insideByWinding(mesh, topology, grid, RunControl{}, false, stats);
+    const std::vector<std::uint8_t> insideFlipped = insideByWinding(mesh, topology, grid, RunControl{}, true);
+    std::size_t compared = 0, referenceInside = 0, ties = 0;
+    for (int k = 0; k < grid.dims.z; ++k)
+        for (int j = 0; j < grid.dims.y; ++j)
+            for (int i = 0; i < grid.dims.x; ++i) {
+                const double w = weight * windingNumber(reference, localPosition(reference, grid, i, j, k));
+                if (std::fabs(w - 0.5) < 1e-9) {
+                    ++ties;
+                    continue;
+                }
+                ++compared;
+                referenceInside += w > 0.5;
+                ASSERT_EQ(bool(inside[grid.index(i, j, k)]), w > 0.5)
+                    << mesh.source << " at " << i << "," << j << "," << k << ": w = " << w;
+                ASSERT_EQ(bool(insideFlipped[grid.index(i, j, k)]), -w > 0.5)
+                    << mesh.source << " flipped at " << i << "," << j << "," << k << ": w = " << w;
+            }
+    EXPECT_LT(ties, compared / 1000 + 1) << mesh.source;
+    EXPECT_GT(referenceInside, 0u) << mesh.source;
+    EXPECT_LT(referenceInside, compared) << mesh.source;
+}
+
+TEST(WindingSign, EqualsTheReferenceWithManyHoles) {
+    const Mesh holed = withHoles(test::icosphere(1.0f, 3), 9); // 142 separate one-triangle holes
+    ASSERT_GT(MeshTopology(holed).boundaryLoops().size(), 100u);
+    expectSignsEqualReference(holed, holed, 1.0, 20);
+    const Mesh holedTorus = withHoles(test::torus(1.0f, 0.4f, 32, 16), 5);
+    expectSignsEqualReference(holedTorus, holedTorus, 1.0, 20);
+}
+
+TEST(WindingSign, EqualsTheReferenceOnOpenSheetsWithLongBorders) {
+    for (bool flip : {false, true}) {
+        const Mesh sheet = heightfield(40, flip); // a 160-edge border, closed by many small fans
+        WindingStats stats;
+        expectSignsEqualReference(sheet, sheet, 1.0, 20, &stats);
+        EXPECT_GE(stats.caps, 160u / 8u);
+    }
+    // Two sheets crossing each other, and a sheet over a closed shape.
+    const Mesh sheet = heightfield(24, false);
+    const Mesh sheetOverSphere = combined("sheet over sphere", sheet, moved(test::icosphere(0.6f, 2), {0.1, 0.0, 0.2}));
+    expectSignsEqualReference(sheetOverSphere, sheetOverSphere, 1.0, 18);
+}
+
+TEST(WindingSign, CoplanarOverlapsAndFlippedCopies) {
+    // Two squares in one plane, overlapping in part.
+    std::vector<glm::vec3> square = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    const Mesh flat = buildMesh("square", square, {{0, 1, 2}, {0, 2, 3}});
+    const Mesh overlapping = combined("overlapping squares", flat, moved(flat, {0.5, 0.25, 0.0}));
+    expectSignsEqualReference(overlapping, overlapping, 1.0, 16);
+    // A closed box with a flipped copy of half its faces: w is 1/2 nowhere, 0 or 1 in places.
+    const Mesh box = test::box({1.0f, 0.7f, 0.5f});
+    std::vector<glm::uvec3> triangles = box.triangles;
+    for (std::size_t t = 0; t < box.triangleCount(); t += 2) triangles.push_back({box.triangles[t].x, box.triangles[t].z, box.triangles[t].y});
+    const Mesh flippedCopies = buildMesh("box with flipped copies", box.worldPositions(), triangles);
+    expectSignsEqualReference(flippedCopies, flippedCopies, 1.0, 16);
+    // A sheet written twice.
+    const Mesh sheet = heightfield(12, false);
+    expectSignsEqualReference(combined("sheet twice", sheet, sheet), sheet, 2.0, 16);
+}
+
+TEST(WindingSign, BitIdenticalForAnyThreadCount) {
+    const Mesh holed = withHoles(test::torus(1.0f, 0.4f, 32, 16), 5);
+    const Grid grid = makeGrid(holed.worldBounds(), 24, 0.1);
+    const MeshTopology topology(holed);
+    RunControl one;
+    one.threads = 1;
+    const std::vector<std::uint8_t> serial = insideByWinding(holed, topology, grid, one);
+    for (int threads : {2, 3, 8}) {
+        RunControl control;
+        control.threads = threads;
+        EXPECT_EQ(insideByWinding(holed, topology, grid, control), serial) << threads << " threads";
+    }
+}
+
+// The fans are measured only where they can matter: far fewer than samples x fans, and no more
+// than a few per sample on average, with many holes.
+TEST(WindingSign, WorkIsBoundedByWhatIsNear) {
+    const Mesh holed = withHoles(test::icosphere(1.0f, 4), 9); // 569 one-triangle holes
+    const Grid grid = makeGrid(holed.worldBounds(), 32, 0.15);
+    WindingStats stats;
+    insideByWinding(holed, MeshTopology(holed), grid, RunControl{}, false, &stats);
+    ASSERT_GT(stats.caps, 500u);
+    EXPECT_LT(stats.fanEvaluations, grid.sampleCount() * 2) << stats.caps << " caps";
+}
+
+// Point queries run the same steps per point as the bake's samples: at the samples' positions
+// they give the baked field, bit for bit, on meshes whose signs need the fans.
+TEST(WindingSign, PointQueriesEqualTheBakedField) {
+    for (const Mesh& mesh : {withHoles(test::torus(1.0f, 0.4f, 32, 16), 5), heightfield(30, true)}) {
+        SCOPED_TRACE(mesh.source);
+        const Model model(mesh);
+        BakeSettings settings;
+        settings.res = 20;
+        settings.sign = SignMethod::Winding;
+        const Field field = model.bake(settings).field;
+        const Grid& grid = field.grid;
+        std::vector<double> xyz;
+        for (int k = 0; k < grid.dims.z; ++k)
+            for (int j = 0; j < grid.dims.y; ++j)
+                for (int i = 0; i < grid.dims.x; ++i) {
+                    const glm::dvec3 p = grid.position(i, j, k);
+                    xyz.insert(xyz.end(), {p.x, p.y, p.z});
+                }
+        std::vector<float> values(grid.sampleCount());
+        PointQueryOutputs out;
+        out.signedDistance = values.data();
+        model.query(xyz.data(), grid.sampleCount(), out, SignMethod::Winding);
+        std::size_t inside = 0;
+        for (std::size_t n = 0; n < values.size(); ++n) {
+            ASSERT_EQ(values[n], field.values[n]) << n;
+            inside += values[n] < 0.0f;
+        }
+        EXPECT_GT(inside, 0u);
+    }
+}
+
+} // namespace
+} // namespace sdfgen
