@@ -206,6 +206,14 @@ TEST(ExactBricks, GridSamplesMatchTheTreeAndBruteForce) {
     expectGridMatches(soup(300, 1.0, 8), 26, 0.2);
 }
 
+TEST(ExactBricks, DenseMeshesSearchPerSample) {
+    // 81,920 triangles on a coarse grid: a quarter's candidate list would hold thousands of packets,
+    // so its samples are searched one by one in the tree instead (kMaxCandidates); same answers.
+    const Mesh dense = test::icosphere(1.0f, 6);
+    expectGridMatches(dense, 6, 0.1);
+    expectGridMatches(dense, 10, 0.5);
+}
+
 TEST(ExactBricks, HugeAndTinyScales) {
     for (double scale : {1e-30, 1e-9, 1e9, 1e30}) {
         expectGridMatches(soup(120, scale, 9), 18, 0.3);
