@@ -3,22 +3,13 @@
 mesh for the scaling benchmark. Usage: bench/subdivide.py IN.obj OUT.obj [LEVELS]"""
 import sys
 
+from hard_meshes import read_obj  # the benchmark meshes' OBJ reader, beside this script
+
 
 def main():
     source, target = sys.argv[1], sys.argv[2]
     levels = int(sys.argv[3]) if len(sys.argv) > 3 else 1
-    vertices, faces = [], []
-    with open(source) as f:
-        for line in f:
-            parts = line.split()
-            if not parts:
-                continue
-            if parts[0] == "v":
-                vertices.append(tuple(float(x) for x in parts[1:4]))
-            elif parts[0] == "f":
-                corners = [int(p.split("/")[0]) for p in parts[1:]]
-                corners = [c - 1 if c > 0 else len(vertices) + c for c in corners]
-                faces.extend((corners[0], corners[i], corners[i + 1]) for i in range(1, len(corners) - 1))
+    vertices, faces = read_obj(source)
     for _ in range(levels):
         midpoints = {}
 
