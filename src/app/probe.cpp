@@ -1,10 +1,10 @@
 #include "app/probe.hpp"
-#include "core/bvh.hpp"
-#include "core/geometry.hpp"
+#include "sdfgen/model.hpp"
+
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace sdfgen::app {
 
@@ -40,7 +40,7 @@ float trilinear(const Field& field, const glm::dvec3& p, glm::vec3* gradient) {
     return float(lerp(y0, y1, f[2]));
 }
 
-ProbeResult probe(const glm::dvec3& p, const Field* field, const Mesh* mesh, const Bvh* tree) {
+ProbeResult probe(const glm::dvec3& p, const Field* field, const Model* model) {
     ProbeResult result;
     result.point = p;
     if (field && !field->values.empty()) {
@@ -49,23 +49,16 @@ ProbeResult probe(const glm::dvec3& p, const Field* field, const Mesh* mesh, con
         result.insideField = glm::all(glm::greaterThanEqual(p, lo)) && glm::all(glm::lessThanEqual(p, hi));
         result.fieldValue = trilinear(*field, p, &result.gradient);
     }
-    if (mesh && tree && mesh->triangleCount() > 0) {
-        // The tree's nearest search for one point (all eight lanes alike), seeded with triangle 0,
-        // then the winner measured exactly in double.
-        PointPacket packet;
-        packet.px = simd::splat(float(p.x));
-        packet.py = simd::splat(float(p.y));
-        packet.pz = simd::splat(float(p.z));
-        packet.bestSquared = tree->distanceSquared(packet.px, packet.py, packet.pz, 0);
-        packet.triangle = simd::splat(std::int32_t(0));
-        tree->nearest(packet);
-        const std::size_t t = std::size_t(packet.triangle[0]);
-        const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh->vertex(t, 0)), glm::dvec3(mesh->vertex(t, 1)),
-                                                            glm::dvec3(mesh->vertex(t, 2)));
+    if (model) {
+        // The library's point query: the same search and tie rule as a bake, in world coordinates.
+        std::int64_t triangle = 0;
+        PointQueryOutputs outputs;
+        outputs.closestPoint = &result.nearest.x;
+        outputs.triangle = &triangle;
+        model->query(&p.x, 1, outputs);
         result.haveMesh = true;
-        result.meshDistance = std::sqrt(closest.distanceSquared);
-        result.nearest = closest.point;
-        result.triangle = t;
+        result.meshDistance = glm::length(p - result.nearest);
+        result.triangle = std::size_t(triangle);
     }
     return result;
 }

@@ -5,7 +5,7 @@
 #include <glm/vec3.hpp>
 
 namespace sdfgen {
-class Bvh;
+class Model;
 }
 
 namespace sdfgen::app {
@@ -18,7 +18,7 @@ struct ProbeResult {
     float fieldValue = 0.0f;   // trilinear, clamped to the box as the GL texture is
     glm::vec3 gradient{0.0f};  // of the trilinear field
     bool haveMesh = false;
-    double meshDistance = 0.0; // unsigned, exact (double), to the nearest triangle
+    double meshDistance = 0.0; // unsigned, to the nearest triangle (world units)
     glm::dvec3 nearest{0.0};   // the nearest surface point
     std::size_t triangle = 0;
 };
@@ -27,7 +27,7 @@ struct ProbeResult {
 // and its gradient.
 float trilinear(const Field& field, const glm::dvec3& p, glm::vec3* gradient = nullptr);
 
-// Probes `field` (may be null) and `mesh` + `tree` (may be null) at p.
-ProbeResult probe(const glm::dvec3& p, const Field* field, const Mesh* mesh, const Bvh* tree);
+// Probes `field` and `model` (either may be null) at p (world coordinates).
+ProbeResult probe(const glm::dvec3& p, const Field* field, const Model* model);
 
 } // namespace sdfgen::app

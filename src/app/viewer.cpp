@@ -13,7 +13,7 @@
 #include "sdfgen/field_match.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
-#include "core/bvh.hpp"
+#include "sdfgen/model.hpp"
 #include "render/camera.hpp"
 #include "render/image.hpp"
 #include "render/scene.hpp"
@@ -317,7 +317,7 @@ private:
             }
             sceneMesh_ = std::make_shared<Mesh>(mergeMeshes(parts, name));
         }
-        tree_.reset();
+        probeModel_.reset();
         if (sceneMesh_) scene_.setMesh(*sceneMesh_);
         ++meshVersion_;
         if (reframe) frameCamera();
@@ -493,15 +493,15 @@ private:
         scene_.markers.clear();
         probeValid_ = false;
         if (!probeOn_ || ImGui::GetIO().WantCaptureMouse || input.x < panelWidth_ || !sceneMesh_) return;
-        if (!tree_) tree_ = std::make_unique<Bvh>(*sceneMesh_);
+        if (!probeModel_) probeModel_ = std::make_unique<Model>(Mesh(*sceneMesh_));
         const glm::ivec2 fb = context_.framebufferSize();
         const ImVec2 display = ImGui::GetIO().DisplaySize;
         const glm::ivec2 pixel(int(input.x * fb.x / std::max(display.x, 1.0f)), int(input.y * fb.y / std::max(display.y, 1.0f)));
         glm::vec3 point;
         if (!scene_.surfaceAt(pixel, point)) return;
         // Pixels of the grid (the plane under the model, within depth precision) are not probed.
-        if (scene_.views.grid && std::abs(point.y - sceneMesh_->bounds.min.y) < 1e-4f * camera_.distance) return;
-        probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, sceneMesh_.get(), tree_.get());
+        if (scene_.views.grid && std::abs(double(point.y) - sceneMesh_->worldBounds().min.y) < 1e-4 * double(camera_.distance)) return;
+        probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get());
         probeValid_ = true;
         probePointer_ = glm::ivec2(int(input.x), int(input.y));
         const float r = camera_.sceneRadius * 0.02f;
@@ -1034,7 +1034,7 @@ private:
     render::OrbitCamera camera_;
     std::vector<SceneModel> models_;
     std::shared_ptr<const Mesh> sceneMesh_;
-    std::unique_ptr<Bvh> tree_; // of the scene mesh, for the probe; built on first use
+    std::unique_ptr<Model> probeModel_; // the scene mesh's, for the probe; built on first use
     std::optional<Field> field_;
     FieldInfo fieldInfo_;
     std::string fieldWarning_;

@@ -189,11 +189,11 @@ until_ok grep -q "^message field info: loaded .*bunny.sdf" "$work/log" || fail "
 # --- the probe: the pointer over the model reports the field's trilinear value at that point.
 xdotool mousemove --window "$window" 547 262
 until_ok grep -q "^probe .* pointer=547,262$" "$work/log" || fail "the probe reported nothing over the model"
-read -r _ px py pz value _ <<<"$(grep '^probe .* pointer=547,262$' "$work/log" | tail -1)"
-/usr/bin/python3 - "$work/bunny.sdf" "$px" "$py" "$pz" "${value#field=}" <<'EOF' || fail "the probe's value does not match the field"
+read -r _ px py pz value meshdist _ <<<"$(grep '^probe .* pointer=547,262$' "$work/log" | tail -1)"
+/usr/bin/python3 - "$work/bunny.sdf" "$px" "$py" "$pz" "${value#field=}" "${meshdist#mesh=}" <<'EOF' || fail "the probe's value does not match the field"
 import sys
 import numpy as np
-path, px, py, pz, reported = sys.argv[1], *map(float, sys.argv[2:])
+path, px, py, pz, reported, mesh_distance = sys.argv[1], *map(float, sys.argv[2:])
 lines = open(path).read().split("\n")
 header = {l.split()[0]: l.split()[1:] for l in lines[:6] if l}
 nx, ny, nz = map(int, header["dims"])
@@ -208,7 +208,10 @@ for dz in (0, 1):
         for dx in (0, 1):
             w = (f[0] if dx else 1 - f[0]) * (f[1] if dy else 1 - f[1]) * (f[2] if dz else 1 - f[2])
             expected += w * values[(i1 if dz else i0)[2], (i1 if dy else i0)[1], (i1 if dx else i0)[0]]
-print(f"probe at ({px:.4g} {py:.4g} {pz:.4g}): reported {reported:.6g}, field {expected:.6g}, voxel {h:.4g}")
+print(f"probe at ({px:.4g} {py:.4g} {pz:.4g}): reported {reported:.6g}, field {expected:.6g}, voxel {h:.4g}, mesh distance {mesh_distance:.3g}")
+# The probed point lies on the drawn surface (up to depth precision), so the mesh is that close.
+if mesh_distance > 0.25 * h:
+    sys.exit("the probed point on the model is %g from the mesh" % mesh_distance)
 sys.exit(0 if abs(reported - expected) <= 1e-5 * h + 1e-7 else 1)
 EOF
 
