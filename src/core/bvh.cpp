@@ -37,7 +37,7 @@ double halfArea(const Bounds& b) {
 Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     // Exact copies of a triangle have the same distance and the same hits, and a stack of them
     // would make every query that reaches it visit each one: the tree holds the first copy only
-    // (the lowest index, so the tie rule of nearest() is unchanged).
+    // (the lowest index, so the wide tree built from it keeps the lower-index tie rule).
     const TriangleCopies copies = findTriangleCopies(mesh);
     const std::size_t n = copies.unique.size();
     std::vector<Bounds> boxes(n);
@@ -67,24 +67,8 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     for (std::uint32_t& id : triangleIds_) id = copies.unique[id];
     bounds_ = {glm::vec3(nodes_[0].min[0], nodes_[0].min[1], nodes_[0].min[2]),
                glm::vec3(nodes_[0].max[0], nodes_[0].max[1], nodes_[0].max[2])};
-    leafSlot_.resize(mesh.triangleCount());
-    distanceTriangles_.reserve(n);
-    for (std::size_t slot = 0; slot < n; ++slot) {
-        const std::uint32_t id = triangleIds_[slot];
-        leafSlot_[id] = std::uint32_t(slot);
-        const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
-        triangles_.push_back(prepareTriangle(a, b, c));
-        const glm::vec3 ab = b - a, ac = c - a, bc = c - b, ca = a - c;
-        const glm::vec3 normal = mesh.faceNormals[id];
-        auto inverse = [](const glm::vec3& e) {
-            const float len2 = glm::dot(e, e);
-            return len2 > 0.0f ? 1.0f / len2 : 0.0f;
-        };
-        distanceTriangles_.push_back({a, ab, ac, normal, glm::cross(normal, ab), glm::cross(normal, bc),
-                                      glm::cross(normal, ca), inverse(ab), inverse(bc), inverse(ca)});
-    }
+    for (const std::uint32_t id : triangleIds_) triangles_.push_back(prepareTriangle(mesh.vertex(id, 0), mesh.vertex(id, 1), mesh.vertex(id, 2)));
     copies_.assign(mesh.triangleCount(), 0);
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) leafSlot_[t] = leafSlot_[copies.first[t]];
     for (std::size_t i = 0; i < n; ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
@@ -288,91 +272,6 @@ bool Bvh::intersect(const glm::vec3& origin, const glm::vec3& direction, float t
     hit.triangle = std::uint32_t(packet.triangle[0]);
     hit.backFace = packet.backFace[0] != 0;
     return true;
-}
-
-
-simd::f8 Bvh::distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, const DistanceTriangle& t) const {
-    using namespace simd;
-    auto dot = [](const f8& x, const f8& y, const f8& z, const glm::vec3& v) { return x * v.x + y * v.y + z * v.z; };
-    auto clamp01 = [](const f8& x) { return min(max(x, splat(0.0f)), splat(1.0f)); };
-    // Vectors from the corners a, b, c to the points.
-    const f8 ax = px - t.a.x, ay = py - t.a.y, az = pz - t.a.z;
-    const f8 bx = ax - t.ab.x, by = ay - t.ab.y, bz = az - t.ab.z;
-    const f8 cx = ax - t.ac.x, cy = ay - t.ac.y, cz = az - t.ac.z;
-    // Inside the prism over the face: the distance is the height above the plane.
-    const i8 inside = (dot(ax, ay, az, t.inAB) >= 0.0f) & (dot(bx, by, bz, t.inBC) >= 0.0f) & (dot(cx, cy, cz, t.inCA) >= 0.0f);
-    const f8 height = dot(ax, ay, az, t.normal);
-    // Otherwise the nearest of the three edges (as segments).
-    const glm::vec3 bc = t.ac - t.ab, ca = -t.ac;
-    auto segment = [&](const f8& x, const f8& y, const f8& z, const glm::vec3& e, float invLength2) {
-        const f8 s = clamp01(dot(x, y, z, e) * invLength2);
-        const f8 dx = x - s * e.x, dy = y - s * e.y, dz = z - s * e.z;
-        return dx * dx + dy * dy + dz * dz;
-    };
-    const f8 edges = min(segment(ax, ay, az, t.ab, t.invAB), min(segment(bx, by, bz, bc, t.invBC), segment(cx, cy, cz, ca, t.invCA)));
-    return select(inside, height * height, edges);
-}
-
-simd::f8 Bvh::distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, std::uint32_t triangle) const {
-    return distanceSquared(px, py, pz, distanceTriangles_[leafSlot_[triangle]]);
-}
-
-void Bvh::nearest(PointPacket& packet) const {
-    using namespace simd;
-    const f8 px = packet.px, py = packet.py, pz = packet.pz;
-    f8 best = packet.bestSquared;
-    i8 triangle = packet.triangle;
-    auto boxDistanceSquared = [&](const Node& node) {
-        const f8 dx = max(max(node.min[0] - px, px - node.max[0]), splat(0.0f));
-        const f8 dy = max(max(node.min[1] - py, py - node.max[1]), splat(0.0f));
-        const f8 dz = max(max(node.min[2] - pz, pz - node.max[2]), splat(0.0f));
-        return dx * dx + dy * dy + dz * dz;
-    };
-    auto lowest = [](const f8& v) {
-        float m = v[0];
-        for (int lane = 1; lane < 8; ++lane) m = std::min(m, v[lane]);
-        return m;
-    };
-
-    // Each entry keeps its box distances so a pop re-checks them against the shrunken bounds.
-    struct Entry {
-        f8 distance;
-        std::uint32_t node;
-    };
-    Entry stack[kMaxDepth + 2];
-    int top = 0;
-    stack[top++] = {boxDistanceSquared(nodes_[0]), 0};
-    while (top > 0) {
-        const Entry entry = stack[--top];
-        // Ties are explored and go to the lower triangle index, so the answer is the same whatever
-        // the seeds and the traversal order: a point query at a sample's position finds the sample's
-        // triangle.
-        if (!any(entry.distance <= best)) continue;
-        const Node& node = nodes_[entry.node];
-        if (node.count > 0) {
-            for (std::uint32_t i = node.index, last = node.index + node.count; i < last; ++i) {
-                const f8 d = distanceSquared(px, py, pz, distanceTriangles_[i]);
-                const i8 id = splat(std::int32_t(triangleIds_[i]));
-                const i8 closer = (d < best) | ((d == best) & (id < triangle));
-                if (!any(closer)) continue;
-                best = select(closer, d, best);
-                triangle = select(closer, id, triangle);
-            }
-            continue;
-        }
-        const std::uint32_t first = entry.node + 1, second = node.index;
-        const f8 dFirst = boxDistanceSquared(nodes_[first]), dSecond = boxDistanceSquared(nodes_[second]);
-        // Nearer child on top of the stack: its triangles tighten the bounds before the other is tried.
-        if (lowest(dFirst) <= lowest(dSecond)) {
-            stack[top++] = {dSecond, second};
-            stack[top++] = {dFirst, first};
-        } else {
-            stack[top++] = {dFirst, first};
-            stack[top++] = {dSecond, second};
-        }
-    }
-    packet.bestSquared = best;
-    packet.triangle = triangle;
 }
 
 } // namespace sdfgen

@@ -28,13 +28,6 @@ struct RayPacket {
     simd::i8 backFace;     // out: all ones where the nearest hit is a back face
 };
 
-// Eight query points (neighbouring samples) looking for their nearest triangles.
-struct PointPacket {
-    simd::f8 px, py, pz;
-    simd::f8 bestSquared; // in: squared distance to beat (a known upper bound, or inf); out: the nearest found
-    simd::i8 triangle;    // out: the nearest triangle (the lowest index of equally near ones), where one beat the bound
-};
-
 // The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of
 // axis-aligned boxes (each inner node splits its triangles along one axis), built with the binned
 // surface area heuristic and stored as a flat depth-first node array. Exact copies of a triangle
@@ -55,11 +48,6 @@ public:
     // The same for a packet of eight rays with a common direction.
     void intersect(RayPacket& packet) const;
 
-    // Nearest triangles of eight points, by nearest-first traversal pruned by each point's best
-    // distance so far. Distances are computed in float; callers re-measure the winner in double.
-    void nearest(PointPacket& packet) const;
-    // Squared distances from eight points to one triangle (a Mesh index), e.g. to seed `nearest`.
-    simd::f8 distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, std::uint32_t triangle) const;
 
     // Calls visit(triangle) for every triangle whose bounding box overlaps `box`.
     template <class Visit>
@@ -115,17 +103,8 @@ private:
                                const BuildInput& input, int depth);
 
     std::vector<Node> nodes_;
-    // A triangle set up for branch-free point distance: corner a, edges, unit normal, the in-plane
-    // normals of its edges (pointing inwards) and the inverse squared edge lengths.
-    struct DistanceTriangle {
-        glm::vec3 a, ab, ac, normal, inAB, inBC, inCA;
-        float invAB, invBC, invCA;
-    };
-    simd::f8 distanceSquared(const simd::f8& px, const simd::f8& py, const simd::f8& pz, const DistanceTriangle& tri) const;
 
     std::vector<PreparedTriangle> triangles_; // in leaf order
-    std::vector<DistanceTriangle> distanceTriangles_; // in leaf order
-    std::vector<std::uint32_t> leafSlot_;     // Mesh triangle index -> leaf order
     std::vector<std::uint32_t> triangleIds_;  // leaf order -> Mesh triangle index
     std::vector<std::uint32_t> copies_;       // Mesh triangle index -> its count if a first copy, else 0
     Bounds bounds_;
