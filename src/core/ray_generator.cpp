@@ -34,23 +34,29 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
     field.grid = grid;
     field.values.resize(grid.sampleCount());
 
-    // One work item is one x row; within it, eight neighbouring samples trace each direction
-    // together as a packet (parallel rays a voxel apart take nearly the same path through the tree).
-    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
-    parallelFor(rows, control, [&](std::size_t row) {
-        const int j = int(row % std::size_t(grid.dims.y));
-        const int k = int(row / std::size_t(grid.dims.y));
-        for (int i0 = 0; i0 < nx; i0 += 8) {
-            const int lanes = std::min(8, nx - i0);
+    // Eight neighbouring samples, a 2x2x2 block, trace each direction together as a packet:
+    // parallel rays less than two voxels apart take nearly the same path through the tree. Each
+    // lane's answer is the one it would get alone (the traversal order depends on the direction
+    // only), so the blocking changes speed, not the field. One work item is a row of blocks.
+    const int blocksX = (nx + 1) / 2, blocksY = (grid.dims.y + 1) / 2, blocksZ = (grid.dims.z + 1) / 2;
+    parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control, [&](std::size_t blockRow) {
+        const int j0 = 2 * int(blockRow % std::size_t(blocksY));
+        const int k0 = 2 * int(blockRow / std::size_t(blocksY));
+        for (int bx = 0; bx < blocksX; ++bx) {
+            const int i0 = 2 * bx;
             RayPacket packet;
             i8 active = splat(0);
+            glm::ivec3 sample[8];
             for (int lane = 0; lane < 8; ++lane) {
-                packet.ox[lane] = float(localPosition(mesh, grid, i0 + std::min(lane, lanes - 1), j, k).x);
-                active[lane] = lane < lanes ? -1 : 0;
+                const glm::ivec3 s(i0 + (lane & 1), j0 + ((lane >> 1) & 1), k0 + (lane >> 2));
+                const bool inGrid = s.x < nx && s.y < grid.dims.y && s.z < grid.dims.z;
+                sample[lane] = inGrid ? s : glm::ivec3(i0, j0, k0); // idle lanes trace the block's first sample
+                const glm::vec3 p(localPosition(mesh, grid, sample[lane].x, sample[lane].y, sample[lane].z));
+                packet.ox[lane] = p.x;
+                packet.oy[lane] = p.y;
+                packet.oz[lane] = p.z;
+                active[lane] = inGrid ? -1 : 0;
             }
-            const glm::vec3 rowSample(localPosition(mesh, grid, i0, j, k));
-            packet.oy = splat(rowSample.y);
-            packet.oz = splat(rowSample.z);
 
             f8 nearest = splat(infinity);
             i8 hits = splat(0), backs = splat(0);
@@ -69,10 +75,11 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
                 const i8 remaining = splat(rays - r - 1);
                 decided |= (backs > fronts + remaining) | (fronts >= backs + remaining);
             }
-            for (int lane = 0; lane < lanes; ++lane) {
-                const std::size_t index = grid.index(i0 + lane, j, k);
+            for (int lane = 0; lane < 8; ++lane) {
+                if (!active[lane]) continue;
+                const std::size_t index = grid.index(sample[lane].x, sample[lane].y, sample[lane].z);
                 if (hits[lane] == 0) {
-                    const glm::vec3 p(localPosition(mesh, grid, i0 + lane, j, k));
+                    const glm::vec3 p(packet.ox[lane], packet.oy[lane], packet.oz[lane]);
                     field.values[index] = float(double(farthestCornerDistance(p, mesh.bounds)) * mesh.unit);
                 } else {
                     const bool inside = backs[lane] > hits[lane] - backs[lane];
