@@ -64,12 +64,14 @@ struct SignMethodInfo {
     SignMethod id;
     const char* name;
     const char* description;
-    // Inside flags (1 = inside) for every sample; may use and fill in `pass`.
-    std::vector<std::uint8_t> (*run)(const BakeContext& context, DistancePass& pass, const RunControl& control);
+    // Signs `pass.distance` in place (negated where inside); may use and fill in `pass`.
+    void (*run)(const BakeContext& context, DistancePass& pass, const RunControl& control);
 };
 
-// A signed field's magnitudes and inside flags (for methods that sign as they measure).
-DistancePass splitSigned(const std::vector<float>& values);
+// A signed field's magnitudes (in place) and inside flags (for methods that sign as they measure).
+DistancePass splitSigned(std::vector<float> values);
+// Negates the distances of the samples flagged inside.
+void negateInside(std::vector<float>& distance, const std::vector<std::uint8_t>& inside);
 
 const std::vector<DistanceMethodInfo>& distanceMethods();
 const std::vector<SignMethodInfo>& signMethods(); // Auto and Default are decided in bake(), not listed

@@ -36,9 +36,31 @@ std::string MeshCheck::describe() const {
            (insideOut ? ", inside out (negative volume)" : "");
 }
 
-MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
+namespace {
+
+std::vector<std::uint32_t> copiesOf(const Mesh& mesh) {
+    const TriangleCopies copies = findTriangleCopies(mesh);
+    std::vector<std::uint32_t> counts(mesh.triangleCount(), 0);
+    for (std::size_t i = 0; i < copies.unique.size(); ++i) counts[copies.unique[i]] = copies.count[i];
+    return counts;
+}
+
+std::vector<std::uint32_t> copiesOf(const Mesh& mesh, const Bvh& tree) {
+    std::vector<std::uint32_t> counts(mesh.triangleCount());
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) counts[t] = tree.copies(t);
+    return counts;
+}
+
+} // namespace
+
+MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) : MeshTopology(mesh, copiesOf(mesh), control) {}
+
+MeshTopology::MeshTopology(const Mesh& mesh, const Bvh& tree, const RunControl& control)
+    : MeshTopology(mesh, copiesOf(mesh, tree), control) {}
+
+MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control) : copies_(std::move(copies)) {
     // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
-    constexpr std::size_t kStages = 6;
+    constexpr std::size_t kStages = 5;
     ProgressCounter progress(control, kStages);
     // Merge vertices with identical coordinates (-0 and +0 alike).
     std::unordered_map<glm::vec3, std::uint32_t, PositionHash> merged;
@@ -184,10 +206,6 @@ MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
         loops_.push_back(std::move(loop));
     }
 
-    progress.add(1);
-    const TriangleCopies copies = findTriangleCopies(mesh);
-    copies_.assign(n, 0);
-    for (std::size_t i = 0; i < copies.unique.size(); ++i) copies_[copies.unique[i]] = copies.count[i];
     progress.add(1);
     progress.finish();
 }
