@@ -40,11 +40,11 @@ SDFGEN_OBJ_DIR = SDFGEN_BUILD_DIR .. "/obj"
 
 -- System libraries a program linking sdfgen_core needs (CMake: sdfgen::tbb, and
 -- tinyobjloader::tinyobjloader, which on Debian is a shared library, libtinyobjloader.so, not
--- header-only; glm is header-only; sdfgen::libzip; sdfgen::assimp; dl, as the OpenVDB part,
--- sdfgen_openvdb, is opened at run time). Premake does not pass a static library's links on to the
--- programs that use it, so every program that links sdfgen_core lists these itself, through
--- sdfgen_use_core().
-SDFGEN_CORE_LINKS = { "tbb", "tinyobjloader", "zip", "assimp", "dl" }
+-- header-only; glm is header-only; sdfgen::libzip; dl, as the OpenVDB and Assimp parts,
+-- sdfgen_openvdb and sdfgen_assimp, are opened at run time). Premake does not pass a static
+-- library's links on to the programs that use it, so every program that links sdfgen_core lists
+-- these itself, through sdfgen_use_core().
+SDFGEN_CORE_LINKS = { "tbb", "tinyobjloader", "zip", "dl" }
 -- sdfgen::openvdb: OpenVDB::openvdb with the Boost iostreams and Imath libraries its headers need.
 SDFGEN_OPENVDB_LINKS = { "openvdb", "boost_iostreams", "Imath-3_1", "tbb" }
 
@@ -68,14 +68,14 @@ function sdfgen_flags()
 end
 
 -- What linking sdfgen_core brings along (CMake: its PUBLIC include directory and link libraries).
--- The program exports the core's symbols (-rdynamic) for sdfgen_openvdb, which the core opens
--- beside the program on first use (src/core/openvdb_plugin.hpp).
+-- The program exports the core's symbols (-rdynamic) for sdfgen_openvdb and sdfgen_assimp, which
+-- the core opens beside the program on first use (src/core/plugin.hpp).
 function sdfgen_use_core()
    includedirs { SDFGEN_ROOT .. "/include", SDFGEN_ROOT .. "/src" }
    links { "sdfgen_core" }
    links(SDFGEN_CORE_LINKS)
    linkoptions { "-rdynamic" }
-   dependson { "sdfgen_openvdb" }
+   dependson { "sdfgen_openvdb", "sdfgen_assimp" }
 end
 
 workspace "sdfgen"
@@ -116,6 +116,14 @@ project "sdfgen_openvdb"
    includedirs { "include", "src" }
    sdfgen_openvdb_headers()
    links(SDFGEN_OPENVDB_LINKS)
+   sdfgen_flags()
+
+-- Assimp (mesh formats other than OBJ), opened by the core on first use, likewise.
+project "sdfgen_assimp"
+   kind "SharedLib"
+   files { "src/assimp/**.cpp" }
+   includedirs { "include", "src" }
+   links { "assimp" }
    sdfgen_flags()
 
 -- Renderers (OpenGL 4.5 through glad) and the headless contexts (EGL, else OSMesa). Shaders are read at run

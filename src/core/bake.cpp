@@ -84,11 +84,13 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         methodContext.sign = sign;
     }
     const double checkSeconds = since(checkStart);
+    releaseFreedMemory(); // the setup phases' scratch, before the field is allocated
 
     const Clock::time_point start = Clock::now();
     const bool signsInline = !method.fixedSign && sign == method.signsInline && !methodContext.device;
     DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
     result.distanceSeconds = since(start);
+    releaseFreedMemory(); // the distance pass's scratch, before the sign pass's
 
     // Signs are applied to the distances in place, and side arrays released as soon as they are used.
     const Clock::time_point signStart = Clock::now();

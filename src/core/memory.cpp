@@ -6,6 +6,9 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 namespace sdfgen {
 
@@ -56,9 +59,9 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     SignMethod sign = settings.sign;
     if (sign == SignMethod::Default) sign = settings.method == DistanceMethod::Rays ? SignMethod::Rays : SignMethod::Auto;
 
-    // MeshTopology (merged positions and vertex normals, per-triangle corners, face and edge
-    // normals, the sorted edge list and the union-find parents while it is built, the merge map).
-    const double topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 24 + 72 + 48 + 12);
+    // MeshTopology (merged positions and vertex normals, per-triangle corners, face normals, edge
+    // neighbours, the sorted edge list and the union-find parents while it is built, the merge map).
+    const double topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 12 + 12 + 48 + 12);
     // Winding: one crossing (16 bytes) per row the surface crosses, plus each row's vector.
     double projected = 0;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -83,6 +86,12 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     else if (sign == SignMethod::Pseudonormal) signBytes = pseudonormal;
     else if (sign == SignMethod::Auto) signBytes = std::max(winding, pseudonormal);
     return std::uint64_t(std::min(result + samples * perSample + signBytes, 1.8e19));
+}
+
+void releaseFreedMemory() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
 }
 
 void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings) {

@@ -1,9 +1,8 @@
 #pragma once
-// OpenVDB is opened only when a .vdb file is read or written or an iso-surface is extracted:
-// libopenvdb's 24 MB of symbol names, which the dynamic loader reads through as it relocates the
-// library, would otherwise cost every run (a plain bake included) about 25 MB of resident memory
-// and 20 ms. The code that uses it is libsdfgen_openvdb.so (src/vdb/), beside libsdfgen.so
-// (or beside the program, when the core is linked statically).
+// OpenVDB is opened only when a .vdb file is read or written or an iso-surface is extracted
+// (core/plugin.hpp): libopenvdb's 24 MB of symbol names, which the dynamic loader reads through as
+// it relocates the library, would otherwise cost every run (a plain bake included) about 25 MB of
+// resident memory and 20 ms. The code that uses it is libsdfgen_openvdb.so (src/vdb/).
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 

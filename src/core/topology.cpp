@@ -76,7 +76,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     faceNormals_.resize(n);
     for (std::size_t t = 0; t < n; ++t) {
         for (int c = 0; c < 3; ++c) corners_[t][c] = remap[mesh.triangles[t][c]];
-        faceNormals_[t] = glm::dvec3(mesh.faceNormals[t]);
+        faceNormals_[t] = mesh.faceNormals[t];
     }
 
     progress.add(1);
@@ -100,10 +100,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     });
 
     progress.add(1);
-    edgeNormals_.resize(3 * n);
-    for (std::size_t t = 0; t < n; ++t) {
-        for (int e = 0; e < 3; ++e) edgeNormals_[3 * t + e] = faceNormals_[t];
-    }
+    edgeNeighbours_.assign(3 * n, kNoNeighbour);
     // Corners (3 per triangle) around a vertex are joined across manifold edges; more than one
     // group at a vertex means its triangles form separate fans.
     std::vector<std::uint32_t> parent(3 * n);
@@ -130,9 +127,8 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
             const EdgeUse& second = uses[begin + 1];
             if (first.forward == second.forward) ++edgeCheck_.inconsistentEdges;
             // The edge's pseudonormal is the sum of its two face normals (each face's angle is π).
-            const glm::dvec3 sum = faceNormals_[first.triangle] + faceNormals_[second.triangle];
-            edgeNormals_[3 * first.triangle + first.edge] = sum;
-            edgeNormals_[3 * second.triangle + second.edge] = sum;
+            edgeNeighbours_[3 * first.triangle + first.edge] = second.triangle;
+            edgeNeighbours_[3 * second.triangle + second.edge] = first.triangle;
             for (std::uint32_t vertex : {first.lo, first.hi}) {
                 const std::uint32_t a = findRoot(parent, cornerOf(first.triangle, vertex));
                 const std::uint32_t b = findRoot(parent, cornerOf(second.triangle, vertex));
@@ -157,7 +153,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
             const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
             const double l1 = glm::length(e1), l2 = glm::length(e2);
             if (l1 > 0.0 && l2 > 0.0) {
-                vertexNormals_[v] += std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) * faceNormals_[t];
+                vertexNormals_[v] += std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) * glm::dvec3(faceNormals_[t]);
             }
             const std::uint32_t root = findRoot(parent, 3 * t + c);
             if (fanRoot[v] == UINT32_MAX) fanRoot[v] = root;
@@ -258,15 +254,22 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunContro
 
 glm::dvec3 MeshTopology::pseudonormal(std::uint32_t triangle, TriangleFeature feature) const {
     switch (feature) {
-    case TriangleFeature::Face: return faceNormals_[triangle];
-    case TriangleFeature::EdgeAB: return edgeNormals_[3 * triangle + 0];
-    case TriangleFeature::EdgeBC: return edgeNormals_[3 * triangle + 1];
-    case TriangleFeature::EdgeCA: return edgeNormals_[3 * triangle + 2];
+    case TriangleFeature::Face: return glm::dvec3(faceNormals_[triangle]);
+    case TriangleFeature::EdgeAB: return edgeNormal(triangle, 0);
+    case TriangleFeature::EdgeBC: return edgeNormal(triangle, 1);
+    case TriangleFeature::EdgeCA: return edgeNormal(triangle, 2);
     case TriangleFeature::VertexA: return vertexNormals_[corners_[triangle][0]];
     case TriangleFeature::VertexB: return vertexNormals_[corners_[triangle][1]];
     case TriangleFeature::VertexC: return vertexNormals_[corners_[triangle][2]];
     }
-    return faceNormals_[triangle];
+    return glm::dvec3(faceNormals_[triangle]);
+}
+
+glm::dvec3 MeshTopology::edgeNormal(std::uint32_t triangle, int edge) const {
+    // The sum of the two face normals (each face's angle at the edge is π), in double.
+    const std::uint32_t neighbour = edgeNeighbours_[3 * triangle + std::uint32_t(edge)];
+    if (neighbour == kNoNeighbour) return glm::dvec3(faceNormals_[triangle]);
+    return glm::dvec3(faceNormals_[triangle]) + glm::dvec3(faceNormals_[neighbour]);
 }
 
 } // namespace sdfgen
