@@ -3,6 +3,9 @@
 #include "core/parallel.hpp"
 #include "core/predicates.hpp"
 
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
 #include <glm/geometric.hpp>
 #include <algorithm>
 #include <cmath>
@@ -95,8 +98,12 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
             uses.push_back({std::min(u, v), std::max(u, v), t, e, u < v});
         }
     }
-    std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-        return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
+    // A total order (each triangle's edge is used once), so the parallel sort gives the same list
+    // for any thread count.
+    tbb::task_arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic).execute([&] {
+        tbb::parallel_sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+            return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
+        });
     });
 
     progress.add(1);
