@@ -40,14 +40,16 @@ SDFGEN_OBJ_DIR = SDFGEN_BUILD_DIR .. "/obj"
 
 -- System libraries a program linking sdfgen_core needs (CMake: sdfgen::tbb, and
 -- tinyobjloader::tinyobjloader, which on Debian is a shared library, libtinyobjloader.so, not
--- header-only; glm is header-only; sdfgen::openvdb, which is OpenVDB::openvdb with the Boost
--- iostreams and Imath libraries its headers need; sdfgen::libzip; sdfgen::assimp). Premake does
--- not pass a static library's links on to the programs that use it, so every program that links
--- sdfgen_core lists these itself, through sdfgen_use_core().
-SDFGEN_CORE_LINKS = { "tbb", "tinyobjloader", "openvdb", "boost_iostreams", "Imath-3_1", "zip", "assimp" }
+-- header-only; glm is header-only; sdfgen::libzip; dl, as the OpenVDB and Assimp parts,
+-- sdfgen_openvdb and sdfgen_assimp, are opened at run time). Premake does not pass a static
+-- library's links on to the programs that use it, so every program that links sdfgen_core lists
+-- these itself, through sdfgen_use_core().
+SDFGEN_CORE_LINKS = { "tbb", "tinyobjloader", "zip", "dl" }
+-- sdfgen::openvdb: OpenVDB::openvdb with the Boost iostreams and Imath libraries its headers need.
+SDFGEN_OPENVDB_LINKS = { "openvdb", "boost_iostreams", "Imath-3_1", "tbb" }
 
 -- What code including OpenVDB's headers needs (CMake: OpenVDB::openvdb's include directories and
--- compile definitions): the core (the .vdb format, iso-surfaces) and the tests that read VDBs.
+-- compile definitions): sdfgen_openvdb (the .vdb format, iso-surfaces) and the tests that read VDBs.
 function sdfgen_openvdb_headers()
    includedirs { "/usr/include/Imath" }
    defines { "OPENVDB_ABI_VERSION_NUMBER=10", "OPENVDB_USE_DELAYED_LOADING", "BOOST_ALL_NO_LIB", "BOOST_IOSTREAMS_DYN_LINK" }
@@ -66,10 +68,14 @@ function sdfgen_flags()
 end
 
 -- What linking sdfgen_core brings along (CMake: its PUBLIC include directory and link libraries).
+-- The program exports the core's symbols (-rdynamic) for sdfgen_openvdb and sdfgen_assimp, which
+-- the core opens beside the program on first use (src/core/plugin.hpp).
 function sdfgen_use_core()
    includedirs { SDFGEN_ROOT .. "/include", SDFGEN_ROOT .. "/src" }
    links { "sdfgen_core" }
    links(SDFGEN_CORE_LINKS)
+   linkoptions { "-rdynamic" }
+   dependson { "sdfgen_openvdb", "sdfgen_assimp" }
 end
 
 workspace "sdfgen"
@@ -95,13 +101,30 @@ project "sdfgen_core"
    kind "StaticLib"
    files { "src/core/**.cpp", "src/core/**.hpp", "include/sdfgen/**.hpp" }
    includedirs { "include", "src" }
-   sdfgen_openvdb_headers()
    sdfgen_flags()
    -- The winding sign's crossings, the tree's float distances and the exact re-measure, reproduced
    -- bit for bit by the GPU device's shaders: no fused multiply-adds (CMake: the same per-file option).
    filter "files:src/core/geometry.cpp or files:src/core/sign.cpp or files:src/core/bvh.cpp"
       buildoptions { "-ffp-contract=off" }
    filter {}
+
+-- OpenVDB (.vdb files, iso-surfaces), opened by the core on first use: its symbols from the core
+-- are the program's (CMake: a shared library beside libsdfgen.so that links it).
+project "sdfgen_openvdb"
+   kind "SharedLib"
+   files { "src/vdb/**.cpp" }
+   includedirs { "include", "src" }
+   sdfgen_openvdb_headers()
+   links(SDFGEN_OPENVDB_LINKS)
+   sdfgen_flags()
+
+-- Assimp (mesh formats other than OBJ), opened by the core on first use, likewise.
+project "sdfgen_assimp"
+   kind "SharedLib"
+   files { "src/assimp/**.cpp" }
+   includedirs { "include", "src" }
+   links { "assimp" }
+   sdfgen_flags()
 
 -- Renderers (OpenGL 4.5 through glad) and the headless contexts (EGL, else OSMesa). Shaders are read at run
 -- time from shaders/, beside the binary or in this source tree (SDFGEN_SOURCE_DIR).
@@ -170,6 +193,7 @@ if not _OPTIONS["no-tests"] then
       sdfgen_gtest_program("tests/*.cpp")
       sdfgen_openvdb_headers()
       sdfgen_use_core()
+      links(SDFGEN_OPENVDB_LINKS) -- the format tests read VDB files themselves
       links { "gmpxx", "gmp" } -- GMP's rationals, the exact reference of the predicate tests
       sdfgen_use_gtest()
       -- Checked bit for bit against src/core/bvh.cpp, which is compiled without contraction.

@@ -144,6 +144,28 @@ TEST(WindingSign, BitIdenticalForAnyThreadCount) {
     }
 }
 
+// The bake's form (the field negated in place, no flags) gives the flags' signs, for either
+// orientation; and the topology built from the tree's copies is the one built on its own.
+TEST(WindingSign, NegatingInPlaceEqualsTheFlags) {
+    const Mesh holed = withHoles(test::torus(1.0f, 0.4f, 32, 16), 5);
+    const Grid grid = makeGrid(holed.worldBounds(), 20, 0.1);
+    const MeshTopology topology(holed, Bvh(holed));
+    for (const bool flipped : {false, true}) {
+        const std::vector<std::uint8_t> inside = insideByWinding(holed, MeshTopology(holed), grid, RunControl{}, flipped);
+        std::vector<float> field(grid.sampleCount());
+        for (std::size_t i = 0; i < field.size(); ++i) field[i] = float(i % 7) + 0.5f;
+        signByWinding(holed, topology, grid, field.data(), RunControl{}, flipped);
+        std::size_t negated = 0;
+        for (std::size_t i = 0; i < field.size(); ++i) {
+            ASSERT_EQ(field[i], inside[i] ? -(float(i % 7) + 0.5f) : float(i % 7) + 0.5f) << "sample " << i;
+            negated += inside[i];
+        }
+        if (!flipped) {
+            EXPECT_GT(negated, 0u); // flipped, a torus has no inside (-w <= 1/2 everywhere)
+        }
+    }
+}
+
 // The fans are measured only where they can matter: far fewer than samples x fans, and no more
 // than a few per sample on average, with many holes.
 TEST(WindingSign, WorkIsBoundedByWhatIsNear) {

@@ -84,20 +84,24 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         methodContext.sign = sign;
     }
     const double checkSeconds = since(checkStart);
+    releaseFreedMemory(); // the setup phases' scratch, before the field is allocated
 
     const Clock::time_point start = Clock::now();
     const bool signsInline = !method.fixedSign && sign == method.signsInline && !methodContext.device;
     DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
     result.distanceSeconds = since(start);
+    releaseFreedMemory(); // the distance pass's scratch, before the sign pass's
 
+    // Signs are applied to the distances in place, and side arrays released as soon as they are used.
     const Clock::time_point signStart = Clock::now();
-    std::vector<std::uint8_t> inside;
     if (method.fixedSign) {
         sign = method.defaultSign;
-        inside = std::move(*pass.inside);
+        negateInside(pass.distance, *pass.inside);
     } else if (!pass.signedAsAsked) {
-        inside = signMethod(sign).run(methodContext, pass, control.phase(0.7, 1.0));
+        signMethod(sign).run(methodContext, pass, control.phase(0.7, 1.0));
     }
+    pass.inside.reset();
+    std::vector<std::uint32_t>().swap(pass.nearestTriangle);
     result.sign = sign;
     result.signSeconds = checkSeconds + since(signStart);
 
@@ -105,9 +109,6 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     field.source = context.mesh.source;
     field.grid = context.grid;
     field.values = std::move(pass.distance);
-    for (std::size_t i = 0; i < inside.size(); ++i) {
-        if (inside[i]) field.values[i] = -field.values[i];
-    }
     // Never a silently wrong field: float distances overflow on meshes far beyond unit scale.
     if (!std::all_of(field.values.begin(), field.values.end(), [](float v) { return std::isfinite(v); })) {
         throw Error(context.mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");
@@ -131,7 +132,7 @@ BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings,
     std::optional<MeshCheck> check;
     const RunControl lazy = quiet(control); // built inside the bake's phases (see Model::bake)
     auto topologyOf = [&]() -> const MeshTopology& {
-        if (!topology) topology.emplace(mesh, lazy);
+        if (!topology) topology.emplace(mesh, tree, lazy);
         return *topology;
     };
     const BakeContext context{mesh, tree, wide, grid, settings, topologyOf, [&]() -> const MeshCheck& {

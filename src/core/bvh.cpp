@@ -38,7 +38,9 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     // Exact copies of a triangle have the same distance and the same hits, and a stack of them
     // would make every query that reaches it visit each one: the tree holds the first copy only
     // (the lowest index, so the wide tree built from it keeps the lower-index tie rule).
-    const TriangleCopies copies = findTriangleCopies(mesh);
+    tbb::task_arena arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic);
+    TriangleCopies copies;
+    arena.execute([&] { copies = findTriangleCopies(mesh); });
     const std::size_t n = copies.unique.size();
     std::vector<Bounds> boxes(n);
     std::vector<glm::vec3> centroids(n);
@@ -56,9 +58,7 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     tree.ids.reserve(n);
     ProgressCounter progress(control, n);
     const BuildInput input{centroids, boxes, progress};
-    tbb::task_arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic).execute([&] {
-        build(tree, order, 0, n, input, 0);
-    });
+    arena.execute([&] { build(tree, order, 0, n, input, 0); });
     progress.finish();
     nodes_ = std::move(tree.nodes);
     triangleIds_ = std::move(tree.ids);

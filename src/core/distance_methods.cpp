@@ -28,7 +28,14 @@ DistancePass exactDistance(const BakeContext& context, const RunControl& control
 }
 
 DistancePass rayDistance(const BakeContext& context, const RunControl& control) {
-    return splitSigned(generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control).values);
+    // Signed by the rays' own vote, as distanceMethods() declares; for another sign, unsigned in place.
+    DistancePass pass;
+    pass.distance = generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control).values;
+    pass.signedAsAsked = context.sign == SignMethod::Rays;
+    if (!pass.signedAsAsked) {
+        for (float& d : pass.distance) d = std::fabs(d);
+    }
+    return pass;
 }
 
 DistancePass bruteDistance(const BakeContext& context, const RunControl& control) {
@@ -37,15 +44,21 @@ DistancePass bruteDistance(const BakeContext& context, const RunControl& control
 
 } // namespace
 
-DistancePass splitSigned(const std::vector<float>& values) {
+DistancePass splitSigned(std::vector<float> values) {
     DistancePass pass;
-    pass.distance.resize(values.size());
     pass.inside.emplace(values.size());
     for (std::size_t i = 0; i < values.size(); ++i) {
-        pass.distance[i] = std::fabs(values[i]);
         (*pass.inside)[i] = values[i] < 0.0f;
+        values[i] = std::fabs(values[i]);
     }
+    pass.distance = std::move(values);
     return pass;
+}
+
+void negateInside(std::vector<float>& distance, const std::vector<std::uint8_t>& inside) {
+    for (std::size_t i = 0; i < inside.size(); ++i) {
+        if (inside[i]) distance[i] = -distance[i];
+    }
 }
 
 const std::vector<DistanceMethodInfo>& distanceMethods() {
@@ -53,7 +66,7 @@ const std::vector<DistanceMethodInfo>& distanceMethods() {
         {DistanceMethod::Exact, "exact", "the true distance to the nearest triangle", exactDistance, SignMethod::Auto, false,
          SignMethod::Pseudonormal},
         {DistanceMethod::Rays, "rays", "the original report's ray sampling (an upper bound)", rayDistance, SignMethod::Rays, false,
-         SignMethod::Default},
+         SignMethod::Rays},
         {DistanceMethod::Brute, "brute", "every triangle for every sample in double, signed by the exact winding number (the reference)",
          bruteDistance, SignMethod::Winding, true, SignMethod::Default},
     };

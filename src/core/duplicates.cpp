@@ -1,5 +1,8 @@
 #include "core/duplicates.hpp"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -38,15 +41,17 @@ TriangleCopies findTriangleCopies(const Mesh& mesh) {
     // Sorted by a hash of the key (cheap to keep and compare), then by index so that the first copy
     // leads its run. A run of equal hashes is almost always one key; only when it is not (a hash
     // collision) is it sorted by the key itself.
+    // In parallel (in the caller's task arena): the order is total, so the result is the same for
+    // any thread count.
     std::vector<std::uint64_t> hash(n);
-    for (std::size_t t = 0; t < n; ++t) {
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t t) {
         std::uint64_t h = 0x9e3779b97f4a7c15ull;
         for (std::uint32_t word : keyOf(mesh, t)) h = (h ^ word) * 0x100000001b3ull;
         hash[t] = h ^ (h >> 29);
-    }
+    });
     std::vector<std::uint32_t> order(n);
     std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return hash[a] != hash[b] ? hash[a] < hash[b] : a < b; });
+    tbb::parallel_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return hash[a] != hash[b] ? hash[a] < hash[b] : a < b; });
 
     TriangleCopies copies;
     copies.first.resize(n);

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 namespace sdfgen {
 
@@ -55,11 +58,10 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
 
     SignMethod sign = settings.sign;
     if (sign == SignMethod::Default) sign = settings.method == DistanceMethod::Rays ? SignMethod::Rays : SignMethod::Auto;
-    const bool rays = settings.method == DistanceMethod::Rays || sign == SignMethod::Rays;
 
-    // MeshTopology (merged positions and vertex normals, per-triangle corners, face and edge
-    // normals, the sorted edge list and the union-find parents while it is built, the merge map).
-    const double topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 24 + 72 + 48 + 12);
+    // MeshTopology (merged positions and vertex normals, per-triangle corners, face normals, edge
+    // neighbours, the sorted edge list and the union-find parents while it is built, the merge map).
+    const double topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 12 + 12 + 48 + 12);
     // Winding: one crossing (16 bytes) per row the surface crosses, plus each row's vector.
     double projected = 0;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -71,18 +73,25 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double winding = topology + rows * 24 + 16 * (projected / (h * h) + triangles);
     const double pseudonormal = topology;
 
-    // Per-sample buffers alive at the peak, while the signs are computed (see bake.cpp). Exact
-    // distances go straight into the field (signed there by the pseudonormal, or negated in place
-    // from the winding sign's flags), so only the flags are extra.
-    const bool signsInline = settings.method == DistanceMethod::Exact && sign == SignMethod::Pseudonormal;
-    double perSample = signsInline ? 0 : kFlag;  // inside flags
-    if (rays) perSample += kFloat;               // the ray field
-    if (settings.method == DistanceMethod::Rays) perSample += kFloat; // |ray distance|
+    // Per-sample buffers alive at the peak besides the field (see bake.cpp). On the CPU, exact
+    // distances go straight into the field, signed there by the pseudonormal or negated in place by
+    // the winding sign; the ray method's field is its own result when the rays sign it. Otherwise a
+    // sign leaves inside flags (and, from the device, the nearest triangles), or a second, ray field.
+    double perSample = 0;
+    if (settings.method == DistanceMethod::Exact && sign == SignMethod::Rays) perSample = kFloat; // the ray field
+    else if (settings.method == DistanceMethod::Rays && sign != SignMethod::Rays) perSample = kFlag;
+    else if (settings.method == DistanceMethod::Exact && settings.device == Device::Gpu) perSample = kFlag + 4; // flags, nearest triangles
     double signBytes = 0;
     if (sign == SignMethod::Winding) signBytes = winding;
     else if (sign == SignMethod::Pseudonormal) signBytes = pseudonormal;
     else if (sign == SignMethod::Auto) signBytes = std::max(winding, pseudonormal);
     return std::uint64_t(std::min(result + samples * perSample + signBytes, 1.8e19));
+}
+
+void releaseFreedMemory() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
 }
 
 void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings) {

@@ -24,4 +24,8 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
 // available") when the estimate exceeds the available memory.
 void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings);
 
+// Hands the pages of freed heap memory back to the system (glibc keeps them resident for reuse):
+// called between phases, so that one phase's scratch does not add to the next one's peak.
+void releaseFreedMemory();
+
 } // namespace sdfgen

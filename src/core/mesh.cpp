@@ -141,7 +141,7 @@ Mesh loadObj(const std::string& path) {
     // tinyobjloader would misread, then tinyobjloader for the faces and their triangulation.
     const std::string content = readInputFile(path, InputKind::Text);
     const std::string_view text = withoutByteOrderMark(content);
-    const ObjScan scan = scanObj(path, text);
+    ObjScan scan = scanObj(path, text);
     TextBuffer buffer(text);
     std::istream file(&buffer);
 
@@ -164,7 +164,7 @@ Mesh loadObj(const std::string& path) {
                     std::to_string(scan.vertices.size()));
     }
     // The scan's correctly rounded doubles, not tinyobjloader's own float parsing.
-    const std::vector<glm::dvec3>& positions = scan.vertices;
+    std::vector<glm::dvec3> positions = std::move(scan.vertices);
 
     std::vector<glm::uvec3> triangles;
     triangles.reserve(scan.faces); // one per triangle face; polygons add more

@@ -36,9 +36,10 @@ struct BakeContext {
 };
 
 // A distance pass's output. `distance` is unsigned, in world units, unless `signedAsAsked`: then
-// it already carries the context's sign and no sign method runs. A method may also leave inside
-// flags of its own (the ray vote, the reference's winding number), or, on a compute device, each
-// sample's nearest triangle for the pseudonormal sign.
+// it already carries the context's sign and no sign method runs (the ray method signed by its own
+// vote, exact distances signed by the pseudonormal). A method may also leave inside flags of its
+// own (the reference's winding number), or, on a compute device, each sample's nearest triangle
+// for the pseudonormal sign; bake() releases them once the distances are signed.
 struct DistancePass {
     std::vector<float> distance;
     bool signedAsAsked = false;
@@ -64,12 +65,14 @@ struct SignMethodInfo {
     SignMethod id;
     const char* name;
     const char* description;
-    // Inside flags (1 = inside) for every sample; may use and fill in `pass`.
-    std::vector<std::uint8_t> (*run)(const BakeContext& context, DistancePass& pass, const RunControl& control);
+    // Signs `pass.distance` in place (negated where inside); may use and fill in `pass`.
+    void (*run)(const BakeContext& context, DistancePass& pass, const RunControl& control);
 };
 
-// A signed field's magnitudes and inside flags (for methods that sign as they measure).
-DistancePass splitSigned(const std::vector<float>& values);
+// A signed field's magnitudes (in place) and inside flags (for methods that sign as they measure).
+DistancePass splitSigned(std::vector<float> values);
+// Negates the distances of the samples flagged inside.
+void negateInside(std::vector<float>& distance, const std::vector<std::uint8_t>& inside);
 
 const std::vector<DistanceMethodInfo>& distanceMethods();
 const std::vector<SignMethodInfo>& signMethods(); // Auto and Default are decided in bake(), not listed

@@ -25,7 +25,7 @@ struct Model::Impl {
 
     // Built on first use, with the control of that use (a cancelled build is retried by the next).
     const MeshTopology& topology(const RunControl& control = {}) const {
-        std::call_once(topologyOnce, [&] { topology_.emplace(mesh, control); });
+        std::call_once(topologyOnce, [&] { topology_.emplace(mesh, tree, control); });
         return *topology_;
     }
     const MeshCheck& check(const RunControl& control = {}) const {

@@ -141,7 +141,32 @@ int orient3d(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const g
     // A zero permanent means a zero difference in every monomial (differences of floats are exact
     // when they round to zero), as for points on an axis-aligned plane: the volume is exactly 0.
     if (permanent == 0.0) return 0;
-    return orient3dExact(a, b, c, d);
+    // Nearby points (nearly coplanar neighbours, as subdivided meshes have by the million) usually
+    // have exact differences whose pairwise products are exact too: then each monomial x·y·z is
+    // exactly two doubles (fma gives the rounding error of the last product), and the six of them,
+    // twelve terms, are summed exactly, a quarter of orient3dExact's 48.
+    bool exact = true;
+    const auto difference = [&](float q, float p) {
+        double s, e;
+        twoSum(double(q), -double(p), s, e);
+        exact = exact && e == 0.0;
+        return s;
+    };
+    const double ex[3] = {difference(b.x, a.x), difference(b.y, a.y), difference(b.z, a.z)};
+    const double ey[3] = {difference(c.x, a.x), difference(c.y, a.y), difference(c.z, a.z)};
+    const double ez[3] = {difference(d.x, a.x), difference(d.y, a.y), difference(d.z, a.z)};
+    if (!exact) return orient3dExact(a, b, c, d);
+    // det(b - a, c - a, d - a) = Σ over the permutations (i, j, k) of sign · ex[i] ey[j] ez[k].
+    constexpr int kPermutations[6][4] = {{0, 1, 2, 1}, {0, 2, 1, -1}, {1, 2, 0, 1}, {1, 0, 2, -1}, {2, 0, 1, 1}, {2, 1, 0, -1}};
+    ExactSum sum;
+    for (const auto& [i, j, k, sign] : kPermutations) {
+        const double xy = ex[i] * ey[j];
+        if (std::fma(ex[i], ey[j], -xy) != 0.0) return orient3dExact(a, b, c, d);
+        const double high = xy * ez[k];
+        sum.add(sign * high);
+        sum.add(sign * std::fma(xy, ez[k], -high));
+    }
+    return sum.sign();
 }
 
 bool segmentMeetsTriangle(const glm::vec3& p, const glm::vec3& q, const glm::vec3& a, const glm::vec3& b,

@@ -287,8 +287,20 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
     return sum / (4.0 * M_PI);
 }
 
-std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control, bool flipped, WindingStats* stats) {
+namespace {
+
+// Where the winding sign puts its answer: inside flags, or the field itself, negated where inside.
+struct SignOutput {
+    std::uint8_t* flags;
+    float* field;
+    void set(std::size_t index, bool inside) const {
+        if (flags) flags[index] = inside;
+        else if (inside) field[index] = -field[index];
+    }
+};
+
+void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, const SignOutput& output,
+                  const RunControl& control, bool flipped, WindingStats* stats) {
     const int orientation = flipped ? -1 : 1;
     const WindingCaps caps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
@@ -372,7 +384,6 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
     //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
     //    subtracted wherever it might matter.
     constexpr int kBrickEdge = 4;
-    std::vector<std::uint8_t> inside(grid.sampleCount());
     std::atomic<std::size_t> fanEvaluations{0};
     const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
@@ -405,8 +416,8 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
                 for (int j = jb; j < je; ++j) {
                     const int* counts = rowAhead(j, k);
                     for (int i = ib; i < ie; ++i) {
-                        inside[grid.index(i, j, k)] = byCounts ? orientation * counts[i] >= 1
-                                                               : caps.inside(localPosition(mesh, grid, i, j, k), counts[i], orientation, &evaluations);
+                        output.set(grid.index(i, j, k), byCounts ? orientation * counts[i] >= 1
+                                                                 : caps.inside(localPosition(mesh, grid, i, j, k), counts[i], orientation, &evaluations));
                     }
                 }
             }
@@ -417,7 +428,20 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
         stats->caps = caps.caps().size();
         stats->fanEvaluations = fanEvaluations;
     }
+}
+
+} // namespace
+
+std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
+                                          const RunControl& control, bool flipped, WindingStats* stats) {
+    std::vector<std::uint8_t> inside(grid.sampleCount());
+    windingSigns(mesh, topology, grid, {inside.data(), nullptr}, control, flipped, stats);
     return inside;
+}
+
+void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
+                   bool flipped, WindingStats* stats) {
+    windingSigns(mesh, topology, grid, {nullptr, field}, control, flipped, stats);
 }
 
 std::vector<std::uint8_t> insideByPseudonormal(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,

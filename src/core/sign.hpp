@@ -90,6 +90,9 @@ struct WindingStats {
 // face flipped.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
                                           const RunControl& control, bool flipped = false, WindingStats* stats = nullptr);
+// The same signs applied in place: negates field[index] of every inside sample (no side array).
+void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
+                   bool flipped = false, WindingStats* stats = nullptr);
 
 // The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
 // for closed, manifold, consistently oriented meshes without self-intersections.

@@ -48,28 +48,32 @@ std::vector<std::uint8_t> windingSignOnDevice(const BakeContext& context, const 
     return inside;
 }
 
-std::vector<std::uint8_t> windingSign(const BakeContext& context, DistancePass&, const RunControl& control) {
-    if (context.device) return windingSignOnDevice(context, control);
-    return insideByWinding(context.mesh, context.topology(), context.grid, control, context.flipped);
+void windingSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+    if (context.device) return negateInside(pass.distance, windingSignOnDevice(context, control));
+    signByWinding(context.mesh, context.topology(), context.grid, pass.distance.data(), control, context.flipped);
 }
 
 // For passes that did not sign as they measured: from the compute device's nearest triangles, or,
 // for methods that find none (rays), one more closest-feature search.
-std::vector<std::uint8_t> pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
     if (pass.nearestTriangle.empty()) {
         // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
-        return insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(), context.flipped, control);
+        return negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(),
+                                                                  context.flipped, control));
     }
     std::vector<std::uint8_t> inside = insideByPseudonormal(context.mesh, context.topology(), context.grid, pass.nearestTriangle, control);
+    std::vector<std::uint32_t>().swap(pass.nearestTriangle);
     if (context.flipped) {
         for (std::uint8_t& in : inside) in = !in;
     }
-    return inside;
+    negateInside(pass.distance, inside);
 }
 
-std::vector<std::uint8_t> raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
-    if (pass.inside) return std::move(*pass.inside); // the ray method's own vote
-    return std::move(*splitSigned(generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control).values).inside);
+void raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+    const Field votes = generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control);
+    for (std::size_t i = 0; i < votes.values.size(); ++i) {
+        if (votes.values[i] < 0.0f) pass.distance[i] = -pass.distance[i];
+    }
 }
 
 } // namespace

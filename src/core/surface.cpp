@@ -1,10 +1,8 @@
 #include "core/surface.hpp"
 #include "core/atomic_file.hpp"
 #include "core/formats/format.hpp"
-#include "core/formats/vdb.hpp"
+#include "core/openvdb_plugin.hpp"
 #include "sdfgen/error.hpp"
-
-#include <openvdb/tools/VolumeToMesh.h>
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -84,19 +82,14 @@ SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
                     std::to_string(field.at(where.x, where.y, where.z)) +
                     "), so it would be cut open: bake with more padding");
     }
-    const openvdb::FloatGrid::Ptr grid = formats::fieldToGrid(field, 0.0);
-    std::vector<openvdb::Vec3s> points;
-    std::vector<openvdb::Vec3I> triangles;
-    std::vector<openvdb::Vec4I> quads;
-    openvdb::tools::volumeToMesh(*grid, points, triangles, quads, iso, adaptivity);
-
     SurfaceMesh mesh;
-    mesh.positions.resize(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) mesh.positions[i] = {points[i].x(), points[i].y(), points[i].z()};
+    std::vector<glm::uvec3> triangles;
+    std::vector<glm::uvec4> quads;
+    openVdbPlugin().polygons(field, iso, adaptivity, mesh.positions, triangles, quads);
     // volumeToMesh winds its polygons clockwise seen from outside (where d > iso); reversed here.
     mesh.triangles.reserve(triangles.size() + 2 * quads.size());
-    for (const openvdb::Vec3I& t : triangles) mesh.triangles.emplace_back(t[2], t[1], t[0]);
-    for (const openvdb::Vec4I& q : quads) {
+    for (const glm::uvec3& t : triangles) mesh.triangles.emplace_back(t[2], t[1], t[0]);
+    for (const glm::uvec4& q : quads) {
         // Split along the shorter diagonal; both halves keep the quad's orientation.
         const glm::vec3 &a = mesh.positions[q[0]], &b = mesh.positions[q[1]], &c = mesh.positions[q[2]], &d = mesh.positions[q[3]];
         if (glm::distance(a, c) <= glm::distance(b, d)) {

@@ -3,6 +3,9 @@
 #include "core/parallel.hpp"
 #include "core/predicates.hpp"
 
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
 #include <glm/geometric.hpp>
 #include <algorithm>
 #include <cmath>
@@ -36,9 +39,31 @@ std::string MeshCheck::describe() const {
            (insideOut ? ", inside out (negative volume)" : "");
 }
 
-MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
+namespace {
+
+std::vector<std::uint32_t> copiesOf(const Mesh& mesh) {
+    const TriangleCopies copies = findTriangleCopies(mesh);
+    std::vector<std::uint32_t> counts(mesh.triangleCount(), 0);
+    for (std::size_t i = 0; i < copies.unique.size(); ++i) counts[copies.unique[i]] = copies.count[i];
+    return counts;
+}
+
+std::vector<std::uint32_t> copiesOf(const Mesh& mesh, const Bvh& tree) {
+    std::vector<std::uint32_t> counts(mesh.triangleCount());
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) counts[t] = tree.copies(t);
+    return counts;
+}
+
+} // namespace
+
+MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) : MeshTopology(mesh, copiesOf(mesh), control) {}
+
+MeshTopology::MeshTopology(const Mesh& mesh, const Bvh& tree, const RunControl& control)
+    : MeshTopology(mesh, copiesOf(mesh, tree), control) {}
+
+MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control) : copies_(std::move(copies)) {
     // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
-    constexpr std::size_t kStages = 6;
+    constexpr std::size_t kStages = 5;
     ProgressCounter progress(control, kStages);
     // Merge vertices with identical coordinates (-0 and +0 alike).
     std::unordered_map<glm::vec3, std::uint32_t, PositionHash> merged;
@@ -54,7 +79,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
     faceNormals_.resize(n);
     for (std::size_t t = 0; t < n; ++t) {
         for (int c = 0; c < 3; ++c) corners_[t][c] = remap[mesh.triangles[t][c]];
-        faceNormals_[t] = glm::dvec3(mesh.faceNormals[t]);
+        faceNormals_[t] = mesh.faceNormals[t];
     }
 
     progress.add(1);
@@ -73,15 +98,16 @@ MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
             uses.push_back({std::min(u, v), std::max(u, v), t, e, u < v});
         }
     }
-    std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-        return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
+    // A total order (each triangle's edge is used once), so the parallel sort gives the same list
+    // for any thread count.
+    tbb::task_arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic).execute([&] {
+        tbb::parallel_sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+            return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
+        });
     });
 
     progress.add(1);
-    edgeNormals_.resize(3 * n);
-    for (std::size_t t = 0; t < n; ++t) {
-        for (int e = 0; e < 3; ++e) edgeNormals_[3 * t + e] = faceNormals_[t];
-    }
+    edgeNeighbours_.assign(3 * n, kNoNeighbour);
     // Corners (3 per triangle) around a vertex are joined across manifold edges; more than one
     // group at a vertex means its triangles form separate fans.
     std::vector<std::uint32_t> parent(3 * n);
@@ -108,9 +134,8 @@ MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
             const EdgeUse& second = uses[begin + 1];
             if (first.forward == second.forward) ++edgeCheck_.inconsistentEdges;
             // The edge's pseudonormal is the sum of its two face normals (each face's angle is π).
-            const glm::dvec3 sum = faceNormals_[first.triangle] + faceNormals_[second.triangle];
-            edgeNormals_[3 * first.triangle + first.edge] = sum;
-            edgeNormals_[3 * second.triangle + second.edge] = sum;
+            edgeNeighbours_[3 * first.triangle + first.edge] = second.triangle;
+            edgeNeighbours_[3 * second.triangle + second.edge] = first.triangle;
             for (std::uint32_t vertex : {first.lo, first.hi}) {
                 const std::uint32_t a = findRoot(parent, cornerOf(first.triangle, vertex));
                 const std::uint32_t b = findRoot(parent, cornerOf(second.triangle, vertex));
@@ -135,7 +160,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
             const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
             const double l1 = glm::length(e1), l2 = glm::length(e2);
             if (l1 > 0.0 && l2 > 0.0) {
-                vertexNormals_[v] += std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) * faceNormals_[t];
+                vertexNormals_[v] += std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) * glm::dvec3(faceNormals_[t]);
             }
             const std::uint32_t root = findRoot(parent, 3 * t + c);
             if (fanRoot[v] == UINT32_MAX) fanRoot[v] = root;
@@ -184,10 +209,6 @@ MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) {
         loops_.push_back(std::move(loop));
     }
 
-    progress.add(1);
-    const TriangleCopies copies = findTriangleCopies(mesh);
-    copies_.assign(n, 0);
-    for (std::size_t i = 0; i < copies.unique.size(); ++i) copies_[copies.unique[i]] = copies.count[i];
     progress.add(1);
     progress.finish();
 }
@@ -240,15 +261,22 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunContro
 
 glm::dvec3 MeshTopology::pseudonormal(std::uint32_t triangle, TriangleFeature feature) const {
     switch (feature) {
-    case TriangleFeature::Face: return faceNormals_[triangle];
-    case TriangleFeature::EdgeAB: return edgeNormals_[3 * triangle + 0];
-    case TriangleFeature::EdgeBC: return edgeNormals_[3 * triangle + 1];
-    case TriangleFeature::EdgeCA: return edgeNormals_[3 * triangle + 2];
+    case TriangleFeature::Face: return glm::dvec3(faceNormals_[triangle]);
+    case TriangleFeature::EdgeAB: return edgeNormal(triangle, 0);
+    case TriangleFeature::EdgeBC: return edgeNormal(triangle, 1);
+    case TriangleFeature::EdgeCA: return edgeNormal(triangle, 2);
     case TriangleFeature::VertexA: return vertexNormals_[corners_[triangle][0]];
     case TriangleFeature::VertexB: return vertexNormals_[corners_[triangle][1]];
     case TriangleFeature::VertexC: return vertexNormals_[corners_[triangle][2]];
     }
-    return faceNormals_[triangle];
+    return glm::dvec3(faceNormals_[triangle]);
+}
+
+glm::dvec3 MeshTopology::edgeNormal(std::uint32_t triangle, int edge) const {
+    // The sum of the two face normals (each face's angle at the edge is π), in double.
+    const std::uint32_t neighbour = edgeNeighbours_[3 * triangle + std::uint32_t(edge)];
+    if (neighbour == kNoNeighbour) return glm::dvec3(faceNormals_[triangle]);
+    return glm::dvec3(faceNormals_[triangle]) + glm::dvec3(faceNormals_[neighbour]);
 }
 
 } // namespace sdfgen

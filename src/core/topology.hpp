@@ -17,6 +17,9 @@ class MeshTopology {
 public:
     // Reports progress and throws Cancelled (between its stages) when control.cancel is raised.
     explicit MeshTopology(const Mesh& mesh, const RunControl& control = {});
+    // The same, taking the exact copies of triangles from the mesh's tree, which has found them
+    // already (Bvh::copies), instead of finding them again.
+    MeshTopology(const Mesh& mesh, const Bvh& tree, const RunControl& control = {});
 
     // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
     // repeated triangles counted once per pair of copies (as triangle by triangle).
@@ -37,11 +40,16 @@ public:
     glm::dvec3 pseudonormal(std::uint32_t triangle, TriangleFeature feature) const;
 
 private:
+    MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
+    glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
+
     std::vector<glm::dvec3> positions_;  // merged vertices
     std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices
-    std::vector<glm::dvec3> faceNormals_;
+    std::vector<glm::vec3> faceNormals_;  // the mesh's (float, exact in double)
     std::vector<glm::dvec3> vertexNormals_;
-    std::vector<glm::dvec3> edgeNormals_; // 3 per triangle: AB, BC, CA
+    // 3 per triangle (AB, BC, CA): the other triangle of an edge used by exactly two, else kNoNeighbour.
+    static constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
+    std::vector<std::uint32_t> edgeNeighbours_;
     std::vector<std::vector<std::uint32_t>> loops_;
     std::vector<std::uint32_t> copies_;
     MeshCheck edgeCheck_; // everything but self-intersections

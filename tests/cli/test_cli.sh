@@ -184,12 +184,12 @@ vexpect fail "^sdfgen: --size '1e10x5' must be two whole numbers" -- "$sdfgen" r
 vexpect fail "^sdfgen: --background.*'nan' is not a finite number" -- "$sdfgen" render "$work/tet.obj" --background nan,0,0 -o "$work/x.png"
 vexpect fail "^sdfgen: --background '2,0,0': each channel must be in 0..1" -- "$sdfgen" render "$work/tet.obj" --background 2,0,0 -o "$work/x.png"
 # Memory: the whole bake's buffers are counted up front (a grid whose field fits at 4 bytes per
-# sample but not with the winding sign's inside flags that sign auto may need, 5 bytes), with the
-# figure in the message.
+# sample but not with the ray field that exact distances signed by rays need beside it, 8 bytes),
+# with the figure in the message.
 avail_kib=$(awk '/^MemAvailable:/ {print $2}' /proc/meminfo)
-res=$(awk -v kib="$avail_kib" 'BEGIN { printf "%d", (kib * 1024 / 4.5) ^ (1 / 3) }')
-expect 1 "^sdfgen: grid ${res}x${res}x${res} \(method exact, sign auto\) needs about [0-9]+ MiB but only [0-9]+ MiB of memory is available" -- \
-  timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res "$res" --padding 0
+res=$(awk -v kib="$avail_kib" 'BEGIN { printf "%d", (kib * 1024 / 6) ^ (1 / 3) }')
+expect 1 "^sdfgen: grid ${res}x${res}x${res} \(method exact, sign rays\) needs about [0-9]+ MiB but only [0-9]+ MiB of memory is available" -- \
+  timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res "$res" --padding 0 --sign rays
 # Outputs: never the input (also through a symbolic or hard link); written through symlinks;
 # modes kept; a failed write leaves the old file and exits non-zero; no temporary left behind.
 cp "$work/tet.obj" "$work/keep.obj"

@@ -25,11 +25,46 @@ echo "$out"
 case "$out" in *"3674 triangles"*"sign pseudonormal, distance at the centre -"*) ;; *) fail "unexpected consumer output: $out" ;; esac
 [ -s "$scratch/field.sdf" ] || fail "consumer wrote no field"
 
-# The installed binary, moved away from where it was installed: bakes its bundled model.
+# The installed binary, moved away from where it was installed: bakes its bundled model, also
+# into a .vdb and from an STL, through the OpenVDB and Assimp libraries it opens beside the core.
 mv "$scratch/prefix" "$scratch/moved"
 "$scratch/moved/bin/sdfgen" bake "$scratch/moved/share/sdfgen/assets/bunny.obj" -o "$scratch/moved.sdf" --res 12 >/dev/null \
   || fail "installed sdfgen bake failed"
-if "$scratch/moved/bin/sdfgen" --help | grep -q " render "; then
+cat >"$scratch/tetra.stl" <<'STL'
+solid tetra
+facet normal 0 0 0
+outer loop
+vertex 0 0 0
+vertex 0 1 0
+vertex 1 0 0
+endloop
+endfacet
+facet normal 0 0 0
+outer loop
+vertex 0 0 0
+vertex 1 0 0
+vertex 0 0 1
+endloop
+endfacet
+facet normal 0 0 0
+outer loop
+vertex 0 0 0
+vertex 0 0 1
+vertex 0 1 0
+endloop
+endfacet
+facet normal 0 0 0
+outer loop
+vertex 1 0 0
+vertex 0 1 0
+vertex 0 0 1
+endloop
+endfacet
+endsolid tetra
+STL
+"$scratch/moved/bin/sdfgen" bake "$scratch/tetra.stl" -o "$scratch/moved.vdb" --res 12 >/dev/null \
+  || fail "installed sdfgen bake of an STL to .vdb failed"
+if ! "$scratch/moved/bin/sdfgen" --help | grep -q "built without the viewer"; then
   [ -e "$scratch/moved/share/sdfgen/shaders/fullscreen.vert" ] || fail "shaders not installed"
   SDFGEN_SHADER_DIR= "$scratch/moved/bin/sdfgen" render "$scratch/moved/share/sdfgen/assets/bunny.obj" -o "$scratch/moved.png" --size 64x48 >/dev/null \
     || fail "installed sdfgen render failed"

@@ -496,7 +496,7 @@ if source_count == 0 then problem("found no .cpp file under " .. root .. "/src")
 
 -- (c) structure.
 local wanted_kinds = {
-   sdfgen_core = "StaticLib", sdfgen = "ConsoleApp", sdfgen_tests = "ConsoleApp",
+   sdfgen_core = "StaticLib", sdfgen_openvdb = "SharedLib", sdfgen_assimp = "SharedLib", sdfgen = "ConsoleApp", sdfgen_tests = "ConsoleApp",
    glad = "StaticLib", sdfgen_imgui = "StaticLib",
 }
 for _, name in ipairs(sorted_keys(wanted_kinds)) do

@@ -1,8 +1,11 @@
-// Mesh files by extension: OBJ through tinyobjloader (mesh.cpp), everything else (STL, PLY, OFF,
-// glTF/GLB, FBX, ...) through Assimp. Node transforms are applied and every mesh of the scene is
-// merged into one; Assimp only triangulates polygons and joins identical vertices, so no
-// geometry is "repaired" or dropped behind the user's back (buildMesh drops and counts
-// zero-area triangles, as for OBJ).
+// Mesh files other than OBJ (STL, PLY, OFF, glTF/GLB, FBX, ...) through Assimp. Node transforms
+// are applied and every mesh of the scene is merged into one; Assimp only triangulates polygons
+// and joins identical vertices, so no geometry is "repaired" or dropped behind the user's back
+// (buildMesh drops and counts zero-area triangles, as for OBJ).
+//
+// The library the core opens on first use (core/assimp_plugin.hpp), so that only runs that read
+// such files load Assimp.
+#include "core/assimp_plugin.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
 
@@ -79,22 +82,13 @@ Mesh loadWithAssimp(const std::string& path) {
     return buildMesh(path, std::move(positions), std::move(triangles));
 }
 
+bool supports(const std::string& extension) { return Assimp::Importer().IsExtensionSupported(extension); }
+
 } // namespace
 
-Mesh loadMesh(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a mesh file");
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    // OBJ is read once by loadObj (which reports unreadable files itself): opening a FIFO or pipe
-    // here first would swallow its contents. Pipes and /dev/stdin have no extension: OBJ text.
-    if (extension == ".obj" || extension.empty()) return loadObj(path);
-    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    if (!Assimp::Importer().IsExtensionSupported(extension)) {
-        throw Error(path + ": unknown mesh format '" + extension + "'" +
-                    "; known: .obj, .stl, .ply, .off, .gltf, .glb, .fbx, .dae, .3ds, .3mf and the other formats Assimp reads");
-    }
-    return loadWithAssimp(path);
-}
-
 } // namespace sdfgen
+
+extern "C" __attribute__((visibility("default"))) const sdfgen::AssimpPlugin* sdfgen_assimp_plugin() {
+    static const sdfgen::AssimpPlugin plugin{sdfgen::supports, sdfgen::loadWithAssimp};
+    return &plugin;
+}

@@ -2,15 +2,20 @@
 // set, with a transform that puts index (i, j, k) at sample (i, j, k): voxel size h, translation
 // origin + h/2. Dense by default; with a band of V voxels only samples with |d| < V h stay active
 // and the rest are inactive +-V h, as OpenVDB level sets are. The grid's sdfgen_* metadata keep
-// the exact grid, method and source.
-#include "core/formats/format.hpp"
+// the exact grid, method and source. Also the iso-surfaces of `sdfgen surface`.
+//
+// The library the core opens on first use (core/openvdb_plugin.hpp), so that only runs that read
+// or write OpenVDB load it.
 #include "core/atomic_file.hpp"
-#include "core/formats/vdb.hpp"
+#include "core/formats/format.hpp"
+#include "core/openvdb_plugin.hpp"
 #include "sdfgen/error.hpp"
 
 #include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
+#include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -50,8 +55,9 @@ void linearMap(const openvdb::math::Transform& transform, double& h, openvdb::Ve
     translation = m.getTranslation();
 }
 
-} // namespace
-
+// A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
+// h, translation origin + h/2). band 0: every sample active; band >= 1: only samples with
+// |d| < band * h, the rest inactive +-band * h. Initializes OpenVDB.
 openvdb::FloatGrid::Ptr fieldToGrid(const Field& field, double band) {
     openvdb::initialize();
     const Grid& g = field.grid;
@@ -90,7 +96,7 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field, double band) {
     return grid;
 }
 
-void saveVdb(const Field& field, const std::string& path, const SaveOptions& options) {
+void saveVdbFile(const Field& field, const std::string& path, const SaveOptions& options) {
     checkField(field, path);
     if (!(options.band == 0 || options.band >= 1) || !std::isfinite(options.band)) {
         throw Error(path + ": band must be 0 (dense) or at least 1 voxel (got " + std::to_string(options.band) + ")");
@@ -118,7 +124,7 @@ void saveVdb(const Field& field, const std::string& path, const SaveOptions& opt
     });
 }
 
-Field loadVdb(const std::string& path) {
+Field loadVdbFile(const std::string& path) {
     struct stat info;
     if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     if (!S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
@@ -199,4 +205,26 @@ Field loadVdb(const std::string& path) {
     return field;
 }
 
+void surfacePolygons(const Field& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
+                     std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads) {
+    const openvdb::FloatGrid::Ptr grid = fieldToGrid(field, 0.0);
+    std::vector<openvdb::Vec3s> vdbPoints;
+    std::vector<openvdb::Vec3I> vdbTriangles;
+    std::vector<openvdb::Vec4I> vdbQuads;
+    openvdb::tools::volumeToMesh(*grid, vdbPoints, vdbTriangles, vdbQuads, iso, adaptivity);
+    points.resize(vdbPoints.size());
+    for (std::size_t i = 0; i < vdbPoints.size(); ++i) points[i] = {vdbPoints[i].x(), vdbPoints[i].y(), vdbPoints[i].z()};
+    triangles.resize(vdbTriangles.size());
+    for (std::size_t i = 0; i < vdbTriangles.size(); ++i) triangles[i] = {vdbTriangles[i][0], vdbTriangles[i][1], vdbTriangles[i][2]};
+    quads.resize(vdbQuads.size());
+    for (std::size_t i = 0; i < vdbQuads.size(); ++i) quads[i] = {vdbQuads[i][0], vdbQuads[i][1], vdbQuads[i][2], vdbQuads[i][3]};
+}
+
+} // namespace
+
 } // namespace sdfgen::formats
+
+extern "C" __attribute__((visibility("default"))) const sdfgen::OpenVdbPlugin* sdfgen_openvdb_plugin() {
+    static const sdfgen::OpenVdbPlugin plugin{sdfgen::formats::saveVdbFile, sdfgen::formats::loadVdbFile, sdfgen::formats::surfacePolygons};
+    return &plugin;
+}
