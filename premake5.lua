@@ -10,7 +10,7 @@
 -- (premake5 --os=windows or macosx, or running premake there) stops with an error.
 --
 --   premake5 gmake2 && make -C build-premake/gmake2 config=release -j2
---   premake5 --no-native gmake2
+--   premake5 --native gmake2
 --
 -- Generated projects and all build output go to build-premake/ (ignored by git).
 --
@@ -22,8 +22,8 @@ if os.target and os.target() ~= "linux" then
 end
 
 newoption {
-   trigger = "no-native",
-   description = "Leave out -march=native, for portable binaries (CMake: -DSDFGEN_NATIVE=OFF)",
+   trigger = "native",
+   description = "Compile everything with -march=native: binaries for CPUs like this one only (CMake: -DSDFGEN_NATIVE=ON)",
 }
 newoption {
    trigger = "sanitize",
@@ -56,7 +56,8 @@ end
 -- The compile flags CMake's sdfgen_flags target gives sdfgen's own code (not the extern/ glue).
 function sdfgen_flags()
    warnings "Extra"
-   if not _OPTIONS["no-native"] then
+   buildoptions { "-Wno-psabi" }
+   if _OPTIONS["native"] then
       buildoptions { "-march=native" }
    end
    if _OPTIONS["sanitize"] then
@@ -98,8 +99,9 @@ project "sdfgen_core"
    sdfgen_openvdb_headers()
    sdfgen_flags()
    -- The winding sign's crossings, the tree's float distances and the exact re-measure, reproduced
-   -- bit for bit by the GPU device's shaders: no fused multiply-adds (CMake: the same per-file option).
-   filter "files:src/core/geometry.cpp or files:src/core/sign.cpp or files:src/core/bvh.cpp"
+   -- bit for bit by the GPU device's shaders, and the exact kernel's AVX2 and baseline copies,
+   -- bit-identical to each other: no fused multiply-adds (CMake: the same per-file option).
+   filter "files:src/core/geometry.cpp or files:src/core/sign.cpp or files:src/core/bvh.cpp or files:src/core/exact_avx2.cpp or files:src/core/exact_baseline.cpp"
       buildoptions { "-ffp-contract=off" }
    filter {}
 

@@ -189,8 +189,12 @@ TEST(MeshCheck, SelfIntersectionsAreCountedWithExactOrientations) {
         (plain ? plainSpurious : plainMissed) += 1;
     }
     EXPECT_EQ(found, 40);
-    EXPECT_GT(plainSpurious, 0); // plain double counts a pair that does not meet
-    EXPECT_GT(plainMissed, 0);   // and misses one that does
+    EXPECT_GT(plainMissed, 0); // plain double misses a pair that does meet
+#ifdef __FP_FAST_FMA
+    // Compiled with fused multiply-adds (-march=native on a CPU with FMA), it also counts pairs
+    // that do not meet; rounded plainly (the default, portable build) it only misses them here.
+    EXPECT_GT(plainSpurious, 0);
+#endif
 }
 
 TEST(SegmentMeetsTriangle, TouchingCountsInAndOutOfThePlane) {

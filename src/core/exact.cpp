@@ -1,289 +1,72 @@
+// The exact kernel's dispatch (core/kernel.hpp) and the brute-force reference; the kernel itself
+// is in exact_kernel.inc.
 #include "core/exact.hpp"
 #include "core/geometry.hpp"
+#include "core/kernel.hpp"
 #include "core/parallel.hpp"
-#include "core/topology.hpp"
+#include "sdfgen/error.hpp"
 
-#include <glm/common.hpp>
-#include <glm/geometric.hpp>
 #include <algorithm>
-#include <cfloat>
+#include <atomic>
 #include <cmath>
-#include <cstring>
+#include <cstdlib>
 #include <limits>
+#include <string>
 
 namespace sdfgen {
 
 namespace {
 
-constexpr int kBrick = 8;   // samples per edge of a brick: one tree search each
-constexpr int kQuarter = 4; // samples per edge of a brick's eighth: one candidate list each
-// Where the mesh is dense at the grid's scale (many triangles per voxel), a quarter's list this
-// long (packets) costs more to bound and sort than a seeded tree search per sample, which gives the
-// same answer (the 1.1M-triangle subdivided bunny at res 128: distance pass 7.3 s -> 4.1 s; lists
-// on the 69k-triangle bunny stay below it, and lower limits slowed it by up to 1.7x).
-constexpr std::size_t kMaxCandidates = 1024;
-
-// A candidate packet with, for each of its triangles, a lower bound of the distance that is linear
-// in the sample's position: the distance to a triangle is convex, so d(p) >= d(c) + g·(p - c) with
-// g the unit vector from the triangle's closest point to the centre c (the gradient there). Far
-// from the surface that bound is nearly the distance itself, so a sample measures few triangles.
-struct alignas(32) CandidateBound {
-    simd::f8 a, gx, gy, gz; // bound(p) = a + g·p
-    float key;              // bound(p) >= key + u·(p - c) on the quarter, u the field's gradient at c
-    std::uint32_t packet;
-};
-
-// The samples [lo, hi) of a grid as a float box in local coordinates, with its centre and the
-// distance from the centre to its farthest corner (rounded up). Sample positions grow with their
-// indices and float rounding keeps that order, so the box is spanned by the corner samples.
-struct SampleBox {
-    Bounds box;
-    glm::vec3 centre;
-    double radius;
-};
-SampleBox sampleBox(const Mesh& mesh, const Grid& grid, const glm::ivec3& lo, const glm::ivec3& hi) {
-    SampleBox s;
-    s.box.min = glm::vec3(localPosition(mesh, grid, lo.x, lo.y, lo.z));
-    s.box.max = glm::vec3(localPosition(mesh, grid, hi.x - 1, hi.y - 1, hi.z - 1));
-    s.centre = 0.5f * (s.box.min + s.box.max);
-    const glm::dvec3 half = glm::max(glm::dvec3(s.box.max) - glm::dvec3(s.centre), glm::dvec3(s.centre) - glm::dvec3(s.box.min));
-    s.radius = glm::length(half) * (1.0 + 1e-6);
-    return s;
+const kernel::Table* tableOf(SimdPath path) {
+#if defined(__x86_64__) || defined(__i386__)
+    if (path == SimdPath::Avx2) return __builtin_cpu_supports("avx2") ? &kernel::avx2::table : nullptr;
+#endif
+    return path == SimdPath::Baseline ? &kernel::baseline::table : nullptr;
 }
 
-// How far from a box of samples the nearest triangle of any of them can be, given a triangle at
-// float squared distance `centreSquared` from its centre: the distance plus the radius, widened
-// for the rounding of float distances (relative, and absolute near the coordinates' magnitude) so
-// that no triangle that ties or beats a sample's answer in float terms is left out.
-float reach(const SampleBox& s, float centreSquared) {
-    const double r = std::sqrt(double(centreSquared)) + s.radius;
-    const double magnitude = std::max({std::fabs(s.centre.x), std::fabs(s.centre.y), std::fabs(s.centre.z)}) + r;
-    return float(r * (1.0 + 1e-5) + magnitude * 1e-6);
-}
-
-// Scans a quarter's candidates (by key) for p: the packets whose bound may reach below the best
-// so far, until none can. `along` is u·(p - c); `margin` absorbs the rounding of the bounds.
-// Returns the packet that holds the answer (or `seed` when it stood).
-std::uint32_t scanCandidates(const WideBvh& tree, const std::vector<CandidateBound>& candidates, const glm::vec3& p, float along,
-                             float margin, NearestSoFar& best, std::uint32_t seed) {
-    using namespace simd;
-    std::uint32_t winner = seed;
-    float bound = std::sqrt(best.distanceSquared) * (1.0f + 1e-5f) + margin;
-    for (const CandidateBound& c : candidates) {
-        if (c.key + along > bound) break;
-        if (c.packet == seed) continue; // measured before the scan
-        const f8 lower = c.a + c.gx * p.x + c.gy * p.y + c.gz * p.z;
-        if (!any(lower <= bound)) continue;
-        const NearestSoFar before = best;
-        scanPacket(tree.packets()[c.packet], p.x, p.y, p.z, best);
-        if (best.triangle != before.triangle || best.distanceSquared != before.distanceSquared) {
-            winner = c.packet;
-            bound = std::sqrt(best.distanceSquared) * (1.0f + 1e-5f) + margin;
-        }
+// AVX2 where the CPU has it, unless SDFGEN_SIMD names a path (an unknown or unavailable one is
+// an error at first use, not silently another path).
+const kernel::Table* chooseTable() {
+    const char* forced = std::getenv("SDFGEN_SIMD");
+    if (forced && *forced) {
+        const std::string name = forced;
+        const kernel::Table* table = name == "baseline" ? tableOf(SimdPath::Baseline) : name == "avx2" ? tableOf(SimdPath::Avx2) : nullptr;
+        if (!table) throw Error("SDFGEN_SIMD=" + name + ": not a SIMD path this binary and CPU can run (baseline or avx2)");
+        return table;
     }
-    return winner;
+    const kernel::Table* avx2 = tableOf(SimdPath::Avx2);
+    return avx2 ? avx2 : tableOf(SimdPath::Baseline);
 }
 
-// The linear bounds of a packet's triangles from centre c; returns their distances from c.
-simd::f8 linearBounds(const TrianglePacket& packet, const glm::vec3& c, CandidateBound& bound) {
-    using namespace simd;
-    f8 vx, vy, vz;
-    packetClosestOffset(packet, c.x, c.y, c.z, vx, vy, vz);
-    const f8 d = simd::sqrt(vx * vx + vy * vy + vz * vz);
-    const f8 inverse = select(d > 0.0f, 1.0f / d, splat(0.0f));
-    bound.gx = vx * inverse, bound.gy = vy * inverse, bound.gz = vz * inverse;
-    bound.a = d - (bound.gx * c.x + bound.gy * c.y + bound.gz * c.z);
-    return d;
-}
-
-inline simd::f8 load(const float* from) {
-    simd::f8 v;
-    std::memcpy(&v, from, sizeof v);
-    return v;
-}
-inline simd::f8 absolute(const simd::f8& x) { return simd::max(x, -x); }
-inline float lowestLane(const simd::f8& x) {
-    float m = x[0];
-    for (int lane = 1; lane < 8; ++lane) m = std::min(m, x[lane]);
-    return m;
-}
-
-// `sorted` = `bounds` in nondecreasing order of key, up to the width of a bucket: the bounds are
-// counted into buckets of equal key width, and each bound's key is lowered to the least key of its
-// bucket, so that keys still never decrease along the list and never exceed the bound's own (what
-// scanCandidates' early stop needs). Linear time where a sort took a tenth of the kernel's time.
-void orderByKey(const std::vector<CandidateBound>& bounds, std::vector<CandidateBound>& sorted) {
-    constexpr int kBuckets = 256;
-    sorted.resize(bounds.size());
-    if (bounds.empty()) return;
-    float lowest = bounds[0].key, highest = bounds[0].key;
-    for (const CandidateBound& b : bounds) lowest = std::min(lowest, b.key), highest = std::max(highest, b.key);
-    const float scale = highest > lowest ? float(kBuckets) / (highest - lowest) : 0.0f;
-    auto bucketOf = [&](float key) { return std::min(int((key - lowest) * scale), kBuckets - 1); };
-    int start[kBuckets + 1] = {};
-    float least[kBuckets];
-    std::fill(least, least + kBuckets, FLT_MAX);
-    for (const CandidateBound& b : bounds) {
-        const int bucket = bucketOf(b.key);
-        ++start[bucket + 1];
-        least[bucket] = std::min(least[bucket], b.key);
-    }
-    for (int bucket = 0; bucket < kBuckets; ++bucket) start[bucket + 1] += start[bucket];
-    for (const CandidateBound& b : bounds) {
-        const int bucket = bucketOf(b.key);
-        CandidateBound& placed = sorted[std::size_t(start[bucket]++)];
-        placed = b;
-        placed.key = least[bucket];
-    }
-}
-
-ClosestPoint closestOnTriangle(const Mesh& mesh, const glm::dvec3& p, std::uint32_t t) {
-    return closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
-}
-
-// Calls store(index, i, j, k, triangle) for every sample with its nearest triangle; see computeNearest.
-template <class Store>
-void forEachNearest(const WideBvh& tree, const Mesh& mesh, const Grid& grid, const RunControl& control, const Store& store) {
-    const glm::ivec3 dims = grid.dims;
-    const glm::ivec3 bricks = (dims + (kBrick - 1)) / kBrick;
-    parallelFor(std::size_t(bricks.x) * std::size_t(bricks.y) * std::size_t(bricks.z), control, [&](std::size_t b) {
-        thread_local std::vector<std::uint32_t> brickList, inReach;
-        thread_local std::vector<float> boxMinX, boxMinY, boxMinZ, boxMaxX, boxMaxY, boxMaxZ;
-        thread_local std::vector<CandidateBound> unsorted, candidates;
-        const glm::ivec3 brick(int(b % std::size_t(bricks.x)), int(b / std::size_t(bricks.x) % std::size_t(bricks.y)),
-                               int(b / (std::size_t(bricks.x) * std::size_t(bricks.y))));
-        const glm::ivec3 lo = brick * kBrick, hi = glm::min(lo + kBrick, dims);
-        // The brick: its centre's nearest triangle bounds every sample's distance; the packets
-        // within that reach of its box.
-        const SampleBox whole = sampleBox(mesh, grid, lo, hi);
-        NearestSoFar centre{FLT_MAX, 0};
-        const std::uint32_t centrePacket = tree.nearest(whole.centre.x, whole.centre.y, whole.centre.z, centre);
-        brickList.clear();
-        const float lower[3] = {whole.box.min.x, whole.box.min.y, whole.box.min.z};
-        const float upper[3] = {whole.box.max.x, whole.box.max.y, whole.box.max.z};
-        tree.collectLeaves(lower, upper, reach(whole, centre.distanceSquared), brickList);
-        // Their boxes as structure-of-arrays, padded to whole vectors with empty boxes, for the
-        // quarters' gap tests eight at a time.
-        const std::size_t padded = (brickList.size() + 7) / 8 * 8;
-        for (auto* column : {&boxMinX, &boxMinY, &boxMinZ}) column->assign(padded, FLT_MAX);
-        for (auto* column : {&boxMaxX, &boxMaxY, &boxMaxZ}) column->assign(padded, -FLT_MAX);
-        for (std::size_t n = 0; n < brickList.size(); ++n) {
-            const Bounds& box = tree.leafBounds(brickList[n]);
-            boxMinX[n] = box.min.x, boxMinY[n] = box.min.y, boxMinZ[n] = box.min.z;
-            boxMaxX[n] = box.max.x, boxMaxY[n] = box.max.y, boxMaxZ[n] = box.max.z;
-        }
-
-        std::uint32_t seed = WideBvh::kEmpty; // the packet of the previous sample's answer
-        // One seeded tree search per sample of a region.
-        auto searchEach = [&](const glm::ivec3& from, const glm::ivec3& to) {
-            for (int k = from.z; k < to.z; ++k) {
-                for (int j = from.y; j < to.y; ++j) {
-                    for (int i = from.x; i < to.x; ++i) {
-                        const glm::vec3 p(localPosition(mesh, grid, i, j, k));
-                        NearestSoFar best{FLT_MAX, 0};
-                        if (seed != WideBvh::kEmpty) scanPacket(tree.packets()[seed], p.x, p.y, p.z, best);
-                        const std::uint32_t found = tree.nearest(p.x, p.y, p.z, best);
-                        if (found != WideBvh::kEmpty) seed = found;
-                        store(grid.index(i, j, k), i, j, k, best.triangle);
-                    }
-                }
-            }
-        };
-        for (int qz = lo.z; qz < hi.z; qz += kQuarter) {
-            for (int qy = lo.y; qy < hi.y; qy += kQuarter) {
-                for (int qx = lo.x; qx < hi.x; qx += kQuarter) {
-                    using namespace simd;
-                    const glm::ivec3 qlo(qx, qy, qz), qhi = glm::min(qlo + kQuarter, hi);
-                    const SampleBox quarter = sampleBox(mesh, grid, qlo, qhi);
-                    const glm::vec3 c = quarter.centre, half = 0.5f * (quarter.box.max - quarter.box.min);
-                    // The quarter's centre from the tree (seeded by the brick centre's answer); then
-                    // the brick's packets within the quarter's reach of its box.
-                    NearestSoFar q{FLT_MAX, 0};
-                    if (centrePacket != WideBvh::kEmpty) scanPacket(tree.packets()[centrePacket], c.x, c.y, c.z, q);
-                    tree.nearest(c.x, c.y, c.z, q);
-                    const float r = reach(quarter, q.distanceSquared);
-                    // Rounding of the bounds: a few ulps of the coordinates' and the distances' magnitude.
-                    const float margin = 1e-6f * (std::max({std::fabs(c.x), std::fabs(c.y), std::fabs(c.z)}) + r);
-                    // No sample of the quarter is farther from its nearest triangle than the farthest
-                    // corner of the quarter's box from the centre's closest point (the distance to a
-                    // point is convex, so its maximum over the box is at a corner): widened as
-                    // scanCandidates widens its bound, this caps every sample's final bound. Nearly
-                    // the reach from the centre far from the surface, tighter near it.
-                    const ClosestPoint toCentre = closestOnTriangle(mesh, glm::dvec3(c), q.triangle);
-                    double farthest = 0.0;
-                    for (int corner = 0; corner < 8; ++corner) {
-                        const glm::dvec3 v = glm::dvec3(corner & 1 ? quarter.box.max.x : quarter.box.min.x,
-                                                        corner & 2 ? quarter.box.max.y : quarter.box.min.y,
-                                                        corner & 4 ? quarter.box.max.z : quarter.box.min.z) -
-                                             toCentre.point;
-                        farthest = std::max(farthest, glm::dot(v, v));
-                    }
-                    const float ceiling = std::min(float(std::sqrt(farthest) * (1.0 + 3e-5)) + 2.0f * margin, r);
-                    const float ceilingSquared = std::min(ceiling * ceiling * WideBvh::kSlack, FLT_MAX);
-                    inReach.clear();
-                    for (std::size_t n = 0; n < padded; n += 8) {
-                        const f8 gx = max(max(load(&boxMinX[n]) - quarter.box.max.x, quarter.box.min.x - load(&boxMaxX[n])), splat(0.0f));
-                        const f8 gy = max(max(load(&boxMinY[n]) - quarter.box.max.y, quarter.box.min.y - load(&boxMaxY[n])), splat(0.0f));
-                        const f8 gz = max(max(load(&boxMinZ[n]) - quarter.box.max.z, quarter.box.min.z - load(&boxMaxZ[n])), splat(0.0f));
-                        for (unsigned hits = mask(gx * gx + gy * gy + gz * gz <= ceilingSquared); hits != 0; hits &= hits - 1) {
-                            inReach.push_back(brickList[n + unsigned(__builtin_ctz(hits))]);
-                        }
-                    }
-                    if (inReach.size() > kMaxCandidates) {
-                        searchEach(qlo, qhi);
-                        continue;
-                    }
-                    // Their bounds from the quarter's centre, ordered by key: far from the surface the
-                    // gradients of the near triangles' distances are all nearly u, the field's
-                    // gradient at the centre, so a sample stops soon after the triangles that can
-                    // be its nearest. Packets whose lanes all stay above the ceiling on the whole
-                    // quarter are dropped.
-                    const double centreDistance = std::sqrt(toCentre.distanceSquared);
-                    const glm::vec3 u = centreDistance > 0.0 ? glm::vec3((glm::dvec3(c) - toCentre.point) / centreDistance) : glm::vec3(0.0f);
-                    unsorted.clear();
-                    for (std::uint32_t packet : inReach) {
-                        CandidateBound bound;
-                        const f8 d = linearBounds(tree.packets()[packet], c, bound);
-                        if (lowestLane(d - (absolute(bound.gx) * half.x + absolute(bound.gy) * half.y + absolute(bound.gz) * half.z)) > ceiling) {
-                            continue;
-                        }
-                        // min over the quarter of d + (g - u)·(p - c), lowest lane
-                        bound.key = lowestLane(d - (absolute(bound.gx - u.x) * half.x + absolute(bound.gy - u.y) * half.y +
-                                                    absolute(bound.gz - u.z) * half.z));
-                        bound.packet = packet;
-                        unsorted.push_back(bound);
-                    }
-                    orderByKey(unsorted, candidates);
-                    for (int k = qlo.z; k < qhi.z; ++k) {
-                        for (int j = qlo.y; j < qhi.y; ++j) {
-                            for (int i = qlo.x; i < qhi.x; ++i) {
-                                const glm::vec3 p(localPosition(mesh, grid, i, j, k));
-                                NearestSoFar best{FLT_MAX, 0};
-                                if (seed != WideBvh::kEmpty) scanPacket(tree.packets()[seed], p.x, p.y, p.z, best);
-                                const float along = u.x * (p.x - c.x) + u.y * (p.y - c.y) + u.z * (p.z - c.z);
-                                seed = scanCandidates(tree, candidates, p, along, margin, best, seed);
-                                store(grid.index(i, j, k), i, j, k, best.triangle);
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    });
-}
+std::atomic<const kernel::Table*> chosen{nullptr};
 
 } // namespace
 
+const char* toString(SimdPath path) { return path == SimdPath::Avx2 ? "avx2" : "baseline"; }
+
+bool simdPathAvailable(SimdPath path) { return tableOf(path) != nullptr; }
+
+void setSimdPath(SimdPath path) {
+    const kernel::Table* table = tableOf(path);
+    if (!table) throw Error(std::string("SIMD path ") + toString(path) + " is not available on this CPU or in this binary");
+    chosen.store(table);
+}
+
+SimdPath simdPath() { return kernel::active().path; }
+
+const kernel::Table& kernel::active() {
+    const Table* table = chosen.load(std::memory_order_acquire);
+    if (!table) {
+        static const Table* const first = chooseTable();
+        const Table* expected = nullptr;
+        chosen.compare_exchange_strong(expected, first);
+        table = chosen.load();
+    }
+    return *table;
+}
+
 NearestField computeNearest(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const RunControl& control) {
-    NearestField result;
-    result.distance.resize(grid.sampleCount());
-    result.triangle.resize(grid.sampleCount());
-    forEachNearest(tree, mesh, grid, control, [&](std::size_t index, int i, int j, int k, std::uint32_t t) {
-        const ClosestPoint closest = closestOnTriangle(mesh, localPosition(mesh, grid, i, j, k), t);
-        result.distance[index] = float(std::sqrt(closest.distanceSquared) * mesh.unit);
-        result.triangle[index] = t;
-    });
-    return result;
+    return kernel::active().computeNearest(mesh, tree, grid, control);
 }
 
 NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control) {
@@ -292,32 +75,16 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
 
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
                        float* values, const RunControl& control) {
-    forEachNearest(tree, mesh, grid, control, [&](std::size_t index, int i, int j, int k, std::uint32_t t) {
-        const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
-        const ClosestPoint closest = closestOnTriangle(mesh, p, t);
-        const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
-        const bool inside = pseudonormal && (glm::dot(p - closest.point, pseudonormal->pseudonormal(t, closest.feature)) < 0.0) != flipped;
-        values[index] = inside ? -distance : distance;
-    });
+    kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control);
 }
 
 std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,
                                                  bool flipped, const RunControl& control) {
-    std::vector<std::uint8_t> inside(grid.sampleCount());
-    forEachNearest(tree, mesh, grid, control, [&](std::size_t index, int i, int j, int k, std::uint32_t t) {
-        const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
-        const ClosestPoint closest = closestOnTriangle(mesh, p, t);
-        inside[index] = (glm::dot(p - closest.point, topology.pseudonormal(t, closest.feature)) < 0.0) != flipped;
-    });
-    return inside;
+    return kernel::active().insideByClosestFeature(mesh, tree, grid, topology, flipped, control);
 }
 
 std::uint32_t nearestTriangle(const WideBvh& tree, const glm::vec3& p, std::uint32_t& hint) {
-    NearestSoFar best{FLT_MAX, 0};
-    if (hint != WideBvh::kEmpty) scanPacket(tree.packets()[hint], p.x, p.y, p.z, best);
-    const std::uint32_t winner = tree.nearest(p.x, p.y, p.z, best);
-    if (winner != WideBvh::kEmpty) hint = winner;
-    return best.triangle;
+    return kernel::active().nearestTriangle(tree, p, hint);
 }
 
 Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& control) {
