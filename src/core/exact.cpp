@@ -19,7 +19,10 @@ namespace {
 
 const kernel::Table* tableOf(SimdPath path) {
 #if defined(__x86_64__) || defined(__i386__)
-    if (path == SimdPath::Avx2) return __builtin_cpu_supports("avx2") ? &kernel::avx2::table : nullptr;
+    if (path == SimdPath::Avx2) {
+        __builtin_cpu_init(); // in case the first use runs in another library's static constructor
+        return __builtin_cpu_supports("avx2") ? &kernel::avx2::table : nullptr;
+    }
 #endif
     return path == SimdPath::Baseline ? &kernel::baseline::table : nullptr;
 }
