@@ -1,11 +1,12 @@
-// The exact distance kernel alone (core/exact.cpp): loads a mesh, builds both trees once, then runs
-// the unsigned exact field (computeExactField) --repeat times on the grid of `sdfgen bake --res N`.
-// Prints the best wall seconds and CPU seconds of the process (all threads; steadier than wall
-// time on a busy machine), samples per CPU second, the SIMD path the kernel ran, and a checksum of
-// the field's bits (equal checksums: bit-identical fields, e.g. across paths, thread counts or
-// versions).
+// The exact distance kernel alone (core/exact_kernel.inc): loads a mesh, builds both trees once,
+// then runs the unsigned exact field (computeExactField) --repeat times on the grid of
+// `sdfgen bake --res N`. Prints the best wall seconds and CPU seconds of the process (all threads;
+// steadier than wall time on a busy machine), samples per CPU second, the SIMD path the kernel ran
+// (SDFGEN_SIMD picks one), and a checksum of the field's bits (equal checksums: bit-identical
+// fields, e.g. across paths, thread counts or versions).
 #include "core/bvh.hpp"
 #include "core/exact.hpp"
+#include "core/kernel.hpp"
 #include "core/parallel.hpp"
 #include "core/wide_bvh.hpp"
 #include "sdfgen/error.hpp"
@@ -52,9 +53,9 @@ int main(int argc, char** argv) {
         std::uint64_t checksum = 1469598103934665603ull; // FNV-1a over the field's bytes
         const auto* bytes = reinterpret_cast<const unsigned char*>(values.data());
         for (std::size_t i = 0; i < values.size() * sizeof(float); ++i) checksum = (checksum ^ bytes[i]) * 1099511628211ull;
-        std::printf("%s: %zu triangles, %dx%dx%d samples, %d threads, best of %d: distance %.3f s wall, %.3f s CPU, %.0f samples/CPU s, "
+        std::printf("%s: %zu triangles, %dx%dx%d samples, %s path, %d threads, best of %d: distance %.3f s wall, %.3f s CPU, %.0f samples/CPU s, "
                     "checksum %016llx\n",
-                    input.c_str(), mesh.triangleCount(), grid.dims.x, grid.dims.y, grid.dims.z, threads > 0 ? threads : int(std::thread::hardware_concurrency()), repeat, wall, cpu,
+                    input.c_str(), mesh.triangleCount(), grid.dims.x, grid.dims.y, grid.dims.z, toString(simdPath()), threads > 0 ? threads : int(std::thread::hardware_concurrency()), repeat, wall, cpu,
                     double(grid.sampleCount()) / cpu, (unsigned long long)checksum);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bench_kernel: %s\n", e.what());
