@@ -10,7 +10,7 @@
 -- (premake5 --os=windows or macosx, or running premake there) stops with an error.
 --
 --   premake5 gmake2 && make -C build-premake/gmake2 config=release -j2
---   premake5 --no-native gmake2
+--   premake5 --native gmake2
 --
 -- Generated projects and all build output go to build-premake/ (ignored by git).
 --
@@ -22,8 +22,8 @@ if os.target and os.target() ~= "linux" then
 end
 
 newoption {
-   trigger = "no-native",
-   description = "Leave out -march=native, for portable binaries (CMake: -DSDFGEN_NATIVE=OFF)",
+   trigger = "native",
+   description = "Compile everything with -march=native: binaries for CPUs like this one only (CMake: -DSDFGEN_NATIVE=ON)",
 }
 newoption {
    trigger = "sanitize",
@@ -58,7 +58,10 @@ end
 -- The compile flags CMake's sdfgen_flags target gives sdfgen's own code (not the extern/ glue).
 function sdfgen_flags()
    warnings "Extra"
-   if not _OPTIONS["no-native"] then
+   -- No fused multiply-adds anywhere (CMakeLists.txt says why): the kernel's AVX2 and baseline
+   -- copies and the GPU's shaders round as this code does.
+   buildoptions { "-Wno-psabi", "-ffp-contract=off" }
+   if _OPTIONS["native"] then
       buildoptions { "-march=native" }
    end
    if _OPTIONS["sanitize"] then
@@ -102,11 +105,6 @@ project "sdfgen_core"
    files { "src/core/**.cpp", "src/core/**.hpp", "include/sdfgen/**.hpp" }
    includedirs { "include", "src" }
    sdfgen_flags()
-   -- The winding sign's crossings, the tree's float distances and the exact re-measure, reproduced
-   -- bit for bit by the GPU device's shaders: no fused multiply-adds (CMake: the same per-file option).
-   filter "files:src/core/geometry.cpp or files:src/core/sign.cpp or files:src/core/bvh.cpp"
-      buildoptions { "-ffp-contract=off" }
-   filter {}
 
 -- OpenVDB (.vdb files, iso-surfaces), opened by the core on first use: its symbols from the core
 -- are the program's (CMake: a shared library beside libsdfgen.so that links it).
@@ -196,10 +194,6 @@ if not _OPTIONS["no-tests"] then
       links(SDFGEN_OPENVDB_LINKS) -- the format tests read VDB files themselves
       links { "gmpxx", "gmp" } -- GMP's rationals, the exact reference of the predicate tests
       sdfgen_use_gtest()
-      -- Checked bit for bit against src/core/bvh.cpp, which is compiled without contraction.
-      filter "files:tests/test_bvh.cpp"
-         buildoptions { "-ffp-contract=off" }
-      filter {}
 
    -- Render tests under OSMesa (tests/CMakeLists.txt: sdfgen_render_tests).
    project "sdfgen_render_tests"

@@ -4,6 +4,7 @@
 // triangle (ties to the lower index), huge and tiny scales, thread counts.
 #include "core/exact.hpp"
 #include "core/geometry.hpp"
+#include "core/kernel.hpp"
 #include "core/topology.hpp"
 #include "core/wide_bvh.hpp"
 #include "sdfgen/grid.hpp"
@@ -237,6 +238,40 @@ TEST(ExactBricks, IndependentOfTheThreadCount) {
     computeExactField(bunny, tree, grid, nullptr, false, four.data(), control);
     EXPECT_EQ(std::memcmp(one.data(), two.data(), one.size() * sizeof(float)), 0);
     EXPECT_EQ(std::memcmp(one.data(), four.data(), one.size() * sizeof(float)), 0);
+}
+
+TEST(ExactBricks, BaselinePathEqualsTheAvx2Path) {
+    // The kernel's two compiled copies (core/kernel.hpp): the same fields, nearest triangles and
+    // point queries bit for bit, near and far, and on a soup of slivers and copies.
+    if (!simdPathAvailable(SimdPath::Avx2)) GTEST_SKIP() << "this CPU has no AVX2: only the baseline path runs";
+    const SimdPath chosen = simdPath();
+    for (const Mesh& mesh : {loadObj(test::bundledBunnyPath()), soup(300, 1.0, 12)}) {
+        SCOPED_TRACE(mesh.source);
+        const Bvh binary(mesh);
+        const WideBvh tree(mesh, binary);
+        const Grid grid = makeGrid(mesh.worldBounds(), 36, 0.5);
+        const std::vector<glm::vec3> points = randomPoints(mesh, 2000, 1.0f, 13);
+        struct Run {
+            std::vector<float> field;
+            std::vector<std::uint32_t> triangles, queried;
+        };
+        auto run = [&](SimdPath path) {
+            setSimdPath(path);
+            EXPECT_EQ(simdPath(), path);
+            Run r;
+            r.field.resize(grid.sampleCount());
+            computeExactField(mesh, tree, grid, nullptr, false, r.field.data(), RunControl{});
+            r.triangles = computeNearest(mesh, tree, grid, RunControl{}).triangle;
+            std::uint32_t hint = WideBvh::kEmpty;
+            for (const glm::vec3& p : points) r.queried.push_back(nearestTriangle(tree, p, hint));
+            return r;
+        };
+        const Run avx2 = run(SimdPath::Avx2), baseline = run(SimdPath::Baseline);
+        EXPECT_EQ(std::memcmp(avx2.field.data(), baseline.field.data(), avx2.field.size() * sizeof(float)), 0);
+        EXPECT_EQ(avx2.triangles, baseline.triangles);
+        EXPECT_EQ(avx2.queried, baseline.queried);
+    }
+    setSimdPath(chosen);
 }
 
 TEST(ExactBricks, PseudonormalSignWrittenInlineEqualsTheClosestFeatureSign) {

@@ -1,5 +1,7 @@
-// `sdfgen info`: the OpenGL driver the GPU device would use, and what --device auto would pick.
+// `sdfgen info`: the SIMD path of the CPU kernel, the OpenGL driver the GPU device would use, and
+// what --device auto would pick.
 #include "cli/commands.hpp"
+#include "core/kernel.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 
@@ -8,8 +10,10 @@
 namespace sdfgen::cli {
 
 void addInfoCommand(CLI::App& app) {
-    CLI::App* info = app.add_subcommand("info", "Print the OpenGL driver the GPU device uses and what --device auto picks");
+    CLI::App* info = app.add_subcommand("info", "Print the CPU kernel's SIMD path, the OpenGL driver the GPU device uses and what --device auto picks");
     info->callback([] {
+        std::printf("CPU kernel: %s (AVX2 %s on this CPU; SDFGEN_SIMD=baseline or avx2 forces a path)\n", toString(simdPath()),
+                    simdPathAvailable(SimdPath::Avx2) ? "available" : "not available");
         std::string why;
         try {
             selectComputeDevice(Device::Gpu, &why);

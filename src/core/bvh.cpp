@@ -198,6 +198,12 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     return children(std::size_t(split - order.data()), bestAxis);
 }
 
+// The ray method's hot loop, compiled twice by GCC (AVX2 and baseline) and picked when the library
+// loads, so the portable build keeps AVX2 speed (Clang refuses the baseline clone's eight-lane
+// arguments, so it compiles one copy for the build's flags). Same IEEE operations, same bits.
+#if defined(__GNUC__) && !defined(__clang__) && (defined(__x86_64__) || defined(__i386__)) && !defined(__AVX2__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 void Bvh::intersect(RayPacket& packet) const {
     using namespace simd;
     const glm::vec3 d = packet.direction;

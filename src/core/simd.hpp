@@ -1,52 +1,20 @@
 #pragma once
-// Eight-lane float/int vectors written with the GCC/Clang vector extension: with AVX enabled
-// (-march=native on any recent x86) each operation is one instruction, elsewhere the compiler
-// lowers it to narrower vectors. The same templates also accept plain float, so one routine
-// serves both a single ray and a packet.
+// Eight-lane float/int vectors written with the GCC/Clang vector extension: with AVX enabled each
+// operation is one instruction, elsewhere the compiler lowers it to narrower vectors. The same
+// templates also accept plain float, so one routine serves both a single ray and a packet. The
+// operations are in simd_ops.inc, which the exact kernel includes again for each instruction set
+// it is compiled for (core/exact_kernel.inc); the types are shared.
 #include <cstdint>
-#ifdef __AVX__
+#if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
 #endif
 
-namespace sdfgen::simd {
-
+namespace sdfgen {
+namespace simd {
 using f8 = float __attribute__((vector_size(32)));
 using i8 = std::int32_t __attribute__((vector_size(32)));
+} // namespace simd
 
-inline f8 splat(float x) { return f8{} + x; }
-inline i8 splat(std::int32_t x) { return i8{} + x; }
+#include "core/simd_ops.inc"
 
-inline f8 min(f8 a, f8 b) { return a < b ? a : b; }
-inline f8 max(f8 a, f8 b) { return a > b ? a : b; }
-inline float min(float a, float b) { return a < b ? a : b; }
-inline float max(float a, float b) { return a > b ? a : b; }
-
-inline f8 sqrt(f8 x) {
-#ifdef __AVX__
-    return f8(_mm256_sqrt_ps(__m256(x)));
-#else
-    f8 r;
-    for (int lane = 0; lane < 8; ++lane) r[lane] = __builtin_sqrtf(x[lane]);
-    return r;
-#endif
-}
-
-// Lane-wise select: mask lanes are all ones (true) or zero.
-inline f8 select(i8 mask, f8 a, f8 b) { return mask ? a : b; }
-inline i8 select(i8 mask, i8 a, i8 b) { return mask ? a : b; }
-inline float select(bool mask, float a, float b) { return mask ? a : b; }
-
-// One bit per lane (bit i set where lane i is true): a single movemask with AVX.
-inline unsigned mask(i8 lanes) {
-#ifdef __AVX__
-    return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps((__m256i)lanes)));
-#else
-    unsigned bits = 0;
-    for (int lane = 0; lane < 8; ++lane) bits |= unsigned(lanes[lane] != 0) << lane;
-    return bits;
-#endif
-}
-inline bool any(i8 lanes) { return mask(lanes) != 0; }
-inline bool any(bool mask) { return mask; }
-
-} // namespace sdfgen::simd
+} // namespace sdfgen

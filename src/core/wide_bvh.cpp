@@ -1,4 +1,5 @@
 #include "core/wide_bvh.hpp"
+#include "core/kernel.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -13,20 +14,6 @@ float halfArea(const Bounds& b) {
     const glm::vec3 e = glm::max(b.max - b.min, glm::vec3(0.0f));
     return e.x * e.y + e.y * e.z + e.z * e.x;
 }
-
-// Squared distances from p to the eight child boxes of a node (infinite for empty slots).
-inline simd::f8 boxDistanceSquared(const WideBvh::Node& n, float px, float py, float pz) {
-    using namespace simd;
-    const f8 zero = splat(0.0f);
-    const f8 dx = max(max(n.minX - px, px - n.maxX), zero);
-    const f8 dy = max(max(n.minY - py, py - n.maxY), zero);
-    const f8 dz = max(max(n.minZ - pz, pz - n.maxZ), zero);
-    return dx * dx + dy * dy + dz * dz;
-}
-
-// The bound a box's float distance is compared with: kSlack wider, never infinite (so that empty
-// slots, whose distance is infinite, are never explored).
-inline float boxBound(float bestSquared) { return std::min(bestSquared * WideBvh::kSlack, FLT_MAX); }
 
 } // namespace
 
@@ -174,66 +161,11 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
 }
 
 std::uint32_t WideBvh::nearest(float px, float py, float pz, NearestSoFar& best) const {
-    struct Entry {
-        float distanceSquared;
-        std::uint32_t child;
-    };
-    // Each node pushes at most kWidth entries and pops one: the stack never exceeds
-    // (kWidth - 1) * depth + 1 (see kStackSize).
-    Entry stack[kStackSize];
-    int top = 0;
-    std::uint32_t node = 0, winner = kEmpty;
-    for (;;) {
-        // Push the node's children within the bound, farthest first, so the nearest is tried first.
-        const simd::f8 d = boxDistanceSquared(nodes_[node], px, py, pz);
-        unsigned hits = simd::mask(d <= boxBound(best.distanceSquared));
-        const int base = top;
-        for (; hits != 0; hits &= hits - 1) {
-            const int slot = __builtin_ctz(hits);
-            const Entry e{d[slot], nodes_[node].child[slot]};
-            int at = top++;
-            while (at > base && stack[at - 1].distanceSquared < e.distanceSquared) {
-                stack[at] = stack[at - 1];
-                --at;
-            }
-            stack[at] = e;
-        }
-        // Pop until an inner node within the bound; scan the packets on the way.
-        node = kEmpty;
-        while (top > 0) {
-            const Entry e = stack[--top];
-            if (e.distanceSquared > boxBound(best.distanceSquared)) continue;
-            if (e.child & kLeaf) {
-                const NearestSoFar before = best;
-                scanPacket(packets_[e.child & ~kLeaf], px, py, pz, best);
-                if (best.triangle != before.triangle || best.distanceSquared != before.distanceSquared) winner = e.child & ~kLeaf;
-                continue;
-            }
-            node = e.child;
-            break;
-        }
-        if (node == kEmpty) return winner;
-    }
+    return kernel::active().nearest(*this, px, py, pz, best);
 }
 
 void WideBvh::collectLeaves(const float lo[3], const float hi[3], float reach, std::vector<std::uint32_t>& packets) const {
-    using namespace simd;
-    const float bound = std::min(reach * reach * kSlack, FLT_MAX);
-    std::uint32_t stack[kStackSize];
-    int top = 0;
-    stack[top++] = 0;
-    const f8 zero = splat(0.0f);
-    while (top > 0) {
-        const Node& n = nodes_[stack[--top]];
-        const f8 dx = max(max(n.minX - hi[0], lo[0] - n.maxX), zero);
-        const f8 dy = max(max(n.minY - hi[1], lo[1] - n.maxY), zero);
-        const f8 dz = max(max(n.minZ - hi[2], lo[2] - n.maxZ), zero);
-        for (unsigned hits = mask(dx * dx + dy * dy + dz * dz <= bound); hits != 0; hits &= hits - 1) {
-            const std::uint32_t child = n.child[__builtin_ctz(hits)];
-            if (child & kLeaf) packets.push_back(child & ~kLeaf);
-            else stack[top++] = child;
-        }
-    }
+    kernel::active().collectLeaves(*this, lo, hi, reach, packets);
 }
 
 } // namespace sdfgen
