@@ -6,26 +6,7 @@ sdfgen=$1
 root=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-
-# expect CODE PATTERN -- COMMAND...: as in tests/cli/test_cli.sh.
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if { [ "$code" = fail ] && [ $rc -ne 0 ]; } || [ "$code" = "$rc" ]; then
-    if grep -qE -- "$pattern" <<<"$out"; then
-      passed=$((passed + 1))
-      return
-    fi
-  fi
-  failed=$((failed + 1))
-  echo "FAILED: $* (exit $rc, wanted $code, pattern '$pattern')"
-  echo "$out" | sed 's/^/    /' | head -20
-}
+. "$(dirname "$0")/../support/check.sh"
 
 bunny=$root/assets/bunny.obj
 expect 0 '^GPU device: GL vendor .*, renderer .*, version 4\.[5-9]' -- "$sdfgen" info
