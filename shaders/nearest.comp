@@ -14,6 +14,14 @@
 // src/core/geometry.cpp's closestPointOnTriangle measures it (`precise`: no fused multiply-adds,
 // as that file is compiled). Where the GPU's float and double operations are IEEE, as on Mesa's
 // llvmpipe, the distances and nearest triangles are the CPU's bit for bit.
+//
+// With `signByPseudonormal`, the distance is negated inside by the angle-weighted pseudonormal of
+// the closest feature, as the CPU signs (sdfgen/device.hpp, PseudonormalSign). The CPU's 8-wide
+// search rounds its float distances differently (fused multiply-adds), so of nearly equal
+// triangles it may keep another one: a second walk visits every triangle within `tie` (2^-17 of
+// the coordinates' magnitude, far above both searches' rounding) of the nearest, and the sample is
+// signed only when all of them give the same side, each by more than the rounding of its product;
+// otherwise it is NaN and the CPU decides it.
 layout(local_size_x = 64) in;
 
 struct Node {
@@ -41,13 +49,17 @@ layout(std430, binding = 2) readonly buffer Samples { float samples[]; };
 layout(std430, binding = 6) readonly buffer ExactSamples { double exactSamples[]; };
 layout(std430, binding = 3) buffer Seeds { uint seeds[]; }; // one triangle (leaf order) per brick of the layer
 layout(std430, binding = 4) writeonly buffer Distances { float distances[]; };
-layout(std430, binding = 5) writeonly buffer Nearest { uint nearestTriangle[]; };
+// 7 pseudonormals per mesh triangle (face, edges AB, BC, CA, vertices A, B, C), 3 doubles each.
+layout(std430, binding = 5) readonly buffer Pseudonormals { double pseudonormals[]; };
 
 uniform ivec3 dims;       // the whole grid
 uniform int slabZ;        // first z layer of the slab the output buffers hold
 uniform int firstBrickZ;  // the layer of bricks this dispatch covers
 uniform int seedPass;
 uniform double unit;      // world units per local unit
+uniform int signByPseudonormal;
+uniform int flipped;      // the mesh is inside out: inside and outside swap
+uniform float meshMagnitude; // the largest |coordinate| of the mesh (local units)
 
 const int kStack = 32; // the tree is built at most 30 levels deep (FlatBvh)
 
@@ -96,59 +108,79 @@ double distance2To(dvec3 p, dvec3 q) {
     return dot3(d, d);
 }
 
-// src/core/geometry.cpp's closestPointOnTriangle, operation for operation: the squared distance.
-double triangleDistance2Exact(dvec3 p, dvec3 a, dvec3 b, dvec3 c) {
+double distance2To(dvec3 p, dvec3 q, out dvec3 closest) {
+    closest = q;
+    return distance2To(p, q);
+}
+
+// src/core/geometry.cpp's closestPointOnTriangle, operation for operation: the squared distance,
+// the closest point q and its feature (as TriangleFeature: 0 face, 1-3 edges AB, BC, CA, 4-6
+// vertices A, B, C).
+double closestOnTriangle(dvec3 p, dvec3 a, dvec3 b, dvec3 c, out dvec3 q, out int feature) {
     precise dvec3 ab = b - a;
     precise dvec3 ac = c - a;
     precise dvec3 ap = p - a;
     const double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
-    if (d1 <= 0.0 && d2 <= 0.0) return distance2To(p, a);
+    feature = 4;
+    if (d1 <= 0.0 && d2 <= 0.0) return distance2To(p, a, q);
     precise dvec3 bp = p - b;
     const double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
-    if (d3 >= 0.0 && d4 <= d3) return distance2To(p, b);
+    feature = 5;
+    if (d3 >= 0.0 && d4 <= d3) return distance2To(p, b, q);
     precise double vc = d1 * d4 - d3 * d2;
     precise double d1d3 = d1 - d3;
+    feature = 1;
     if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1d3 > 0.0) {
-        precise dvec3 q = a + ab * (d1 / d1d3);
-        return distance2To(p, q);
+        precise dvec3 onAB = a + ab * (d1 / d1d3);
+        return distance2To(p, onAB, q);
     }
     precise dvec3 cp = p - c;
     const double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6) return distance2To(p, c);
+    feature = 6;
+    if (d6 >= 0.0 && d5 <= d6) return distance2To(p, c, q);
     precise double vb = d5 * d2 - d1 * d6;
     precise double d2d6 = d2 - d6;
+    feature = 3;
     if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2d6 > 0.0) {
-        precise dvec3 q = a + ac * (d2 / d2d6);
-        return distance2To(p, q);
+        precise dvec3 onCA = a + ac * (d2 / d2d6);
+        return distance2To(p, onCA, q);
     }
     precise double va = d3 * d6 - d5 * d4;
     precise double d4d3 = d4 - d3;
     precise double d5d6 = d5 - d6;
     precise double both = d4d3 + d5d6;
+    feature = 2;
     if (va <= 0.0 && d4d3 >= 0.0 && d5d6 >= 0.0 && both > 0.0) {
-        precise dvec3 q = b + (c - b) * (d4d3 / both);
-        return distance2To(p, q);
+        precise dvec3 onBC = b + (c - b) * (d4d3 / both);
+        return distance2To(p, onBC, q);
     }
     // glm::cross: (y z' - y' z, z x' - z' x, x y' - x' y).
     precise dvec3 n = dvec3(ab.y * ac.z - ac.y * ab.z, ab.z * ac.x - ac.z * ab.x, ab.x * ac.y - ac.x * ab.y);
     const double nn = dot3(n, n);
     precise double small = 1e-24LF * dot3(ab, ab) * dot3(ac, ac);
+    feature = 0;
     if (nn > small) {
-        precise dvec3 q = p - n * (dot3(ap, n) / nn);
-        return distance2To(p, q);
+        precise dvec3 onFace = p - n * (dot3(ap, n) / nn);
+        return distance2To(p, onFace, q);
     }
     // A (nearly) zero-area triangle: its nearest point is on one of its edges.
-    double best = distance2To(p, a);
+    feature = 4;
+    double best = distance2To(p, a, q);
     const dvec3 corners[3] = dvec3[3](a, b, c);
+    const int edges[3] = int[3](1, 2, 3);
     for (int e = 0; e < 3; ++e) {
         const dvec3 s = corners[e];
         precise dvec3 d = corners[(e + 1) % 3] - s;
         const double len2 = dot3(d, d);
         precise dvec3 ps = p - s;
         const double t = len2 > 0.0 ? clamp(dot3(ps, d) / len2, 0.0LF, 1.0LF) : 0.0LF;
-        precise dvec3 q = s + d * t;
-        const double candidate = distance2To(p, q);
-        if (candidate < best) best = candidate;
+        precise dvec3 onEdge = s + d * t;
+        const double candidate = distance2To(p, onEdge);
+        if (candidate < best) {
+            best = candidate;
+            q = onEdge;
+            feature = edges[e];
+        }
     }
     return best;
 }
@@ -220,6 +252,53 @@ dvec3 exactSamplePosition(ivec3 s) {
     return dvec3(exactSamples[s.x], exactSamples[dims.x + s.y], exactSamples[dims.x + dims.y + s.z]);
 }
 
+double maxAbs(dvec3 v) { return max(abs(v.x), max(abs(v.y), abs(v.z))); }
+
+// The side of p that triangle t's closest feature tells: 1 inside ((p - q)·n < 0, swapped when
+// flipped), -1 outside, 0 when the product is within its rounding (a CPU's fused multiply-adds, a
+// device's doubles) of zero. Sets d2 to the exact squared distance.
+int pseudonormalSide(dvec3 p, uint t, out double d2) {
+    const Triangle tri = triangles[t];
+    dvec3 q;
+    int feature;
+    d2 = closestOnTriangle(p, dvec3(tri.a.xyz), dvec3(tri.b.xyz), dvec3(tri.c.xyz), q, feature);
+    const int base = int(meshIndex(t)) * 21 + feature * 3;
+    const dvec3 n = dvec3(pseudonormals[base], pseudonormals[base + 1], pseudonormals[base + 2]);
+    precise dvec3 d = p - q;
+    const double product = dot3(d, n);
+    precise double rounding = 1e-12LF * (maxAbs(p) + maxAbs(q)) * (abs(n.x) + abs(n.y) + abs(n.z));
+    if (abs(product) <= rounding) return 0;
+    return ((product < 0.0) != (flipped != 0)) ? 1 : -1;
+}
+
+// Every triangle whose float squared distance is at most `reach2`: the sides they tell (bit 0:
+// some inside, bit 1: some outside, bit 2: some undecided).
+int sidesWithin(vec3 p, dvec3 exactP, float reach2) {
+    uint stackNode[kStack];
+    int top = 0;
+    int sides = 0;
+    if (boxDistance2(p, nodes[0].lo.xyz, nodes[0].hi.xyz) > reach2) return sides;
+    stackNode[top++] = 0u;
+    while (top > 0) {
+        const Node n = nodes[stackNode[--top]];
+        const uint count = floatBitsToUint(n.hi.w);
+        const uint first = floatBitsToUint(n.lo.w);
+        if (count == 0u) {
+            for (uint child = first; child < first + 2u; ++child) {
+                if (boxDistance2(p, nodes[child].lo.xyz, nodes[child].hi.xyz) <= reach2) stackNode[top++] = child;
+            }
+            continue;
+        }
+        for (uint t = first; t < first + count; ++t) {
+            if (triangleDistance2(p, t) > reach2) continue;
+            double d2;
+            const int side = pseudonormalSide(exactP, t, d2);
+            sides |= side == 1 ? 1 : side == -1 ? 2 : 4;
+        }
+    }
+    return sides;
+}
+
 void main() {
     // Dispatched over one layer of bricks (x, y), layer firstBrickZ.
     const ivec3 bricks = (dims + 3) / 4;
@@ -243,10 +322,24 @@ void main() {
     // the CPU) so that its rounding never hides a nearer triangle.
     precise float best2 = triangleDistance2(p, best) * 1.000001;
     walk(p, best2, best);
-    const Triangle t = triangles[best];
-    const double d2 = triangleDistance2Exact(exactSamplePosition(s), dvec3(t.a.xyz), dvec3(t.b.xyz), dvec3(t.c.xyz));
+    const dvec3 exactP = exactSamplePosition(s);
     const uint index = uint(s.x) + uint(dims.x) * (uint(s.y) + uint(dims.y) * uint(s.z - slabZ));
+    double d2;
+    const int side = signByPseudonormal != 0 ? pseudonormalSide(exactP, best, d2) : 0;
+    if (signByPseudonormal == 0) {
+        const Triangle t = triangles[best];
+        dvec3 q;
+        int feature;
+        d2 = closestOnTriangle(exactP, dvec3(t.a.xyz), dvec3(t.b.xyz), dvec3(t.c.xyz), q, feature);
+    }
     precise double world = sqrt(d2) * unit;
-    distances[index] = float(world);
-    nearestTriangle[index] = meshIndex(best);
+    float value = float(world);
+    if (signByPseudonormal != 0) {
+        const float tie = 7.62939453125e-6 * max(meshMagnitude, max(abs(p.x), max(abs(p.y), abs(p.z)))); // 2^-17
+        precise float reach = sqrt(best2) + tie;
+        const int sides = side == 0 ? 4 : sidesWithin(p, exactP, reach * reach * 1.000001);
+        if (sides == 1) value = -value;
+        else if (sides != 2) value = uintBitsToFloat(0x7fc00000u); // NaN: left to the CPU
+    }
+    distances[index] = value;
 }

@@ -86,7 +86,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     const double checkSeconds = since(checkStart);
 
     const Clock::time_point start = Clock::now();
-    const bool signsInline = !method.fixedSign && sign == method.signsInline && !methodContext.device;
+    const bool signsInline = !method.fixedSign && sign == method.signsInline;
     DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
     result.distanceSeconds = since(start);
 

@@ -208,6 +208,15 @@ void forEachNearest(const WideBvh& tree, const Mesh& mesh, const Grid& grid, con
     });
 }
 
+// The distance (world units) from p to triangle t, negated where the pseudonormal of its closest
+// feature points away from p (the other way round when flipped), when `pseudonormal` is given.
+float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipped, const glm::dvec3& p, std::uint32_t t) {
+    const ClosestPoint closest = closestOnTriangle(mesh, p, t);
+    const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
+    const bool inside = pseudonormal && (glm::dot(p - closest.point, pseudonormal->pseudonormal(t, closest.feature)) < 0.0) != flipped;
+    return inside ? -distance : distance;
+}
+
 } // namespace
 
 NearestField computeNearest(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const RunControl& control) {
@@ -229,12 +238,13 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
                        float* values, const RunControl& control) {
     forEachNearest(tree, mesh, grid, control, [&](std::size_t index, int i, int j, int k, std::uint32_t t) {
-        const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
-        const ClosestPoint closest = closestOnTriangle(mesh, p, t);
-        const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
-        const bool inside = pseudonormal && (glm::dot(p - closest.point, pseudonormal->pseudonormal(t, closest.feature)) < 0.0) != flipped;
-        values[index] = inside ? -distance : distance;
+        values[index] = sampleValue(mesh, pseudonormal, flipped, localPosition(mesh, grid, i, j, k), t);
     });
+}
+
+float exactSignedSample(const Mesh& mesh, const WideBvh& tree, const MeshTopology& topology, bool flipped, const glm::dvec3& p,
+                        std::uint32_t& hint) {
+    return sampleValue(mesh, &topology, flipped, p, nearestTriangle(tree, glm::vec3(p), hint));
 }
 
 std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,

@@ -37,12 +37,10 @@ struct BakeContext {
 
 // A distance pass's output. `distance` is unsigned, in world units, unless `signedAsAsked`: then
 // it already carries the context's sign and no sign method runs. A method may also leave inside
-// flags of its own (the ray vote, the reference's winding number), or, on a compute device, each
-// sample's nearest triangle for the pseudonormal sign.
+// flags of its own (the ray vote, the reference's winding number).
 struct DistancePass {
     std::vector<float> distance;
     bool signedAsAsked = false;
-    std::vector<std::uint32_t> nearestTriangle;
     std::optional<std::vector<std::uint8_t>> inside;
 };
 

@@ -18,6 +18,11 @@ expect 0 'max [0-9.e-]+ \(([0-9.]+e-0[5-9]|0) voxels\)' -- "$sdfgen" compare "$w
 expect 1 '^sdfgen: --device gpu computes exact distances; --method rays runs on the CPU$' -- \
   "$sdfgen" bake "$bunny" -o "$work/x.sdf" --res 8 --method rays --device gpu
 expect fail 'device' -- "$sdfgen" bake "$bunny" -o "$work/x.sdf" --device tpu
+# Batch status lines name the device and its renderer.
+mkdir -p "$work/meshes" && cp "$bunny" "$work/meshes/"
+expect 0 '^\[1/1\] done .*bunny\.sdf \([0-9.]+ s, gpu [^)]+\)' -- \
+  "$sdfgen" batch "$work/meshes" --out "$work/batch" --format sdf --res 12 --device gpu --status "$work/status.jsonl"
+expect 0 '"device":"gpu ' -- cat "$work/status.jsonl"
 # The renderer's implicit bake on the GPU, drawn through EGL.
 expect 0 '' -- "$sdfgen" render "$bunny" -o "$work/slice.png" --view slice --res 16 --device gpu --size 64x48
 expect 0 'P +N +G' -- od -An -c -N4 "$work/slice.png"
