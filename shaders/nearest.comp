@@ -18,10 +18,11 @@
 // With `signByPseudonormal`, the distance is negated inside by the angle-weighted pseudonormal of
 // the closest feature, as the CPU signs (sdfgen/device.hpp, PseudonormalSign). The CPU's 8-wide
 // search rounds its float distances differently (fused multiply-adds), so of nearly equal
-// triangles it may keep another one: a second walk visits every triangle within `tie` (2^-17 of
-// the coordinates' magnitude, far above both searches' rounding) of the nearest, and the sample is
-// signed only when all of them give the same side, each by more than the rounding of its product;
-// otherwise it is NaN and the CPU decides it.
+// triangles it may keep another one: the walk then also opens every triangle within `tie` (2^-17
+// of the coordinates' magnitude, far above both searches' rounding) of the nearest and notes the
+// side each one's closest feature tells, and the sample is signed only when all of them tell the
+// same side, each by more than the rounding of its product; otherwise it is NaN and the CPU
+// decides it.
 layout(local_size_x = 64) in;
 
 struct Node {
@@ -187,66 +188,6 @@ double closestOnTriangle(dvec3 p, dvec3 a, dvec3 b, dvec3 c, out dvec3 q, out in
 
 uint meshIndex(uint t) { return floatBitsToUint(triangles[t].normal.w); }
 
-// Nearest-first walk from the root; `best2` and `best` (a triangle in leaf order) are the bound
-// the walk starts from and its result. Boxes as near as the bound are still opened, and a
-// triangle as near as the best replaces it when its mesh index is lower (the CPU's tie rule).
-void walk(vec3 p, inout float best2, inout uint best) {
-    uint stackNode[kStack];
-    float stackDistance[kStack];
-    int top = 0;
-    uint node = 0u;
-    uint bestIndex = meshIndex(best);
-    if (boxDistance2(p, nodes[0].lo.xyz, nodes[0].hi.xyz) > best2) return;
-    while (true) {
-        const Node n = nodes[node];
-        const uint count = floatBitsToUint(n.hi.w);
-        bool descended = false;
-        if (count == 0u) {
-            uint near = floatBitsToUint(n.lo.w), far = near + 1u;
-            float nearDistance = boxDistance2(p, nodes[near].lo.xyz, nodes[near].hi.xyz);
-            float farDistance = boxDistance2(p, nodes[far].lo.xyz, nodes[far].hi.xyz);
-            if (farDistance < nearDistance) {
-                const uint t = near; near = far; far = t;
-                const float d = nearDistance; nearDistance = farDistance; farDistance = d;
-            }
-            if (nearDistance <= best2) {
-                if (farDistance <= best2) {
-                    stackNode[top] = far;
-                    stackDistance[top] = farDistance;
-                    ++top;
-                }
-                node = near;
-                descended = true;
-            }
-        } else {
-            const uint first = floatBitsToUint(n.lo.w);
-            for (uint t = first; t < first + count; ++t) {
-                const float d2 = triangleDistance2(p, t);
-                if (d2 <= best2) {
-                    const uint index = meshIndex(t);
-                    if (d2 < best2 || index < bestIndex) {
-                        best2 = d2;
-                        best = t;
-                        bestIndex = index;
-                    }
-                }
-            }
-        }
-        if (descended) continue;
-        // Pop the nearest pending subtree that can still hold something as near.
-        bool found = false;
-        while (top > 0) {
-            --top;
-            if (stackDistance[top] <= best2) {
-                node = stackNode[top];
-                found = true;
-                break;
-            }
-        }
-        if (!found) return;
-    }
-}
-
 vec3 samplePosition(ivec3 s) { return vec3(samples[s.x], samples[dims.x + s.y], samples[dims.x + dims.y + s.z]); }
 dvec3 exactSamplePosition(ivec3 s) {
     return dvec3(exactSamples[s.x], exactSamples[dims.x + s.y], exactSamples[dims.x + dims.y + s.z]);
@@ -271,43 +212,99 @@ int pseudonormalSide(dvec3 p, uint t, out double d2) {
     return ((product < 0.0) != (flipped != 0)) ? 1 : -1;
 }
 
-// Every triangle whose float squared distance is at most `reach2`: the sides they tell (bit 0:
-// some inside, bit 1: some outside, bit 2: some undecided).
-int sidesWithin(vec3 p, dvec3 exactP, float reach2) {
+// The pruning bound for a best squared distance so far: best2 itself, or with `tie` >= 0 (signing)
+// everything within tie of it, widened by a few ulps for its own rounding.
+float reachOf(float best2, float tie) {
+    if (tie < 0.0) return best2;
+    precise float r = sqrt(best2) + tie;
+    precise float r2 = r * r * 1.000001;
+    return r2;
+}
+
+// Nearest-first walk from the root; `best2` and `best` (a triangle in leaf order) are the bound
+// the walk starts from and its result. Boxes as near as the bound are still opened, and a
+// triangle as near as the best replaces it when its mesh index is lower (the CPU's tie rule).
+// With `tie` >= 0 the walk also opens everything within tie of the best and, for each triangle
+// there, notes the side its closest feature tells: `sideNearest` holds the least float squared
+// distance of a triangle telling inside (x), outside (y) and undecided (z).
+void walk(vec3 p, dvec3 exactP, float tie, inout float best2, inout uint best, inout vec3 sideNearest) {
     uint stackNode[kStack];
+    float stackDistance[kStack];
     int top = 0;
-    int sides = 0;
-    if (boxDistance2(p, nodes[0].lo.xyz, nodes[0].hi.xyz) > reach2) return sides;
-    stackNode[top++] = 0u;
-    while (top > 0) {
-        const Node n = nodes[stackNode[--top]];
+    uint node = 0u;
+    uint bestIndex = meshIndex(best);
+    float bound = reachOf(best2, tie);
+    if (boxDistance2(p, nodes[0].lo.xyz, nodes[0].hi.xyz) > bound) return;
+    while (true) {
+        const Node n = nodes[node];
         const uint count = floatBitsToUint(n.hi.w);
-        const uint first = floatBitsToUint(n.lo.w);
+        bool descended = false;
         if (count == 0u) {
-            for (uint child = first; child < first + 2u; ++child) {
-                if (boxDistance2(p, nodes[child].lo.xyz, nodes[child].hi.xyz) <= reach2) stackNode[top++] = child;
+            uint near = floatBitsToUint(n.lo.w), far = near + 1u;
+            float nearDistance = boxDistance2(p, nodes[near].lo.xyz, nodes[near].hi.xyz);
+            float farDistance = boxDistance2(p, nodes[far].lo.xyz, nodes[far].hi.xyz);
+            if (farDistance < nearDistance) {
+                const uint t = near; near = far; far = t;
+                const float d = nearDistance; nearDistance = farDistance; farDistance = d;
             }
-            continue;
+            if (nearDistance <= bound) {
+                if (farDistance <= bound) {
+                    stackNode[top] = far;
+                    stackDistance[top] = farDistance;
+                    ++top;
+                }
+                node = near;
+                descended = true;
+            }
+        } else {
+            const uint first = floatBitsToUint(n.lo.w);
+            for (uint t = first; t < first + count; ++t) {
+                const float d2 = triangleDistance2(p, t);
+                if (d2 > bound) continue;
+                if (d2 <= best2) {
+                    const uint index = meshIndex(t);
+                    if (d2 < best2 || index < bestIndex) {
+                        best2 = d2;
+                        best = t;
+                        bestIndex = index;
+                        bound = reachOf(best2, tie);
+                    }
+                }
+                if (tie >= 0.0 && d2 < max(sideNearest.x, max(sideNearest.y, sideNearest.z))) {
+                    double exactD2;
+                    const int side = pseudonormalSide(exactP, t, exactD2);
+                    if (side == 1) sideNearest.x = min(sideNearest.x, d2);
+                    else if (side == -1) sideNearest.y = min(sideNearest.y, d2);
+                    else sideNearest.z = min(sideNearest.z, d2);
+                }
+            }
         }
-        for (uint t = first; t < first + count; ++t) {
-            if (triangleDistance2(p, t) > reach2) continue;
-            double d2;
-            const int side = pseudonormalSide(exactP, t, d2);
-            sides |= side == 1 ? 1 : side == -1 ? 2 : 4;
+        if (descended) continue;
+        // Pop the nearest pending subtree that can still hold something within the bound.
+        bool found = false;
+        while (top > 0) {
+            --top;
+            if (stackDistance[top] <= bound) {
+                node = stackNode[top];
+                found = true;
+                break;
+            }
         }
+        if (!found) return;
     }
-    return sides;
 }
 
 void main() {
     // Dispatched over one layer of bricks (x, y), layer firstBrickZ.
     const ivec3 bricks = (dims + 3) / 4;
+    vec3 sideNearest = vec3(1.0 / 0.0);
     if (seedPass == 1) {
         const ivec3 b = ivec3(gl_GlobalInvocationID.x, gl_WorkGroupID.y, firstBrickZ);
         if (b.x >= bricks.x) return;
+        const ivec3 corner = min(b * 4, dims - 1);
         float best2 = 1.0 / 0.0;
         uint best = 0u;
-        walk(samplePosition(min(b * 4, dims - 1)), best2, best);
+        walk(samplePosition(corner), exactSamplePosition(corner), -1.0, best2, best, sideNearest);
         seeds[b.x + bricks.x * b.y] = best;
         return;
     }
@@ -317,29 +314,25 @@ void main() {
     const ivec3 s = b * 4 + ivec3(lane & 3u, (lane >> 2) & 3u, lane >> 4);
     if (any(greaterThanEqual(s, dims))) return;
     const vec3 p = samplePosition(s);
+    const dvec3 exactP = exactSamplePosition(s);
     uint best = seeds[b.x + bricks.x * b.y];
     // The seed is a real triangle, so its distance bounds the search; widened by a few ulps (as on
     // the CPU) so that its rounding never hides a nearer triangle.
     precise float best2 = triangleDistance2(p, best) * 1.000001;
-    walk(p, best2, best);
-    const dvec3 exactP = exactSamplePosition(s);
-    const uint index = uint(s.x) + uint(dims.x) * (uint(s.y) + uint(dims.y) * uint(s.z - slabZ));
-    double d2;
-    const int side = signByPseudonormal != 0 ? pseudonormalSide(exactP, best, d2) : 0;
-    if (signByPseudonormal == 0) {
-        const Triangle t = triangles[best];
-        dvec3 q;
-        int feature;
-        d2 = closestOnTriangle(exactP, dvec3(t.a.xyz), dvec3(t.b.xyz), dvec3(t.c.xyz), q, feature);
-    }
+    // 2^-17 of the coordinates' magnitude: the rounding of both sides' float distances is far below.
+    const float tie = signByPseudonormal != 0 ? 7.62939453125e-6 * max(meshMagnitude, max(abs(p.x), max(abs(p.y), abs(p.z)))) : -1.0;
+    walk(p, exactP, tie, best2, best, sideNearest);
+    const Triangle t = triangles[best];
+    dvec3 q;
+    int feature;
+    const double d2 = closestOnTriangle(exactP, dvec3(t.a.xyz), dvec3(t.b.xyz), dvec3(t.c.xyz), q, feature);
     precise double world = sqrt(d2) * unit;
     float value = float(world);
     if (signByPseudonormal != 0) {
-        const float tie = 7.62939453125e-6 * max(meshMagnitude, max(abs(p.x), max(abs(p.y), abs(p.z)))); // 2^-17
-        precise float reach = sqrt(best2) + tie;
-        const int sides = side == 0 ? 4 : sidesWithin(p, exactP, reach * reach * 1.000001);
-        if (sides == 1) value = -value;
-        else if (sides != 2) value = uintBitsToFloat(0x7fc00000u); // NaN: left to the CPU
+        const float reach = reachOf(best2, tie);
+        const bool inside = sideNearest.x <= reach, outside = sideNearest.y <= reach, unsure = sideNearest.z <= reach;
+        if (inside && !outside && !unsure) value = -value;
+        else if (!outside || inside || unsure) value = uintBitsToFloat(0x7fc00000u); // NaN: left to the CPU
     }
-    distances[index] = value;
+    distances[uint(s.x) + uint(dims.x) * (uint(s.y) + uint(dims.y) * uint(s.z - slabZ))] = value;
 }
