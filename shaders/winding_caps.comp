@@ -5,7 +5,10 @@
 //
 // As src/core/sign.cpp's WindingCaps::inside, a node of the fans' box tree seen from p at distance
 // d is worth at most area / (4π d²): nodes bounded below kSkip are summed into the doubt (up to
-// kBudget in all), every other one is opened and its fans measured. A fan's angle is its
+// kBudget in all), every other one is opened and its fans measured. The integer part leaves
+// orientation * ahead at least ½ from ½, so the fans must move w by ½ to change a side: a doubt of
+// up to 0.4 still decides most samples near the holes, and opens few nodes (on the Stanford bunny at
+// res 48, 215 of 92,160 samples are left to the CPU, against 5 with 1e-3 and 0.05, at half the time). A fan's angle is its
 // triangles' complex product in double (fanSolidAngle's steps) and one float atan, which is off by
 // far less than kFanError per unit of weight. A sample is decided (1 inside, 0 outside) only when
 // orientation * w is farther from 1/2 than the doubt plus those errors; otherwise it is 2 and the
@@ -27,8 +30,8 @@ uniform int slabSamples;
 uniform int orientation;
 
 const double kPi = 3.14159265358979323846LF;
-const double kSkip = 1e-3;
-const double kBudget = 0.05;
+const double kSkip = 0.1;
+const double kBudget = 0.4;
 const double kFanError = 1e-5;
 
 dvec3 fanPoint(int i) { return dvec3(fanPoints[3 * i], fanPoints[3 * i + 1], fanPoints[3 * i + 2]); }

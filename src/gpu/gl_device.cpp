@@ -109,6 +109,7 @@ public:
     ~GlDevice() override {
         context_->makeCurrent();
         nearest_.reset();
+        nearestSigned_.reset();
         windingRows_.reset();
         windingPrefix_.reset();
         windingCaps_.reset();
@@ -153,13 +154,12 @@ public:
         pseudonormals.bind(5);
         exactSamples.bind(6);
         distance.resize(grid.sampleCount());
-        const render::Program& program = compiled(nearest_, "nearest.comp");
+        const render::Program& program = sign ? compiled(nearestSigned_, "nearest_signed.comp") : compiled(nearest_, "nearest.comp");
         times.mark("upload+compile");
         double downloadSeconds = 0;
         program.use();
         glProgramUniform3i(program.id(), glGetUniformLocation(program.id(), "dims"), dims.x, dims.y, dims.z);
         glProgramUniform1d(program.id(), glGetUniformLocation(program.id(), "unit"), mesh.unit);
-        glProgramUniform1i(program.id(), glGetUniformLocation(program.id(), "signByPseudonormal"), sign ? 1 : 0);
         glProgramUniform1i(program.id(), glGetUniformLocation(program.id(), "flipped"), sign && sign->flipped ? 1 : 0);
         const glm::vec3 lo(tree.nodes[0].lo), hi(tree.nodes[0].hi);
         const glm::vec3 magnitude = glm::max(glm::abs(lo), glm::abs(hi));
@@ -429,7 +429,7 @@ private:
     bool hardware_ = false;
     std::size_t maxBlockBytes_ = 0;
     std::size_t slabBytes_ = 0; // kSlabBytes, or less for the driver's limit or the test hook
-    std::unique_ptr<render::Program> nearest_, windingRows_, windingPrefix_, windingCaps_;
+    std::unique_ptr<render::Program> nearest_, nearestSigned_, windingRows_, windingPrefix_, windingCaps_;
 };
 
 } // namespace
