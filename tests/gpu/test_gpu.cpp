@@ -96,6 +96,7 @@ std::vector<Shape> shapes() {
          repeated(buildMesh("triangle", std::vector<glm::vec3>{{0, 0, 0}, {1, 0.2f, 0}, {0.3f, 1, 0.4f}}, {{0, 1, 2}}), 2000), 12},
         {"holed torus, every triangle three times", repeated(cutOpen(test::torus(1.0f, 0.3f, 16, 8), {0, 0, 1}, 0.1f), 3), 14},
         {"closed sphere, every triangle twice", repeated(sphere, 2), 12},
+        {"inside-out torus (auto flips the pseudonormal sign)", moved(test::torus(1.0f, 0.3f, 24, 12), {0, 0, 0}, true), 14},
     };
 }
 
