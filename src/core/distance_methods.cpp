@@ -38,9 +38,9 @@ DistancePass exactDistanceOnDevice(const BakeContext& context, const RunControl&
         std::uint32_t hint = WideBvh::kEmpty;
         for (int i = 0; i < grid.dims.x; ++i) {
             float& value = pass.distance[grid.index(i, j, k)];
-            if (std::isnan(value)) {
-                value = exactSignedSample(context.mesh, context.wide, topology, context.flipped, localPosition(context.mesh, grid, i, j, k), hint);
-            }
+            if (!std::isnan(value)) continue;
+            const glm::dvec3 p = localPosition(context.mesh, grid, i, j, k);
+            value = exactSignedSample(context.mesh, context.wide, topology, context.flipped, p, hint);
         }
     });
     pass.signedAsAsked = true;
@@ -50,8 +50,8 @@ DistancePass exactDistanceOnDevice(const BakeContext& context, const RunControl&
 // Straight into the field: signed by the closest feature's pseudonormal when that is the sign,
 // unsigned for the winding sign (which negates in place), with no per-sample side arrays.
 DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
-    DistancePass pass;
     if (context.device) return exactDistanceOnDevice(context, control);
+    DistancePass pass;
     pass.distance.resize(context.grid.sampleCount());
     pass.signedAsAsked = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares
     computeExactField(context.mesh, context.wide, context.grid, pass.signedAsAsked ? &context.topology() : nullptr, context.flipped,

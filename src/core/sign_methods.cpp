@@ -6,7 +6,6 @@
 #include "core/sign.hpp"
 #include "sdfgen/error.hpp"
 
-
 namespace sdfgen {
 
 namespace {

@@ -163,7 +163,8 @@ public:
         glProgramUniform1i(program.id(), glGetUniformLocation(program.id(), "flipped"), sign && sign->flipped ? 1 : 0);
         const glm::vec3 lo(tree.nodes[0].lo), hi(tree.nodes[0].hi);
         const glm::vec3 magnitude = glm::max(glm::abs(lo), glm::abs(hi));
-        glProgramUniform1f(program.id(), glGetUniformLocation(program.id(), "meshMagnitude"), std::max({magnitude.x, magnitude.y, magnitude.z}));
+        glProgramUniform1f(program.id(), glGetUniformLocation(program.id(), "meshMagnitude"),
+                           std::max({magnitude.x, magnitude.y, magnitude.z}));
         const GLint slabZ = glGetUniformLocation(program.id(), "slabZ"), firstBrickZ = glGetUniformLocation(program.id(), "firstBrickZ");
         const GLint seedPass = glGetUniformLocation(program.id(), "seedPass");
         for (int z0 = 0; z0 < dims.z; z0 += slabLayers) {
@@ -190,7 +191,10 @@ public:
         checkErrors("the distance pass");
         times.mark("dispatch+download");
         if (downloadSeconds > 0) times.note("of which download", downloadSeconds);
-        if (sign) times.count("samples left to the CPU", std::size_t(std::count_if(distance.begin(), distance.end(), [](float d) { return std::isnan(d); })));
+        if (sign) {
+            const auto undecided = std::count_if(distance.begin(), distance.end(), [](float d) { return std::isnan(d); });
+            times.count("samples left to the CPU", std::size_t(undecided));
+        }
     }
 
     std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const std::vector<std::int32_t>& weights,
@@ -234,7 +238,7 @@ public:
             for (const WindingFans::Fan& fan : fans->fans) list.push_back({int(fan.first), int(fan.count), fan.weight, 0});
             std::vector<double> points;
             for (const glm::dvec3& p : fans->points) points.insert(points.end(), {p.x, p.y, p.z});
-            checkFits(points.size() * sizeof(double), "the holes' fans");
+            checkFits(std::max(points.size(), nodeData.size()) * sizeof(double), "the holes' fans");
             fanNodes.upload(nodeData);
             fanLinks.upload(links);
             fanList.upload(list);
