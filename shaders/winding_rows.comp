@@ -6,12 +6,13 @@
 // fused multiply-adds (`precise`; the CPU file is compiled with -ffp-contract=off): a robust 2D
 // point-in-triangle test with symbolic tie-breaking, so that a row through a shared edge or
 // vertex crosses exactly one of the triangles, and the crossing's x from barycentric weights. A
-// crossing ahead of a sample (x greater than the sample's) adds its orientation to the sample's
-// winding number: it is added to counts[row][n], n = how many samples of the row lie before it,
+// crossing ahead of a sample (x greater than the sample's) adds its orientation times the
+// triangle's weight (its copies; a cap shared by equal loops) to the sample's winding number: it is added to counts[row][n], n = how many samples of the row lie before it,
 // and winding_prefix.comp sums them.
 layout(local_size_x = 8, local_size_y = 4) in;
 
 layout(std430, binding = 0) readonly buffer Corners { double corners[]; };  // 9 per triangle
+layout(std430, binding = 5) readonly buffer Weights { int weights[]; };     // how often each triangle counts
 // One per work group: the triangle and the first row (j, k) of its 8x4 tile of candidate rows;
 // w: the last candidate row, j in the low 16 bits, k in the high 16 bits.
 layout(std430, binding = 1) readonly buffer Tiles { uvec4 tiles[]; };
@@ -72,5 +73,5 @@ void main() {
         else hi = mid;
     }
     if (lo == 0) return;
-    atomicAdd(counts[((k - slabZ) * dims.y + j) * (dims.x + 1) + lo], -sa);
+    atomicAdd(counts[((k - slabZ) * dims.y + j) * (dims.x + 1) + lo], -sa * weights[int(tile.x)]);
 }

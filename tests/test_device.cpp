@@ -18,25 +18,58 @@ class StandInDevice final : public ComputeDevice {
 public:
     StandInDevice(bool hardware, int* calls) : hardware_(hardware), calls_(calls) {}
     std::string description() const override { return "stand-in"; }
+    std::string renderer() const override { return "stand-in"; }
     bool hardware() const override { return hardware_; }
-    void nearest(const Mesh& mesh, const Grid& grid, const RunControl& control, std::vector<float>& distance,
-                 std::vector<std::uint32_t>& triangle) override {
+    // Signed as the CPU signs, except every third sample left undecided (NaN) for the core to decide.
+    void nearest(const Mesh& mesh, const Grid& grid, const PseudonormalSign* sign, const RunControl& control,
+                 std::vector<float>& distance) override {
         ++*calls_;
         NearestField field = computeNearest(mesh, Bvh(mesh), grid, control);
         distance = std::move(field.distance);
-        triangle = std::move(field.triangle);
+        if (!sign) return;
+        for (int k = 0; k < grid.dims.z; ++k) {
+            for (int j = 0; j < grid.dims.y; ++j) {
+                for (int i = 0; i < grid.dims.x; ++i) {
+                    const std::size_t index = grid.index(i, j, k);
+                    const std::uint32_t t = field.triangle[index];
+                    const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
+                    const ClosestPoint q = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                                  glm::dvec3(mesh.vertex(t, 2)));
+                    const bool inside = (glm::dot(p - q.point, sign->normals[7 * t + int(q.feature)]) < 0.0) != sign->flipped;
+                    if (inside) distance[index] = -distance[index];
+                    if (index % 3 == 0) distance[index] = std::nanf("");
+                }
+            }
+        }
     }
-    std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const Grid& grid,
-                                             const RunControl&) override {
+    // With fans: every other sample's side from w in double, the rest left undecided (2) for the core.
+    std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const std::vector<std::int32_t>& weights,
+                                             const WindingFans* fans, const Grid& grid, const RunControl&,
+                                             std::vector<std::uint8_t>& sides) override {
         ++*calls_;
         std::vector<std::int32_t> out(grid.sampleCount());
+        if (fans) sides.assign(grid.sampleCount(), 2);
         for (int k = 0; k < grid.dims.z; ++k) {
             for (int j = 0; j < grid.dims.y; ++j) {
                 for (int i = 0; i < grid.dims.x; ++i) {
                     const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
                     double sum = 0;
-                    for (std::size_t t = 0; t + 2 < corners.size(); t += 3) sum += solidAngle(p, corners[t], corners[t + 1], corners[t + 2]);
-                    out[grid.index(i, j, k)] = std::int32_t(std::lround(sum / (4.0 * M_PI)));
+                    for (std::size_t t = 0; 3 * t + 2 < corners.size(); ++t) {
+                        sum += weights[t] * solidAngle(p, corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]);
+                    }
+                    const std::size_t index = grid.index(i, j, k);
+                    out[index] = std::int32_t(std::lround(sum / (4.0 * M_PI)));
+                    if (!fans || index % 2 == 0) continue;
+                    double w = out[index];
+                    for (const WindingFans::Fan& fan : fans->fans) {
+                        const glm::dvec3& centre = fans->points[fan.first];
+                        for (std::uint32_t v = 0; v < fan.count; ++v) {
+                            const glm::dvec3& a = fans->points[fan.first + 1 + (v + 1) % fan.count];
+                            const glm::dvec3& b = fans->points[fan.first + 1 + v];
+                            w -= fan.weight * solidAngle(p, a, b, centre) / (4.0 * M_PI);
+                        }
+                    }
+                    sides[index] = fans->orientation * w > 0.5;
                 }
             }
         }
@@ -99,8 +132,9 @@ TEST_F(DeviceHook, ChoosesWhereTheBakeRuns) {
     EXPECT_EQ(why, "gpu: stand-in");
 }
 
-// A bake on the device uses its answers, and gives the CPU's field: pseudonormal from its nearest
-// triangles, and winding from its integers plus the fans' part near the hole.
+// A bake on the device uses its answers, and gives the CPU's field: pseudonormal signed by the
+// device (the samples it leaves undecided by the CPU), and winding from its integers plus the
+// fans' part near the hole.
 TEST_F(DeviceHook, BakesWithTheDevicesAnswers) {
     int calls = 0;
     registerComputeDevice([&] { return std::make_unique<StandInDevice>(true, &calls); });

@@ -22,6 +22,42 @@ enum class Device {
 };
 const char* toString(Device device);
 
+// What ComputeDevice::nearest signs by: inside where (p - q)·n < 0 (the other way round when
+// `flipped`), q the closest point of the nearest triangle to the sample p and n the angle-weighted
+// pseudonormal of q's feature (face, edge or vertex). The CPU's float search rounds differently
+// from a device's, so where triangles are nearly as near the two may keep different ones: a device
+// signs a sample only when every triangle whose float distance is within the rounding of both
+// searches (2^-17 of the coordinates' magnitude) of its nearest gives the same side, each with
+// |(p - q)·n| beyond its rounding; the CPU's nearest is among them, so the sign is the CPU's.
+struct PseudonormalSign {
+    std::vector<glm::dvec3> normals; // 7 per mesh triangle: face, edges AB, BC, CA, vertices A, B, C
+    bool flipped = false;
+};
+
+// The fans that close a mesh's holes (the core's WindingCaps, flattened), for the winding sign's
+// fractional part: w = (crossings ahead) - (the fans' winding number), inside where
+// orientation * w > 1/2. Fan f is the triangles (loop[i + 1], loop[i], centre), the centre at
+// points[first] and the loop at points[first + 1 .. first + count], counted `weight` times.
+// Nodes: a box tree over the fans (root first; inner: children first and first + 1; leaf: fan
+// `first`), `area` the sum of |weight| x area below, which bounds the winding number seen from a
+// point at distance d by area / (4π d²).
+struct WindingFans {
+    struct Fan {
+        std::uint32_t first, count;
+        std::int32_t weight;
+    };
+    struct Node {
+        glm::dvec3 lo, hi;
+        double area;
+        std::uint32_t first;
+        bool leaf;
+    };
+    std::vector<glm::dvec3> points;
+    std::vector<Fan> fans;
+    std::vector<Node> nodes;
+    int orientation = 1; // -1 for a mesh that is inside out
+};
+
 // A processor that can do the two heavy parts of an exact bake. Both must give exactly what the
 // CPU gives: the same distances (to 1e-4 voxel) and the same winding numbers (not one different).
 class ComputeDevice {
@@ -29,20 +65,29 @@ public:
     virtual ~ComputeDevice() = default;
     // One line naming the driver, e.g. "GL vendor Mesa, renderer llvmpipe (LLVM 15.0.6, 256 bits), version 4.5 (Core Profile) Mesa 22.3.6".
     virtual std::string description() const = 0;
+    // The renderer alone, briefly, for status lines: e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+    virtual std::string renderer() const = 0;
     // False for drivers that emulate a GPU on the CPU (Mesa's llvmpipe, softpipe): auto skips them.
     virtual bool hardware() const = 0;
 
     // For every sample of `grid`: the exact distance to the nearest triangle of `mesh` (world
-    // units: measured in the mesh's local units at localPosition, times mesh.unit) and that
-    // triangle's index, the lowest of equally near ones (the CPU's computeNearest).
-    virtual void nearest(const Mesh& mesh, const Grid& grid, const RunControl& control, std::vector<float>& distance,
-                         std::vector<std::uint32_t>& triangle) = 0;
+    // units: measured in the mesh's local units at localPosition, times mesh.unit), the CPU's
+    // computeExactField's to 1e-4 voxel. With `sign`, negative inside by the pseudonormal of the
+    // nearest triangle's closest feature, as the CPU signs; a sample the device cannot sign as the
+    // CPU would (see PseudonormalSign) is NaN, for the caller to decide.
+    virtual void nearest(const Mesh& mesh, const Grid& grid, const PseudonormalSign* sign, const RunControl& control,
+                         std::vector<float>& distance) = 0;
     // For every sample of `grid`: the winding number of the closed surface `triangles` (three
-    // corners each in `mesh`'s local coordinates, counter-clockwise seen from outside), an
-    // integer, counted as the CPU's insideByWinding counts it (signed crossings ahead along +x of
-    // the sample's localPosition, robust tie-breaking).
-    virtual std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& triangles, const Grid& grid,
-                                                     const RunControl& control) = 0;
+    // corners each in `mesh`'s local coordinates, counter-clockwise seen from outside), triangle t
+    // counted weights[t] times (copies of a triangle, caps shared by equal loops; negative: the
+    // other way round), an integer, counted as the CPU's insideByWinding counts it (signed
+    // crossings ahead along +x of the sample's localPosition, robust tie-breaking).
+    // With `fans` (not empty), also `sides` for every sample: 1 inside, 0 outside by the sign of
+    // orientation * w - 1/2 (w as in WindingFans, the fans' part measured where their bounds leave
+    // doubt), 2 where the device's float cannot tell it from the CPU's double: the caller decides.
+    virtual std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& triangles,
+                                                     const std::vector<std::int32_t>& weights, const WindingFans* fans,
+                                                     const Grid& grid, const RunControl& control, std::vector<std::uint8_t>& sides) = 0;
 };
 
 // Registers how to open the compute device (called once by a program that links src/gpu). The

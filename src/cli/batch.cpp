@@ -4,6 +4,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "core/batch.hpp"
+#include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/model.hpp"
@@ -61,7 +62,8 @@ struct Outcome {
     std::string status; // done, skipped, failed
     double seconds = 0;
     std::string error;
-    std::string details; // JSON members from the child: grid, sign, triangles
+    std::string details; // JSON members from the child: grid, sign, triangles, device
+    std::string device;  // where it was baked, briefly: "cpu" or "gpu RENDERER"
 };
 
 const std::map<std::string, std::string> formatExtensions = {
@@ -148,7 +150,15 @@ void cancelAt(std::chrono::steady_clock::time_point deadline, std::atomic<bool>&
     }).detach();
 }
 
-std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads, const std::atomic<bool>& cancel) {
+// Where a bake ran, in a few words for the status lines: "cpu", or "gpu" and the GL renderer.
+std::string deviceUsed(const BakeResult& result, Device asked) {
+    if (!result.onDevice) return "cpu";
+    const ComputeDevice* device = selectComputeDevice(asked);
+    return device ? "gpu " + device->renderer() : "gpu";
+}
+
+// Bakes one mesh into its output; returns the status line's JSON members and sets `device`.
+std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads, const std::atomic<bool>& cancel, std::string& device) {
     RunControl control;
     control.threads = threads;
     control.cancel = &cancel;
@@ -169,6 +179,7 @@ std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads,
         saveSamples(samples, partial.string());
         details += ",\"samples\":" + std::to_string(samples.size()) + ",\"seed\":" + std::to_string(sampling.seed) +
                    ",\"dims\":null,\"origin\":null,\"voxel\":null,\"sign\":null,\"sign_reason\":null";
+        device = "cpu"; // point queries
     } else {
         const BakeResult result = model.bake(args.settings, control);
         saveField(result.field, partial.string());
@@ -177,7 +188,9 @@ std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads,
                    "],\"origin\":[" + jsonNumber(g.origin.x) + "," + jsonNumber(g.origin.y) + "," + jsonNumber(g.origin.z) +
                    "],\"voxel\":" + jsonNumber(g.voxel) + ",\"sign\":" + batch::jsonString(result.field.parameter("sign")) +
                    ",\"sign_reason\":" + (result.signReason.empty() ? "null" : batch::jsonString(result.signReason));
+        device = deviceUsed(result, args.settings.device);
     }
+    details += ",\"device\":" + batch::jsonString(device);
     // The rename is what makes the output complete: a resumed batch skips exactly the renamed ones.
     if (std::rename(partial.c_str(), output.c_str()) != 0) {
         const std::string why = std::strerror(errno);
@@ -208,7 +221,9 @@ void limitAddressSpace(double budgetMiB) {
                                                            std::chrono::duration<double>(args.timeout)),
                      cancel);
         }
-        report = "ok\n\n" + bakeOne(task, args, threads, cancel);
+        std::string device;
+        const std::string details = bakeOne(task, args, threads, cancel, device);
+        report = "ok\n" + device + "\n" + details;
     } catch (const Cancelled&) {
         report = "failed\ntimed out after " + secondsText(args.timeout) + "\n";
         code = 1;
@@ -314,6 +329,7 @@ private:
         const std::size_t second = first == std::string::npos ? std::string::npos : r.report.find('\n', first + 1);
         if (second != std::string::npos && r.report.compare(0, first, "ok") == 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
             outcome.status = "done";
+            outcome.device = r.report.substr(first + 1, second - first - 1);
             outcome.details = r.report.substr(second + 1);
             return outcome;
         }
@@ -343,7 +359,7 @@ std::string statusLine(const Outcome& o, const batch::Shard& shard, const std::s
     std::string line = "{\"mesh\":" + batch::jsonString(o.task.mesh) + ",\"output\":" + batch::jsonString(o.task.output) +
                        ",\"status\":\"" + o.status + "\",\"seconds\":" + jsonNumber(std::round(o.seconds * 1000.0) / 1000.0) +
                        ",\"error\":" + (o.error.empty() ? "null" : batch::jsonString(o.error));
-    line += "," + (o.details.empty() ? std::string("\"triangles\":null,\"dims\":null,\"origin\":null,\"voxel\":null,\"sign\":null,\"sign_reason\":null")
+    line += "," + (o.details.empty() ? std::string("\"triangles\":null,\"dims\":null,\"origin\":null,\"voxel\":null,\"sign\":null,\"sign_reason\":null,\"device\":null")
                                      : o.details);
     line += ",\"shard\":\"" + std::to_string(shard.index) + "/" + std::to_string(shard.count) + "\",\"host\":" + batch::jsonString(host) + "}";
     return line;
@@ -388,8 +404,9 @@ int runBatch(const BatchArgs& args) {
     std::vector<Outcome> outcomes;
     auto record = [&](const Outcome& o) {
         outcomes.push_back(o);
-        std::printf("[%zu/%zu] %-7s %s -> %s (%.2f s)%s%s\n", outcomes.size(), tasks.size(), o.status.c_str(), o.task.mesh.c_str(),
-                    o.task.output.c_str(), o.seconds, o.error.empty() ? "" : ": ", o.error.c_str());
+        std::printf("[%zu/%zu] %-7s %s -> %s (%.2f s%s%s)%s%s\n", outcomes.size(), tasks.size(), o.status.c_str(), o.task.mesh.c_str(),
+                    o.task.output.c_str(), o.seconds, o.device.empty() ? "" : ", ", o.device.c_str(), o.error.empty() ? "" : ": ",
+                    o.error.c_str());
         std::fflush(stdout);
         if (!statusPath.empty()) batch::appendLine(statusPath, statusLine(o, shard, host));
     };
@@ -400,7 +417,7 @@ int runBatch(const BatchArgs& args) {
             const batch::Task& task = tasks[next++];
             std::error_code ec;
             if (!args.force && fs::is_regular_file(task.output, ec)) {
-                record({task, "skipped", 0.0, "", ""});
+                record({task, "skipped", 0.0, "", "", ""});
                 continue;
             }
             scheduler.start(task);

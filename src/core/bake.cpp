@@ -87,7 +87,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     releaseFreedMemory(); // the setup phases' scratch, before the field is allocated
 
     const Clock::time_point start = Clock::now();
-    const bool signsInline = !method.fixedSign && sign == method.signsInline && !methodContext.device;
+    const bool signsInline = !method.fixedSign && sign == method.signsInline;
     DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
     result.distanceSeconds = since(start);
     releaseFreedMemory(); // the distance pass's scratch, before the sign pass's
@@ -101,7 +101,6 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         signMethod(sign).run(methodContext, pass, control.phase(0.7, 1.0));
     }
     pass.inside.reset();
-    std::vector<std::uint32_t>().swap(pass.nearestTriangle);
     result.sign = sign;
     result.signSeconds = checkSeconds + since(signStart);
 

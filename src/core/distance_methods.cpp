@@ -1,7 +1,9 @@
 // The distance methods: exact nearest triangle, the report's ray sampling, and the reference.
 #include "core/exact.hpp"
 #include "core/methods.hpp"
+#include "core/parallel.hpp"
 #include "core/ray_generator.hpp"
+#include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 
 #include <cmath>
@@ -10,15 +12,45 @@ namespace sdfgen {
 
 namespace {
 
+// The device measures, signed by the pseudonormal when that is the sign; the samples it leaves
+// undecided (NaN: near-ties it cannot settle as the CPU would) are the CPU's own.
+DistancePass exactDistanceOnDevice(const BakeContext& context, const RunControl& control) {
+    DistancePass pass;
+    if (context.sign != SignMethod::Pseudonormal) {
+        context.device->nearest(context.mesh, context.grid, nullptr, control, pass.distance);
+        return pass;
+    }
+    const MeshTopology& topology = context.topology();
+    PseudonormalSign sign;
+    sign.flipped = context.flipped;
+    sign.normals.reserve(7 * context.mesh.triangleCount());
+    for (std::uint32_t t = 0; t < context.mesh.triangleCount(); ++t) {
+        for (TriangleFeature feature : {TriangleFeature::Face, TriangleFeature::EdgeAB, TriangleFeature::EdgeBC, TriangleFeature::EdgeCA,
+                                        TriangleFeature::VertexA, TriangleFeature::VertexB, TriangleFeature::VertexC}) {
+            sign.normals.push_back(topology.pseudonormal(t, feature));
+        }
+    }
+    context.device->nearest(context.mesh, context.grid, &sign, control.phase(0.0, 0.95), pass.distance);
+    const Grid& grid = context.grid;
+    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+    parallelFor(rows, control.phase(0.95, 1.0), [&](std::size_t row) {
+        const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
+        std::uint32_t hint = WideBvh::kEmpty;
+        for (int i = 0; i < grid.dims.x; ++i) {
+            float& value = pass.distance[grid.index(i, j, k)];
+            if (!std::isnan(value)) continue;
+            const glm::dvec3 p = localPosition(context.mesh, grid, i, j, k);
+            value = exactSignedSample(context.mesh, context.wide, topology, context.flipped, p, hint);
+        }
+    });
+    pass.signedAsAsked = true;
+    return pass;
+}
+
 // Straight into the field: signed by the closest feature's pseudonormal when that is the sign,
 // unsigned for the winding sign (which negates in place), with no per-sample side arrays.
 DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
-    if (context.device) {
-        // The device measures unsigned distances and the nearest triangles; the sign follows.
-        DistancePass pass;
-        context.device->nearest(context.mesh, context.grid, control, pass.distance, pass.nearestTriangle);
-        return pass;
-    }
+    if (context.device) return exactDistanceOnDevice(context, control);
     DistancePass pass;
     pass.distance.resize(context.grid.sampleCount());
     pass.signedAsAsked = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares

@@ -4,8 +4,10 @@
 #include "core/geometry.hpp"
 #include "core/kernel.hpp"
 #include "core/parallel.hpp"
+#include "core/topology.hpp"
 #include "sdfgen/error.hpp"
 
+#include <glm/geometric.hpp>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -79,6 +81,19 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
                        float* values, const RunControl& control) {
     kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control);
+}
+
+float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipped, const glm::dvec3& p, std::uint32_t t) {
+    const ClosestPoint closest =
+        closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+    const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
+    const bool inside = pseudonormal && (glm::dot(p - closest.point, pseudonormal->pseudonormal(t, closest.feature)) < 0.0) != flipped;
+    return inside ? -distance : distance;
+}
+
+float exactSignedSample(const Mesh& mesh, const WideBvh& tree, const MeshTopology& topology, bool flipped, const glm::dvec3& p,
+                        std::uint32_t& hint) {
+    return sampleValue(mesh, &topology, flipped, p, nearestTriangle(tree, glm::vec3(p), hint));
 }
 
 std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,

@@ -35,6 +35,16 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
                        float* values, const RunControl& control);
 
+// The distance (world units) from p (local) to triangle t, measured in double, negated where the
+// pseudonormal of its closest feature points away from p (the other way round when flipped), when
+// `pseudonormal` is given: what computeExactField writes for a sample whose nearest triangle is t.
+float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipped, const glm::dvec3& p, std::uint32_t t);
+
+// What computeExactField writes for the sample at local position p (nearestTriangle's answer,
+// `hint` as there), signed by the pseudonormal: for samples a compute device leaves undecided.
+float exactSignedSample(const Mesh& mesh, const WideBvh& tree, const MeshTopology& topology, bool flipped, const glm::dvec3& p,
+                        std::uint32_t& hint);
+
 // Inside flags (1 = inside) by the angle-weighted pseudonormal of each sample's closest feature,
 // found by the same search (for distance methods that do not find nearest triangles).
 std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,

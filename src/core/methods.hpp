@@ -37,13 +37,12 @@ struct BakeContext {
 
 // A distance pass's output. `distance` is unsigned, in world units, unless `signedAsAsked`: then
 // it already carries the context's sign and no sign method runs (the ray method signed by its own
-// vote, exact distances signed by the pseudonormal). A method may also leave inside flags of its
-// own (the reference's winding number), or, on a compute device, each sample's nearest triangle
-// for the pseudonormal sign; bake() releases them once the distances are signed.
+// vote, exact distances signed by the pseudonormal, on the CPU or a compute device). A method may
+// also leave inside flags of its own (the reference's winding number); bake() releases them once
+// the distances are signed.
 struct DistancePass {
     std::vector<float> distance;
     bool signedAsAsked = false;
-    std::vector<std::uint32_t> nearestTriangle;
     std::optional<std::vector<std::uint8_t>> inside;
 };
 

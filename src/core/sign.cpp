@@ -250,6 +250,18 @@ bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
     return true;
 }
 
+WindingFans WindingCaps::flattened(int orientation) const {
+    WindingFans out;
+    out.orientation = orientation;
+    for (const Cap& cap : caps_) {
+        out.fans.push_back({std::uint32_t(out.points.size()), std::uint32_t(cap.loop.size()), cap.weight});
+        out.points.push_back(cap.centre);
+        out.points.insert(out.points.end(), cap.loop.begin(), cap.loop.end());
+    }
+    for (const Node& node : nodes_) out.nodes.push_back({node.lo, node.hi, node.area, node.first, node.leaf});
+    return out;
+}
+
 double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
     double w = double(ahead);
     for (const Cap& cap : caps_) w -= fanWinding(p, cap);
@@ -442,24 +454,6 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
 void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
                    bool flipped, WindingStats* stats) {
     windingSigns(mesh, topology, grid, {nullptr, field}, control, flipped, stats);
-}
-
-std::vector<std::uint8_t> insideByPseudonormal(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                               const std::vector<std::uint32_t>& nearestTriangle, const RunControl& control) {
-    std::vector<std::uint8_t> inside(grid.sampleCount());
-    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
-    parallelFor(rows, control, [&](std::size_t row) {
-        const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
-        for (int i = 0; i < grid.dims.x; ++i) {
-            const std::size_t index = grid.index(i, j, k);
-            const std::uint32_t t = nearestTriangle[index];
-            const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
-            const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
-                                                                glm::dvec3(mesh.vertex(t, 2)));
-            inside[index] = glm::dot(p - closest.point, topology.pseudonormal(t, closest.feature)) < 0.0;
-        }
-    });
-    return inside;
 }
 
 } // namespace sdfgen

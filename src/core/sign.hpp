@@ -1,6 +1,7 @@
 #pragma once
 #include "core/bvh.hpp"
 #include "core/exact.hpp"
+#include "sdfgen/device.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
 #include "core/topology.hpp"
@@ -46,6 +47,8 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns orientation * ahead >= 1 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
+    // The caps and their tree for a compute device (WindingFans), with `orientation` as for inside().
+    WindingFans flattened(int orientation) const;
     // The exact winding number at p given `ahead`: every fan measured.
     double winding(const glm::dvec3& p, int ahead) const;
 
@@ -93,11 +96,6 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
 // The same signs applied in place: negates field[index] of every inside sample (no side array).
 void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
                    bool flipped = false, WindingStats* stats = nullptr);
-
-// The angle-weighted pseudonormal of each sample's closest feature (Bærentzen & Aanæs 2005): right
-// for closed, manifold, consistently oriented meshes without self-intersections.
-std::vector<std::uint8_t> insideByPseudonormal(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                               const std::vector<std::uint32_t>& nearestTriangle, const RunControl& control);
 
 // The generalized winding number at p, summed over every triangle in double (the reference).
 double windingNumber(const Mesh& mesh, const glm::dvec3& p);

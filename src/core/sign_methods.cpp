@@ -6,43 +6,49 @@
 #include "core/sign.hpp"
 #include "sdfgen/error.hpp"
 
-#include <cstdlib>
-
 namespace sdfgen {
 
 namespace {
 
-// The winding sign with the compute device counting the closed surface's crossings (the mesh and
-// a fan over each hole, as insideByWinding closes it); the fans' own part is subtracted here.
+// The winding sign with the compute device counting the closed surface's crossings (the mesh, each
+// set of copies of a triangle once with its number, and the fans over the holes with their
+// weights, as insideByWinding closes it) and subtracting the fans' own part where their bounds
+// leave doubt; the samples whose w its float cannot tell from 1/2 as the CPU's double would are
+// decided here, by WindingCaps::inside (so the signs are the CPU's).
 std::vector<std::uint8_t> windingSignOnDevice(const BakeContext& context, const RunControl& control) {
     const Mesh& mesh = context.mesh;
     const Grid& grid = context.grid;
-    const WindingCaps caps(context.topology());
+    const MeshTopology& topology = context.topology();
+    const WindingCaps caps(topology);
     std::vector<glm::dvec3> closed;
+    std::vector<std::int32_t> weights;
     closed.reserve(3 * mesh.triangleCount());
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    weights.reserve(mesh.triangleCount());
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        if (topology.copies(t) == 0) continue; // counted with the first copy
         closed.insert(closed.end(), {glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2))});
+        weights.push_back(std::int32_t(topology.copies(t)));
     }
-    // A cap shared by equal loops counts once per loop, as each loop's own fan would.
     for (const Cap& cap : caps.caps()) {
-        for (int copy = 0; copy < std::abs(cap.weight); ++copy) {
-            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
-                const glm::dvec3& a = cap.loop[(i + 1) % cap.loop.size()];
-                const glm::dvec3& b = cap.loop[i];
-                if (cap.weight > 0) closed.insert(closed.end(), {a, b, cap.centre});
-                else closed.insert(closed.end(), {b, a, cap.centre});
-            }
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            closed.insert(closed.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+            weights.push_back(cap.weight);
         }
     }
-    const std::vector<std::int32_t> ahead = context.device->windingNumbers(mesh, closed, grid, control.phase(0.0, 0.8));
     const int orientation = context.flipped ? -1 : 1;
+    const WindingFans fans = caps.flattened(orientation);
+    std::vector<std::uint8_t> sides;
+    const std::vector<std::int32_t> ahead =
+        context.device->windingNumbers(mesh, closed, weights, caps.empty() ? nullptr : &fans, grid, control.phase(0.0, 0.9), sides);
     std::vector<std::uint8_t> inside(grid.sampleCount());
     const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
-    parallelFor(rows, control.phase(0.8, 1.0), [&](std::size_t row) {
+    parallelFor(rows, control.phase(0.9, 1.0), [&](std::size_t row) {
         const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
         for (int i = 0; i < grid.dims.x; ++i) {
             const std::size_t index = grid.index(i, j, k);
-            inside[index] = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index], orientation);
+            if (caps.empty()) inside[index] = orientation * ahead[index] >= 1;
+            else if (sides[index] != 2) inside[index] = sides[index];
+            else inside[index] = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index], orientation);
         }
     });
     return inside;
@@ -53,20 +59,10 @@ void windingSign(const BakeContext& context, DistancePass& pass, const RunContro
     signByWinding(context.mesh, context.topology(), context.grid, pass.distance.data(), control, context.flipped);
 }
 
-// For passes that did not sign as they measured: from the compute device's nearest triangles, or,
-// for methods that find none (rays), one more closest-feature search.
+// For passes that did not sign as they measured (rays): one more closest-feature search.
 void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
-    if (pass.nearestTriangle.empty()) {
-        // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
-        return negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(),
-                                                                  context.flipped, control));
-    }
-    std::vector<std::uint8_t> inside = insideByPseudonormal(context.mesh, context.topology(), context.grid, pass.nearestTriangle, control);
-    std::vector<std::uint32_t>().swap(pass.nearestTriangle);
-    if (context.flipped) {
-        for (std::uint8_t& in : inside) in = !in;
-    }
-    negateInside(pass.distance, inside);
+    // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
+    negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(), context.flipped, control));
 }
 
 void raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {

@@ -8,7 +8,7 @@
 namespace sdfgen::gpu {
 
 // A binary bounding volume hierarchy over a mesh's triangles, flattened into the arrays
-// shaders/nearest.comp reads from SSBOs (std430). Built here rather than taken from the CPU's
+// shaders/nearest.glsl reads from SSBOs (std430). Built here rather than taken from the CPU's
 // tree so that the GPU's layout is its own.
 struct FlatBvh {
     struct Node {

@@ -57,6 +57,10 @@ public:
         std::snprintf(part, sizeof(part), " (%s %.4f s)", what, seconds);
         text_ += part;
     }
+    void count(const char* what, std::size_t n) {
+        if (!enabled_) return;
+        text_ += " (" + std::to_string(n) + " " + what + ")";
+    }
     void mark(const char* phase) {
         if (!enabled_) return;
         glFinish();
@@ -90,7 +94,8 @@ public:
     GlDevice() : context_(render::createHeadlessContext({1, 1})) {
         description_ = "GL vendor " + glString(GL_VENDOR) + ", renderer " + glString(GL_RENDERER) + ", version " + glString(GL_VERSION) +
                        " through " + context_->kind();
-        hardware_ = !isSoftwareRenderer(glString(GL_RENDERER));
+        renderer_ = glString(GL_RENDERER);
+        hardware_ = !isSoftwareRenderer(renderer_);
         GLint64 limit = 0;
         glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &limit);
         maxBlockBytes_ = std::size_t(limit);
@@ -104,23 +109,35 @@ public:
     ~GlDevice() override {
         context_->makeCurrent();
         nearest_.reset();
+        nearestSigned_.reset();
         windingRows_.reset();
         windingPrefix_.reset();
+        windingCaps_.reset();
     }
 
     std::string description() const override { return description_; }
+    std::string renderer() const override { return renderer_; }
     bool hardware() const override { return hardware_; }
 
-    void nearest(const Mesh& mesh, const Grid& grid, const RunControl& control, std::vector<float>& distance,
-                 std::vector<std::uint32_t>& triangle) override {
+    void nearest(const Mesh& mesh, const Grid& grid, const PseudonormalSign* sign, const RunControl& control,
+                 std::vector<float>& distance) override {
         Session session(*this);
         PhaseTimes times("nearest");
         const FlatBvh tree(mesh);
         times.mark("tree");
         checkFits(tree.triangles.size() * sizeof(FlatBvh::Triangle), "the mesh's triangles");
-        Buffer nodes, triangles, samples, exactSamples, seeds, distances, nearestBuffer;
+        Buffer nodes, triangles, samples, exactSamples, seeds, distances, pseudonormals;
         nodes.upload(tree.nodes);
         triangles.upload(tree.triangles);
+        {
+            std::vector<double> flat; // none when unsigned: the buffer still needs a store to be bound
+            if (sign) {
+                checkFits(sign->normals.size() * sizeof(glm::dvec3), "the mesh's pseudonormals");
+                flat.reserve(3 * sign->normals.size());
+                for (const glm::dvec3& n : sign->normals) flat.insert(flat.end(), {n.x, n.y, n.z});
+            }
+            pseudonormals.upload(flat);
+        }
         const std::vector<double> coordinates = sampleCoordinates(mesh, grid);
         samples.upload(rounded(coordinates));
         exactSamples.upload(coordinates);
@@ -129,22 +146,25 @@ public:
         const int slabLayers = this->slabLayers(layerSamples * sizeof(float), 4, dims.z);
         seeds.allocate(std::size_t(bricks.x) * std::size_t(bricks.y) * sizeof(std::uint32_t)); // one layer of bricks
         distances.allocate(layerSamples * std::size_t(slabLayers) * sizeof(float));
-        nearestBuffer.allocate(layerSamples * std::size_t(slabLayers) * sizeof(std::uint32_t));
         nodes.bind(0);
         triangles.bind(1);
         samples.bind(2);
         seeds.bind(3);
         distances.bind(4);
-        nearestBuffer.bind(5);
+        pseudonormals.bind(5);
         exactSamples.bind(6);
         distance.resize(grid.sampleCount());
-        triangle.resize(grid.sampleCount());
-        const render::Program& program = compiled(nearest_, "nearest.comp");
+        const render::Program& program = sign ? compiled(nearestSigned_, "nearest_signed.comp") : compiled(nearest_, "nearest.comp");
         times.mark("upload+compile");
         double downloadSeconds = 0;
         program.use();
         glProgramUniform3i(program.id(), glGetUniformLocation(program.id(), "dims"), dims.x, dims.y, dims.z);
         glProgramUniform1d(program.id(), glGetUniformLocation(program.id(), "unit"), mesh.unit);
+        glProgramUniform1i(program.id(), glGetUniformLocation(program.id(), "flipped"), sign && sign->flipped ? 1 : 0);
+        const glm::vec3 lo(tree.nodes[0].lo), hi(tree.nodes[0].hi);
+        const glm::vec3 magnitude = glm::max(glm::abs(lo), glm::abs(hi));
+        glProgramUniform1f(program.id(), glGetUniformLocation(program.id(), "meshMagnitude"),
+                           std::max({magnitude.x, magnitude.y, magnitude.z}));
         const GLint slabZ = glGetUniformLocation(program.id(), "slabZ"), firstBrickZ = glGetUniformLocation(program.id(), "firstBrickZ");
         const GLint seedPass = glGetUniformLocation(program.id(), "seedPass");
         for (int z0 = 0; z0 < dims.z; z0 += slabLayers) {
@@ -166,22 +186,28 @@ public:
             const auto downloadStart = std::chrono::steady_clock::now();
             const std::size_t offset = std::size_t(z0) * layerSamples, count = std::size_t(z1 - z0) * layerSamples;
             distances.download(distance.data() + offset, count);
-            nearestBuffer.download(triangle.data() + offset, count);
             downloadSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - downloadStart).count();
         }
         checkErrors("the distance pass");
         times.mark("dispatch+download");
         if (downloadSeconds > 0) times.note("of which download", downloadSeconds);
+        if (sign) {
+            const auto undecided = std::count_if(distance.begin(), distance.end(), [](float d) { return std::isnan(d); });
+            times.count("samples left to the CPU", std::size_t(undecided));
+        }
     }
 
-    std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const Grid& grid,
-                                             const RunControl& control) override {
+    std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const std::vector<std::int32_t>& weights,
+                                             const WindingFans* fans, const Grid& grid, const RunControl& control,
+                                             std::vector<std::uint8_t>& sides) override {
         Session session(*this);
         PhaseTimes times("winding");
         const glm::ivec3 dims = grid.dims;
         const std::size_t triangleCount = corners.size() / 3;
         checkFits(corners.size() * sizeof(glm::dvec3), "the closed surface's triangles");
-        Buffer cornerBuffer, tiles, samples, exactSamples, counts, winding;
+        if (weights.size() != triangleCount) throw Error("GPU: one winding weight per triangle expected");
+        Buffer cornerBuffer, weightBuffer, tiles, samples, exactSamples, counts, winding;
+        weightBuffer.upload(weights);
         {
             std::vector<double> flat(corners.size() * 3);
             for (std::size_t i = 0; i < corners.size(); ++i) {
@@ -199,11 +225,39 @@ public:
         const int slabLayers = std::min(maxLayers, this->slabLayers(rowLength * std::size_t(dims.y) * sizeof(std::int32_t), 1, dims.z));
         counts.allocate(rowLength * std::size_t(dims.y) * std::size_t(slabLayers) * sizeof(std::int32_t));
         winding.allocate(std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(slabLayers) * sizeof(std::int32_t));
+        // The holes' fans for the fractional part (winding_caps.comp).
+        Buffer fanNodes, fanLinks, fanList, fanPoints, sideBuffer;
+        if (fans) {
+            std::vector<double> nodeData;
+            std::vector<glm::uvec2> links;
+            for (const WindingFans::Node& n : fans->nodes) {
+                nodeData.insert(nodeData.end(), {n.lo.x, n.lo.y, n.lo.z, n.hi.x, n.hi.y, n.hi.z, n.area, 0.0});
+                links.push_back({n.first, n.leaf ? 1u : 0u});
+            }
+            std::vector<glm::ivec4> list;
+            for (const WindingFans::Fan& fan : fans->fans) list.push_back({int(fan.first), int(fan.count), fan.weight, 0});
+            std::vector<double> points;
+            for (const glm::dvec3& p : fans->points) points.insert(points.end(), {p.x, p.y, p.z});
+            checkFits(std::max(points.size(), nodeData.size()) * sizeof(double), "the holes' fans");
+            fanNodes.upload(nodeData);
+            fanLinks.upload(links);
+            fanList.upload(list);
+            fanPoints.upload(points);
+            sideBuffer.allocate(std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(slabLayers) * sizeof(std::int32_t));
+            fanNodes.bind(7);
+            fanLinks.bind(8);
+            fanList.bind(9);
+            fanPoints.bind(10);
+            sideBuffer.bind(11);
+            sides.resize(grid.sampleCount());
+        }
+        std::vector<std::int32_t> slabSides;
         cornerBuffer.bind(0);
         tiles.bind(1);
         samples.bind(2);
         counts.bind(3);
         winding.bind(4);
+        weightBuffer.bind(5);
         exactSamples.bind(6);
 
         // Candidate rows per triangle, exactly as src/core/sign.cpp bounds them (a superset: the
@@ -225,6 +279,11 @@ public:
         std::vector<std::int32_t> out(grid.sampleCount());
         const render::Program& rowsProgram = compiled(windingRows_, "winding_rows.comp");
         const render::Program& prefixProgram = compiled(windingPrefix_, "winding_prefix.comp");
+        const render::Program* capsProgram = fans ? &compiled(windingCaps_, "winding_caps.comp") : nullptr;
+        if (capsProgram) {
+            glProgramUniform3i(capsProgram->id(), glGetUniformLocation(capsProgram->id(), "dims"), dims.x, dims.y, dims.z);
+            glProgramUniform1i(capsProgram->id(), glGetUniformLocation(capsProgram->id(), "orientation"), fans->orientation);
+        }
         times.mark("upload+rows+compile");
         for (const render::Program* p : {&rowsProgram, &prefixProgram}) {
             glProgramUniform3i(p->id(), glGetUniformLocation(p->id(), "dims"), dims.x, dims.y, dims.z);
@@ -266,10 +325,30 @@ public:
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
             const std::size_t layerSamples = std::size_t(dims.x) * std::size_t(dims.y);
             winding.download(out.data() + std::size_t(z0) * layerSamples, std::size_t(z1 - z0) * layerSamples);
+            if (capsProgram) {
+                // One invocation per sample, 64 to a work group, at most kMaxGroups groups a dispatch.
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+                capsProgram->use();
+                const int slabSamples = int(std::size_t(z1 - z0) * layerSamples);
+                glUniform1i(glGetUniformLocation(capsProgram->id(), "slabZ"), z0);
+                glUniform1i(glGetUniformLocation(capsProgram->id(), "slabSamples"), slabSamples);
+                const GLint firstSample = glGetUniformLocation(capsProgram->id(), "firstSample");
+                for (int first = 0; first < slabSamples; first += int(kMaxGroups) * 64) {
+                    checkCancel(control);
+                    glUniform1i(firstSample, first);
+                    glDispatchCompute(GLuint(std::min<std::size_t>(kMaxGroups, (std::size_t(slabSamples - first) + 63) / 64)), 1, 1);
+                    glFinish();
+                }
+                glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+                slabSides.resize(std::size_t(slabSamples));
+                sideBuffer.download(slabSides.data(), slabSides.size());
+                std::copy(slabSides.begin(), slabSides.end(), sides.begin() + std::ptrdiff_t(std::size_t(z0) * layerSamples));
+            }
             report(control, double(z0 / slabLayers + 1) / slabCount);
         }
         checkErrors("the winding pass");
         times.mark("tiles+dispatch+download");
+        if (fans) times.count("samples left to the CPU", std::size_t(std::count(sides.begin(), sides.end(), std::uint8_t(2))));
         return out;
     }
 
@@ -350,10 +429,11 @@ private:
     std::mutex mutex_;
     std::unique_ptr<render::GlContext> context_;
     std::string description_;
+    std::string renderer_;
     bool hardware_ = false;
     std::size_t maxBlockBytes_ = 0;
     std::size_t slabBytes_ = 0; // kSlabBytes, or less for the driver's limit or the test hook
-    std::unique_ptr<render::Program> nearest_, windingRows_, windingPrefix_;
+    std::unique_ptr<render::Program> nearest_, nearestSigned_, windingRows_, windingPrefix_, windingCaps_;
 };
 
 } // namespace

@@ -5,8 +5,8 @@
 
 namespace sdfgen::gpu {
 
-// The OpenGL 4.5 compute device (shaders/nearest.comp, winding_rows.comp, winding_prefix.comp) in
-// its own headless context (EGL, else OSMesa). Throws Error when no 4.5 core context can be made.
+// The OpenGL 4.5 compute device (shaders/nearest.comp and nearest_signed.comp, both nearest.glsl;
+// winding_rows.comp, winding_prefix.comp, winding_caps.comp) in its own headless context (EGL, else OSMesa). Throws Error when no 4.5 core context can be made.
 std::unique_ptr<ComputeDevice> openGlDevice();
 
 // Registers openGlDevice with the core (registerComputeDevice), for bakes with Device::Gpu or Auto.

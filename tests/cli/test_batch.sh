@@ -36,11 +36,12 @@ and all(l["status"] == "done" and l["error"] is None and len(l["dims"]) == 3 and
         and l["voxel"] > 0 and l["sign"].startswith("auto/") and l["seconds"] >= 0 and l["shard"] == "0/1"
         for l in lines if "broken" not in l["mesh"] and "lines" not in l["mesh"])
 and [l["sign"] for l in lines if l["mesh"].endswith("sub/open.obj")] == ["auto/winding"]
+and all(l["device"] == "cpu" for l in lines if l["status"] == "done")
 and all(l["status"] == "failed" and l["dims"] is None for l in lines if "broken" in l["mesh"] or "lines" in l["mesh"])
 and "broken.obj:2: vertex coordinate" in [l for l in lines if "broken" in l["mesh"]][0]["error"]
 and "lines.obj: no triangles" in [l for l in lines if "lines" in l["mesh"]][0]["error"]'
 check "the summary counts and names the failures" bash -c "grep -qE '^  done +4$' '$work/run1.txt' && grep -qE '^  failed +2$' '$work/run1.txt' &&
-  grep -q 'meshes per hour' '$work/run1.txt' && grep -q 'slowest' '$work/run1.txt' && grep -q 'failed   .*broken.obj: .*broken.obj:2' '$work/run1.txt'"
+  grep -q 'meshes per hour' '$work/run1.txt' && grep -qE '^\[[0-9]/6\] done .*tet.sdf \([0-9.]+ s, cpu\)$' '$work/run1.txt' && grep -q 'slowest' '$work/run1.txt' && grep -q 'failed   .*broken.obj: .*broken.obj:2' '$work/run1.txt'"
 
 # A rerun skips the finished meshes (their files are untouched) and retries the failed ones.
 stat -c '%n %i %Y.%y' "$out"/*.sdf "$out"/sub/*.sdf >"$work/before.txt"

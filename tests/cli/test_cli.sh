@@ -5,27 +5,7 @@ sdfgen=$1
 root=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-
-# expect CODE PATTERN -- COMMAND...: the command exits with CODE (or any non-zero for "fail")
-# and its combined output matches the extended regex PATTERN.
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if { [ "$code" = fail ] && [ $rc -ne 0 ]; } || [ "$code" = "$rc" ]; then
-    if grep -qE -- "$pattern" <<<"$out"; then
-      passed=$((passed + 1))
-      return
-    fi
-  fi
-  failed=$((failed + 1))
-  echo "FAILED: $* (exit $rc, wanted $code, pattern '$pattern')"
-  echo "$out" | sed 's/^/    /' | head -20
-}
+. "$(dirname "$0")/../support/check.sh"
 
 bunny=$root/assets/bunny.obj
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tet.obj"

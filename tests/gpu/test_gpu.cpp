@@ -5,6 +5,8 @@
 // MESA_GL_VERSION_OVERRIDE=3.3 (tests/CMakeLists.txt), since Mesa reads that once per process.
 #include "core/bake.hpp"
 #include "core/exact.hpp"
+#include "core/sign.hpp"
+#include "core/topology.hpp"
 #include "gpu/gl_device.hpp"
 #include "render/egl_context.hpp"
 #include "render/gl.hpp"
@@ -64,6 +66,13 @@ Mesh farAway(const Mesh& mesh, double scale, glm::dvec3 offset) {
     return buildMesh(mesh.source + " (far away)", std::move(positions), mesh.triangles);
 }
 
+// `mesh` with every triangle `copies` times over (what a careless export or a stacked decal gives).
+Mesh repeated(const Mesh& mesh, int copies) {
+    std::vector<glm::uvec3> triangles;
+    for (int copy = 0; copy < copies; ++copy) triangles.insert(triangles.end(), mesh.triangles.begin(), mesh.triangles.end());
+    return buildMesh(mesh.source + " x" + std::to_string(copies), mesh.positions, std::move(triangles));
+}
+
 struct Shape {
     std::string name;
     Mesh mesh;
@@ -83,6 +92,11 @@ std::vector<Shape> shapes() {
         {"bunny", loadObj(test::bundledBunnyPath()), 20},
         {"bunny far from the origin, small", farAway(loadObj(test::bundledBunnyPath()), 3e-3, {1e5, -2.5e5, 7e4}), 20},
         {"holed sphere far from the origin, large", farAway(cutOpen(sphere, {0, 1, 0}, 0.8f), 1e4, {-3e7, 1e6, 5e8}), 16},
+        {"2,000 stacked copies of an open triangle",
+         repeated(buildMesh("triangle", std::vector<glm::vec3>{{0, 0, 0}, {1, 0.2f, 0}, {0.3f, 1, 0.4f}}, {{0, 1, 2}}), 2000), 12},
+        {"holed torus, every triangle three times", repeated(cutOpen(test::torus(1.0f, 0.3f, 16, 8), {0, 0, 1}, 0.1f), 3), 14},
+        {"closed sphere, every triangle twice", repeated(sphere, 2), 12},
+        {"inside-out torus (auto flips the pseudonormal sign)", moved(test::torus(1.0f, 0.3f, 24, 12), {0, 0, 0}, true), 14},
     };
 }
 
@@ -177,11 +191,17 @@ TEST_F(Gpu, EqualsTheCpuWhereRowsHitEdgesAndVertices) {
 }
 
 // Where several triangles are equally near (a cube's corners and edges seen from samples on whole
-// and half units, every distance exact in float), the nearest triangle is the lowest index, as on
-// the CPU, and the distances are the CPU's bit for bit.
-TEST_F(Gpu, NearestTriangleTiesGoToTheLowerIndex) {
+// and half units, every distance exact in float), the distances are the CPU's bit for bit, and so
+// are the pseudonormal signs, but for samples on the surface, which the device leaves to the CPU.
+TEST_F(Gpu, WhereTrianglesTieDistancesAndSignsAreTheCpus) {
     const Mesh cube = test::box({1.0f, 1.0f, 1.0f});
     const Bvh tree(cube);
+    const WideBvh wide(cube, tree);
+    const MeshTopology topology(cube);
+    PseudonormalSign sign;
+    for (std::uint32_t t = 0; t < cube.triangleCount(); ++t) {
+        for (int feature = 0; feature < 7; ++feature) sign.normals.push_back(topology.pseudonormal(t, TriangleFeature(feature)));
+    }
     ComputeDevice* device = selectComputeDevice(Device::Gpu);
     ASSERT_NE(device, nullptr);
     for (int res : {5, 10}) {
@@ -189,11 +209,77 @@ TEST_F(Gpu, NearestTriangleTiesGoToTheLowerIndex) {
         const Grid grid = makeGrid(cube.worldBounds(), res, 0.75);
         ASSERT_EQ(grid.voxel, 5.0 / res);
         const NearestField cpu = computeNearest(cube, tree, grid, {});
-        NearestField gpu;
-        device->nearest(cube, grid, {}, gpu.distance, gpu.triangle);
-        EXPECT_EQ(cpu.triangle, gpu.triangle);
-        EXPECT_EQ(cpu.distance, gpu.distance);
+        std::vector<float> gpu;
+        device->nearest(cube, grid, nullptr, {}, gpu);
+        EXPECT_EQ(cpu.distance, gpu);
+        std::vector<float> cpuSigned(grid.sampleCount()), gpuSigned;
+        computeExactField(cube, wide, grid, &topology, false, cpuSigned.data(), {});
+        device->nearest(cube, grid, &sign, {}, gpuSigned);
+        std::size_t undecided = 0, different = 0, onSurface = 0;
+        for (std::size_t i = 0; i < cpuSigned.size(); ++i) {
+            onSurface += cpuSigned[i] == 0.0f;
+            if (std::isnan(gpuSigned[i])) ++undecided;
+            else different += std::memcmp(&cpuSigned[i], &gpuSigned[i], sizeof(float)) != 0;
+        }
+        EXPECT_EQ(different, 0u);
+        EXPECT_EQ(undecided, onSurface);
+        if (res == 5) {
+            EXPECT_GT(onSurface, 0u);
+        }
     }
+}
+
+// Where the winding number is ½ to within the GPU's float (just below the centre of an open box's
+// missing face the other five faces fill half of all directions, and a hair more), the device
+// leaves the sample to the CPU's exact refinement; and a bake's signs are the CPU's.
+TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
+    const Mesh open = cutOpen(test::box({1.0f, 1.0f, 1.0f}), {0, 1, 0}, 0.9f);
+    BakeSettings settings;
+    settings.res = 5;
+    settings.padding = 0.75f;
+    settings.sign = SignMethod::Winding;
+    settings.device = Device::Cpu;
+    const BakeResult cpu = test::bakeMesh(open, settings);
+    settings.device = Device::Gpu;
+    expectEqualFields(cpu, test::bakeMesh(open, settings));
+
+    const MeshTopology topology(open);
+    const WindingCaps caps(topology);
+    ASSERT_FALSE(caps.empty());
+    std::vector<glm::dvec3> corners;
+    std::vector<std::int32_t> weights;
+    for (std::uint32_t t = 0; t < open.triangleCount(); ++t) {
+        corners.insert(corners.end(), {glm::dvec3(open.vertex(t, 0)), glm::dvec3(open.vertex(t, 1)), glm::dvec3(open.vertex(t, 2))});
+        weights.push_back(1);
+    }
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            corners.insert(corners.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+            weights.push_back(cap.weight);
+        }
+    }
+    const WindingFans fans = caps.flattened(1);
+    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ASSERT_NE(device, nullptr);
+    // Two samples 2.5e-7 and 1.5e-7 below the centre of the missing face, and one far outside.
+    Grid grid;
+    grid.voxel = 1e-7;
+    grid.origin = glm::dvec3(0.0, 1.0, 0.0) - glm::dvec3(0.5e-7, 3e-7, 0.5e-7);
+    grid.dims = {1, 2, 1};
+    std::vector<std::uint8_t> sides;
+    const std::vector<std::int32_t> ahead = device->windingNumbers(open, corners, weights, &fans, grid, {}, sides);
+    ASSERT_EQ(sides.size(), grid.sampleCount());
+    for (int j = 0; j < 2; ++j) {
+        const double w = caps.winding(localPosition(open, grid, 0, j, 0), ahead[grid.index(0, j, 0)]);
+        EXPECT_NEAR(w, 0.5, 1e-5);
+        EXPECT_NE(w, 0.5);
+        EXPECT_EQ(sides[grid.index(0, j, 0)], 2) << "w - 1/2 = " << w - 0.5;
+    }
+    std::vector<std::uint8_t> farSides;
+    Grid far = grid;
+    far.origin = glm::dvec3(3.0, 3.0, 3.0);
+    device->windingNumbers(open, corners, weights, &fans, far, {}, farSides);
+    EXPECT_EQ(farSides, std::vector<std::uint8_t>(2, 0));
 }
 
 TEST_F(Gpu, IsDeterministic) {

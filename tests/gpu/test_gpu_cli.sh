@@ -6,26 +6,7 @@ sdfgen=$1
 root=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-
-# expect CODE PATTERN -- COMMAND...: as in tests/cli/test_cli.sh.
-expect() {
-  local code=$1 pattern=$2
-  shift 3
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if { [ "$code" = fail ] && [ $rc -ne 0 ]; } || [ "$code" = "$rc" ]; then
-    if grep -qE -- "$pattern" <<<"$out"; then
-      passed=$((passed + 1))
-      return
-    fi
-  fi
-  failed=$((failed + 1))
-  echo "FAILED: $* (exit $rc, wanted $code, pattern '$pattern')"
-  echo "$out" | sed 's/^/    /' | head -20
-}
+. "$(dirname "$0")/../support/check.sh"
 
 bunny=$root/assets/bunny.obj
 expect 0 '^GPU device: GL vendor .*, renderer .*, version 4\.[5-9]' -- "$sdfgen" info
@@ -37,6 +18,11 @@ expect 0 'max [0-9.e-]+ \(([0-9.]+e-0[5-9]|0) voxels\)' -- "$sdfgen" compare "$w
 expect 1 '^sdfgen: --device gpu computes exact distances; --method rays runs on the CPU$' -- \
   "$sdfgen" bake "$bunny" -o "$work/x.sdf" --res 8 --method rays --device gpu
 expect fail 'device' -- "$sdfgen" bake "$bunny" -o "$work/x.sdf" --device tpu
+# Batch status lines name the device and its renderer.
+mkdir -p "$work/meshes" && cp "$bunny" "$work/meshes/"
+expect 0 '^\[1/1\] done .*bunny\.sdf \([0-9.]+ s, gpu [^)]+\)' -- \
+  "$sdfgen" batch "$work/meshes" --out "$work/batch" --format sdf --res 12 --device gpu --status "$work/status.jsonl"
+expect 0 '"device":"gpu ' -- cat "$work/status.jsonl"
 # The renderer's implicit bake on the GPU, drawn through EGL.
 expect 0 '' -- "$sdfgen" render "$bunny" -o "$work/slice.png" --view slice --res 16 --device gpu --size 64x48
 expect 0 'P +N +G' -- od -An -c -N4 "$work/slice.png"
