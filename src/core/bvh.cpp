@@ -28,9 +28,12 @@ constexpr double kTraversalCost = 1.0; // relative to one ray/triangle test
 Bounds emptyBounds() {
     return {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(-std::numeric_limits<float>::max())};
 }
-void grow(Bounds& b, const Bounds& other) {
-    b.min = glm::min(b.min, other.min);
-    b.max = glm::max(b.max, other.max);
+// Per component (as glm::min/max, which the compiler left as calls in the binning loop).
+inline void grow(Bounds& b, const Bounds& other) {
+    for (int a = 0; a < 3; ++a) {
+        b.min[a] = std::min(b.min[a], other.min[a]);
+        b.max[a] = std::max(b.max[a], other.max[a]);
+    }
 }
 // In double: float extents overflow for coordinates beyond ±1.7e38 and products underflow below
 // 1e-19, and the surface area heuristic must still compare them.
