@@ -1,7 +1,10 @@
 #include "core/bvh.hpp"
 #include "core/duplicates.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
 #include <glm/common.hpp>
@@ -16,20 +19,121 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr std::size_t kParallelBuild = 4096; // triangles below which a subtree is built serially
+// Triangles from which a node's own bounds, bins and partition are computed in parallel: near the
+// root one node spans the whole mesh and would otherwise hold up every thread but one.
+constexpr std::size_t kParallelNode = std::size_t(1) << 15;
+constexpr std::size_t kGrain = 8192; // elements per parallel chunk (fixed: the schedule never shows in results)
 constexpr double kTraversalCost = 1.0; // relative to one ray/triangle test
 
 Bounds emptyBounds() {
     return {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(-std::numeric_limits<float>::max())};
 }
-void grow(Bounds& b, const Bounds& other) {
-    b.min = glm::min(b.min, other.min);
-    b.max = glm::max(b.max, other.max);
+// Per component (as glm::min/max, which the compiler left as calls in the binning loop).
+inline void grow(Bounds& b, const Bounds& other) {
+    for (int a = 0; a < 3; ++a) {
+        b.min[a] = std::min(b.min[a], other.min[a]);
+        b.max[a] = std::max(b.max[a], other.max[a]);
+    }
 }
 // In double: float extents overflow for coordinates beyond ±1.7e38 and products underflow below
 // 1e-19, and the surface area heuristic must still compare them.
 double halfArea(const Bounds& b) {
     const glm::dvec3 e = glm::max(glm::dvec3(b.max) - glm::dvec3(b.min), glm::dvec3(0.0));
     return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+// Bins in double, clamped before the conversion to int: at any float span (subnormal extents
+// included) a bin index is always a valid one, never int(inf) or int(NaN).
+int binOf(float centroid, float lo, double scale) {
+    const double bin = (double(centroid) - double(lo)) * scale;
+    return bin >= double(kBins - 1) ? kBins - 1 : bin > 0.0 ? int(bin) : 0;
+}
+
+struct NodeBounds {
+    Bounds box = emptyBounds(), centroidBox = emptyBounds();
+    void add(const Bounds& triangleBox, const glm::vec3& centroid) {
+        grow(box, triangleBox);
+        grow(centroidBox, {centroid, centroid});
+    }
+    void merge(const NodeBounds& other) {
+        grow(box, other.box);
+        grow(centroidBox, other.centroidBox);
+    }
+};
+
+// Bins of all three axes; an axis whose scale is 0 is not binned.
+struct Bins {
+    Bounds box[3][kBins];
+    std::size_t count[3][kBins] = {};
+    Bins() {
+        for (auto& axis : box) {
+            for (Bounds& b : axis) b = emptyBounds();
+        }
+    }
+    void add(const Bounds& triangleBox, const glm::vec3& centroid, const glm::vec3& lo, const glm::dvec3& scale) {
+        for (int axis = 0; axis < 3; ++axis) {
+            if (scale[axis] == 0.0) continue;
+            const int bin = binOf(centroid[axis], lo[axis], scale[axis]);
+            ++count[axis][bin];
+            grow(box[axis][bin], triangleBox);
+        }
+    }
+    void merge(const Bins& other) {
+        for (int axis = 0; axis < 3; ++axis) {
+            for (int b = 0; b < kBins; ++b) {
+                count[axis][b] += other.count[axis][b];
+                grow(box[axis][b], other.box[axis][b]);
+            }
+        }
+    }
+};
+
+// Min, max and sums are exact and order-free, so the parallel reductions equal the serial loop.
+template <class Stats, class Add>
+Stats reduceRange(std::size_t begin, std::size_t end, Add add) {
+    auto body = [&](std::size_t from, std::size_t to, Stats stats) {
+        for (std::size_t i = from; i < to; ++i) add(stats, i);
+        return stats;
+    };
+    if (end - begin < kParallelNode) return body(begin, end, Stats());
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(begin, end, kGrain), Stats(),
+        [&](const tbb::blocked_range<std::size_t>& r, Stats stats) { return body(r.begin(), r.end(), std::move(stats)); },
+        [](Stats a, const Stats& b) {
+            a.merge(b);
+            return a;
+        });
+}
+
+// Stable partition of [begin, end) in fixed chunks: each chunk counts its left items, a prefix sum
+// places every chunk, and the items are scattered; the result is one order for any thread count.
+template <class Left>
+std::size_t partitionStable(std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end, Left left) {
+    const std::size_t chunks = (end - begin + kGrain - 1) / kGrain;
+    std::vector<std::size_t> leftCount(chunks);
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+        const std::size_t from = begin + c * kGrain, to = std::min(end, from + kGrain);
+        std::size_t k = 0;
+        for (std::size_t i = from; i < to; ++i) k += left(order[i]) ? 1 : 0;
+        leftCount[c] = k;
+    });
+    std::vector<std::size_t> leftStart(chunks), rightStart(chunks);
+    std::size_t totalLeft = 0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+        leftStart[c] = totalLeft;
+        totalLeft += leftCount[c];
+    }
+    for (std::size_t c = 0; c < chunks; ++c) rightStart[c] = totalLeft + c * kGrain - leftStart[c];
+    std::vector<std::uint32_t> sorted(end - begin);
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+        const std::size_t from = begin + c * kGrain, to = std::min(end, from + kGrain);
+        std::size_t l = leftStart[c], r = rightStart[c];
+        for (std::size_t i = from; i < to; ++i) sorted[left(order[i]) ? l++ : r++] = order[i];
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, sorted.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::copy(sorted.begin() + std::ptrdiff_t(r.begin()), sorted.begin() + std::ptrdiff_t(r.end()), order.begin() + std::ptrdiff_t(begin + r.begin()));
+    });
+    return begin + totalLeft;
 }
 
 } // namespace
@@ -45,14 +149,18 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     std::vector<Bounds> boxes(n);
     std::vector<glm::vec3> centroids(n);
     std::vector<std::uint32_t> order(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t t = copies.unique[i];
-        const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
-        boxes[i] = {glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))};
-        // Half of each before adding: the sum of two coordinates near the float limit overflows.
-        centroids[i] = boxes[i].min * 0.5f + boxes[i].max * 0.5f;
-        order[i] = std::uint32_t(i);
-    }
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                const std::uint32_t t = copies.unique[i];
+                const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
+                boxes[i] = {glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))};
+                // Half of each before adding: the sum of two coordinates near the float limit overflows.
+                centroids[i] = boxes[i].min * 0.5f + boxes[i].max * 0.5f;
+                order[i] = std::uint32_t(i);
+            }
+        });
+    });
     Subtree tree;
     tree.nodes.reserve(2 * n);
     tree.ids.reserve(n);
@@ -63,11 +171,17 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     nodes_ = std::move(tree.nodes);
     triangleIds_ = std::move(tree.ids);
     depth_ = tree.depth;
-    triangles_.reserve(n);
-    for (std::uint32_t& id : triangleIds_) id = copies.unique[id];
     bounds_ = {glm::vec3(nodes_[0].min[0], nodes_[0].min[1], nodes_[0].min[2]),
                glm::vec3(nodes_[0].max[0], nodes_[0].max[1], nodes_[0].max[2])};
-    for (const std::uint32_t id : triangleIds_) triangles_.push_back(prepareTriangle(mesh.vertex(id, 0), mesh.vertex(id, 1), mesh.vertex(id, 2)));
+    triangles_.resize(n);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                const std::uint32_t id = triangleIds_[i] = copies.unique[triangleIds_[i]];
+                triangles_[i] = prepareTriangle(mesh.vertex(id, 0), mesh.vertex(id, 1), mesh.vertex(id, 2));
+            }
+        });
+    });
     copies_.assign(mesh.triangleCount(), 0);
     for (std::size_t i = 0; i < n; ++i) copies_[copies.unique[i]] = copies.count[i];
 }
@@ -80,11 +194,10 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     std::vector<Node>& nodes = out.nodes;
     std::vector<std::uint32_t>& ids = out.ids;
     out.depth = std::max(out.depth, depth);
-    Bounds box = emptyBounds(), centroidBox = emptyBounds();
-    for (std::size_t i = begin; i < end; ++i) {
-        grow(box, boxes[order[i]]);
-        grow(centroidBox, {centroids[order[i]], centroids[order[i]]});
-    }
+    const NodeBounds nodeBounds = reduceRange<NodeBounds>(begin, end, [&](NodeBounds& b, std::size_t i) {
+        b.add(boxes[order[i]], centroids[order[i]]);
+    });
+    const Bounds box = nodeBounds.box, centroidBox = nodeBounds.centroidBox;
     const std::uint32_t nodeIndex = std::uint32_t(nodes.size());
     nodes.push_back({{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}, 0, 0, 0});
     const std::size_t count = end - begin;
@@ -142,25 +255,19 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     int bestAxis = -1, bestPlane = 0;
     double bestCost = std::numeric_limits<double>::max();
     const glm::dvec3 centroidExtent = glm::dvec3(centroidBox.max) - glm::dvec3(centroidBox.min); // no float overflow
-    // Bins in double, clamped before the conversion to int: at any float span (subnormal extents
-    // included) a bin index is always a valid one, never int(inf) or int(NaN).
-    auto binOf = [&](float centroid, float lo, double scale) {
-        const double bin = (double(centroid) - double(lo)) * scale;
-        return bin >= double(kBins - 1) ? kBins - 1 : bin > 0.0 ? int(bin) : 0;
-    };
+    glm::dvec3 scales(0.0);
     for (int axis = 0; axis < 3; ++axis) {
-        if (!(centroidExtent[axis] > 0.0)) continue;
         const double scale = kBins / centroidExtent[axis];
-        if (!std::isfinite(scale)) continue;
-        Bounds binBox[kBins];
-        std::size_t binCount[kBins] = {};
-        for (Bounds& b : binBox) b = emptyBounds();
-        for (std::size_t i = begin; i < end; ++i) {
-            const std::uint32_t t = order[i];
-            const int bin = binOf(centroids[t][axis], centroidBox.min[axis], scale);
-            ++binCount[bin];
-            grow(binBox[bin], boxes[t]);
-        }
+        if (centroidExtent[axis] > 0.0 && std::isfinite(scale)) scales[axis] = scale;
+    }
+    const Bins bins = reduceRange<Bins>(begin, end, [&](Bins& b, std::size_t i) {
+        const std::uint32_t t = order[i];
+        b.add(boxes[t], centroids[t], centroidBox.min, scales);
+    });
+    for (int axis = 0; axis < 3; ++axis) {
+        if (scales[axis] == 0.0) continue;
+        const Bounds* binBox = bins.box[axis];
+        const std::size_t* binCount = bins.count[axis];
         double rightArea[kBins];
         std::size_t rightCount[kBins];
         Bounds acc = emptyBounds();
@@ -193,8 +300,9 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     if (splitCost >= double(count) && count <= std::size_t(kMaxLeafSize)) return makeLeaf();
     const double scale = kBins / centroidExtent[bestAxis];
     const float lo = centroidBox.min[bestAxis];
-    auto* split = std::partition(order.data() + begin, order.data() + end,
-                                 [&](std::uint32_t t) { return binOf(centroids[t][bestAxis], lo, scale) < bestPlane; });
+    auto left = [&](std::uint32_t t) { return binOf(centroids[t][bestAxis], lo, scale) < bestPlane; };
+    if (count >= kParallelNode) return children(partitionStable(order, begin, end, left), bestAxis);
+    auto* split = std::partition(order.data() + begin, order.data() + end, left);
     return children(std::size_t(split - order.data()), bestAxis);
 }
 

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -17,13 +18,18 @@ namespace sdfgen {
 
 namespace {
 
-struct PositionHash {
-    std::size_t operator()(const glm::vec3& p) const {
-        std::uint32_t bits[3];
-        std::memcpy(bits, &p, sizeof(bits));
-        return (std::size_t(bits[0]) * 73856093u) ^ (std::size_t(bits[1]) * 19349663u) ^ (std::size_t(bits[2]) * 83492791u);
+// Whether the vertices of triangle p (indices pi) that triangle q (indices qi) lacks all lie
+// strictly on one side of q's plane; never for a degenerate q, whose orientations are all zero.
+bool strictlyOnOneSide(const glm::vec3 (&p)[3], const glm::uvec3& pi, const glm::vec3 (&q)[3], const glm::uvec3& qi) {
+    int side = 0;
+    for (int i = 0; i < 3; ++i) {
+        if (qi[0] == pi[i] || qi[1] == pi[i] || qi[2] == pi[i]) continue;
+        const int s = orient3d(q[0], q[1], q[2], p[i]);
+        if (s == 0 || (side != 0 && s != side)) return false;
+        side = s;
     }
-};
+    return side != 0;
+}
 
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
@@ -65,14 +71,34 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
     constexpr std::size_t kStages = 5;
     ProgressCounter progress(control, kStages);
-    // Merge vertices with identical coordinates (-0 and +0 alike).
-    std::unordered_map<glm::vec3, std::uint32_t, PositionHash> merged;
-    std::vector<std::uint32_t> remap(mesh.positions.size());
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    tbb::task_arena arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic);
+    // Merge vertices with identical coordinates (-0 and +0 alike; coordinates are finite, so equal
+    // floats have equal bits): sorted by (bits, index) in parallel, a total order, each vertex
+    // goes to the first of its group, and merged vertices are numbered in order of first use.
+    const std::size_t vertexCount = mesh.positions.size();
+    std::vector<std::array<std::uint32_t, 3>> keys(vertexCount);
+    for (std::size_t i = 0; i < vertexCount; ++i) {
         const glm::vec3 p = mesh.positions[i] + glm::vec3(0.0f);
-        const auto [it, added] = merged.emplace(p, std::uint32_t(positions_.size()));
-        if (added) positions_.emplace_back(p);
-        remap[i] = it->second;
+        std::memcpy(keys[i].data(), &p, sizeof(p));
+    }
+    std::vector<std::uint32_t> byPosition(vertexCount);
+    std::iota(byPosition.begin(), byPosition.end(), 0u);
+    arena.execute([&] {
+        tbb::parallel_sort(byPosition.begin(), byPosition.end(),
+                           [&](std::uint32_t x, std::uint32_t y) { return keys[x] != keys[y] ? keys[x] < keys[y] : x < y; });
+    });
+    std::vector<std::uint32_t> remap(vertexCount);
+    for (std::size_t k = 0; k < vertexCount; ++k) {
+        const std::uint32_t i = byPosition[k];
+        remap[i] = k > 0 && keys[byPosition[k - 1]] == keys[i] ? remap[byPosition[k - 1]] : i;
+    }
+    for (std::size_t i = 0; i < vertexCount; ++i) {
+        if (remap[i] == i) {
+            remap[i] = std::uint32_t(positions_.size());
+            positions_.emplace_back(mesh.positions[i] + glm::vec3(0.0f));
+        } else {
+            remap[i] = remap[remap[i]]; // the first of the group, already numbered
+        }
     }
     const std::size_t n = mesh.triangleCount();
     corners_.resize(n);
@@ -100,7 +126,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     }
     // A total order (each triangle's edge is used once), so the parallel sort gives the same list
     // for any thread count.
-    tbb::task_arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic).execute([&] {
+    arena.execute([&] {
         tbb::parallel_sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
             return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
         });
@@ -237,6 +263,10 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunContro
                 // The merged positions are the mesh's floats, which the exact predicates take.
                 const glm::vec3 pa[3] = {glm::vec3(positions_[a[0]]), glm::vec3(positions_[a[1]]), glm::vec3(positions_[a[2]])};
                 const glm::vec3 pb[3] = {glm::vec3(positions_[b[0]]), glm::vec3(positions_[b[1]]), glm::vec3(positions_[b[2]])};
+                // Cheap and exact rejection first: when one triangle's vertices (shared ones aside)
+                // lie strictly on one side of the other's plane, the pair meets at shared vertices
+                // at most, so none of the edge tests below could find a crossing.
+                if (strictlyOnOneSide(pa, a, pb, b) || strictlyOnOneSide(pb, b, pa, a)) return;
                 bool crossing = false;
                 // An edge from a shared vertex meets the other triangle there, so only edges away from
                 // shared vertices are tested: any other common point makes the pair self-intersecting.
