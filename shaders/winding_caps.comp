@@ -9,8 +9,9 @@
 // orientation * ahead at least ½ from ½, so the fans must move w by ½ to change a side: a doubt of
 // up to 0.4 still decides most samples near the holes, and opens few nodes (on the Stanford bunny at
 // res 48, 215 of 92,160 samples are left to the CPU, against 5 with 1e-3 and 0.05, at half the time). A fan's angle is its
-// triangles' complex product in double (fanSolidAngle's steps) and one float atan, which is off by
-// far less than kFanError per unit of weight. A sample is decided (1 inside, 0 outside) only when
+// triangles' complex product in double (fanSolidAngle's steps) and its argument, also in double
+// (atanDouble: GLSL's atan is float only, with no precision the spec guarantees), all far within
+// kFanError per unit of weight. A sample is decided (1 inside, 0 outside) only when
 // orientation * w is farther from 1/2 than the doubt plus those errors; otherwise it is 2 and the
 // CPU measures it in double, so every sign is the CPU's.
 layout(local_size_x = 64) in;
@@ -33,6 +34,30 @@ const double kPi = 3.14159265358979323846LF;
 const double kSkip = 0.1;
 const double kBudget = 0.4;
 const double kFanError = 1e-5;
+
+// atan(t) for |t| <= tan(π/8) by its Taylor series: the 20th term is below 2e-15.
+double atanSeries(double t) {
+    const double t2 = t * t;
+    double term = t, sum = t;
+    for (int n = 1; n < 20; ++n) {
+        term *= -t2;
+        sum += term / double(2 * n + 1);
+    }
+    return sum;
+}
+
+// The argument of x + iy in (-π, π], as atan(y, x), in double: reduced to [0, 1] by symmetry, then
+// to [0, tan(π/8)] by atan(a) = π/4 + atan((a - 1) / (a + 1)).
+double atanDouble(double y, double x) {
+    if (x == 0.0 && y == 0.0) return 0.0;
+    const double ax = abs(x), ay = abs(y);
+    const bool steep = ay > ax;
+    const double a = steep ? ax / ay : ay / ax;
+    double angle = a > 0.41421356237309503 ? kPi / 4.0 + atanSeries((a - 1.0) / (a + 1.0)) : atanSeries(a);
+    if (steep) angle = kPi / 2.0 - angle;
+    if (x < 0.0) angle = kPi - angle;
+    return y < 0.0 ? -angle : angle;
+}
 
 dvec3 fanPoint(int i) { return dvec3(fanPoints[3 * i], fanPoints[3 * i + 1], fanPoints[3 * i + 2]); }
 
@@ -62,7 +87,7 @@ double fanWinding(dvec3 p, ivec4 fan) {
         lb = la;
         bc = ac;
     }
-    const double angle = double(atan(float(im), float(re))) + 2.0 * kPi * double(turns);
+    const double angle = atanDouble(im, re) + 2.0 * kPi * double(turns);
     return double(fan.z) * 2.0 * angle / (4.0 * kPi);
 }
 
