@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds sdfgen and runs every test: the release build, then again under AddressSanitizer and
-# UndefinedBehaviorSanitizer in its own build folder, built without the viewer.
+# UndefinedBehaviorSanitizer in its own build folder (clang, without the viewer), then the fuzzers.
 set -euo pipefail
 cd "$(dirname "$0")"
 jobs=$(nproc)
@@ -9,9 +9,10 @@ ctest --test-dir build --output-on-failure -j "$jobs"
 # The sanitizer build is also the core-only build (-DSDFGEN_VIEWER=OFF): it proves the library and CLI
 # configure and build without OpenGL, GLFW, ImGui, OSMesa, EGL or glad. The render, GUI and GPU tests need the
 # viewer, and Mesa's llvmpipe is not built with the sanitizers anyway; the install test links a
-# consumer without them.
-scripts/build.sh build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFGEN_SANITIZE=ON -DSDFGEN_VIEWER=OFF -- sdfgen sdfgen_tests
+# consumer without them. It is clang's, with the libFuzzer harnesses (-DSDFGEN_FUZZ=ON), so that
+# the unit tests and the fuzzers share one instrumented build of the core.
+scripts/build-sanitize.sh -- sdfgen sdfgen_tests fuzz_obj fuzz_field fuzz_bake
 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui|gpu|install"
-# libFuzzer harnesses (OBJ loader, field reader, load -> tree -> bake) under ASan + UBSan, 15 s each,
-# from the seed corpus in tests/fuzz/corpus; tests/fuzz/run.sh 2h runs them for hours.
+# libFuzzer harnesses (OBJ loader, field reader, load -> tree -> bake), 15 s each, from the seed
+# corpus in tests/fuzz/corpus; tests/fuzz/run.sh 2h runs them for hours.
 tests/fuzz/run.sh 15s

@@ -401,6 +401,15 @@ TEST(BakeMemory, EstimateCountsEveryBufferOfTheMethodAndSign) {
     EXPECT_GE(perSample(DistanceMethod::Brute, SignMethod::Winding), 4.0);
     EXPECT_LT(perSample(DistanceMethod::Exact, SignMethod::Auto), 12.0); // not wildly over: no per-sample side arrays
     EXPECT_GT(availableMemoryBytes(), 0u);
+    // On a compute device: its host-side tables per triangle (its tree's triangles at least), and
+    // for the winding sign the crossing counts and sides per sample (5 bytes).
+    BakeSettings exact;
+    exact.sign = SignMethod::Winding;
+    const double cpu = double(estimateBakeBytes(mesh, grid, exact)), device = double(estimateBakeBytes(mesh, grid, exact, true));
+    EXPECT_GE(device - cpu, std::max(144.0 * double(mesh.triangleCount()), 5.0 * samples));
+    exact.sign = SignMethod::Pseudonormal;
+    EXPECT_GE(double(estimateBakeBytes(mesh, grid, exact, true)) - double(estimateBakeBytes(mesh, grid, exact)),
+              (144.0 + 2 * 168.0) * double(mesh.triangleCount()));
 }
 
 TEST(BakeMemory, GridBeyondAvailableMemoryIsRefusedWithTheFigure) {

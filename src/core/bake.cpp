@@ -38,7 +38,6 @@ SignMethod resolveAutoSign(const MeshCheck& check, std::string* reason) {
 BakeResult bake(const BakeContext& context, const RunControl& control) {
     const BakeSettings& settings = context.settings;
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
-    checkBakeMemory(context.mesh, context.grid, settings);
     const DistanceMethodInfo& method = distanceMethod(settings.method);
     SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
     if (method.fixedSign && sign != SignMethod::Auto && sign != method.defaultSign) {
@@ -57,6 +56,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
         result.onDevice = deviceContext.device != nullptr;
     }
+    checkBakeMemory(context.mesh, context.grid, settings, result.onDevice);
 
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };

@@ -48,7 +48,7 @@ std::uint64_t availableMemoryBytes() {
     return std::uint64_t(available);
 }
 
-std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings) {
+std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice) {
     const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double triangles = double(mesh.triangleCount()), vertices = double(mesh.positions.size());
     constexpr double kFloat = 4, kFlag = 1;
@@ -73,18 +73,30 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double winding = topology + rows * 24 + 16 * (projected / (h * h) + triangles);
     const double pseudonormal = topology;
 
-    // Per-sample buffers alive at the peak besides the field (see bake.cpp). On the CPU, exact
-    // distances go straight into the field, signed there by the pseudonormal or negated in place by
-    // the winding sign; the ray method's field is its own result when the rays sign it. Otherwise a
-    // sign leaves inside flags (and, from the device, the nearest triangles), or a second, ray field.
+    // Per-sample buffers alive at the peak besides the field (see bake.cpp). Exact distances go
+    // straight into the field, signed there by the pseudonormal or negated in place by the winding
+    // sign; the ray method's field is its own result when the rays sign it. Otherwise a sign leaves
+    // inside flags, or a second, ray field.
     double perSample = 0;
     if (settings.method == DistanceMethod::Exact && sign == SignMethod::Rays) perSample = kFloat; // the ray field
     else if (settings.method == DistanceMethod::Rays && sign != SignMethod::Rays) perSample = kFlag;
-    else if (settings.method == DistanceMethod::Exact && settings.device == Device::Gpu) perSample = kFlag + 4; // flags, nearest triangles
     double signBytes = 0;
     if (sign == SignMethod::Winding) signBytes = winding;
     else if (sign == SignMethod::Pseudonormal) signBytes = pseudonormal;
     else if (sign == SignMethod::Auto) signBytes = std::max(winding, pseudonormal);
+
+    // On a compute device, one pass at a time holds its host-side tables: the distance pass its
+    // tree (144-byte triangles, 32-byte nodes of up to 4) and, signing by the pseudonormal, the
+    // seven normals per triangle twice (the topology's and the upload's, 168 bytes each); the
+    // winding pass the closed surface's corners twice (72 bytes each), its weights and its
+    // triangles' row ranges (16), and per sample the crossings ahead (4) and the sides (1).
+    if (onDevice && settings.method == DistanceMethod::Exact) {
+        const bool pseudonormalSign = sign == SignMethod::Pseudonormal || sign == SignMethod::Auto;
+        const bool windingSign = sign == SignMethod::Winding || sign == SignMethod::Auto;
+        const double distanceTables = triangles * (144 + 16 + (pseudonormalSign ? 2 * 168 : 0));
+        const double windingTables = windingSign ? triangles * (72 + 72 + 4 + 16) + samples * (4 + kFlag) : 0;
+        signBytes += std::max(distanceTables, windingTables);
+    }
     return std::uint64_t(std::min(result + samples * perSample + signBytes, 1.8e19));
 }
 
@@ -94,8 +106,8 @@ void releaseFreedMemory() {
 #endif
 }
 
-void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings) {
-    const double needed = double(estimateBakeBytes(mesh, grid, settings));
+void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice) {
+    const double needed = double(estimateBakeBytes(mesh, grid, settings, onDevice));
     const std::uint64_t available = availableMemoryBytes();
     if (available > 0 && needed > double(available)) {
         const SignMethod sign = settings.sign != SignMethod::Default ? settings.sign

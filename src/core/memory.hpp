@@ -16,13 +16,16 @@ std::uint64_t availableMemoryBytes();
 // chosen distance method and sign hold at once (see bake.cpp, exact.cpp, ray_generator.cpp,
 // sign.cpp, topology.cpp): per sample, the ray field, the distances, the nearest triangles, the
 // inside flags and the result; per triangle and vertex, the topology; for the winding sign, the
-// rows' crossings (estimated from the mesh's area projected along x). Auto counts the dearer of
-// its two choices. The tree is not counted: it exists before the bake.
-std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings);
+// rows' crossings (estimated from the mesh's area projected along x); `onDevice` (the exact
+// distances on a compute device), the device's host-side tables (src/gpu/gl_device.cpp: its
+// tree's triangles, the pseudonormals, the closed surface's corners) and its per-sample crossing
+// counts and sides. Auto counts the dearer of its two choices. The tree is not counted: it exists
+// before the bake.
+std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice = false);
 
 // Throws Error("grid NXxNYxNZ (method M, sign S) needs about X MiB but only Y MiB of memory is
 // available") when the estimate exceeds the available memory.
-void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings);
+void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice);
 
 // Hands the pages of freed heap memory back to the system (glibc keeps them resident for reuse):
 // called between phases, so that one phase's scratch does not add to the next one's peak.

@@ -14,8 +14,9 @@ namespace {
 // set of copies of a triangle once with its number, and the fans over the holes with their
 // weights, as insideByWinding closes it) and subtracting the fans' own part where their bounds
 // leave doubt; the samples whose w its float cannot tell from 1/2 as the CPU's double would are
-// decided here, by WindingCaps::inside (so the signs are the CPU's).
-std::vector<std::uint8_t> windingSignOnDevice(const BakeContext& context, const RunControl& control) {
+// decided here, by WindingCaps::inside (so the signs are the CPU's). Negates `distance` in place
+// where inside.
+void windingSignOnDevice(const BakeContext& context, std::vector<float>& distance, const RunControl& control) {
     const Mesh& mesh = context.mesh;
     const Grid& grid = context.grid;
     const MeshTopology& topology = context.topology();
@@ -40,22 +41,22 @@ std::vector<std::uint8_t> windingSignOnDevice(const BakeContext& context, const 
     std::vector<std::uint8_t> sides;
     const std::vector<std::int32_t> ahead =
         context.device->windingNumbers(mesh, closed, weights, caps.empty() ? nullptr : &fans, grid, control.phase(0.0, 0.9), sides);
-    std::vector<std::uint8_t> inside(grid.sampleCount());
     const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
     parallelFor(rows, control.phase(0.9, 1.0), [&](std::size_t row) {
         const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
         for (int i = 0; i < grid.dims.x; ++i) {
             const std::size_t index = grid.index(i, j, k);
-            if (caps.empty()) inside[index] = orientation * ahead[index] >= 1;
-            else if (sides[index] != 2) inside[index] = sides[index];
-            else inside[index] = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index], orientation);
+            bool inside;
+            if (caps.empty()) inside = orientation * ahead[index] >= 1;
+            else if (sides[index] != 2) inside = sides[index];
+            else inside = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index], orientation);
+            if (inside) distance[index] = -distance[index];
         }
     });
-    return inside;
 }
 
 void windingSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
-    if (context.device) return negateInside(pass.distance, windingSignOnDevice(context, control));
+    if (context.device) return windingSignOnDevice(context, pass.distance, control);
     signByWinding(context.mesh, context.topology(), context.grid, pass.distance.data(), control, context.flipped);
 }
 

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer harnesses (clang, ASan + UBSan) in build-fuzz/ and runs each for a while.
+# Builds the libFuzzer harnesses (clang, ASan + UBSan) in build-sanitize/ (scripts/build-sanitize.sh) and
+# runs each for a while.
 # Usage: tests/fuzz/run.sh [--parallel] [DURATION [HARNESS...]]
 #   --parallel: run the harnesses at the same time (one core each) instead of one after another.
 #   DURATION per harness: seconds, or with a suffix: 20s, 30m, 2h (default 20s).
 #   HARNESS: obj, field, bake (default: all).
 # Each starts from its seed corpus (tests/fuzz/corpus/HARNESS) plus what earlier runs found
-# (build-fuzz/corpus/HARNESS); crashes are written to build-fuzz/crashes/HARNESS/ and stop the run
+# (build-sanitize/corpus/HARNESS); crashes are written to build-sanitize/crashes/HARNESS/ and stop the run
 # with a non-zero exit. Long runs: `nice tests/fuzz/run.sh 2h` (about 6 hours for all three).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -22,11 +23,10 @@ case $duration in
   *) seconds=$duration ;;
 esac
 
-build=$root/build-fuzz
+build=$root/build-sanitize
 targets=()
 for h in "${harnesses[@]}"; do targets+=("fuzz_$h"); done
-"$root/scripts/build.sh" "$build" -DSDFGEN_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_C_COMPILER=clang -- "${targets[@]}"
+"$root/scripts/build-sanitize.sh" -- "${targets[@]}"
 
 # The harnesses write each input to a file (the loaders read paths); in memory, that costs little.
 [ -d /dev/shm ] && [ -w /dev/shm ] && export TMPDIR=${TMPDIR:-/dev/shm}
