@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #define SDFGEN_KERNEL_NAMESPACE avx2

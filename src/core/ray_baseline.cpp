@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #define SDFGEN_KERNEL_NAMESPACE baseline

@@ -1,6 +1,8 @@
 #include "core/ray_tree.hpp"
 #include "core/kernel.hpp"
+#include "sdfgen/error.hpp"
 
+#include <cstring>
 #include <limits>
 
 namespace sdfgen {
@@ -16,19 +18,20 @@ float halfArea(const Bounds& b) {
 
 RayTree::RayTree(const Mesh& mesh, const Bvh& tree) {
     const float inf = std::numeric_limits<float>::infinity();
-    triangles_.reserve(tree.triangleCount());
-    ids_.reserve(tree.triangleCount());
+    const std::size_t leafCount = (tree.nodeCount() + 1) / 2;
+    if (tree.triangleCount() + leafCount >= kLeaf) throw Error("too many triangles for the ray method's tree");
+    records_.reserve(tree.triangleCount() + leafCount);
 
     auto makeLeaf = [&](const Bvh::NodeView& n) {
-        Leaf leaf{{n.box.min.x, n.box.min.y, n.box.min.z}, {n.box.max.x, n.box.max.y, n.box.max.z},
-                  std::uint32_t(triangles_.size()), n.count};
+        const std::uint32_t at = std::uint32_t(records_.size());
+        const Leaf leaf{{n.box.min.x, n.box.min.y, n.box.min.z}, {n.box.max.x, n.box.max.y, n.box.max.z}, n.count, {0, 0}};
+        records_.emplace_back();
+        std::memcpy(&records_.back(), &leaf, sizeof leaf);
         for (std::uint32_t i = 0; i < n.count; ++i) {
             const std::uint32_t id = n.triangles[i];
-            triangles_.push_back(prepareTriangle(mesh.vertex(id, 0), mesh.vertex(id, 1), mesh.vertex(id, 2)));
-            ids_.push_back(id);
+            records_.push_back(prepareTriangle(mesh.vertex(id, 0), mesh.vertex(id, 1), mesh.vertex(id, 2)));
         }
-        leaves_.push_back(leaf);
-        return kLeaf | std::uint32_t(leaves_.size() - 1);
+        return kLeaf | at;
     };
     // A wide node takes a binary subtree and opens its largest inner descendants until it has
     // eight children (binary leaves are never opened: they are the wide tree's leaves too).

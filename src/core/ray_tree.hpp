@@ -19,7 +19,7 @@ namespace sdfgen {
 class RayTree {
 public:
     static constexpr int kWidth = 8;
-    // A child slot: an inner node's index, or kLeaf | leaf index; empty slots have empty boxes
+    // A child slot: an inner node's index, or kLeaf | the index of a leaf's record; empty slots have empty boxes
     // (min +inf, max -inf), which no ray's slab test passes.
     static constexpr std::uint32_t kLeaf = 0x80000000u;
     static constexpr std::uint32_t kEmpty = 0xffffffffu;
@@ -33,18 +33,19 @@ public:
     };
     static_assert(sizeof(Node) == 256, "a node is four cache lines");
 
-    // A binary leaf: its box as the binary tree stores it and its triangles.
+    // A binary leaf: its box as the binary tree stores it and its triangle count, in the record
+    // just before its triangles (a leaf is read from one place in memory; copy it out with memcpy).
     struct Leaf {
         float min[3], max[3];
-        std::uint32_t first, count; // into triangles() and ids()
+        std::uint32_t count, unused[2];
     };
+    static_assert(sizeof(Leaf) == sizeof(PreparedTriangle), "a leaf takes one record");
 
     RayTree(const Mesh& mesh, const Bvh& tree);
 
     const std::vector<Node>& nodes() const { return nodes_; }
-    const std::vector<Leaf>& leaves() const { return leaves_; }
-    const std::vector<PreparedTriangle>& triangles() const { return triangles_; }
-    const std::vector<std::uint32_t>& ids() const { return ids_; } // Mesh triangle index of each
+    // Each leaf's Leaf record followed by its triangles, in the binary leaf's order.
+    const std::vector<PreparedTriangle>& records() const { return records_; }
 
     // Traversal stack entries: a wide node is at least one binary level below its parent and pushes
     // at most eight children, seven of them left for later.
@@ -52,9 +53,7 @@ public:
 
 private:
     std::vector<Node> nodes_; // nodes_[0] is the root
-    std::vector<Leaf> leaves_;
-    std::vector<PreparedTriangle> triangles_;
-    std::vector<std::uint32_t> ids_;
+    std::vector<PreparedTriangle> records_;
 };
 
 // Eight samples (a 2x2x2 block) traced in every direction; see generateRayField.
