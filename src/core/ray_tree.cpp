@@ -24,7 +24,7 @@ RayTree::RayTree(const Mesh& mesh, const Bvh& tree) {
 
     auto makeLeaf = [&](const Bvh::NodeView& n) {
         const std::uint32_t at = std::uint32_t(records_.size());
-        const Leaf leaf{{n.box.min.x, n.box.min.y, n.box.min.z}, {n.box.max.x, n.box.max.y, n.box.max.z}, n.count, {0, 0}};
+        const Leaf leaf{n.count, {}};
         records_.emplace_back();
         std::memcpy(&records_.back(), &leaf, sizeof leaf);
         for (std::uint32_t i = 0; i < n.count; ++i) {

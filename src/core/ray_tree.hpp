@@ -33,11 +33,11 @@ public:
     };
     static_assert(sizeof(Node) == 256, "a node is four cache lines");
 
-    // A binary leaf: its box as the binary tree stores it and its triangle count, in the record
-    // just before its triangles (a leaf is read from one place in memory; copy it out with memcpy).
+    // A binary leaf's triangle count, in the record just before its triangles (its box is its
+    // parent's slot, the binary tree's box); copy it out with memcpy.
     struct Leaf {
-        float min[3], max[3];
-        std::uint32_t count, unused[2];
+        std::uint32_t count;
+        std::uint8_t unused[32];
     };
     static_assert(sizeof(Leaf) == sizeof(PreparedTriangle), "a leaf takes one record");
 
