@@ -19,8 +19,8 @@ namespace sdfgen {
 class RayTree {
 public:
     static constexpr int kWidth = 8;
-    // A child slot: an inner node's index, or kLeaf | the index of a leaf's record; empty slots have empty boxes
-    // (min +inf, max -inf), which no ray's slab test passes.
+    // A child slot: an inner node's index, or kLeaf | the index of a leaf's record; empty slots
+    // have empty boxes (min +inf, max -inf), which no ray's slab test passes.
     static constexpr std::uint32_t kLeaf = 0x80000000u;
     static constexpr std::uint32_t kEmpty = 0xffffffffu;
 
