@@ -60,12 +60,13 @@ public:
         std::uint32_t first, second;
         const std::uint32_t* triangles;
         std::uint32_t count; // 0 for an inner node
+        int axis;            // an inner node's split axis: intersect() visits `first` first where the ray runs up it
     };
     NodeView node(std::uint32_t index) const {
         const Node& n = nodes_[index];
         const Bounds box{{n.min[0], n.min[1], n.min[2]}, {n.max[0], n.max[1], n.max[2]}};
-        if (n.count == 0) return {box, index + 1, n.index, nullptr, 0};
-        return {box, 0, 0, triangleIds_.data() + n.index, n.count};
+        if (n.count == 0) return {box, index + 1, n.index, nullptr, 0, n.axis};
+        return {box, 0, 0, triangleIds_.data() + n.index, n.count, 0};
     }
 
     std::size_t nodeCount() const { return nodes_.size(); }
