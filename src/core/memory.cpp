@@ -78,6 +78,9 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     // sign; the ray method's field is its own result when the rays sign it. Otherwise a sign leaves
     // inside flags, or a second, ray field.
     double perSample = 0;
+    // The ray field's own tree (core/ray_tree.hpp): each triangle prepared again (36 bytes), a
+    // record per binary leaf and the 256-byte wide nodes; about 55 bytes per triangle, measured.
+    const double rayTree = settings.method == DistanceMethod::Rays || sign == SignMethod::Rays ? triangles * 64 : 0;
     if (settings.method == DistanceMethod::Exact && sign == SignMethod::Rays) perSample = kFloat; // the ray field
     else if (settings.method == DistanceMethod::Rays && sign != SignMethod::Rays) perSample = kFlag;
     double signBytes = 0;
@@ -97,7 +100,7 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
         const double windingTables = windingSign ? triangles * (72 + 72 + 4 + 16) + samples * (4 + kFlag) : 0;
         signBytes += std::max(distanceTables, windingTables);
     }
-    return std::uint64_t(std::min(result + samples * perSample + signBytes, 1.8e19));
+    return std::uint64_t(std::min(result + samples * perSample + signBytes + rayTree, 1.8e19));
 }
 
 void releaseFreedMemory() {

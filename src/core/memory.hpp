@@ -19,8 +19,8 @@ std::uint64_t availableMemoryBytes();
 // rows' crossings (estimated from the mesh's area projected along x); `onDevice` (the exact
 // distances on a compute device), the device's host-side tables (src/gpu/gl_device.cpp: its
 // tree's triangles, the pseudonormals, the closed surface's corners) and its per-sample crossing
-// counts and sides. Auto counts the dearer of its two choices. The tree is not counted: it exists
-// before the bake.
+// counts and sides; for a ray field, its own wide tree. Auto counts the dearer of its two
+// choices. The bake's tree is not counted: it exists before the bake.
 std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice = false);
 
 // Throws Error("grid NXxNYxNZ (method M, sign S) needs about X MiB but only Y MiB of memory is
