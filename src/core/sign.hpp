@@ -72,7 +72,9 @@ public:
         double curvature = 0, slack = 0;
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
     };
-    // With `within`, the cut of a ball that holds this one, the walk starts from that cut.
+    // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
+    // expansion's rest over the ball is below its bound; else it stays far. With `within`, the cut
+    // of a ball that holds this one, the walk starts from that cut.
     void cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out, const Cut* within = nullptr) const;
     // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
     double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
@@ -126,10 +128,11 @@ struct WindingStats {
 // is an integer, counted for whole rows at once from the signed crossings of each row's line
 // (robust 2D point-in-triangle tests in double with symbolic tie-breaking, so shared edges count
 // once; copies of a triangle count once with their number as weight), scanned in parallel by bands
-// of z planes. The fans' own winding number is subtracted wherever it could move w across 1/2
-// (WindingCaps::inside): a brick of 4³ samples that no fan can reach is decided by the counts
-// alone, every other sample opens the fan tree lazily. So signs are those of the exact w, and a
-// sample pays only for the fans near it. Robust to holes, self-intersections, overlapping shells
+// of z planes. The fans' own winding number is subtracted wherever it could move w across 1/2,
+// by bricks of 8³ samples, coarse to fine: a block that no fan can reach is decided by the counts
+// alone, a block clear of its near fans by their first-order expansion at its centre (within
+// bounds), the samples left by WindingCaps::insideNear. So signs are those of the exact w (those
+// of WindingCaps::inside, bit for bit), and a sample pays only for the fans near it. Robust to holes, self-intersections, overlapping shells
 // and flipped parts. With `flipped`, inside is where -w > 1/2: the signs of the mesh with every
 // face flipped.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
