@@ -177,6 +177,30 @@ TEST(WindingSign, WorkIsBoundedByWhatIsNear) {
     EXPECT_LT(stats.fanEvaluations, grid.sampleCount() * 2) << stats.caps << " caps";
 }
 
+// Near an open sheet every sample needs fans: there the blocks' first-order expansion of the near
+// fans decides, sample by sample exactly as WindingCaps::inside does, with far fewer fans measured
+// than inside() measures sample by sample.
+TEST(WindingSign, ExpansionDecidesSheetsAsInsideDoes) {
+    const Mesh sheet = heightfield(48, false);
+    const Grid grid = makeGrid(sheet.worldBounds(), 48, 0.1);
+    const MeshTopology topology(sheet);
+    WindingStats stats;
+    const std::vector<std::uint8_t> inside = insideByWinding(sheet, topology, grid, RunControl{}, false, &stats);
+    const Bvh tree(sheet);
+    const WindingCaps caps(topology);
+    std::size_t insideCount = 0, perSampleEvaluations = 0;
+    for (int k = 0; k < grid.dims.z; ++k)
+        for (int j = 0; j < grid.dims.y; ++j)
+            for (int i = 0; i < grid.dims.x; ++i) {
+                const glm::dvec3 p = localPosition(sheet, grid, i, j, k);
+                ASSERT_EQ(bool(inside[grid.index(i, j, k)]), caps.inside(p, crossingsAhead(sheet, tree, caps, p), 1, &perSampleEvaluations)) << i << "," << j << "," << k;
+                insideCount += inside[grid.index(i, j, k)];
+            }
+    EXPECT_GT(insideCount, grid.sampleCount() / 40);
+    EXPECT_LT(insideCount, grid.sampleCount() / 2);
+    EXPECT_LT(stats.fanEvaluations * 2, perSampleEvaluations) << stats.caps << " caps";
+}
+
 // Point queries run the same steps per point as the bake's samples: at the samples' positions
 // they give the baked field, bit for bit, on meshes whose signs need the fans.
 TEST(WindingSign, PointQueriesEqualTheBakedField) {

@@ -1,4 +1,5 @@
 #include "core/sign.hpp"
+#include "core/geometry.hpp"
 #include "core/parallel.hpp"
 
 #include <glm/geometric.hpp>
@@ -50,6 +51,58 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
 // The cap's winding number at p, times its weight.
 double fanWinding(const glm::dvec3& p, const Cap& cap) { return cap.weight * fanSolidAngle(p, cap) / (4.0 * M_PI); }
 
+// The Biot-Savart field of the cap's boundary (its loop reversed, as the fan's triangles run) at
+// p, over 4π and times its weight: the gradient of the cap's winding number at p, off the fan.
+glm::dvec3 fanGradient(const glm::dvec3& p, const Cap& cap) {
+    glm::dvec3 sum(0.0);
+    const std::size_t n = cap.loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        // Segment a -> b: (e x ra) / |e x ra|² (e.rb / |rb| - e.ra / |ra|).
+        const glm::dvec3 ra = cap.loop[(i + 1) % n] - p, rb = cap.loop[i] - p, e = rb - ra;
+        const glm::dvec3 u = glm::cross(e, ra);
+        const double u2 = glm::dot(u, u);
+        if (u2 == 0.0) continue; // p on the edge's line (off the edge: no field)
+        sum += u * ((glm::dot(e, rb) / glm::length(rb) - glm::dot(e, ra) / glm::length(ra)) / u2);
+    }
+    return sum * (-cap.weight / (4.0 * M_PI));
+}
+
+// Bounds over the ball (centre, reach), which the fan does not meet, of the rest of the cap's
+// winding number's expansion at the centre: `curvature` bounds |Hessian| / 2 (each edge's field
+// r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the distance from
+// the ball to the edge) and `slack` the rounding of fanGradient (each edge's to 8 eps / h, h the
+// distance from the centre to its line, plus a relative 8 eps). False where the ball reaches an edge.
+bool expansionBounds(const Cap& cap, const glm::dvec3& centre, double reach, double& curvature, double& slack) {
+    constexpr double kEps = std::numeric_limits<double>::epsilon();
+    const std::size_t n = cap.loop.size();
+    double c = 0.0, r = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3& a = cap.loop[i];
+        const glm::dvec3 e = cap.loop[(i + 1) % n] - a, ra = a - centre;
+        const double length2 = glm::dot(e, e), length = std::sqrt(length2);
+        const double t = length2 > 0.0 ? std::clamp(-glm::dot(ra, e) / length2, 0.0, 1.0) : 0.0;
+        const double d = glm::length(ra + t * e) * (1.0 - 1e-12) - reach;
+        if (!(d > 0.0)) return false;
+        c += length / (d * d * d);
+        const double h = length > 0.0 ? glm::length(glm::cross(e, ra)) / length : glm::length(ra);
+        r += 8.0 * kEps * (h > 0.0 ? 1.0 / h : std::numeric_limits<double>::infinity()) + 8.0 * kEps * length / (d * d);
+    }
+    const double scale = std::abs(cap.weight) / (4.0 * M_PI);
+    curvature += c * scale;
+    slack += r * scale;
+    return std::isfinite(c) && std::isfinite(r);
+}
+
+// Whether the ball (centre, reach) misses the cap's fan.
+bool clearOf(const Cap& cap, const glm::dvec3& centre, double reach) {
+    const std::size_t n = cap.loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const ClosestPoint closest = closestPointOnTriangle(centre, cap.loop[(i + 1) % n], cap.loop[i], cap.centre);
+        if (!(glm::length(closest.point - centre) * (1.0 - 1e-9) > reach)) return false;
+    }
+    return true;
+}
+
 Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
     Cap cap;
     cap.loop = std::move(loop);
@@ -89,12 +142,6 @@ void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& 
     addLoop(coarse, weight, caps);
 }
 
-// A node left unopened, with its bound.
-struct Pending {
-    double bound;
-    std::uint32_t node;
-    bool operator<(const Pending& other) const { return bound < other.bound; }
-};
 
 // Candidate rows of a coordinate range [lo, hi] on an axis with `count` samples from `first` at
 // spacing h: one wider each way (the exact test decides), clamped before any conversion to int.
@@ -160,58 +207,58 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
     build(node.first + 1, order, middle, end);
 }
 
-double WindingCaps::bound(const Node& node, const glm::dvec3& p, double reach) const {
-    const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0))) - reach;
-    return d > 0.0 ? node.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
-}
 
-bool WindingCaps::inside(const glm::dvec3& p, int ahead, int orientation, std::size_t* evaluations) const {
-    if (nodes_.empty()) return orientation * ahead >= 1; // a closed surface: w is the integer count
-    // w = ahead - fans. Nodes whose box holds p are opened (fans measured) at once; every other
-    // node waits in `pending` with its bound, and while their sum leaves orientation * w on either
-    // side of 1/2, the loosest is opened. The same steps for the same p, ahead and caps, wherever
-    // the call comes from: the bake's samples and point queries agree to the bit.
-    thread_local std::vector<Pending> pending;
-    pending.clear();
-    double w = double(ahead), farSum = 0.0;
+// The lazy walk for one point p: w = ahead minus the fans measured so far; every node not yet
+// opened waits in `pending` with its bound, and while their sum leaves orientation * w within
+// `margin` of 1/2 plus that sum, the loosest is opened. The same steps for the same p, ahead and
+// start, wherever the call comes from: the bake's samples and point queries agree to the bit.
+struct WindingCaps::Search {
+    const WindingCaps& caps;
+    const glm::dvec3& p;
+    int orientation;
+    double margin;
+    double w;
+    std::vector<Pending>& pending;
+    double farSum = 0.0;
     std::size_t measured = 0;
-    auto measure = [&](const Node& leaf) {
-        w -= fanWinding(p, caps_[leaf.first]);
+
+    void measure(std::uint32_t cap) {
+        w -= fanWinding(p, caps.caps_[cap]);
         ++measured;
-    };
-    auto add = [&](std::uint32_t start) {
+    }
+    // Nodes whose box holds p are opened (fans measured) at once, the others wait with their bound.
+    void add(std::uint32_t start) {
         std::uint32_t stack[128];
         int top = 0;
         stack[top++] = start;
         while (top > 0) {
             const std::uint32_t index = stack[--top];
-            const Node& node = nodes_[index];
-            const double b = bound(node, p, 0.0);
+            const Node& node = caps.nodes_[index];
+            const double b = caps.bound(node, p, 0.0);
             if (b <= 0.0) continue; // no area
             if (std::isfinite(b)) {
                 pending.push_back({b, index});
                 farSum += b;
             } else if (node.leaf) {
-                measure(node);
+                measure(node.first);
             } else {
                 stack[top++] = node.first + 1;
                 stack[top++] = node.first;
             }
         }
-    };
-    // The margin covers the rounding of the running sums.
-    auto doubtful = [&] { return std::fabs(orientation * w - 0.5) <= farSum * (1.0 + 1e-12) + 1e-15; };
-    add(0);
-    if (doubtful()) { // most samples are decided here; the others refine, loosest node first
+    }
+    // The margin's factor covers the rounding of the running sums.
+    bool doubtful() const { return std::fabs(orientation * w - 0.5) <= farSum * (1.0 + 1e-12) + margin; }
+    void refine() {
         std::make_heap(pending.begin(), pending.end());
         while (!pending.empty() && doubtful()) {
             std::pop_heap(pending.begin(), pending.end());
             const Pending loosest = pending.back();
             pending.pop_back();
             farSum -= loosest.bound;
-            const Node& node = nodes_[loosest.node];
+            const Node& node = caps.nodes_[loosest.node];
             if (node.leaf) {
-                measure(node);
+                measure(node.first);
                 continue;
             }
             const std::size_t before = pending.size();
@@ -220,8 +267,107 @@ bool WindingCaps::inside(const glm::dvec3& p, int ahead, int orientation, std::s
             for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
         }
     }
-    if (evaluations) *evaluations += measured;
-    return orientation * w > 0.5;
+};
+
+bool WindingCaps::inside(const glm::dvec3& p, int ahead, int orientation, std::size_t* evaluations) const {
+    if (nodes_.empty()) return orientation * ahead >= 1; // a closed surface: w is the integer count
+    thread_local std::vector<Pending> pending;
+    pending.clear();
+    Search search{*this, p, orientation, 1e-15, double(ahead), pending};
+    search.add(0);
+    if (search.doubtful()) search.refine(); // most samples are decided at once; the others refine, loosest node first
+    if (evaluations) *evaluations += search.measured;
+    return orientation * search.w > 0.5;
+}
+
+void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
+                      const Cut* within) const {
+    out.nearNodes.clear();
+    out.farNodes.clear();
+    out.farSum = 0.0;
+    out.smooth = true;
+    out.curvature = 0.0;
+    out.slack = 0.0;
+    if (nodes_.empty()) return;
+    std::vector<Pending>& pending = out.scratch;
+    pending.clear();
+    double sum = 0.0; // of the finite bounds pending, running (farSum is summed afresh at the end)
+    int touching = 0; // pending nodes whose box the ball touches (infinite bound)
+    auto push = [&](std::uint32_t index) {
+        const double b = bound(nodes_[index], centre, reach);
+        if (b <= 0.0) return; // no area
+        pending.push_back({b, index});
+        std::push_heap(pending.begin(), pending.end());
+        if (std::isfinite(b)) sum += b;
+        else ++touching;
+    };
+    if (within) { // a ball inside `within`'s: its cut refines that one
+        for (std::uint32_t index : within->nearNodes) push(index);
+        for (std::uint32_t index : within->farNodes) push(index);
+    } else {
+        push(0);
+    }
+    // Nodes bounded by less than a twentieth of the target are not worth opening.
+    while (!pending.empty() && (touching > 0 || (sum > target && pending.front().bound > 0.05 * target))) {
+        const Pending loosest = pending.front();
+        const Node& node = nodes_[loosest.node];
+        const bool touches = !std::isfinite(loosest.bound);
+        if (node.leaf && !touches && out.nearNodes.size() >= maxNear) break;
+        std::pop_heap(pending.begin(), pending.end());
+        pending.pop_back();
+        if (touches) --touching;
+        else sum -= loosest.bound;
+        if (!node.leaf) {
+            push(node.first);
+            push(node.first + 1);
+            continue;
+        }
+        const Cap& cap = caps_[node.first];
+        if (expand) {
+            // Expanded if that bounds it more tightly than its bound does (a sliver's area is small).
+            double curvature = 0.0, slack = 0.0;
+            const bool smooth = (!touches || clearOf(cap, centre, reach)) && expansionBounds(cap, centre, reach, curvature, slack);
+            if (!touches && !(smooth && (curvature * reach + slack) * reach < loosest.bound)) {
+                out.farNodes.push_back(loosest.node);
+                continue;
+            }
+            out.smooth = out.smooth && smooth;
+            out.curvature += curvature;
+            out.slack += slack;
+        }
+        out.nearNodes.push_back(loosest.node);
+    }
+    for (const Pending& q : pending) out.farNodes.push_back(q.node);
+    for (std::uint32_t index : out.farNodes) out.farSum += bound(nodes_[index], centre, reach);
+}
+
+double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient) const {
+    double w = 0.0;
+    if (gradient) *gradient = glm::dvec3(0.0);
+    for (std::uint32_t node : cut.nearNodes) {
+        const Cap& cap = caps_[nodes_[node].first];
+        w += fanWinding(p, cap);
+        if (gradient) *gradient += fanGradient(p, cap);
+    }
+    return w;
+}
+
+bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, const Cut& cut, Cut& scratch, std::size_t* evaluations) const {
+    std::vector<Pending>& pending = scratch.scratch;
+    pending.clear();
+    Search search{*this, p, orientation, kDecisionMargin, double(ahead), pending};
+    for (std::uint32_t node : cut.nearNodes) search.measure(nodes_[node].first);
+    search.farSum = cut.farSum;
+    bool decided = !search.doubtful();
+    if (!decided) { // the point's own bounds are tighter than the ball's
+        search.farSum = 0.0;
+        for (std::uint32_t node : cut.farNodes) search.add(node);
+        if (search.doubtful()) search.refine();
+        decided = !search.doubtful();
+    }
+    if (evaluations) *evaluations += search.measured;
+    if (!decided) return inside(p, ahead, orientation, evaluations); // within the margin of 1/2: inside()'s own steps
+    return orientation * search.w > 0.5;
 }
 
 bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
@@ -311,6 +457,115 @@ struct SignOutput {
     }
 };
 
+// The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
+// ahead, coarse to fine: a block whose ball meets no near fan has the near fans' winding number
+// expanded to first order at its centre, and every sample whose w the bounds (the far nodes' over
+// the ball, the expansion's rest) keep off 1/2 is decided; the rest are split into octants, down
+// to 2³, whose samples WindingCaps::insideNear decides.
+struct BrickSigns {
+    static constexpr int kEdge = 8;
+    // The cuts' targets (sums of far bounds) and their most fans: expanded once per block, or
+    // measured at every sample of a 2³ block (tuned on open sheets and meshes with many holes).
+    static constexpr double kExpandTarget = 0.01, kPointTarget = 0.05;
+    static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 4;
+    const Mesh& mesh;
+    const Grid& grid;
+    const WindingCaps& caps;
+    const SignOutput& output;
+    int orientation;
+    std::size_t evaluations = 0;
+    WindingCaps::Cut cuts[5]; // per level: 8³, 4³, 2³, the 2³ block's samples one by one; scratch
+    // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
+    // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
+    // of undecided[k - k0]).
+    int i0 = 0, j0 = 0, k0 = 0, i1 = 0, j1 = 0, k1 = 0;
+    const int* counts = nullptr;
+    int stride = 0;
+    std::uint64_t undecided[kEdge] = {};
+
+    int count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
+    static std::uint64_t bit(int i, int j) { return std::uint64_t(1) << (i + kEdge * j); }
+    std::uint64_t& row(int k) { return undecided[k - k0]; }
+
+    void decide(int ib, int jb, int kb, int ie, int je, int ke, const int* brickCounts, int rowStride) {
+        i0 = ib, j0 = jb, k0 = kb, i1 = ie, j1 = je, k1 = ke;
+        counts = brickCounts;
+        stride = rowStride;
+        for (int k = 0; k < kEdge; ++k) {
+            undecided[k] = 0;
+            for (int j = 0; j < je - jb; ++j)
+                for (int i = 0; i < ie - ib; ++i) undecided[k] |= k < ke - kb ? bit(i, j) : 0;
+        }
+        block(i0, j0, k0, kEdge, 0, nullptr);
+    }
+
+    void block(int ia, int ja, int ka, int edge, int level, const WindingCaps::Cut* within) {
+        const int ie = std::min(i1, ia + edge), je = std::min(j1, ja + edge), ke = std::min(k1, ka + edge);
+        if (ie <= ia || je <= ja || ke <= ka) return;
+        std::uint64_t mine = 0; // this block's samples in a layer of the brick
+        for (int j = ja; j < je; ++j)
+            for (int i = ia; i < ie; ++i) mine |= bit(i - i0, j - j0);
+        auto anyUndecided = [&] {
+            for (int k = ka; k < ke; ++k)
+                if (row(k) & mine) return true;
+            return false;
+        };
+        if (!anyUndecided()) return;
+        const glm::dvec3 lo = localPosition(mesh, grid, ia, ja, ka), hi = localPosition(mesh, grid, ie - 1, je - 1, ke - 1);
+        const glm::dvec3 centre = 0.5 * (lo + hi);
+        const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
+        if (caps.farFromEveryFan(centre, reach)) { // the counts decide (as insideNear() would)
+            for (int k = ka; k < ke; ++k)
+                for (int j = ja; j < je; ++j)
+                    for (int i = ia; i < ie; ++i) {
+                        if (!(row(k) & bit(i - i0, j - j0))) continue;
+                        output.set(grid.index(i, j, k), orientation * count(i, j, k) >= 1);
+                        row(k) &= ~bit(i - i0, j - j0);
+                    }
+            return;
+        }
+        WindingCaps::Cut& cut = cuts[level];
+        caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut, within);
+        if (cut.smooth) {
+            glm::dvec3 gradient;
+            const double near = caps.nearWinding(centre, cut, &gradient);
+            evaluations += cut.nearNodes.size();
+            for (int k = ka; k < ke; ++k)
+                for (int j = ja; j < je; ++j)
+                    for (int i = ia; i < ie; ++i) {
+                        const std::uint64_t b = bit(i - i0, j - j0);
+                        if (!(row(k) & b)) continue;
+                        const glm::dvec3 offset = localPosition(mesh, grid, i, j, k) - centre;
+                        const double x = orientation * (double(count(i, j, k)) - (near + glm::dot(gradient, offset))) - 0.5;
+                        const double distance = glm::length(offset);
+                        const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
+                        if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
+                            output.set(grid.index(i, j, k), x > 0.0);
+                            row(k) &= ~b;
+                        }
+                    }
+            if (!anyUndecided()) return;
+        }
+        if (edge > 2) {
+            const int half = edge / 2;
+            for (int dk = 0; dk < edge; dk += half)
+                for (int dj = 0; dj < edge; dj += half)
+                    for (int di = 0; di < edge; di += half) block(ia + di, ja + dj, ka + dk, half, level + 1, &cut);
+            return;
+        }
+        WindingCaps::Cut& single = cuts[level + 1];
+        caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, single, &cut);
+        for (int k = ka; k < ke; ++k)
+            for (int j = ja; j < je; ++j)
+                for (int i = ia; i < ie; ++i) {
+                    const std::uint64_t b = bit(i - i0, j - j0);
+                    if (!(row(k) & b)) continue;
+                    output.set(grid.index(i, j, k), caps.insideNear(localPosition(mesh, grid, i, j, k), count(i, j, k), orientation, single, cuts[4], &evaluations));
+                    row(k) &= ~b;
+                }
+    }
+};
+
 void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, const SignOutput& output,
                   const RunControl& control, bool flipped, WindingStats* stats) {
     const int orientation = flipped ? -1 : 1;
@@ -395,7 +650,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
     //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
     //    subtracted wherever it might matter.
-    constexpr int kBrickEdge = 4;
+    constexpr int kBrickEdge = BrickSigns::kEdge;
     std::atomic<std::size_t> fanEvaluations{0};
     const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
@@ -418,22 +673,11 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 std::vector<Crossing>().swap(crossings); // done with this row
             }
         }
-        std::size_t evaluations = 0;
+        BrickSigns brick{mesh, grid, caps, output, orientation, 0, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
-            const int ie = std::min(nx, ib + kBrickEdge);
-            const glm::dvec3 lo = localPosition(mesh, grid, ib, jb, kb), hi = localPosition(mesh, grid, ie - 1, je - 1, ke - 1);
-            // A brick no fan can reach is decided by the counts (inside() would answer the same).
-            const bool byCounts = caps.farFromEveryFan(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) * (1.0 + 1e-9));
-            for (int k = kb; k < ke; ++k) {
-                for (int j = jb; j < je; ++j) {
-                    const int* counts = rowAhead(j, k);
-                    for (int i = ib; i < ie; ++i) {
-                        output.set(grid.index(i, j, k), byCounts ? orientation * counts[i] >= 1
-                                                                 : caps.inside(localPosition(mesh, grid, i, j, k), counts[i], orientation, &evaluations));
-                    }
-                }
-            }
+            brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
+        const std::size_t evaluations = brick.evaluations;
         fanEvaluations += evaluations;
     });
     if (stats) {
@@ -457,3 +701,4 @@ void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& g
 }
 
 } // namespace sdfgen
+

@@ -6,7 +6,10 @@
 #include "sdfgen/mesh.hpp"
 #include "core/topology.hpp"
 
+#include <glm/geometric.hpp>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace sdfgen {
@@ -18,7 +21,8 @@ struct Cap {
     glm::dvec3 centre{0.0};
     glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
     double area = 0;
-    int weight = 1; // equal loops (copies of open triangles) share one cap
+    double length = 0; // of the loop: bounds the gradient of the fan's solid angle (see WindingCaps::Cut)
+    int weight = 1;    // equal loops (copies of open triangles) share one cap
 };
 
 // The fans that close a mesh's boundary, and a bounding-box hierarchy over them that bounds their
@@ -47,6 +51,41 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns orientation * ahead >= 1 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
+    // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
+    // whose leaves (near fans) are measured and whose other nodes are bounded over the whole ball,
+    // opened loosest first until the bounds sum to at most `target`, with at most `maxNear` fans
+    // measured (beyond those whose boxes the ball touches, which are always measured).
+    // A node waiting in a walk, with its bound.
+    struct Pending {
+        double bound;
+        std::uint32_t node;
+        bool operator<(const Pending& other) const { return bound < other.bound; }
+    };
+    struct Cut {
+        std::vector<std::uint32_t> nearNodes; // leaves
+        std::vector<std::uint32_t> farNodes;
+        double farSum = 0; // the sum of the far nodes' bounds over the ball
+        // No near fan's box meets the ball: the near fans' winding number is harmonic over it, and
+        // differs from its first-order expansion at the centre (nearWinding with the gradient) by at
+        // most (curvature * |d| + slack) * |d| at offset d.
+        bool smooth = true;
+        double curvature = 0, slack = 0;
+        std::vector<Pending> scratch; // the walks' heap, kept for its memory
+    };
+    // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
+    // expansion's rest over the ball is below its bound; else it stays far. With `within`, the cut
+    // of a ball that holds this one, the walk starts from that cut.
+    void cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out, const Cut* within = nullptr) const;
+    // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
+    double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
+    // inside() for a point of the ball that `cut` was made for: the near fans measured, then the
+    // far nodes bounded (the ball's bound, then the point's own, loosest opened first) while
+    // orientation * w is within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside()
+    // decides. Deciding only outside that margin, it answers as inside() does (their doubles of
+    // w differ by rounding, far below the margin), with the tree's top walked once per block.
+    static constexpr double kDecisionMargin = 1e-7;
+    // `scratch` is any Cut's: its heap is borrowed.
+    bool insideNear(const glm::dvec3& p, int ahead, int orientation, const Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
     // The caps and their tree for a compute device (WindingFans), with `orientation` as for inside().
     WindingFans flattened(int orientation) const;
     // The exact winding number at p given `ahead`: every fan measured.
@@ -59,10 +98,14 @@ private:
         std::uint32_t first; // inner: first child (the second is first + 1); leaf: the cap
         bool leaf;
     };
+    struct Search; // one point's lazy walk of the tree (sign.cpp)
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
     // The winding-number bound of a node for every point within `reach` of p (infinite when the
-    // ball touches the node's box).
-    double bound(const Node& node, const glm::dvec3& p, double reach) const;
+    // ball touches the node's box). Inline: the walks call it for every node they look at.
+    static double bound(const Node& node, const glm::dvec3& p, double reach) {
+        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0))) - reach;
+        return d > 0.0 ? node.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+    }
 
     std::vector<Cap> caps_;
     std::vector<Node> nodes_;
@@ -85,10 +128,11 @@ struct WindingStats {
 // is an integer, counted for whole rows at once from the signed crossings of each row's line
 // (robust 2D point-in-triangle tests in double with symbolic tie-breaking, so shared edges count
 // once; copies of a triangle count once with their number as weight), scanned in parallel by bands
-// of z planes. The fans' own winding number is subtracted wherever it could move w across 1/2
-// (WindingCaps::inside): a brick of 4³ samples that no fan can reach is decided by the counts
-// alone, every other sample opens the fan tree lazily. So signs are those of the exact w, and a
-// sample pays only for the fans near it. Robust to holes, self-intersections, overlapping shells
+// of z planes. The fans' own winding number is subtracted wherever it could move w across 1/2,
+// by bricks of 8³ samples, coarse to fine: a block that no fan can reach is decided by the counts
+// alone, a block clear of its near fans by their first-order expansion at its centre (within
+// bounds), the samples left by WindingCaps::insideNear. So signs are those of the exact w (those
+// of WindingCaps::inside, bit for bit), and a sample pays only for the fans near it. Robust to holes, self-intersections, overlapping shells
 // and flipped parts. With `flipped`, inside is where -w > 1/2: the signs of the mesh with every
 // face flipped.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
