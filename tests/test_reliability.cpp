@@ -277,7 +277,44 @@ TEST(ObjScan, ReadsWhatIsValid) {
     EXPECT_EQ(scan.vertices[0], glm::dvec3(0.1, 2.0, -0.03)); // exactly the doubles written
     EXPECT_EQ(scan.vertices[1], glm::dvec3(0.0, 0.5, 7.0));   // underflow reads as zero
     EXPECT_EQ(scan.faces, 2u);
+    EXPECT_FALSE(scan.trianglesOnly); // a quad and a line: tinyobjloader reads the faces
     EXPECT_EQ(withoutByteOrderMark("\xEF\xBB\xBFv 1 2 3"), "v 1 2 3");
+}
+
+TEST(ObjScan, ReadsTrianglesAsTinyobjloaderDoes) {
+    const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    const ObjScan scan = scanObj("m.obj", tri + "f 1 2 3\nf -1 -2/5 -3//2\ng part\nf 4/1/1 1 2\nvn 0 0 1\n");
+    EXPECT_TRUE(scan.trianglesOnly);
+    EXPECT_EQ(scan.triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {3, 2, 1}, {3, 0, 1}}));
+    // What tinyobjloader reads its own way (polygons it triangulates, lines and corners it may
+    // refuse) is left to it.
+    for (const char* rest : {"f 1 2 3 4\n", "l 1 2\n", "p 1\n", "vw 0 0 1\n", "f 1/- 2 3\n", "f 1/2/ 2 3\n",
+                             "f 1/0 2 3\n", "f 1/2/3/4 2 3\n", "f 1/1234567890 2 3\n"}) {
+        const ObjScan other = scanObj("m.obj", tri + "f 1 2 3\n" + rest);
+        EXPECT_FALSE(other.trianglesOnly) << rest;
+        EXPECT_TRUE(other.triangles.empty()) << rest;
+    }
+}
+
+TEST(ObjScan, PiecesReadAsOnePass) {
+    // Vertices, relative and forward indices, every line ending: the same scan, and the same first
+    // problem at the same line, whatever the size of the pieces read in parallel.
+    const std::string text = "# c\r\nv 0 0 0\nv 1 0 0\r\nv 0 1 0\rf 1 2 5\nv 0 0 1\n\nf -1 -2 -3\r\nv 2 2 2\nf -1 1 2\n";
+    const ObjScan whole = scanObj("m.obj", text, text.size());
+    ASSERT_EQ(whole.vertices.size(), 5u);
+    EXPECT_EQ(whole.triangles, (std::vector<glm::uvec3>{{0, 1, 4}, {3, 2, 1}, {4, 0, 1}}));
+    for (std::size_t piece : {1, 2, 3, 5, 8, 13}) {
+        const ObjScan scan = scanObj("m.obj", text, piece);
+        EXPECT_EQ(scan.vertices, whole.vertices) << piece;
+        EXPECT_EQ(scan.triangles, whole.triangles) << piece;
+        EXPECT_EQ(scan.faces, 3u) << piece;
+        EXPECT_CONTAINS(errorFrom([&] { scanObj("m.obj", text + "v 1 x 0\nf 0 1 2\n", piece); }),
+                        "m.obj:11: vertex coordinate 'x' is not a decimal number");
+        EXPECT_CONTAINS(errorFrom([&] { scanObj("m.obj", text + "f -7 1 2\n", piece); }),
+                        "m.obj:11: face refers to vertex -7 but only 5 vertices precede it");
+        EXPECT_CONTAINS(errorFrom([&] { scanObj("m.obj", "f 1 2 9\n" + text, piece); }),
+                        "m.obj:1: face refers to vertex 9 but the file has 5 vertices");
+    }
 }
 
 class LoadObjHygiene : public test::ScratchFolderTest {};

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
-#include <numeric>
+#include <utility>
 
 namespace sdfgen {
 
@@ -42,22 +42,28 @@ TriangleCopies findTriangleCopies(const Mesh& mesh) {
     // leads its run. A run of equal hashes is almost always one key; only when it is not (a hash
     // collision) is it sorted by the key itself.
     // In parallel (in the caller's task arena): the order is total, so the result is the same for
-    // any thread count.
-    std::vector<std::uint64_t> hash(n);
+    // any thread count. The (hash, index) pairs are sorted themselves: no indirection in the
+    // comparisons.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted(n);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t t) {
         std::uint64_t h = 0x9e3779b97f4a7c15ull;
         for (std::uint32_t word : keyOf(mesh, t)) h = (h ^ word) * 0x100000001b3ull;
-        hash[t] = h ^ (h >> 29);
+        sorted[t] = {h ^ (h >> 29), std::uint32_t(t)};
     });
+    tbb::parallel_sort(sorted.begin(), sorted.end());
     std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    tbb::parallel_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return hash[a] != hash[b] ? hash[a] < hash[b] : a < b; });
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { order[i] = sorted[i].second; });
 
     TriangleCopies copies;
     copies.first.resize(n);
     for (std::size_t begin = 0; begin < n;) {
         std::size_t end = begin + 1;
-        while (end < n && hash[order[end]] == hash[order[begin]]) ++end;
+        while (end < n && sorted[end].first == sorted[begin].first) ++end;
+        if (end == begin + 1) { // a hash of its own: a triangle without copies
+            copies.first[order[begin]] = order[begin];
+            begin = end;
+            continue;
+        }
         const Key key = keyOf(mesh, order[begin]);
         bool oneKey = true;
         for (std::size_t i = begin + 1; i < end && oneKey; ++i) oneKey = keyOf(mesh, order[i]) == key;

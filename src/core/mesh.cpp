@@ -4,6 +4,9 @@
 #include "core/obj_scan.hpp"
 
 #include <tiny_obj_loader.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -12,6 +15,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <cstdint>
+#include <tuple>
+#include <utility>
 #include <istream>
 #include <streambuf>
 #include <string_view>
@@ -36,6 +42,52 @@ public:
     }
 };
 
+// The triangles of OBJ text that the scan checked, by tinyobjloader (which triangulates polygons).
+std::vector<glm::uvec3> trianglesByTinyobjloader(const std::string& path, std::string_view text, std::size_t faces,
+                                                 std::size_t vertexCount) {
+    TextBuffer buffer(text);
+    std::istream file(&buffer);
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+    std::string warning, error;
+    // No material reader: a missing .mtl must not fail a geometry-only load.
+    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warning, &error, &file, nullptr,
+                                     /*triangulate=*/true);
+    if (!ok) throw Error(path + ": " + (error.empty() ? "not a valid OBJ file" : firstLine(error)));
+    // tinyobjloader only warns about, and silently skips, polygons with vertex indices out of range.
+    if (warning.find("Face with invalid vertex index") != std::string::npos) {
+        throw Error(path + ": a face refers to a vertex that does not exist");
+    }
+    if (attrib.vertices.size() / 3 != vertexCount) {
+        throw Error(path + ": tinyobjloader read " + std::to_string(attrib.vertices.size() / 3) +
+                    " vertices where the file has " + std::to_string(vertexCount));
+    }
+
+    std::vector<glm::uvec3> triangles;
+    triangles.reserve(faces); // one per triangle face; polygons add more
+    for (const tinyobj::shape_t& shape : shapes) {
+        const auto& indices = shape.mesh.indices;
+        std::size_t offset = 0;
+        for (const unsigned char faceSize : shape.mesh.num_face_vertices) {
+            if (faceSize == 3) {
+                glm::uvec3 tri;
+                for (int c = 0; c < 3; ++c) {
+                    const int index = indices[offset + c].vertex_index;
+                    if (index < 0 || std::size_t(index) >= vertexCount) {
+                        throw Error(path + ": face refers to vertex " + std::to_string(index + 1) +
+                                    " but the file has " + std::to_string(vertexCount) + " vertices");
+                    }
+                    tri[c] = unsigned(index);
+                }
+                triangles.push_back(tri);
+            }
+            offset += faceSize;
+        }
+    }
+    return triangles;
+}
+
 } // namespace
 
 namespace {
@@ -50,69 +102,115 @@ double unitFor(double halfExtent) {
 
 } // namespace
 
+namespace {
+
+constexpr std::size_t kGrain = 16384; // items per parallel chunk
+
+// The lowest i in [0, n) for which bad(i) holds, or n: the answer of a serial search, in parallel.
+template <class Bad>
+std::size_t firstWhere(std::size_t n, const Bad& bad) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, n, kGrain), n,
+        [&](const tbb::blocked_range<std::size_t>& r, std::size_t found) {
+            for (std::size_t i = r.begin(); i < r.end() && i < found; ++i) {
+                if (bad(i)) return i;
+            }
+            return found;
+        },
+        [](std::size_t a, std::size_t b) { return std::min(a, b); });
+}
+
+// The box of the vertices that `triangles` use (min and max are exact, so any order gives it).
+template <class Vec>
+std::pair<Vec, Vec> usedBox(const std::vector<Vec>& positions, const std::vector<glm::uvec3>& triangles) {
+    using Box = std::pair<Vec, Vec>;
+    using Scalar = typename Vec::value_type;
+    const Box empty{Vec(std::numeric_limits<Scalar>::max()), Vec(-std::numeric_limits<Scalar>::max())};
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, triangles.size(), kGrain), empty,
+        [&](const tbb::blocked_range<std::size_t>& r, Box box) {
+            for (std::size_t t = r.begin(); t < r.end(); ++t) {
+                for (int c = 0; c < 3; ++c) {
+                    box.first = glm::min(box.first, positions[triangles[t][c]]);
+                    box.second = glm::max(box.second, positions[triangles[t][c]]);
+                }
+            }
+            return box;
+        },
+        [](Box a, const Box& b) { return Box{glm::min(a.first, b.first), glm::max(a.second, b.second)}; });
+}
+
+} // namespace
+
 Mesh buildMesh(std::string source, std::vector<glm::dvec3> positions, std::vector<glm::uvec3> triangles) {
     Mesh mesh;
     mesh.source = std::move(source);
-    for (std::size_t i = 0; i < positions.size(); ++i) {
+    const std::size_t badVertex = firstWhere(positions.size(), [&](std::size_t i) {
         const glm::dvec3& p = positions[i];
-        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-            throw Error(mesh.source + ": vertex " + std::to_string(i + 1) + " has a non-finite coordinate");
-        }
+        return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z);
+    });
+    if (badVertex < positions.size()) {
+        throw Error(mesh.source + ": vertex " + std::to_string(badVertex + 1) + " has a non-finite coordinate");
     }
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        const glm::uvec3& tri = triangles[t];
+    const std::size_t badTriangle = firstWhere(triangles.size(), [&](std::size_t t) {
+        return std::max({triangles[t][0], triangles[t][1], triangles[t][2]}) >= positions.size();
+    });
+    if (badTriangle < triangles.size()) {
         for (int c = 0; c < 3; ++c) {
-            if (tri[c] >= positions.size()) {
-                throw Error(mesh.source + ": triangle " + std::to_string(t + 1) + " uses vertex " +
-                            std::to_string(std::size_t(tri[c]) + 1) + " but there are only " +
-                            std::to_string(positions.size()) + " vertices");
+            const std::size_t index = triangles[badTriangle][c];
+            if (index >= positions.size()) {
+                throw Error(mesh.source + ": triangle " + std::to_string(badTriangle + 1) + " uses vertex " +
+                            std::to_string(index + 1) + " but there are only " + std::to_string(positions.size()) +
+                            " vertices");
             }
         }
     }
     // Local frame: the centre of the box of the vertices that triangles use, and a power-of-two unit.
-    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (const glm::uvec3& tri : triangles) {
-        for (int c = 0; c < 3; ++c) {
-            lo = glm::min(lo, positions[tri[c]]);
-            hi = glm::max(hi, positions[tri[c]]);
-        }
-    }
     if (!triangles.empty()) {
+        const auto [lo, hi] = usedBox(positions, triangles);
         mesh.origin = lo + (hi - lo) * 0.5;
         const glm::dvec3 half = (hi - lo) * 0.5;
         mesh.unit = unitFor(std::max({half.x, half.y, half.z}));
     }
     std::vector<glm::vec3> local(positions.size());
-    for (std::size_t i = 0; i < positions.size(); ++i) local[i] = glm::vec3(mesh.toLocal(positions[i]));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) local[i] = glm::vec3(mesh.toLocal(positions[i]));
+    });
 
-    mesh.triangles.reserve(triangles.size());
-    mesh.faceNormals.reserve(triangles.size());
-    for (const glm::uvec3& tri : triangles) {
-        // Double precision so that thin but valid triangles keep an accurate normal; measured on the
-        // local float positions, which are what every later step uses.
-        const glm::dvec3 a(local[tri[0]]), b(local[tri[1]]), c(local[tri[2]]);
-        const glm::dvec3 n = glm::cross(b - a, c - a);
-        const double length = glm::length(n);
-        if (!(length > 0.0) || !std::isfinite(length)) {
-            ++mesh.droppedDegenerate;
-            continue;
+    // Zero-area triangles (and those whose normal overflows) are dropped; they get no normal.
+    std::vector<glm::vec3> normals(triangles.size());
+    std::vector<std::uint8_t> degenerate(triangles.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t t = r.begin(); t < r.end(); ++t) {
+            // Double precision so that thin but valid triangles keep an accurate normal; measured on
+            // the local float positions, which are what every later step uses.
+            const glm::uvec3& tri = triangles[t];
+            const glm::dvec3 a(local[tri[0]]), b(local[tri[1]]), c(local[tri[2]]);
+            const glm::dvec3 n = glm::cross(b - a, c - a);
+            const double length = glm::length(n);
+            degenerate[t] = !(length > 0.0) || !std::isfinite(length);
+            if (!degenerate[t]) normals[t] = glm::vec3(n / length);
         }
-        mesh.triangles.push_back(tri);
-        mesh.faceNormals.push_back(glm::vec3(n / length));
+    });
+    mesh.droppedDegenerate = std::size_t(std::count(degenerate.begin(), degenerate.end(), std::uint8_t(1)));
+    if (mesh.droppedDegenerate == 0) {
+        mesh.triangles = std::move(triangles);
+        mesh.faceNormals = std::move(normals);
+    } else {
+        mesh.triangles.reserve(triangles.size() - mesh.droppedDegenerate);
+        mesh.faceNormals.reserve(triangles.size() - mesh.droppedDegenerate);
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            if (degenerate[t]) continue;
+            mesh.triangles.push_back(triangles[t]);
+            mesh.faceNormals.push_back(normals[t]);
+        }
     }
     if (mesh.triangles.empty()) {
         throw Error(mesh.source + ": no triangles" +
                     (mesh.droppedDegenerate ? " (all " + std::to_string(mesh.droppedDegenerate) + " have zero area)"
                                             : std::string(" (only points, lines or nothing)")));
     }
-    mesh.bounds.min = glm::vec3(std::numeric_limits<float>::max());
-    mesh.bounds.max = glm::vec3(-std::numeric_limits<float>::max());
-    for (const glm::uvec3& tri : mesh.triangles) {
-        for (int c = 0; c < 3; ++c) {
-            mesh.bounds.min = glm::min(mesh.bounds.min, local[tri[c]]);
-            mesh.bounds.max = glm::max(mesh.bounds.max, local[tri[c]]);
-        }
-    }
+    std::tie(mesh.bounds.min, mesh.bounds.max) = usedBox(local, mesh.triangles);
     mesh.positions = std::move(local);
     return mesh;
 }
@@ -137,56 +235,15 @@ Mesh buildMesh(std::string source, const std::vector<glm::vec3>& positions, std:
 }
 
 Mesh loadObj(const std::string& path) {
-    // One read (pipes and FIFOs work, size bounded, NULs refused), one pass that refuses what
-    // tinyobjloader would misread, then tinyobjloader for the faces and their triangulation.
+    // One read (pipes and FIFOs work, size bounded, NULs refused), one parallel pass that reads the
+    // vertices and triangles and refuses what tinyobjloader would misread; tinyobjloader reads the
+    // faces only when the scan cannot (polygons, which it triangulates, or lines it may refuse).
     const std::string content = readInputFile(path, InputKind::Text);
     const std::string_view text = withoutByteOrderMark(content);
     ObjScan scan = scanObj(path, text);
-    TextBuffer buffer(text);
-    std::istream file(&buffer);
-
-    tinyobj::attrib_t attrib;
-    std::vector<tinyobj::shape_t> shapes;
-    std::vector<tinyobj::material_t> materials;
-    std::string warning, error;
-    // No material reader: a missing .mtl must not fail a geometry-only load.
-    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warning, &error, &file, nullptr,
-                                     /*triangulate=*/true);
-    if (!ok) throw Error(path + ": " + (error.empty() ? "not a valid OBJ file" : firstLine(error)));
-    // tinyobjloader only warns about, and silently skips, polygons with vertex indices out of range.
-    if (warning.find("Face with invalid vertex index") != std::string::npos) {
-        throw Error(path + ": a face refers to a vertex that does not exist");
-    }
-
-    const std::size_t vertexCount = attrib.vertices.size() / 3;
-    if (vertexCount != scan.vertices.size()) {
-        throw Error(path + ": tinyobjloader read " + std::to_string(vertexCount) + " vertices where the file has " +
-                    std::to_string(scan.vertices.size()));
-    }
-    // The scan's correctly rounded doubles, not tinyobjloader's own float parsing.
-    std::vector<glm::dvec3> positions = std::move(scan.vertices);
-
-    std::vector<glm::uvec3> triangles;
-    triangles.reserve(scan.faces); // one per triangle face; polygons add more
-    for (const tinyobj::shape_t& shape : shapes) {
-        const auto& indices = shape.mesh.indices;
-        std::size_t offset = 0;
-        for (const unsigned char faceSize : shape.mesh.num_face_vertices) {
-            if (faceSize == 3) {
-                glm::uvec3 tri;
-                for (int c = 0; c < 3; ++c) {
-                    const int index = indices[offset + c].vertex_index;
-                    if (index < 0 || std::size_t(index) >= vertexCount) {
-                        throw Error(path + ": face refers to vertex " + std::to_string(index + 1) +
-                                    " but the file has " + std::to_string(vertexCount) + " vertices");
-                    }
-                    tri[c] = unsigned(index);
-                }
-                triangles.push_back(tri);
-            }
-            offset += faceSize;
-        }
-    }
+    std::vector<glm::dvec3> positions = std::move(scan.vertices); // correctly rounded doubles
+    std::vector<glm::uvec3> triangles =
+        scan.trianglesOnly ? std::move(scan.triangles) : trianglesByTinyobjloader(path, text, scan.faces, positions.size());
     return buildMesh(path, std::move(positions), std::move(triangles));
 }
 

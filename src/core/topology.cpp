@@ -31,6 +31,9 @@ bool strictlyOnOneSide(const glm::vec3 (&p)[3], const glm::uvec3& pi, const glm:
     return side != 0;
 }
 
+constexpr std::size_t kCornerChunk = 4096; // triangles per parallel chunk (fixed: results never depend on it)
+constexpr std::size_t kAngleBlock = std::size_t(1) << 16; // triangles whose corner angles are held at once
+
 std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
@@ -179,15 +182,34 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     vertexNormals_.assign(positions_.size(), glm::dvec3(0.0));
     std::vector<std::uint32_t> fanRoot(positions_.size(), UINT32_MAX);
     std::vector<bool> pinched(positions_.size(), false);
+    // The corners' angles (the costly part) in parallel, a block of triangles at a time, then
+    // summed per vertex in triangle order as before.
+    std::vector<double> angle(3 * std::min(n, kAngleBlock));
+    for (std::size_t block = 0; block < n; block += kAngleBlock) {
+        const std::size_t blockEnd = std::min(n, block + kAngleBlock);
+        parallelFor((blockEnd - block + kCornerChunk - 1) / kCornerChunk, quiet(control), [&](std::size_t chunk) {
+            const std::size_t from = block + chunk * kCornerChunk, to = std::min(blockEnd, from + kCornerChunk);
+            for (std::size_t t = from; t < to; ++t) {
+                for (std::uint32_t c = 0; c < 3; ++c) {
+                    const std::uint32_t v = corners_[t][c];
+                    const glm::dvec3 e1 = positions_[corners_[t][(c + 1) % 3]] - positions_[v];
+                    const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
+                    const double l1 = glm::length(e1), l2 = glm::length(e2);
+                    angle[3 * (t - block) + c] =
+                        l1 > 0.0 && l2 > 0.0 ? std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) : -1.0;
+                }
+            }
+        });
+        for (std::size_t t = block; t < blockEnd; ++t) {
+            for (std::uint32_t c = 0; c < 3; ++c) {
+                const double a = angle[3 * (t - block) + c]; // -1: a collapsed corner, no angle
+                if (a >= 0.0) vertexNormals_[corners_[t][c]] += a * glm::dvec3(faceNormals_[t]);
+            }
+        }
+    }
     for (std::uint32_t t = 0; t < n; ++t) {
         for (std::uint32_t c = 0; c < 3; ++c) {
             const std::uint32_t v = corners_[t][c];
-            const glm::dvec3 e1 = positions_[corners_[t][(c + 1) % 3]] - positions_[v];
-            const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
-            const double l1 = glm::length(e1), l2 = glm::length(e2);
-            if (l1 > 0.0 && l2 > 0.0) {
-                vertexNormals_[v] += std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) * glm::dvec3(faceNormals_[t]);
-            }
             const std::uint32_t root = findRoot(parent, 3 * t + c);
             if (fanRoot[v] == UINT32_MAX) fanRoot[v] = root;
             else if (fanRoot[v] != root) pinched[v] = true;
