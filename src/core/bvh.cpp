@@ -306,15 +306,8 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     return children(std::size_t(split - order.data()), bestAxis);
 }
 
-// The ray method's hot loop, compiled twice by GCC (AVX2 and baseline) and picked when the library
-// loads, so the portable build keeps AVX2 speed (Clang refuses the baseline clone's eight-lane
-// arguments, so it compiles one copy for the build's flags). Same IEEE operations, same bits.
-// Not under AddressSanitizer: GCC 12 reports stack overflows inside the AVX2 clone (reads past its
-// eight-lane locals) that the same code without the clone does not have.
-#if defined(__GNUC__) && !defined(__clang__) && (defined(__x86_64__) || defined(__i386__)) && !defined(__AVX2__) && \
-    !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("avx2", "default")))
-#endif
+// The binary tree's packet traversal: the order and the tests that the ray method's wide tree
+// (core/ray_tree.hpp) reproduces bit for bit; the tests compare the two.
 void Bvh::intersect(RayPacket& packet) const {
     using namespace simd;
     const glm::vec3 d = packet.direction;
