@@ -5,6 +5,7 @@
 #include "core/simd.hpp"
 #include "sdfgen/run_control.hpp"
 
+#include <glm/common.hpp>
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -69,6 +70,13 @@ public:
         return {box, 0, 0, triangleIds_.data() + n.index, n.count, 0};
     }
 
+    // The binary nodes a wide node over inner node `index` takes as its children, for trees
+    // collapsed from this one (core/wide_bvh.hpp, core/ray_tree.hpp): its two children, then
+    // repeatedly the open inner node with the largest box (half area; the first of equals)
+    // replaced by its two children, until there are `width` or none left that mayOpen(node) allows.
+    template <class MayOpen>
+    std::vector<std::uint32_t> widestDescendants(std::uint32_t index, int width, MayOpen&& mayOpen) const;
+
     std::size_t nodeCount() const { return nodes_.size(); }
     // Distinct triangles held: exact copies of a triangle are stored once (see TriangleCopies).
     std::size_t triangleCount() const { return triangleIds_.size(); }
@@ -111,6 +119,28 @@ private:
     Bounds bounds_;
     int depth_ = 0;
 };
+
+template <class MayOpen>
+std::vector<std::uint32_t> Bvh::widestDescendants(std::uint32_t index, int width, MayOpen&& mayOpen) const {
+    const NodeView root = node(index);
+    std::vector<std::uint32_t> open{root.first, root.second};
+    while (open.size() < std::size_t(width)) {
+        int widest = -1;
+        float largest = -1.0f;
+        for (std::size_t c = 0; c < open.size(); ++c) {
+            const NodeView n = node(open[c]);
+            if (n.count > 0 || !mayOpen(open[c])) continue;
+            const glm::vec3 e = glm::max(n.box.max - n.box.min, glm::vec3(0.0f));
+            const float area = e.x * e.y + e.y * e.z + e.z * e.x;
+            if (area > largest) largest = area, widest = int(c);
+        }
+        if (widest < 0) break;
+        const NodeView n = node(open[std::size_t(widest)]);
+        open[std::size_t(widest)] = n.first;
+        open.push_back(n.second);
+    }
+    return open;
+}
 
 template <class Visit>
 void Bvh::forEachOverlap(const Bounds& box, Visit&& visit) const {

@@ -7,15 +7,6 @@
 
 namespace sdfgen {
 
-namespace {
-
-float halfArea(const Bounds& b) {
-    const glm::vec3 e = glm::max(b.max - b.min, glm::vec3(0.0f));
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-}
-
-} // namespace
-
 RayTree::RayTree(const Mesh& mesh, const Bvh& tree) {
     const float inf = std::numeric_limits<float>::infinity();
     const std::size_t leafCount = (tree.nodeCount() + 1) / 2;
@@ -39,23 +30,8 @@ RayTree::RayTree(const Mesh& mesh, const Bvh& tree) {
         const std::uint32_t index = std::uint32_t(nodes_.size());
         nodes_.emplace_back();
         const Bvh::NodeView root = tree.node(binary);
-        std::vector<std::uint32_t> open;
-        if (root.count > 0) open.push_back(binary); // a tree that is one leaf
-        else open = {root.first, root.second};
-        while (open.size() < std::size_t(kWidth)) {
-            int widest = -1;
-            float largest = -1.0f;
-            for (std::size_t c = 0; c < open.size(); ++c) {
-                const Bvh::NodeView n = tree.node(open[c]);
-                if (n.count > 0) continue;
-                const float area = halfArea(n.box);
-                if (area > largest) largest = area, widest = int(c);
-            }
-            if (widest < 0) break;
-            const Bvh::NodeView n = tree.node(open[std::size_t(widest)]);
-            open[std::size_t(widest)] = n.first;
-            open.push_back(n.second);
-        }
+        const std::vector<std::uint32_t> open = root.count > 0 ? std::vector<std::uint32_t>{binary} // a tree that is one leaf
+                                                               : tree.widestDescendants(binary, kWidth, [](std::uint32_t) { return true; });
         std::uint32_t child[kWidth];
         for (int slot = 0; slot < kWidth; ++slot) child[slot] = kEmpty;
         for (std::size_t c = 0; c < open.size(); ++c) {

@@ -8,15 +8,6 @@
 
 namespace sdfgen {
 
-namespace {
-
-float halfArea(const Bounds& b) {
-    const glm::vec3 e = glm::max(b.max - b.min, glm::vec3(0.0f));
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-}
-
-} // namespace
-
 WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
     struct Child {
         Bounds box;
@@ -89,8 +80,7 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
         for (std::size_t at = 0; at < count; at += span) children.push_back(self(self, ids + at, std::min(span, count - at)));
         return makeNode(children);
     };
-    // Each wide node takes a binary subtree and opens its largest inner descendants until it has
-    // eight children; subtrees of at most eight triangles become packets.
+    // The triangles of a binary subtree, in leaf order.
     auto gather = [&](std::uint32_t binary, std::vector<std::uint32_t>& ids) {
         std::vector<std::uint32_t> pending{binary};
         while (!pending.empty()) {
@@ -112,21 +102,7 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
             gather(binary, ids);
             return makePacket(ids.data(), ids.size());
         }
-        std::vector<std::uint32_t> open{root.first, root.second};
-        while (open.size() < std::size_t(kWidth)) {
-            int widest = -1;
-            float largest = -1.0f;
-            for (std::size_t c = 0; c < open.size(); ++c) {
-                const Bvh::NodeView n = tree.node(open[c]);
-                if (n.count > 0 || fits(open[c])) continue;
-                const float area = halfArea(n.box);
-                if (area > largest) largest = area, widest = int(c);
-            }
-            if (widest < 0) break;
-            const Bvh::NodeView n = tree.node(open[std::size_t(widest)]);
-            open[std::size_t(widest)] = n.first;
-            open.push_back(n.second);
-        }
+        const std::vector<std::uint32_t> open = tree.widestDescendants(binary, kWidth, [&](std::uint32_t c) { return !fits(c); });
         std::vector<Child> children;
         std::vector<std::vector<std::uint32_t>> bins; // first fit, largest subtrees first
         std::vector<std::uint32_t> small;
