@@ -113,7 +113,7 @@ py::dict checkToDict(const MeshCheck& c) {
     d["non_manifold_edges"] = c.nonManifoldEdges;
     d["inconsistent_edges"] = c.inconsistentEdges;
     d["non_manifold_vertices"] = c.nonManifoldVertices;
-    d["self_intersections"] = c.selfIntersections;
+    d["self_intersections"] = c.selfIntersectionsSearched ? py::object(py::int_(c.selfIntersections)) : py::object(py::none());
     d["closed_and_clean"] = c.closedAndClean();
     d["description"] = c.describe();
     return d;
@@ -343,7 +343,8 @@ PYBIND11_MODULE(sdfgen, m) {
         .def_property_readonly("sign_reason", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->signReason)) : py::object(py::none()); })
         .def_property_readonly("check", [](const PyField& f) {
             return f.bake && f.bake->checked ? py::object(checkToDict(f.bake->check)) : py::object(py::none());
-        }, "The mesh check made for sign='auto', as a dict (None otherwise)")
+        }, "The mesh check made for sign='auto', as a dict (None otherwise); its 'self_intersections' is None when holes or bad "
+   "edges decided the sign and the search was skipped")
         .def(
             "positions",
             [](const PyField& f) {

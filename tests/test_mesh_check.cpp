@@ -2,6 +2,7 @@
 #include "sdfgen/compare.hpp"
 #include "core/topology.hpp"
 #include "support/broken_meshes.hpp"
+#include "support/checks.hpp"
 #include "support/reference.hpp"
 #include "support/shapes.hpp"
 
@@ -41,6 +42,15 @@ TEST(MeshCheck, OpenAndOverlappingMeshesMakeAutoPickWinding) {
         EXPECT_EQ(result.sign, SignMethod::Winding) << shape.name;
         EXPECT_EQ(result.field.parameter("sign"), "auto/winding") << shape.name;
         EXPECT_FALSE(result.signReason.empty());
+        // The costly search runs only when the edges leave the choice open: closed shells that overlap.
+        const MeshCheck edges = MeshTopology(shape.mesh).edgeCheck();
+        EXPECT_EQ(result.check.selfIntersectionsSearched, edges.closedAndClean()) << shape.name;
+        if (edges.closedAndClean()) {
+            EXPECT_GT(result.check.selfIntersections, 0u) << shape.name;
+        } else {
+            EXPECT_CONTAINS(result.check.describe(), "self-intersections not searched");
+        }
+        EXPECT_TRUE(checkMesh(shape.mesh).selfIntersectionsSearched) << shape.name;
     }
 }
 

@@ -11,6 +11,9 @@ struct MeshCheck {
     std::size_t inconsistentEdges = 0;   // edges whose two triangles run the same way: flipped faces
     std::size_t nonManifoldVertices = 0; // vertices whose triangles form several fans (pinches)
     std::size_t selfIntersections = 0;   // pairs of triangles with a common point beyond shared vertices (exact)
+    // False when the (costly) search for self-intersections was skipped: sign auto skips it when the
+    // edges already rule the pseudonormal out. selfIntersections is then 0 and means nothing.
+    bool selfIntersectionsSearched = true;
     double signedVolume = 0;             // enclosed by the triangles as oriented (negative: they face inwards)
     // Closed, manifold along edges and consistently oriented, but with negative volume: every face
     // points inwards. Sign auto then swaps inside and outside, as if the faces were flipped.

@@ -67,7 +67,10 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     if (!method.fixedSign) {
         if (sign == SignMethod::Auto) {
             result.checked = true;
-            result.check = context.check();
+            // Holes, non-manifold or flipped edges rule the pseudonormal out already: the costly
+            // search for self-intersections could not change the choice, so it is skipped.
+            const MeshCheck& edges = context.topology().edgeCheck();
+            result.check = edges.closedAndClean() ? context.check() : edges;
             sign = resolveAutoSign(result.check, &result.signReason);
             if (result.check.insideOut) {
                 methodContext.flipped = true;

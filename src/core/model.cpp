@@ -80,8 +80,10 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
     bool flipped = false; // as bake: auto swaps inside and outside of an inside-out mesh
     if (out.signedDistance && sign == SignMethod::Auto) {
-        flipped = m.check(quiet(control)).insideOut;
-        sign = resolveAutoSign(m.check());
+        const MeshCheck& edges = m.topology(quiet(control)).edgeCheck(); // as bake: no search when the edges decide
+        const MeshCheck& check = edges.closedAndClean() ? m.check(quiet(control)) : edges;
+        flipped = check.insideOut;
+        sign = resolveAutoSign(check);
     }
     if (out.signedDistance && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
         throw Error(std::string("point queries sign by auto, winding or pseudonormal, not ") + toString(sign));

@@ -44,7 +44,9 @@ std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
 std::string MeshCheck::describe() const {
     return std::to_string(boundaryEdges) + " boundary edges, " + std::to_string(nonManifoldEdges) + " non-manifold edges, " +
            std::to_string(inconsistentEdges) + " inconsistently oriented edges, " + std::to_string(nonManifoldVertices) +
-           " non-manifold vertices, " + std::to_string(selfIntersections) + " self-intersecting triangle pairs" +
+           " non-manifold vertices, " +
+           (selfIntersectionsSearched ? std::to_string(selfIntersections) + " self-intersecting triangle pairs"
+                                      : std::string("self-intersections not searched")) +
            (insideOut ? ", inside out (negative volume)" : "");
 }
 
@@ -224,6 +226,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
         volume += glm::dot(positions_[t[0]] - o, glm::cross(positions_[t[1]] - o, positions_[t[2]] - o));
     }
     edgeCheck_.signedVolume = volume / 6.0;
+    edgeCheck_.selfIntersectionsSearched = false;
     edgeCheck_.insideOut = edgeCheck_.boundaryEdges == 0 && edgeCheck_.nonManifoldEdges == 0 &&
                            edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
 
@@ -263,6 +266,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
 
 MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunControl& control) const {
     MeshCheck result = edgeCheck_;
+    result.selfIntersectionsSearched = true;
     const std::size_t n = mesh.triangleCount();
     // In parallel over fixed chunks of triangles, each counting its own pairs into its own slot:
     // the sum is the same for any thread count. The tree reports first copies only: each crossing

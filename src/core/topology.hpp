@@ -25,6 +25,8 @@ public:
     // repeated triangles counted once per pair of copies (as triangle by triangle).
     // In parallel; the same counts for any thread count. Throws Cancelled when control.cancel is raised.
     MeshCheck check(const Mesh& mesh, const Bvh& tree, const RunControl& control = {}) const;
+    // The counts found by the topology alone: everything but self-intersections (not searched).
+    const MeshCheck& edgeCheck() const { return edgeCheck_; }
 
     // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.

@@ -68,6 +68,10 @@ def test_mesh_from_arrays_float32_and_float64():
     assert double.check()["closed_and_clean"] is True
     opened = sdfgen.Mesh(TET_VERTICES, TET_FACES[1:])
     assert opened.check()["boundary_edges"] == 3
+    assert opened.check()["self_intersections"] == 0
+    baked = sdfgen.bake(opened, res=8)
+    assert baked.sign == "auto/winding"  # the holes decide: the self-intersection search is skipped
+    assert baked.check["boundary_edges"] == 3 and baked.check["self_intersections"] is None
     assert np.array_equal(double.vertices, TET_VERTICES)
 
 
