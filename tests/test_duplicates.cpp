@@ -4,6 +4,7 @@
 #include "core/bvh.hpp"
 #include "core/duplicates.hpp"
 #include "core/exact.hpp"
+#include "core/memory.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
 #include "sdfgen/model.hpp"
@@ -99,6 +100,22 @@ TEST(Bvh, ExponentiallySpacedTrianglesKeepDepthAndLeavesBounded) {
         ASSERT_TRUE(tree.intersect(glm::vec3(mesh.toLocal({x * 0.75, 0.2, 0.2})), {1, 0, 0}, kInf, hit)) << i;
         EXPECT_EQ(hit.triangle, std::uint32_t(i));
     }
+}
+
+// The memory check counts a set of copies' row crossings once, as the scan makes them: 100000
+// copies of a tetrahedron at res 256 need the single tetrahedron's bytes plus the topology of the
+// copies (they were refused as ~68 GiB).
+TEST(BakeMemory, CopiesCrossTheRowsOnceInTheEstimate) {
+    const Mesh one = tetrahedron(), many = repeated(one, 100000);
+    const Bvh oneTree(one), manyTree(many);
+    const Grid grid = makeGrid(many.worldBounds(), 256, 0.1f);
+    BakeSettings winding;
+    winding.sign = SignMethod::Winding;
+    const double single = double(estimateBakeBytes(one, grid, winding, false, &oneTree));
+    const double copies = double(estimateBakeBytes(many, grid, winding, false, &manyTree));
+    EXPECT_GT(copies, single);
+    EXPECT_LT(copies - single, 200.0 * double(many.triangleCount()));
+    EXPECT_NO_THROW(checkBakeMemory(many, manyTree, grid, winding, false));
 }
 
 // The mesh check counts copies as the triangle-by-triangle definition would, without pairing them.

@@ -1,4 +1,5 @@
 #include "core/memory.hpp"
+#include "core/bvh.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
@@ -48,7 +49,7 @@ std::uint64_t availableMemoryBytes() {
     return std::uint64_t(available);
 }
 
-std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice) {
+std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice, const Bvh* tree) {
     const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double triangles = double(mesh.triangleCount()), vertices = double(mesh.positions.size());
     constexpr double kFloat = 4, kFlag = 1;
@@ -64,7 +65,8 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 12 + 12 + 48 + 12);
     // Winding: one crossing (16 bytes) per row the surface crosses, plus each row's vector.
     double projected = 0;
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        if (tree && tree->copies(t) == 0) continue; // a later copy: the scan weighs the first instead
         const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
         projected += 0.5 * std::fabs(glm::cross(b - a, c - a).x);
     }
@@ -110,8 +112,8 @@ void releaseFreedMemory() {
 #endif
 }
 
-void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice) {
-    const double needed = double(estimateBakeBytes(mesh, grid, settings, onDevice));
+void checkBakeMemory(const Mesh& mesh, const Bvh& tree, const Grid& grid, const BakeSettings& settings, bool onDevice) {
+    const double needed = double(estimateBakeBytes(mesh, grid, settings, onDevice, &tree));
     const std::uint64_t available = availableMemoryBytes();
     if (available > 0 && needed > double(available)) {
         const SignMethod sign = settings.sign != SignMethod::Default ? settings.sign

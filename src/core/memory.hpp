@@ -7,6 +7,8 @@
 
 namespace sdfgen {
 
+class Bvh;
+
 // Bytes this process can still take: MemAvailable from /proc/meminfo, lowered to the room left
 // under a cgroup v2 memory limit when there is one; the physical memory when neither is readable
 // (0 when nothing is known).
@@ -20,12 +22,14 @@ std::uint64_t availableMemoryBytes();
 // distances on a compute device), the device's host-side tables (src/gpu/gl_device.cpp: its
 // tree's triangles, the pseudonormals, the closed surface's corners) and its per-sample crossing
 // counts and sides; for a ray field, its own wide tree. Auto counts the dearer of its two
-// choices. The bake's tree is not counted: it exists before the bake.
-std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice = false);
+// choices. The bake's tree is not counted: it exists before the bake. Given the tree, the rows'
+// crossings count each set of exact copies of a triangle once (Bvh::copies), as the scan does.
+std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice = false,
+                                const Bvh* tree = nullptr);
 
 // Throws Error("grid NXxNYxNZ (method M, sign S) needs about X MiB but only Y MiB of memory is
 // available") when the estimate exceeds the available memory.
-void checkBakeMemory(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice);
+void checkBakeMemory(const Mesh& mesh, const Bvh& tree, const Grid& grid, const BakeSettings& settings, bool onDevice);
 
 // Hands the pages of freed heap memory back to the system (glibc keeps them resident for reuse):
 // called between phases, so that one phase's scratch does not add to the next one's peak.
