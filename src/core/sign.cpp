@@ -28,7 +28,7 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
     double re = 1.0, im = 0.0;
     int turns = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec3 ra = cap.loop[(i + 1) % n] - p;
+        const glm::dvec3 ra = cap.loop[i + 1 < n ? i + 1 : 0] - p; // no division: this is the hottest loop
         const double la = glm::length(ra), ac = glm::dot(ra, rc);
         const double det = glm::dot(ra, glm::cross(rb, rc));
         const double den = la * lb * lc + glm::dot(ra, rb) * lc + bc * la + ac * lb;
@@ -58,7 +58,7 @@ glm::dvec3 fanGradient(const glm::dvec3& p, const Cap& cap) {
     const std::size_t n = cap.loop.size();
     for (std::size_t i = 0; i < n; ++i) {
         // Segment a -> b: (e x ra) / |e x ra|² (e.rb / |rb| - e.ra / |ra|).
-        const glm::dvec3 ra = cap.loop[(i + 1) % n] - p, rb = cap.loop[i] - p, e = rb - ra;
+        const glm::dvec3 ra = cap.loop[i + 1 < n ? i + 1 : 0] - p, rb = cap.loop[i] - p, e = rb - ra;
         const glm::dvec3 u = glm::cross(e, ra);
         const double u2 = glm::dot(u, u);
         if (u2 == 0.0) continue; // p on the edge's line (off the edge: no field)
@@ -249,9 +249,21 @@ struct WindingCaps::Search {
     }
     // The margin's factor covers the rounding of the running sums.
     bool doubtful() const { return std::fabs(orientation * w - 0.5) <= farSum * (1.0 + 1e-12) + margin; }
+    // Nodes bounded over a ball that holds p (a cut's far nodes, loosest first), not yet bounded at
+    // p itself: each is bounded at p when it is the loosest.
+    const Pending* ballNext = nullptr;
+    const Pending* ballEnd = nullptr;
+
     void refine() {
         std::make_heap(pending.begin(), pending.end());
-        while (!pending.empty() && doubtful()) {
+        while ((!pending.empty() || ballNext != ballEnd) && doubtful()) {
+            if (ballNext != ballEnd && (pending.empty() || pending.front().bound < ballNext->bound)) {
+                farSum -= ballNext->bound;
+                const std::size_t before = pending.size();
+                add((ballNext++)->node);
+                for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
+                continue;
+            }
             std::pop_heap(pending.begin(), pending.end());
             const Pending loosest = pending.back();
             pending.pop_back();
@@ -283,43 +295,63 @@ bool WindingCaps::inside(const glm::dvec3& p, int ahead, int orientation, std::s
 void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
                       const Cut* within) const {
     out.nearNodes.clear();
+    out.exactNodes.clear();
     out.farNodes.clear();
     out.farSum = 0.0;
     out.smooth = true;
     out.curvature = 0.0;
     out.slack = 0.0;
     if (nodes_.empty()) return;
+    // Nodes bounded by less than a twentieth of the target are not worth opening: they go to the
+    // far nodes at once, and a smaller ball keeps the bounds they have in `within` (bounds over a
+    // ball that holds every sample of this one), measuring only the nodes worth opening afresh.
+    const double small = 0.05 * target;
     std::vector<Pending>& pending = out.scratch;
     pending.clear();
-    double sum = 0.0; // of the finite bounds pending, running (farSum is summed afresh at the end)
+    double sum = 0.0; // of the finite bounds, far and pending, running (farSum is summed afresh at the end)
     int touching = 0; // pending nodes whose box the ball touches (infinite bound)
     auto push = [&](std::uint32_t index) {
         const double b = bound(nodes_[index], centre, reach);
         if (b <= 0.0) return; // no area
+        if (b <= small) {
+            out.farNodes.push_back({b, index});
+            sum += b;
+            return;
+        }
         pending.push_back({b, index});
-        std::push_heap(pending.begin(), pending.end());
         if (std::isfinite(b)) sum += b;
         else ++touching;
     };
     if (within) { // a ball inside `within`'s: its cut refines that one
         for (std::uint32_t index : within->nearNodes) push(index);
-        for (std::uint32_t index : within->farNodes) push(index);
+        for (std::uint32_t index : within->exactNodes) push(index);
+        for (const Pending& far : within->farNodes) {
+            if (far.bound <= small) {
+                out.farNodes.push_back(far);
+                sum += far.bound;
+            } else {
+                push(far.node);
+            }
+        }
     } else {
         push(0);
     }
-    // Nodes bounded by less than a twentieth of the target are not worth opening.
-    while (!pending.empty() && (touching > 0 || (sum > target && pending.front().bound > 0.05 * target))) {
+    std::make_heap(pending.begin(), pending.end());
+    while (!pending.empty() && (touching > 0 || sum > target)) {
         const Pending loosest = pending.front();
         const Node& node = nodes_[loosest.node];
         const bool touches = !std::isfinite(loosest.bound);
-        if (node.leaf && !touches && out.nearNodes.size() >= maxNear) break;
+        if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() >= maxNear) break;
         std::pop_heap(pending.begin(), pending.end());
         pending.pop_back();
         if (touches) --touching;
         else sum -= loosest.bound;
         if (!node.leaf) {
-            push(node.first);
-            push(node.first + 1);
+            for (std::uint32_t child : {node.first, node.first + 1}) {
+                const std::size_t before = pending.size();
+                push(child);
+                if (pending.size() > before) std::push_heap(pending.begin(), pending.end());
+            }
             continue;
         }
         const Cap& cap = caps_[node.first];
@@ -328,17 +360,23 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
             double curvature = 0.0, slack = 0.0;
             const bool smooth = (!touches || clearOf(cap, centre, reach)) && expansionBounds(cap, centre, reach, curvature, slack);
             if (!touches && !(smooth && (curvature * reach + slack) * reach < loosest.bound)) {
-                out.farNodes.push_back(loosest.node);
+                out.farNodes.push_back(loosest);
+                sum += loosest.bound;
                 continue;
             }
-            out.smooth = out.smooth && smooth;
+            if (!smooth) { // the ball may meet the fan: measured at every point
+                out.exactNodes.push_back(loosest.node);
+                continue;
+            }
             out.curvature += curvature;
             out.slack += slack;
         }
         out.nearNodes.push_back(loosest.node);
     }
-    for (const Pending& q : pending) out.farNodes.push_back(q.node);
-    for (std::uint32_t index : out.farNodes) out.farSum += bound(nodes_[index], centre, reach);
+    out.smooth = out.exactNodes.size() <= kMaxExactFans;
+    out.farNodes.insert(out.farNodes.end(), pending.begin(), pending.end());
+    if (!expand) std::sort(out.farNodes.begin(), out.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
+    for (const Pending& far : out.farNodes) out.farSum += far.bound;
 }
 
 double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient) const {
@@ -352,6 +390,12 @@ double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3*
     return w;
 }
 
+double WindingCaps::exactWinding(const glm::dvec3& p, const Cut& cut) const {
+    double w = 0.0;
+    for (std::uint32_t node : cut.exactNodes) w += fanWinding(p, caps_[nodes_[node].first]);
+    return w;
+}
+
 bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, const Cut& cut, Cut& scratch, std::size_t* evaluations) const {
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
@@ -359,10 +403,10 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, co
     for (std::uint32_t node : cut.nearNodes) search.measure(nodes_[node].first);
     search.farSum = cut.farSum;
     bool decided = !search.doubtful();
-    if (!decided) { // the point's own bounds are tighter than the ball's
-        search.farSum = 0.0;
-        for (std::uint32_t node : cut.farNodes) search.add(node);
-        if (search.doubtful()) search.refine();
+    if (!decided) { // the point's own bounds are tighter than the ball's, loosest first
+        search.ballNext = cut.farNodes.data();
+        search.ballEnd = cut.farNodes.data() + cut.farNodes.size();
+        search.refine();
         decided = !search.doubtful();
     }
     if (evaluations) *evaluations += search.measured;
@@ -458,23 +502,25 @@ struct SignOutput {
 };
 
 // The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
-// ahead, coarse to fine: a block whose ball meets no near fan has the near fans' winding number
-// expanded to first order at its centre, and every sample whose w the bounds (the far nodes' over
-// the ball, the expansion's rest) keep off 1/2 is decided; the rest are split into octants, down
-// to 2³, whose samples WindingCaps::insideNear decides.
+// ahead, coarse to fine (8³, 4³): in a block, the near fans that its ball misses have their
+// winding number expanded to first order at its centre, the few it may meet (a big fan across a
+// sheet) are measured at each sample, and every sample whose w the bounds (the far nodes' over
+// the ball, the expansion's rest) keep off 1/2 is decided; the rest are split into octants, and
+// the samples of 2³ blocks are decided by WindingCaps::insideNear.
 struct BrickSigns {
     static constexpr int kEdge = 8;
     // The cuts' targets (sums of far bounds) and their most fans: expanded once per block, or
     // measured at every sample of a 2³ block (tuned on open sheets and meshes with many holes).
     static constexpr double kExpandTarget = 0.01, kPointTarget = 0.05;
     static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 4;
+    static constexpr int kMeasuredEdge = 2; // blocks of 2³ are measured sample by sample
     const Mesh& mesh;
     const Grid& grid;
     const WindingCaps& caps;
     const SignOutput& output;
     int orientation;
-    std::size_t evaluations = 0;
-    WindingCaps::Cut cuts[5]; // per level: 8³, 4³, 2³, the 2³ block's samples one by one; scratch
+    std::size_t evaluations = 0, exactDecided = 0;
+    WindingCaps::Cut cuts[4]; // per level: 8³, 4³, 2³ (measured); scratch
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
     // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
     // of undecided[k - k0]).
@@ -525,6 +571,18 @@ struct BrickSigns {
             return;
         }
         WindingCaps::Cut& cut = cuts[level];
+        if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
+            caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
+            for (int k = ka; k < ke; ++k)
+                for (int j = ja; j < je; ++j)
+                    for (int i = ia; i < ie; ++i) {
+                        const std::uint64_t b = bit(i - i0, j - j0);
+                        if (!(row(k) & b)) continue;
+                        output.set(grid.index(i, j, k), caps.insideNear(localPosition(mesh, grid, i, j, k), count(i, j, k), orientation, cut, cuts[3], &evaluations));
+                        row(k) &= ~b;
+                    }
+            return;
+        }
         caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut, within);
         if (cut.smooth) {
             glm::dvec3 gradient;
@@ -535,34 +593,27 @@ struct BrickSigns {
                     for (int i = ia; i < ie; ++i) {
                         const std::uint64_t b = bit(i - i0, j - j0);
                         if (!(row(k) & b)) continue;
-                        const glm::dvec3 offset = localPosition(mesh, grid, i, j, k) - centre;
-                        const double x = orientation * (double(count(i, j, k)) - (near + glm::dot(gradient, offset))) - 0.5;
+                        const glm::dvec3 p = localPosition(mesh, grid, i, j, k), offset = p - centre;
+                        double fans = near + glm::dot(gradient, offset);
+                        if (!cut.exactNodes.empty()) {
+                            fans += caps.exactWinding(p, cut);
+                            evaluations += cut.exactNodes.size();
+                        }
+                        const double x = orientation * (double(count(i, j, k)) - fans) - 0.5;
                         const double distance = glm::length(offset);
                         const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
                         if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
                             output.set(grid.index(i, j, k), x > 0.0);
                             row(k) &= ~b;
+                            exactDecided += !cut.exactNodes.empty();
                         }
                     }
             if (!anyUndecided()) return;
         }
-        if (edge > 2) {
-            const int half = edge / 2;
-            for (int dk = 0; dk < edge; dk += half)
-                for (int dj = 0; dj < edge; dj += half)
-                    for (int di = 0; di < edge; di += half) block(ia + di, ja + dj, ka + dk, half, level + 1, &cut);
-            return;
-        }
-        WindingCaps::Cut& single = cuts[level + 1];
-        caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, single, &cut);
-        for (int k = ka; k < ke; ++k)
-            for (int j = ja; j < je; ++j)
-                for (int i = ia; i < ie; ++i) {
-                    const std::uint64_t b = bit(i - i0, j - j0);
-                    if (!(row(k) & b)) continue;
-                    output.set(grid.index(i, j, k), caps.insideNear(localPosition(mesh, grid, i, j, k), count(i, j, k), orientation, single, cuts[4], &evaluations));
-                    row(k) &= ~b;
-                }
+        const int half = edge / 2;
+        for (int dk = 0; dk < edge; dk += half)
+            for (int dj = 0; dj < edge; dj += half)
+                for (int di = 0; di < edge; di += half) block(ia + di, ja + dj, ka + dk, half, level + 1, &cut);
     }
 };
 
@@ -651,7 +702,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
     //    subtracted wherever it might matter.
     constexpr int kBrickEdge = BrickSigns::kEdge;
-    std::atomic<std::size_t> fanEvaluations{0};
+    std::atomic<std::size_t> fanEvaluations{0}, exactFanSamples{0};
     const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
         const int jb = kBrickEdge * int(block % std::size_t(blocksY)), kb = kBrickEdge * int(block / std::size_t(blocksY));
@@ -673,16 +724,18 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 std::vector<Crossing>().swap(crossings); // done with this row
             }
         }
-        BrickSigns brick{mesh, grid, caps, output, orientation, 0, {}};
+        BrickSigns brick{mesh, grid, caps, output, orientation, 0, 0, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
         const std::size_t evaluations = brick.evaluations;
         fanEvaluations += evaluations;
+        exactFanSamples += brick.exactDecided;
     });
     if (stats) {
         stats->caps = caps.caps().size();
         stats->fanEvaluations = fanEvaluations;
+        stats->exactFanSamples = exactFanSamples;
     }
 }
 

@@ -63,23 +63,32 @@ public:
     };
     struct Cut {
         std::vector<std::uint32_t> nearNodes; // leaves
-        std::vector<std::uint32_t> farNodes;
+        // With `expand`: leaves whose fan the ball may meet, measured at every point of the ball.
+        std::vector<std::uint32_t> exactNodes;
+        std::vector<Pending> farNodes; // with their bounds over the ball (loosest first without `expand`)
         double farSum = 0; // the sum of the far nodes' bounds over the ball
-        // No near fan's box meets the ball: the near fans' winding number is harmonic over it, and
-        // differs from its first-order expansion at the centre (nearWinding with the gradient) by at
-        // most (curvature * |d| + slack) * |d| at offset d.
+        // The ball misses every near fan, and at most kMaxExactFans are exact: the near fans'
+        // winding number is harmonic over it, and differs from its first-order expansion at the
+        // centre (nearWinding with the gradient) by at most (curvature * |d| + slack) * |d| at offset d.
         bool smooth = true;
         double curvature = 0, slack = 0;
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
     };
     // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
-    // expansion's rest over the ball is below its bound; else it stays far. With `within`, the cut
-    // of a ball that holds this one, the walk starts from that cut.
+    // expansion's rest over the ball is below its bound; a fan the ball may meet is exact; the
+    // others stay far. With `within`, the cut of a ball that holds this one's samples, the walk
+    // starts from that cut, and its far nodes too small to open keep their bounds.
     void cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out, const Cut* within = nullptr) const;
+    // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
+    // than splitting the block.
+    static constexpr std::size_t kMaxExactFans = 4;
+    // The exact fans' winding number at p.
+    double exactWinding(const glm::dvec3& p, const Cut& cut) const;
     // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
     double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
     // inside() for a point of the ball that `cut` was made for: the near fans measured, then the
-    // far nodes bounded (the ball's bound, then the point's own, loosest opened first) while
+    // far nodes bounded (the ball's bounds; then, loosest first, each far node bounded at the point
+    // and opened as inside() opens nodes) while
     // orientation * w is within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside()
     // decides. Deciding only outside that margin, it answers as inside() does (their doubles of
     // w differ by rounding, far below the margin), with the tree's top walked once per block.
@@ -119,6 +128,7 @@ int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, c
 struct WindingStats {
     std::size_t caps = 0;           // fans closing the boundary (equal loops share one, long ones are split)
     std::size_t fanEvaluations = 0; // fan solid angles measured, over all samples
+    std::size_t exactFanSamples = 0; // samples decided by a block's expansion with its exact fans measured at each
 };
 
 // Inside flags (1 = inside) for every sample of a grid, by one of the sign methods.
