@@ -310,11 +310,11 @@ bool MeshTopology::trianglesCross(std::uint32_t t, std::uint32_t u) const {
     const glm::vec3 pb[3] = {glm::vec3(positions_[b[0]]), glm::vec3(positions_[b[1]]), glm::vec3(positions_[b[2]])};
     // A plane through an edge of either, along their mean normal, often separates them (all in
     // double: the cheapest proof, when it holds).
-    const glm::dvec3 m = glm::dvec3(faceNormals_[t]) + glm::dvec3(faceNormals_[u]);
-    if (separatedByEdgePlane(pa, a, pb, b, m) || separatedByEdgePlane(pb, b, pa, a, m)) return false;
-    // Then exact rejection: when one triangle's vertices (shared ones aside) lie
-    // strictly on one side of the other's plane, the pair meets at shared vertices at most, so
-    // none of the edge tests below could find a crossing.
+    const glm::dvec3 meanNormal = glm::dvec3(faceNormals_[t]) + glm::dvec3(faceNormals_[u]);
+    if (separatedByEdgePlane(pa, a, pb, b, meanNormal) || separatedByEdgePlane(pb, b, pa, a, meanNormal)) return false;
+    // Then exact rejection: when one triangle's vertices (shared ones aside) lie strictly on one
+    // side of the other's plane, the pair meets at shared vertices at most, so none of the edge
+    // tests below could find a crossing.
     if (strictlyOnOneSide(pa, a, pb, b) || strictlyOnOneSide(pb, b, pa, a)) return false;
     // An edge from a shared vertex meets the other triangle there, so only edges away from shared
     // vertices are tested: any other common point makes the pair self-intersecting.
@@ -351,10 +351,10 @@ struct NodePair {
     std::uint32_t a, b;
 };
 
-// Replaces a node pair by the pairs of its children that may hold overlapping triangles: a node
-// with itself by its two children with themselves and with each other, two nodes by the wider
-// one's children with the other (leaves last). Empty for two nodes whose boxes are apart; false
-// when there is nothing to open (leaves).
+// Replaces a node pair by the pairs of children that may hold overlapping triangles: a node with
+// itself by its two children with themselves and with each other; two nodes by the children of
+// the larger inner one (by box area) with the other, or by nothing when their boxes are apart.
+// False, adding nothing, when there is nothing to open: a leaf with itself, two leaves.
 bool openPair(const Bvh& tree, NodePair pair, std::vector<NodePair>& into) {
     const Bvh::NodeView a = tree.node(pair.a);
     if (pair.a == pair.b) {
