@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 namespace sdfgen {
@@ -126,7 +127,8 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     std::iota(byPosition.begin(), byPosition.end(), 0u);
     arena.execute([&] {
         tbb::parallel_sort(byPosition.begin(), byPosition.end(),
-                           [&](std::uint32_t x, std::uint32_t y) { return keys[x] != keys[y] ? keys[x] < keys[y] : x < y; });
+                           [&](std::uint32_t x, std::uint32_t y) { return std::tie(keys[x][0], keys[x][1], keys[x][2], x) <
+                                                                                  std::tie(keys[y][0], keys[y][1], keys[y][2], y); });
     });
     std::vector<std::uint32_t> remap(vertexCount);
     for (std::size_t k = 0; k < vertexCount; ++k) {
