@@ -1,5 +1,6 @@
 // The mesh check's counts on generated broken meshes, and the sign that auto picks from them.
 #include "sdfgen/compare.hpp"
+#include "core/predicates.hpp"
 #include "core/topology.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"
@@ -7,6 +8,10 @@
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -133,6 +138,98 @@ TEST(MeshCheck, ThreeTrianglesOnOneEdgeAreANonManifoldEdge) {
     EXPECT_EQ(check.selfIntersections, 0u) << check.describe();
     const BakeResult result = bakeWith(mesh, 12, DistanceMethod::Exact, SignMethod::Auto);
     EXPECT_EQ(result.sign, SignMethod::Winding);
+}
+
+// Every pair of triangles tested with the exact predicates alone: the definition that the check's
+// tree-against-tree traversal and its cheap rejections must reproduce exactly. Vertices merge by
+// position; a pair sharing an edge never counts, any other pair counts when an edge of one away
+// from their shared vertices meets the other.
+std::size_t bruteForceCrossings(const Mesh& mesh) {
+    std::map<std::array<float, 3>, std::uint32_t> merged;
+    std::vector<glm::uvec3> corners(mesh.triangleCount());
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+            const glm::vec3 p = mesh.vertex(t, c) + glm::vec3(0.0f);
+            corners[t][c] = merged.emplace(std::array<float, 3>{p.x, p.y, p.z}, std::uint32_t(merged.size())).first->second;
+        }
+    }
+    std::size_t count = 0;
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        for (std::uint32_t u = t + 1; u < mesh.triangleCount(); ++u) {
+            const glm::uvec3 a = corners[t], b = corners[u];
+            int shared = 0;
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
+            if (shared >= 2) continue;
+            const auto touches = [](const glm::uvec3& x, std::uint32_t v) { return x[0] == v || x[1] == v || x[2] == v; };
+            bool meet = false;
+            for (int e = 0; e < 3 && !meet; ++e) {
+                const int f = (e + 1) % 3;
+                if (!touches(b, a[e]) && !touches(b, a[f]))
+                    meet = segmentMeetsTriangle(mesh.vertex(t, e), mesh.vertex(t, f), mesh.vertex(u, 0), mesh.vertex(u, 1), mesh.vertex(u, 2));
+                if (!meet && !touches(a, b[e]) && !touches(a, b[f]))
+                    meet = segmentMeetsTriangle(mesh.vertex(u, e), mesh.vertex(u, f), mesh.vertex(t, 0), mesh.vertex(t, 1), mesh.vertex(t, 2));
+            }
+            count += meet ? 1 : 0;
+        }
+    }
+    return count;
+}
+
+// Meshes made of the cases the check's shortcuts must get right: triangles on a small integer
+// lattice (shared vertices and edges, coplanar overlaps, collinear triangles, touching corners),
+// the same lattice moved far off the origin (rounded: nearly coplanar and nearly touching), fans
+// wound more than once around a vertex (flat: overlapping coplanar sectors; lifted: sectors
+// apart by a hair), and a finely tessellated tilted plane (nearly coplanar neighbours only), each
+// at tiny and huge scales.
+TEST(MeshCheck, SelfIntersectionsMatchEveryPairTestedExactly) {
+    std::mt19937 rng(11);
+    std::vector<std::pair<std::string, Mesh>> meshes;
+    for (double scale : {0x1p-60, 1.0, 0x1p60}) {
+        for (double offset : {0.0, 1000.1}) {
+            std::vector<glm::dvec3> positions;
+            for (int i = 0; i < 64; ++i) positions.push_back((glm::dvec3(i % 4, i / 4 % 4, i / 16) * 0.1 + offset) * scale);
+            std::vector<glm::uvec3> triangles;
+            while (triangles.size() < 240) {
+                const glm::uvec3 t(rng() % 64, rng() % 64, rng() % 64);
+                if (t.x != t.y && t.y != t.z && t.z != t.x) triangles.push_back(t);
+            }
+            meshes.emplace_back("lattice", buildMesh("lattice", positions, triangles));
+        }
+        for (double lift : {0.0, 1e-6}) {
+            std::vector<glm::dvec3> positions{{0, 0, 0}};
+            std::vector<glm::uvec3> triangles;
+            for (int i = 0; i <= 24; ++i) {
+                const double angle = 0.5 * i; // 12 radians: nearly two turns
+                positions.push_back(glm::dvec3(std::cos(angle), std::sin(angle), lift * i) * scale);
+                if (i > 0) triangles.push_back({0u, unsigned(i), unsigned(i + 1)});
+            }
+            meshes.emplace_back("fan", buildMesh("fan", positions, triangles));
+        }
+        std::vector<glm::dvec3> positions;
+        std::vector<glm::uvec3> triangles;
+        constexpr int kSide = 12;
+        for (int i = 0; i <= kSide; ++i)
+            for (int j = 0; j <= kSide; ++j) positions.push_back(glm::dvec3(i, j, 0.3 * i + 0.7 * j) * (scale / 7.0));
+        for (unsigned i = 0; i < kSide; ++i) {
+            for (unsigned j = 0; j < kSide; ++j) {
+                const unsigned v = i * (kSide + 1) + j;
+                triangles.push_back({v, v + kSide + 1, v + 1});
+                triangles.push_back({v + 1, v + kSide + 1, v + kSide + 2});
+            }
+        }
+        meshes.emplace_back("tilted plane", buildMesh("tilted plane", positions, triangles));
+    }
+    std::size_t total = 0;
+    for (const auto& [name, mesh] : meshes) {
+        const std::size_t expected = bruteForceCrossings(mesh);
+        EXPECT_EQ(checkMesh(mesh).selfIntersections, expected) << name;
+        total += expected;
+        if (name == "tilted plane") {
+            EXPECT_EQ(expected, 0u);
+        }
+    }
+    EXPECT_GT(total, 1000u); // the lattices and the flat fans cross many times
 }
 
 TEST(MeshCheck, VerticesDuplicatedPerTriangleAreMerged) {

@@ -61,28 +61,27 @@ struct NodeBounds {
     }
 };
 
-// Bins of all three axes; an axis whose scale is 0 is not binned.
+// Bins of all three axes; an axis whose scale is 0 is not binned. A bin's box is set by its first
+// triangle (what growing the empty box by it gives exactly) and read only while its count is
+// non-zero, so the many small nodes never clear all 48 boxes.
 struct Bins {
     Bounds box[3][kBins];
     std::size_t count[3][kBins] = {};
-    Bins() {
-        for (auto& axis : box) {
-            for (Bounds& b : axis) b = emptyBounds();
-        }
-    }
     void add(const Bounds& triangleBox, const glm::vec3& centroid, const glm::vec3& lo, const glm::dvec3& scale) {
         for (int axis = 0; axis < 3; ++axis) {
             if (scale[axis] == 0.0) continue;
             const int bin = binOf(centroid[axis], lo[axis], scale[axis]);
-            ++count[axis][bin];
-            grow(box[axis][bin], triangleBox);
+            if (count[axis][bin]++ == 0) box[axis][bin] = triangleBox;
+            else grow(box[axis][bin], triangleBox);
         }
     }
     void merge(const Bins& other) {
         for (int axis = 0; axis < 3; ++axis) {
             for (int b = 0; b < kBins; ++b) {
+                if (other.count[axis][b] == 0) continue;
+                if (count[axis][b] == 0) box[axis][b] = other.box[axis][b];
+                else grow(box[axis][b], other.box[axis][b]);
                 count[axis][b] += other.count[axis][b];
-                grow(box[axis][b], other.box[axis][b]);
             }
         }
     }
@@ -91,14 +90,17 @@ struct Bins {
 // Min, max and sums are exact and order-free, so the parallel reductions equal the serial loop.
 template <class Stats, class Add>
 Stats reduceRange(std::size_t begin, std::size_t end, Add add) {
-    auto body = [&](std::size_t from, std::size_t to, Stats stats) {
-        for (std::size_t i = from; i < to; ++i) add(stats, i);
+    if (end - begin < kParallelNode) {
+        Stats stats;
+        for (std::size_t i = begin; i < end; ++i) add(stats, i);
         return stats;
-    };
-    if (end - begin < kParallelNode) return body(begin, end, Stats());
+    }
     return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(begin, end, kGrain), Stats(),
-        [&](const tbb::blocked_range<std::size_t>& r, Stats stats) { return body(r.begin(), r.end(), std::move(stats)); },
+        [&](const tbb::blocked_range<std::size_t>& r, Stats stats) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) add(stats, i);
+            return stats;
+        },
         [](Stats a, const Stats& b) {
             a.merge(b);
             return a;
@@ -270,20 +272,27 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
         const std::size_t* binCount = bins.count[axis];
         double rightArea[kBins];
         std::size_t rightCount[kBins];
+        // Empty bins are skipped: they change no box or count, and a plane right after one costs
+        // exactly what the plane before it did, which the strict comparison below already keeps.
         Bounds acc = emptyBounds();
         std::size_t accCount = 0;
+        double accArea = 0.0;
         for (int b = kBins - 1; b > 0; --b) {
-            grow(acc, binBox[b]);
-            accCount += binCount[b];
-            rightArea[b] = halfArea(acc);
+            if (binCount[b] > 0) {
+                grow(acc, binBox[b]);
+                accCount += binCount[b];
+                accArea = halfArea(acc);
+            }
+            rightArea[b] = accArea;
             rightCount[b] = accCount;
         }
         acc = emptyBounds();
         accCount = 0;
         for (int plane = 1; plane < kBins; ++plane) {
+            if (binCount[plane - 1] == 0) continue;
             grow(acc, binBox[plane - 1]);
             accCount += binCount[plane - 1];
-            if (accCount == 0 || rightCount[plane] == 0) continue;
+            if (rightCount[plane] == 0) continue;
             const double cost = halfArea(acc) * double(accCount) + rightArea[plane] * double(rightCount[plane]);
             if (cost < bestCost) {
                 bestCost = cost;

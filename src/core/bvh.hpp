@@ -62,12 +62,13 @@ public:
         const std::uint32_t* triangles;
         std::uint32_t count; // 0 for an inner node
         int axis;            // an inner node's split axis: intersect() visits `first` first where the ray runs up it
+        std::uint32_t slot;  // a leaf's first position in leaf order (0 ... triangleCount() - 1)
     };
     NodeView node(std::uint32_t index) const {
         const Node& n = nodes_[index];
         const Bounds box{{n.min[0], n.min[1], n.min[2]}, {n.max[0], n.max[1], n.max[2]}};
-        if (n.count == 0) return {box, index + 1, n.index, nullptr, 0, n.axis};
-        return {box, 0, 0, triangleIds_.data() + n.index, n.count, 0};
+        if (n.count == 0) return {box, index + 1, n.index, nullptr, 0, n.axis, 0};
+        return {box, 0, 0, triangleIds_.data() + n.index, n.count, 0, n.index};
     }
 
     // The binary nodes a wide node over inner node `index` takes as its children, for trees

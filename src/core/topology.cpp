@@ -9,9 +9,11 @@
 #include <glm/geometric.hpp>
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 namespace sdfgen {
@@ -29,6 +31,43 @@ bool strictlyOnOneSide(const glm::vec3 (&p)[3], const glm::uvec3& pi, const glm:
         side = s;
     }
     return side != 0;
+}
+
+// Whether a plane through an edge of triangle p along direction m proves that p and q meet at
+// shared vertices at most: p's third vertex strictly on one side, q's vertices off that edge
+// strictly on the other (so q touches the plane at shared edge ends only, and p lies on its own
+// side). In double with a rounding-error bound, no exact fallback: false when in doubt. Each
+// monomial of the side value det(end - start, m, x - start) passes through at most 8 roundings
+// for an exact m, so orient3d's bound, (8 + 256u) u times the computed permanent, holds here too.
+// A far cheaper proof than the exact predicates for the nearly coplanar pairs of a finely
+// tessellated surface (two triangles of one vertex fan, say), where orient3d needs its exact sums.
+bool separatedByEdgePlane(const glm::vec3 (&p)[3], const glm::uvec3& pi, const glm::vec3 (&q)[3], const glm::uvec3& qi,
+                          const glm::dvec3& m) {
+    constexpr double u = DBL_EPSILON / 2;
+    constexpr double kBound = (8.0 + 256.0 * u) * u;
+    for (int e = 0; e < 3; ++e) {
+        const int f = (e + 1) % 3;
+        const glm::dvec3 start(p[e]), edge = glm::dvec3(p[f]) - start;
+        const double nx1 = edge.y * m.z, nx2 = edge.z * m.y, ny1 = edge.z * m.x, ny2 = edge.x * m.z, nz1 = edge.x * m.y,
+                     nz2 = edge.y * m.x;
+        const glm::dvec3 normal(nx1 - nx2, ny1 - ny2, nz1 - nz2);
+        const glm::dvec3 magnitude(std::fabs(nx1) + std::fabs(nx2), std::fabs(ny1) + std::fabs(ny2), std::fabs(nz1) + std::fabs(nz2));
+        const auto side = [&](const glm::vec3& x) {
+            const glm::dvec3 d = glm::dvec3(x) - start;
+            const double value = d.x * normal.x + d.y * normal.y + d.z * normal.z;
+            const double bound = kBound * (std::fabs(d.x) * magnitude.x + std::fabs(d.y) * magnitude.y + std::fabs(d.z) * magnitude.z);
+            return value > bound ? 1 : value < -bound ? -1 : 0;
+        };
+        const int own = side(p[(e + 2) % 3]);
+        if (own == 0) continue;
+        bool apart = true;
+        for (int k = 0; k < 3 && apart; ++k) {
+            if (qi[k] == pi[e] || qi[k] == pi[f]) continue; // on the edge, in the plane exactly
+            apart = side(q[k]) == -own;
+        }
+        if (apart) return true;
+    }
+    return false;
 }
 
 constexpr std::size_t kCornerChunk = 4096; // triangles per parallel chunk (fixed: results never depend on it)
@@ -90,7 +129,8 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     std::iota(byPosition.begin(), byPosition.end(), 0u);
     arena.execute([&] {
         tbb::parallel_sort(byPosition.begin(), byPosition.end(),
-                           [&](std::uint32_t x, std::uint32_t y) { return keys[x] != keys[y] ? keys[x] < keys[y] : x < y; });
+                           [&](std::uint32_t x, std::uint32_t y) { return std::tie(keys[x][0], keys[x][1], keys[x][2], x) <
+                                                                                  std::tie(keys[y][0], keys[y][1], keys[y][2], y); });
     });
     std::vector<std::uint32_t> remap(vertexCount);
     for (std::size_t k = 0; k < vertexCount; ++k) {
@@ -264,52 +304,152 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     progress.finish();
 }
 
+bool MeshTopology::trianglesCross(std::uint32_t t, std::uint32_t u) const {
+    const glm::uvec3 a = corners_[t], b = corners_[u];
+    int shared = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
+    if (shared >= 2) return false; // neighbours across an edge can only overlap if coplanar
+    // The merged positions are the mesh's floats, which the exact predicates take.
+    const glm::vec3 pa[3] = {glm::vec3(positions_[a[0]]), glm::vec3(positions_[a[1]]), glm::vec3(positions_[a[2]])};
+    const glm::vec3 pb[3] = {glm::vec3(positions_[b[0]]), glm::vec3(positions_[b[1]]), glm::vec3(positions_[b[2]])};
+    // A plane through an edge of either, along their mean normal, often separates them (all in
+    // double: the cheapest proof, when it holds).
+    const glm::dvec3 meanNormal = glm::dvec3(faceNormals_[t]) + glm::dvec3(faceNormals_[u]);
+    if (separatedByEdgePlane(pa, a, pb, b, meanNormal) || separatedByEdgePlane(pb, b, pa, a, meanNormal)) return false;
+    // Then exact rejection: when one triangle's vertices (shared ones aside) lie strictly on one
+    // side of the other's plane, the pair meets at shared vertices at most, so none of the edge
+    // tests below could find a crossing.
+    if (strictlyOnOneSide(pa, a, pb, b) || strictlyOnOneSide(pb, b, pa, a)) return false;
+    // An edge from a shared vertex meets the other triangle there, so only edges away from shared
+    // vertices are tested: any other common point makes the pair self-intersecting.
+    for (int e = 0; e < 3; ++e) {
+        const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
+        if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1) &&
+            segmentMeetsTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2])) {
+            return true;
+        }
+        const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
+        if (!(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1) &&
+            segmentMeetsTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2])) {
+            return true;
+        }
+    }
+    return false;
+}
+
+namespace {
+
+bool overlap(const Bounds& a, const Bounds& b) {
+    return a.min.x <= b.max.x && a.max.x >= b.min.x && a.min.y <= b.max.y && a.max.y >= b.min.y && a.min.z <= b.max.z &&
+           a.max.z >= b.min.z;
+}
+
+double halfArea(const Bounds& b) {
+    const glm::dvec3 e = glm::max(glm::dvec3(b.max) - glm::dvec3(b.min), glm::dvec3(0.0));
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+// A pair of tree nodes whose triangle pairs are to be visited: one from each, or, where both are
+// the same node, the pairs within it.
+struct NodePair {
+    std::uint32_t a, b;
+};
+
+// Replaces a node pair by the pairs of children that may hold overlapping triangles: a node with
+// itself by its two children with themselves and with each other; two nodes by the children of
+// the larger inner one (by box area) with the other, or by nothing when their boxes are apart.
+// False, adding nothing, when there is nothing to open: a leaf with itself, two leaves.
+bool openPair(const Bvh& tree, NodePair pair, std::vector<NodePair>& into) {
+    const Bvh::NodeView a = tree.node(pair.a);
+    if (pair.a == pair.b) {
+        if (a.count > 0) return false;
+        into.push_back({a.first, a.first});
+        into.push_back({a.second, a.second});
+        into.push_back({a.first, a.second});
+        return true;
+    }
+    const Bvh::NodeView b = tree.node(pair.b);
+    if (!overlap(a.box, b.box)) return true;
+    if (a.count > 0 && b.count > 0) return false;
+    if (b.count > 0 || (a.count == 0 && halfArea(a.box) >= halfArea(b.box))) {
+        into.push_back({a.first, pair.b});
+        into.push_back({a.second, pair.b});
+    } else {
+        into.push_back({pair.a, b.first});
+        into.push_back({pair.a, b.second});
+    }
+    return true;
+}
+
+} // namespace
+
 MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunControl& control) const {
     MeshCheck result = edgeCheck_;
     result.selfIntersectionsSearched = true;
-    const std::size_t n = mesh.triangleCount();
-    // In parallel over fixed chunks of triangles, each counting its own pairs into its own slot:
-    // the sum is the same for any thread count. The tree reports first copies only: each crossing
-    // pair of them stands for copies(t) x copies(u) pairs.
-    constexpr std::size_t kChunk = 256;
-    std::vector<std::size_t> crossings((n + kChunk - 1) / kChunk, 0);
-    parallelFor(crossings.size(), control, [&](std::size_t chunk) {
-        std::size_t found = 0;
-        for (std::uint32_t t = std::uint32_t(chunk * kChunk); t < std::min(n, (chunk + 1) * kChunk); ++t) {
-            if (tree.copies(t) == 0) continue;
-            Bounds box{glm::min(glm::min(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2)),
-                       glm::max(glm::max(mesh.vertex(t, 0), mesh.vertex(t, 1)), mesh.vertex(t, 2))};
-            tree.forEachOverlap(box, [&](std::uint32_t u) {
-                if (u <= t) return;
-                const glm::uvec3 a = corners_[t], b = corners_[u];
-                int shared = 0;
-                for (int i = 0; i < 3; ++i)
-                    for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
-                if (shared >= 2) return; // neighbours across an edge can only overlap if coplanar
-                // The merged positions are the mesh's floats, which the exact predicates take.
-                const glm::vec3 pa[3] = {glm::vec3(positions_[a[0]]), glm::vec3(positions_[a[1]]), glm::vec3(positions_[a[2]])};
-                const glm::vec3 pb[3] = {glm::vec3(positions_[b[0]]), glm::vec3(positions_[b[1]]), glm::vec3(positions_[b[2]])};
-                // Cheap and exact rejection first: when one triangle's vertices (shared ones aside)
-                // lie strictly on one side of the other's plane, the pair meets at shared vertices
-                // at most, so none of the edge tests below could find a crossing.
-                if (strictlyOnOneSide(pa, a, pb, b) || strictlyOnOneSide(pb, b, pa, a)) return;
-                bool crossing = false;
-                // An edge from a shared vertex meets the other triangle there, so only edges away from
-                // shared vertices are tested: any other common point makes the pair self-intersecting.
-                for (int e = 0; e < 3 && !crossing; ++e) {
-                    const std::uint32_t u0 = a[e], u1 = a[(e + 1) % 3];
-                    if (!(b[0] == u0 || b[1] == u0 || b[2] == u0 || b[0] == u1 || b[1] == u1 || b[2] == u1)) {
-                        crossing = segmentMeetsTriangle(pa[e], pa[(e + 1) % 3], pb[0], pb[1], pb[2]);
-                    }
-                    const std::uint32_t v0 = b[e], v1 = b[(e + 1) % 3];
-                    if (!crossing && !(a[0] == v0 || a[1] == v0 || a[2] == v0 || a[0] == v1 || a[1] == v1 || a[2] == v1)) {
-                        crossing = segmentMeetsTriangle(pb[e], pb[(e + 1) % 3], pa[0], pa[1], pa[2]);
-                    }
-                }
-                if (crossing) found += std::size_t(tree.copies(t)) * tree.copies(u);
-            });
+    const std::size_t held = tree.triangleCount();
+    if (held == 0) return result;
+    // Every pair of held triangles (first copies; each crossing pair of them stands for
+    // copies(t) x copies(u) pairs) whose boxes overlap is tested once, found by one traversal of
+    // the tree against itself: node pairs whose boxes overlap are opened down to pairs of leaves.
+    // The triangles' boxes, in the tree's leaf order.
+    std::vector<std::uint32_t> leafTriangles(held);
+    std::vector<Bounds> boxes(held);
+    {
+        std::vector<std::uint32_t> pending{0};
+        while (!pending.empty()) {
+            const Bvh::NodeView n = tree.node(pending.back());
+            pending.pop_back();
+            if (n.count == 0) {
+                pending.push_back(n.second);
+                pending.push_back(n.first);
+                continue;
+            }
+            std::copy(n.triangles, n.triangles + n.count, leafTriangles.begin() + std::ptrdiff_t(n.slot));
         }
-        crossings[chunk] = found;
+    }
+    parallelFor((held + kCornerChunk - 1) / kCornerChunk, quiet(control), [&](std::size_t chunk) {
+        for (std::size_t i = chunk * kCornerChunk; i < std::min(held, (chunk + 1) * kCornerChunk); ++i) {
+            const std::uint32_t t = leafTriangles[i];
+            const glm::vec3 p0 = mesh.vertex(t, 0), p1 = mesh.vertex(t, 1), p2 = mesh.vertex(t, 2);
+            boxes[i] = {glm::min(glm::min(p0, p1), p2), glm::max(glm::max(p0, p1), p2)};
+        }
+    });
+    // Node pairs opened level by level into independent jobs, a few per thousand triangles (a
+    // fixed split; each job counts its own crossings into its own slot, so the sum is the same for
+    // any thread count).
+    std::vector<NodePair> jobs{{0, 0}}, next;
+    for (std::size_t level = 0; (std::size_t(4096) << level) < held; ++level) {
+        next.clear();
+        for (const NodePair& pair : jobs) {
+            if (!openPair(tree, pair, next)) next.push_back(pair);
+        }
+        jobs.swap(next);
+    }
+    std::vector<std::size_t> crossings(jobs.size(), 0);
+    parallelFor(jobs.size(), control, [&](std::size_t job) {
+        std::size_t found = 0;
+        const auto testPair = [&](std::uint32_t i, std::uint32_t j) {
+            if (!overlap(boxes[i], boxes[j])) return;
+            const std::uint32_t t = std::min(leafTriangles[i], leafTriangles[j]), u = std::max(leafTriangles[i], leafTriangles[j]);
+            if (trianglesCross(t, u)) found += std::size_t(tree.copies(t)) * tree.copies(u);
+        };
+        std::vector<NodePair> stack{jobs[job]};
+        while (!stack.empty()) {
+            const NodePair pair = stack.back();
+            stack.pop_back();
+            if (openPair(tree, pair, stack)) continue;
+            const Bvh::NodeView a = tree.node(pair.a);
+            if (pair.a == pair.b) {
+                for (std::uint32_t i = a.slot; i < a.slot + a.count; ++i)
+                    for (std::uint32_t j = i + 1; j < a.slot + a.count; ++j) testPair(i, j);
+                continue;
+            }
+            const Bvh::NodeView b = tree.node(pair.b);
+            for (std::uint32_t i = a.slot; i < a.slot + a.count; ++i)
+                for (std::uint32_t j = b.slot; j < b.slot + b.count; ++j) testPair(i, j);
+        }
+        crossings[job] = found;
     });
     for (std::size_t count : crossings) result.selfIntersections += count;
     return result;

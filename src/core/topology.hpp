@@ -44,6 +44,8 @@ public:
 private:
     MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
     glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
+    // Whether triangles t and u have a point in common other than the vertices they share (exact).
+    bool trianglesCross(std::uint32_t t, std::uint32_t u) const;
 
     std::vector<glm::dvec3> positions_;  // merged vertices
     std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices
