@@ -274,6 +274,39 @@ TEST(ExactBricks, BaselinePathEqualsTheAvx2Path) {
     setSimdPath(chosen);
 }
 
+TEST(ExactBricks, RowMeasureEqualsTheScalarClosestPoint) {
+    // The unsigned field measures four samples of a row at once (each lane in its own Voronoi
+    // region); computeNearest measures each sample alone with closestPointOnTriangle: the same
+    // bits on both paths, on slivers, needles, copies and exactly zero-area triangles (collinear
+    // corners, a point), whose face region the rows hand to the scalar code.
+    Mesh mesh = soup(300, 1.0, 14);
+    std::vector<glm::dvec3> positions;
+    for (const glm::vec3& v : mesh.positions) positions.push_back(mesh.toWorld(glm::dvec3(v)));
+    std::vector<glm::uvec3> triangles = mesh.triangles;
+    for (int t = 0; t < 40; ++t) {
+        const glm::dvec3 a(0.0625 * (t % 7) - 0.5, 0.125 * (t % 5) - 0.25, 0.03125 * t - 0.5), step(0.25, -0.125, 0.0625 * (t % 3));
+        const std::uint32_t first = std::uint32_t(positions.size());
+        for (const glm::dvec3& v : {a, a + step, a + (t % 2 ? 2.0 : 0.5) * step}) positions.push_back(t % 4 == 3 ? a : v);
+        triangles.push_back({first, first + 1, first + 2});
+    }
+    mesh = buildMesh("soup with zero-area triangles", positions, triangles);
+    const SimdPath chosen = simdPath();
+    const Bvh binary(mesh);
+    const WideBvh tree(mesh, binary);
+    for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+        if (!simdPathAvailable(path)) continue;
+        setSimdPath(path);
+        for (int res : {37, 64}) {
+            const Grid grid = makeGrid(mesh.worldBounds(), res, 0.3);
+            std::vector<float> field(grid.sampleCount());
+            computeExactField(mesh, tree, grid, nullptr, false, field.data(), RunControl{});
+            const NearestField nearest = computeNearest(mesh, tree, grid, RunControl{});
+            EXPECT_EQ(std::memcmp(field.data(), nearest.distance.data(), field.size() * sizeof(float)), 0) << toString(path) << " res " << res;
+        }
+    }
+    setSimdPath(chosen);
+}
+
 TEST(ExactBricks, PseudonormalSignWrittenInlineEqualsTheClosestFeatureSign) {
     // A closed mesh: the bake's inline signs are those of the separate closest-feature pass, and
     // the analytic signs of the sphere away from its surface.
