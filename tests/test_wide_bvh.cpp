@@ -277,19 +277,9 @@ TEST(ExactBricks, BaselinePathEqualsTheAvx2Path) {
 TEST(ExactBricks, RowMeasureEqualsTheScalarClosestPoint) {
     // The unsigned field measures four samples of a row at once (each lane in its own Voronoi
     // region); computeNearest measures each sample alone with closestPointOnTriangle: the same
-    // bits on both paths, on slivers, needles, copies and exactly zero-area triangles (collinear
-    // corners, a point), whose face region the rows hand to the scalar code.
-    Mesh mesh = soup(300, 1.0, 14);
-    std::vector<glm::dvec3> positions;
-    for (const glm::vec3& v : mesh.positions) positions.push_back(mesh.toWorld(glm::dvec3(v)));
-    std::vector<glm::uvec3> triangles = mesh.triangles;
-    for (int t = 0; t < 40; ++t) {
-        const glm::dvec3 a(0.0625 * (t % 7) - 0.5, 0.125 * (t % 5) - 0.25, 0.03125 * t - 0.5), step(0.25, -0.125, 0.0625 * (t % 3));
-        const std::uint32_t first = std::uint32_t(positions.size());
-        for (const glm::dvec3& v : {a, a + step, a + (t % 2 ? 2.0 : 0.5) * step}) positions.push_back(t % 4 == 3 ? a : v);
-        triangles.push_back({first, first + 1, first + 2});
-    }
-    mesh = buildMesh("soup with zero-area triangles", positions, triangles);
+    // bits on both paths, near and far, on slivers, needles and copies (every region of a
+    // triangle is some sample's).
+    const Mesh mesh = soup(300, 1.0, 14);
     const SimdPath chosen = simdPath();
     const Bvh binary(mesh);
     const WideBvh tree(mesh, binary);
