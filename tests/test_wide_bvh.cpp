@@ -274,6 +274,50 @@ TEST(ExactBricks, BaselinePathEqualsTheAvx2Path) {
     setSimdPath(chosen);
 }
 
+TEST(ExactBricks, RowMeasureEqualsTheScalarClosestPoint) {
+    // The field measures four samples of a row at once (each lane in its own Voronoi region);
+    // computeNearest and sampleValue measure each sample alone with closestPointOnTriangle: the
+    // same bits on both paths, near and far, unsigned and signed by the closest feature's
+    // pseudonormal, on slivers, needles and copies (every region of a triangle is some sample's)
+    // and on the bundled bunny (closed, with concave edges and vertices whose pseudonormals differ
+    // from their faces' normals).
+    const SimdPath chosen = simdPath();
+    for (const Mesh& mesh : {soup(300, 1.0, 14), loadObj(test::bundledBunnyPath())}) {
+        SCOPED_TRACE(mesh.source);
+        const MeshTopology topology(mesh);
+        const Bvh binary(mesh);
+        const WideBvh tree(mesh, binary);
+        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+            if (!simdPathAvailable(path)) continue;
+            setSimdPath(path);
+            for (int res : {27, 45}) {
+                const Grid grid = makeGrid(mesh.worldBounds(), res, 0.3);
+                std::vector<float> field(grid.sampleCount());
+                computeExactField(mesh, tree, grid, nullptr, false, field.data(), RunControl{});
+                const NearestField nearest = computeNearest(mesh, tree, grid, RunControl{});
+                EXPECT_EQ(std::memcmp(field.data(), nearest.distance.data(), field.size() * sizeof(float)), 0) << toString(path) << " res " << res;
+                computeExactField(mesh, tree, grid, &topology, true, field.data(), RunControl{});
+                std::size_t differing = 0, negative = 0;
+                for (int k = 0; k < grid.dims.z; ++k) {
+                    for (int j = 0; j < grid.dims.y; ++j) {
+                        for (int i = 0; i < grid.dims.x; ++i) {
+                            const std::size_t index = grid.index(i, j, k);
+                            const float expected =
+                                sampleValue(mesh, &topology, true, localPosition(mesh, grid, i, j, k), nearest.triangle[index]);
+                            differing += std::memcmp(&expected, &field[index], sizeof(float)) != 0;
+                            negative += field[index] < 0.0f;
+                        }
+                    }
+                }
+                EXPECT_EQ(differing, 0u) << toString(path) << " res " << res;
+                EXPECT_GT(negative, 0u); // both signs occur
+                EXPECT_LT(negative, field.size());
+            }
+        }
+    }
+    setSimdPath(chosen);
+}
+
 TEST(ExactBricks, PseudonormalSignWrittenInlineEqualsTheClosestFeatureSign) {
     // A closed mesh: the bake's inline signs are those of the separate closest-feature pass, and
     // the analytic signs of the sphere away from its surface.
