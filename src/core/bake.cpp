@@ -128,7 +128,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
-    const WideBvh wide(mesh, tree);
+    const WideBvh wide(mesh, tree, control);
     const Grid grid = makeGrid(mesh.worldBounds(), settings.res, settings.padding);
     std::optional<MeshTopology> topology;
     std::optional<MeshCheck> check;

@@ -21,7 +21,7 @@
 namespace sdfgen {
 
 struct Model::Impl {
-    Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control), wide(mesh, tree) {}
+    Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control), wide(mesh, tree, control) {}
 
     // Built on first use, with the control of that use (a cancelled build is retried by the next).
     const MeshTopology& topology(const RunControl& control = {}) const {

@@ -1,14 +1,16 @@
 #include "core/wide_bvh.hpp"
 #include "core/kernel.hpp"
+#include "core/parallel.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <limits>
 
 namespace sdfgen {
 
-WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
+WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     struct Child {
         Bounds box;
         std::uint32_t slot; // node index, or kLeaf | packet index
@@ -21,15 +23,25 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
     }
     const float inf = std::numeric_limits<float>::infinity();
 
-    // A packet of at most eight triangles; its box is the union of theirs.
+    // A packet of at most eight triangles (unused lanes repeat the first); its box is the union of
+    // theirs. The lanes' SoA fields are filled in parallel once the tree is laid out.
+    std::vector<std::array<std::uint32_t, kWidth>> packetIds;
     auto makePacket = [&](const std::uint32_t* ids, std::size_t count) {
-        TrianglePacket p;
+        std::array<std::uint32_t, kWidth>& lanes = packetIds.emplace_back();
         Bounds box{glm::vec3(inf), glm::vec3(-inf)};
         for (int lane = 0; lane < kWidth; ++lane) {
-            const std::uint32_t id = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
+            const std::uint32_t id = lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
             const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
             box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
             box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
+        }
+        leafBounds_.push_back(box);
+        return Child{box, kLeaf | std::uint32_t(packetIds.size() - 1)};
+    };
+    auto fillPacket = [&](TrianglePacket& p, const std::array<std::uint32_t, kWidth>& ids) {
+        for (int lane = 0; lane < kWidth; ++lane) {
+            const std::uint32_t id = ids[std::size_t(lane)];
+            const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
             const glm::vec3 ab = b - a, ac = c - a, bc = c - b, ca = a - c;
             const glm::vec3 normal = mesh.faceNormals[id];
             const glm::vec3 inAB = glm::cross(normal, ab), inBC = glm::cross(normal, bc), inCA = glm::cross(normal, ca);
@@ -48,9 +60,6 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
             p.invAB[lane] = inverse(ab), p.invBC[lane] = inverse(bc), p.invCA[lane] = inverse(ca);
             p.id[lane] = std::int32_t(id);
         }
-        packets_.push_back(p);
-        leafBounds_.push_back(box);
-        return Child{box, kLeaf | std::uint32_t(packets_.size() - 1)};
     };
     auto makeNode = [&](const std::vector<Child>& children) {
         Node node;
@@ -126,6 +135,13 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree) {
         return makeNode(children);
     };
     const Child root = build(build, 0);
+    packets_.resize(packetIds.size());
+    constexpr std::size_t kPacketsPerItem = 1024;
+    parallelFor((packetIds.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
+        for (std::size_t i = item * kPacketsPerItem; i < std::min(packetIds.size(), (item + 1) * kPacketsPerItem); ++i) {
+            fillPacket(packets_[i], packetIds[i]);
+        }
+    });
     // Nodes were made children first, so the root is last; searches start at node 0.
     if (root.slot & kLeaf) makeNode({root});
     std::rotate(nodes_.begin(), nodes_.end() - 1, nodes_.end());

@@ -11,6 +11,7 @@
 #include "core/bvh.hpp"
 #include "core/simd.hpp"
 #include "sdfgen/mesh.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -55,7 +56,8 @@ public:
         std::uint32_t child[kWidth];
     };
 
-    WideBvh(const Mesh& mesh, const Bvh& tree);
+    // The SoA packets are filled on control.threads threads; the tree is the same for any count.
+    WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control = {});
 
     // The searches run in the exact kernel's code for this CPU (core/exact_kernel.inc).
     // The nearest triangle to p (local coordinates), starting from `best` (an upper bound that a
