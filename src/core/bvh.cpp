@@ -35,13 +35,6 @@ inline void grow(Bounds& b, const Bounds& other) {
         b.max[a] = std::max(b.max[a], other.max[a]);
     }
 }
-// In double: float extents overflow for coordinates beyond ±1.7e38 and products underflow below
-// 1e-19, and the surface area heuristic must still compare them.
-double halfArea(const Bounds& b) {
-    const glm::dvec3 e = glm::max(glm::dvec3(b.max) - glm::dvec3(b.min), glm::dvec3(0.0));
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-}
-
 // Bins in double, clamped before the conversion to int: at any float span (subnormal extents
 // included) a bin index is always a valid one, never int(inf) or int(NaN).
 int binOf(float centroid, float lo, double scale) {
@@ -139,6 +132,13 @@ std::size_t partitionStable(std::vector<std::uint32_t>& order, std::size_t begin
 }
 
 } // namespace
+
+// In double: float extents overflow for coordinates beyond ±1.7e38 and products underflow below
+// 1e-19, and the surface area heuristic must still compare them.
+double halfArea(const Bounds& b) {
+    const glm::dvec3 e = glm::max(glm::dvec3(b.max) - glm::dvec3(b.min), glm::dvec3(0.0));
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+}
 
 Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     // Exact copies of a triangle have the same distance and the same hits, and a stack of them

@@ -29,6 +29,9 @@ struct RayPacket {
     simd::i8 backFace;     // out: all ones where the nearest hit is a back face
 };
 
+// Half the surface area of a box (in double, so that any float box compares).
+double halfArea(const Bounds& b);
+
 // The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of
 // axis-aligned boxes (each inner node splits its triangles along one axis), built with the binned
 // surface area heuristic and stored as a flat depth-first node array. Exact copies of a triangle
@@ -81,6 +84,8 @@ public:
     std::size_t nodeCount() const { return nodes_.size(); }
     // Distinct triangles held: exact copies of a triangle are stored once (see TriangleCopies).
     std::size_t triangleCount() const { return triangleIds_.size(); }
+    // The mesh triangle at each position of leaf order (a leaf's triangles start at its `slot`).
+    const std::vector<std::uint32_t>& leafTriangles() const { return triangleIds_; }
     // How often a triangle the tree reports (a first copy) occurs in the mesh: what a visit
     // stands for. 0 for the later copies, which the tree never reports.
     std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }

@@ -345,11 +345,6 @@ bool overlap(const Bounds& a, const Bounds& b) {
            a.max.z >= b.min.z;
 }
 
-double halfArea(const Bounds& b) {
-    const glm::dvec3 e = glm::max(glm::dvec3(b.max) - glm::dvec3(b.min), glm::dvec3(0.0));
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-}
-
 // A pair of tree nodes whose triangle pairs are to be visited: one from each, or, where both are
 // the same node, the pairs within it.
 struct NodePair {
@@ -393,21 +388,8 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunContro
     // copies(t) x copies(u) pairs) whose boxes overlap is tested once, found by one traversal of
     // the tree against itself: node pairs whose boxes overlap are opened down to pairs of leaves.
     // The triangles' boxes, in the tree's leaf order.
-    std::vector<std::uint32_t> leafTriangles(held);
+    const std::vector<std::uint32_t>& leafTriangles = tree.leafTriangles();
     std::vector<Bounds> boxes(held);
-    {
-        std::vector<std::uint32_t> pending{0};
-        while (!pending.empty()) {
-            const Bvh::NodeView n = tree.node(pending.back());
-            pending.pop_back();
-            if (n.count == 0) {
-                pending.push_back(n.second);
-                pending.push_back(n.first);
-                continue;
-            }
-            std::copy(n.triangles, n.triangles + n.count, leafTriangles.begin() + std::ptrdiff_t(n.slot));
-        }
-    }
     parallelFor((held + kCornerChunk - 1) / kCornerChunk, quiet(control), [&](std::size_t chunk) {
         for (std::size_t i = chunk * kCornerChunk; i < std::min(held, (chunk + 1) * kCornerChunk); ++i) {
             const std::uint32_t t = leafTriangles[i];
