@@ -47,6 +47,9 @@ struct BakeResult {
     MeshCheck check;
     std::string signReason; // why auto chose as it did, for the summary and panel
     std::vector<std::string> warnings; // e.g. an explicit sign on an inside-out mesh, for the summary and panel
+    // Time spent building the mesh's search tree for closest points and its topology, the first
+    // time a bake needed them (a Model keeps them for the next), together.
+    double setupSeconds = 0;
     double distanceSeconds = 0; // time spent on distances (and on rays, when the sign needs them)
     double signSeconds = 0;     // time spent on the mesh check and the sign
     bool onDevice = false;      // whether the compute device measured the distances (and winding signs)

@@ -23,8 +23,9 @@ struct PointQueryOutputs {
 };
 
 // A mesh made ready for baking and point queries: the mesh, its bounding volume hierarchy (built
-// once), and its topology and mesh check (built on first use). Const member functions may be
-// called from several threads at once. Moving is cheap; copies are not allowed.
+// once), and its closest-point tree, topology and mesh check (built on first use, the first two
+// at once when a bake or query needs both). Const member functions may be called from several
+// threads at once. Moving is cheap; copies are not allowed.
 class Model {
 public:
     // Loads a mesh file (format from the extension, see loadMesh) and builds the tree.

@@ -60,6 +60,15 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    // What the passes will read of the mesh's structures is built first (if not built yet), the
+    // wide tree and the topology at once: each alone leaves a core idle for much of its build.
+    const Clock::time_point setupStart = Clock::now();
+    const bool readsWide = (settings.method == DistanceMethod::Exact && !result.onDevice) || sign == SignMethod::Pseudonormal;
+    const bool readsTopology = !method.fixedSign && sign != SignMethod::Rays;
+    const RunControl lazy = quiet(control);
+    parallelInvoke(
+        lazy, [&] { if (readsWide) context.wide(); }, [&] { if (readsTopology) context.topology(); });
+    result.setupSeconds = since(setupStart);
     // The sign is settled first (auto checks the mesh), so that a method that can sign as it
     // measures (exact with the pseudonormal) writes the signed field in one pass.
     const Clock::time_point checkStart = Clock::now();
@@ -128,16 +137,20 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
-    const WideBvh wide(mesh, tree, control);
     const Grid grid = makeGrid(mesh.worldBounds(), settings.res, settings.padding);
+    std::optional<WideBvh> wide;
     std::optional<MeshTopology> topology;
     std::optional<MeshCheck> check;
     const RunControl lazy = quiet(control); // built inside the bake's phases (see Model::bake)
+    auto wideOf = [&]() -> const WideBvh& {
+        if (!wide) wide.emplace(mesh, tree, lazy);
+        return *wide;
+    };
     auto topologyOf = [&]() -> const MeshTopology& {
         if (!topology) topology.emplace(mesh, tree, lazy);
         return *topology;
     };
-    const BakeContext context{mesh, tree, wide, grid, settings, topologyOf, [&]() -> const MeshCheck& {
+    const BakeContext context{mesh, tree, wideOf, grid, settings, topologyOf, [&]() -> const MeshCheck& {
                                   if (!check) check = topologyOf().check(mesh, tree, lazy);
                                   return *check;
                               }};

@@ -32,6 +32,7 @@ DistancePass exactDistanceOnDevice(const BakeContext& context, const RunControl&
     }
     context.device->nearest(context.mesh, context.grid, &sign, control.phase(0.0, 0.95), pass.distance);
     const Grid& grid = context.grid;
+    const WideBvh& wide = context.wide();
     const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
     parallelFor(rows, control.phase(0.95, 1.0), [&](std::size_t row) {
         const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
@@ -40,7 +41,7 @@ DistancePass exactDistanceOnDevice(const BakeContext& context, const RunControl&
             float& value = pass.distance[grid.index(i, j, k)];
             if (!std::isnan(value)) continue;
             const glm::dvec3 p = localPosition(context.mesh, grid, i, j, k);
-            value = exactSignedSample(context.mesh, context.wide, topology, context.flipped, p, hint);
+            value = exactSignedSample(context.mesh, wide, topology, context.flipped, p, hint);
         }
     });
     pass.signedAsAsked = true;
@@ -54,7 +55,7 @@ DistancePass exactDistance(const BakeContext& context, const RunControl& control
     DistancePass pass;
     pass.distance.resize(context.grid.sampleCount());
     pass.signedAsAsked = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares
-    computeExactField(context.mesh, context.wide, context.grid, pass.signedAsAsked ? &context.topology() : nullptr, context.flipped,
+    computeExactField(context.mesh, context.wide(), context.grid, pass.signedAsAsked ? &context.topology() : nullptr, context.flipped,
                       pass.distance.data(), control);
     return pass;
 }

@@ -17,12 +17,12 @@
 
 namespace sdfgen {
 
-// What a method may use: the mesh, its tree, the grid, the settings, and the mesh's topology and
-// check, built on first use and cached by whoever owns the mesh (sdfgen::Model).
+// What a method may use: the mesh, its tree, the grid, the settings, and the mesh's wide tree,
+// topology and check, built on first use and cached by whoever owns the mesh (sdfgen::Model).
 struct BakeContext {
     const Mesh& mesh;
     const Bvh& tree;
-    const WideBvh& wide; // the tree collapsed for closest-point searches
+    std::function<const WideBvh&()> wide; // the tree collapsed for closest-point searches
     const Grid& grid;
     const BakeSettings& settings;
     std::function<const MeshTopology&()> topology;

@@ -21,9 +21,14 @@
 namespace sdfgen {
 
 struct Model::Impl {
-    Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control), wide(mesh, tree, control) {}
+    Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control) {}
 
     // Built on first use, with the control of that use (a cancelled build is retried by the next).
+    // The wide tree serves the closest-point searches of bakes and queries alike.
+    const WideBvh& wide(const RunControl& control = {}) const {
+        std::call_once(wideOnce, [&] { wide_.emplace(mesh, tree, control); });
+        return *wide_;
+    }
     const MeshTopology& topology(const RunControl& control = {}) const {
         std::call_once(topologyOnce, [&] { topology_.emplace(mesh, tree, control); });
         return *topology_;
@@ -42,10 +47,10 @@ struct Model::Impl {
 
     Mesh mesh;
     Bvh tree;
-    WideBvh wide; // the closest-point searches of bakes and queries alike
 
 private:
-    mutable std::once_flag topologyOnce, checkOnce, capsOnce;
+    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce;
+    mutable std::optional<WideBvh> wide_;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
     mutable std::optional<WindingCaps> caps_;
@@ -68,7 +73,8 @@ BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) 
     // Topology and check, when a method needs them, are built inside the bake's phases: they honour
     // its cancel flag and threads, and report no progress of their own (it would run backwards).
     const RunControl lazy = quiet(control);
-    const BakeContext context{m.mesh, m.tree, m.wide, grid, settings, [&m, &lazy]() -> const MeshTopology& { return m.topology(lazy); },
+    const BakeContext context{m.mesh, m.tree, [&m, &lazy]() -> const WideBvh& { return m.wide(lazy); }, grid, settings,
+                              [&m, &lazy]() -> const MeshTopology& { return m.topology(lazy); },
                               [&m, &lazy]() -> const MeshCheck& { return m.check(lazy); }};
     return sdfgen::bake(context, control);
 }
@@ -78,6 +84,13 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     const Impl& m = *impl_;
     const Mesh& mesh = m.mesh;
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
+    const bool needNearest = out.signedDistance || out.unsignedDistance || out.closestPoint || out.triangle;
+    // Every sign a query takes reads the topology: built beside the wide tree (as in bake), each
+    // alone leaving a core idle.
+    if (out.signedDistance && (sign == SignMethod::Auto || sign == SignMethod::Winding || sign == SignMethod::Pseudonormal)) {
+        parallelInvoke(
+            quiet(control), [&] { if (needNearest) m.wide(quiet(control)); }, [&] { m.topology(quiet(control)); });
+    }
     bool flipped = false; // as bake: auto swaps inside and outside of an inside-out mesh
     if (out.signedDistance && sign == SignMethod::Auto) {
         const MeshCheck& edges = m.topology(quiet(control)).edgeCheck(); // as bake: no search when the edges decide
@@ -92,11 +105,10 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     for (std::size_t i = 0; i < 3 * count; ++i) {
         if (!std::isfinite(points[i])) throw Error("query point " + std::to_string(i / 3) + " has a non-finite coordinate");
     }
-    const bool needNearest = out.signedDistance || out.unsignedDistance || out.closestPoint || out.triangle;
     const bool needWinding = out.windingNumber || (out.signedDistance && sign == SignMethod::Winding);
     // Build what the workers share before they start.
+    if (needNearest) m.wide(quiet(control));
     if (needWinding) m.caps(quiet(control));
-    if (out.signedDistance && sign == SignMethod::Pseudonormal) m.topology(quiet(control));
 
     // Points are visited in Morton order of their position, so that each point's search is seeded
     // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
@@ -135,7 +147,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             const std::size_t index = order[at];
             const glm::dvec3 p = mesh.toLocal({points[3 * index], points[3 * index + 1], points[3 * index + 2]});
             if (needNearest) {
-                const std::uint32_t t = nearestTriangle(m.wide, glm::vec3(p), hint);
+                const std::uint32_t t = nearestTriangle(m.wide(), glm::vec3(p), hint);
                 const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
                                                                     glm::dvec3(mesh.vertex(t, 2)));
                 const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);

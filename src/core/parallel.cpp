@@ -3,6 +3,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <atomic>
@@ -76,6 +77,16 @@ void parallelFor(std::size_t count, const RunControl& control, const std::functi
     });
     if (stopped || cancelled()) throw Cancelled();
     if (control.progress) control.progress(1.0);
+}
+
+void parallelInvoke(const RunControl& control, const std::function<void()>& first, const std::function<void()>& second) {
+    if (control.threads == 1) {
+        first();
+        second();
+        return;
+    }
+    tbb::task_arena arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic);
+    arena.execute([&] { tbb::parallel_invoke(first, second); });
 }
 
 } // namespace sdfgen

@@ -13,6 +13,10 @@ namespace sdfgen {
 // be independent so that the result never depends on the thread count or the schedule.
 void parallelFor(std::size_t count, const RunControl& control, const std::function<void(std::size_t)>& body);
 
+// Runs two independent jobs at once on control.threads threads (one after the other on one
+// thread); each may run parallel loops of its own. Rethrows what either threw.
+void parallelInvoke(const RunControl& control, const std::function<void()>& first, const std::function<void()>& second);
+
 // Progress and cancel for work done in units from any number of threads (a serial loop, a tree
 // build): about 200 reports in all, never backwards, and Cancelled thrown from add() or
 // checkCancel() once the cancel flag is raised.

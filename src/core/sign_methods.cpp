@@ -63,7 +63,7 @@ void windingSign(const BakeContext& context, DistancePass& pass, const RunContro
 // For passes that did not sign as they measured (rays): one more closest-feature search.
 void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
     // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
-    negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide, context.grid, context.topology(), context.flipped, control));
+    negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide(), context.grid, context.topology(), context.flipped, control));
 }
 
 void raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
