@@ -160,22 +160,36 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
         std::uint8_t edge;
         bool forward;
     };
-    std::vector<EdgeUse> uses;
-    uses.reserve(3 * n);
+    // Sorted by (lo, hi, triangle, edge), a total order (each triangle's edge is used once): placed
+    // by their low vertex in triangle order (a counting sort, linear), then each vertex's few
+    // uses sorted by the high vertex, in parallel; the one list any sort gives, for any thread count.
+    std::vector<std::size_t> firstUse(positions_.size() + 1, 0);
     for (std::uint32_t t = 0; t < n; ++t) {
         for (std::uint8_t e = 0; e < 3; ++e) {
             const std::uint32_t u = corners_[t][e], v = corners_[t][(e + 1) % 3];
-            if (u == v) continue; // collapsed by merging
-            uses.push_back({std::min(u, v), std::max(u, v), t, e, u < v});
+            if (u != v) ++firstUse[std::min(u, v) + 1]; // else collapsed by merging
         }
     }
-    // A total order (each triangle's edge is used once), so the parallel sort gives the same list
-    // for any thread count.
-    arena.execute([&] {
-        tbb::parallel_sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-            return std::tie(x.lo, x.hi, x.triangle, x.edge) < std::tie(y.lo, y.hi, y.triangle, y.edge);
-        });
+    std::partial_sum(firstUse.begin(), firstUse.end(), firstUse.begin());
+    std::vector<EdgeUse> uses(firstUse.back());
+    {
+        std::vector<std::size_t> next(firstUse.begin(), firstUse.end() - 1);
+        for (std::uint32_t t = 0; t < n; ++t) {
+            for (std::uint8_t e = 0; e < 3; ++e) {
+                const std::uint32_t u = corners_[t][e], v = corners_[t][(e + 1) % 3];
+                if (u != v) uses[next[std::min(u, v)]++] = {std::min(u, v), std::max(u, v), t, e, u < v};
+            }
+        }
+    }
+    constexpr std::size_t kVerticesPerItem = 4096;
+    parallelFor((positions_.size() + kVerticesPerItem - 1) / kVerticesPerItem, quiet(control), [&](std::size_t item) {
+        const std::size_t from = item * kVerticesPerItem, to = std::min(positions_.size(), from + kVerticesPerItem);
+        for (std::size_t vertex = from; vertex < to; ++vertex) {
+            std::sort(uses.begin() + std::ptrdiff_t(firstUse[vertex]), uses.begin() + std::ptrdiff_t(firstUse[vertex + 1]),
+                      [](const EdgeUse& x, const EdgeUse& y) { return std::tie(x.hi, x.triangle, x.edge) < std::tie(y.hi, y.triangle, y.edge); });
+        }
     });
+    firstUse = {};
 
     progress.add(1);
     edgeNeighbours_.assign(3 * n, kNoNeighbour);
