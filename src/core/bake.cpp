@@ -56,7 +56,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
         result.onDevice = deviceContext.device != nullptr;
     }
-    checkBakeMemory(context.mesh, context.tree, context.grid, settings, result.onDevice);
+    checkBakeMemory(context.mesh, context.tree, context.grid, settings, result.onDevice, quiet(control));
 
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };

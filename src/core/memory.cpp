@@ -1,5 +1,6 @@
 #include "core/memory.hpp"
 #include "core/bvh.hpp"
+#include "core/parallel.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
@@ -49,7 +50,8 @@ std::uint64_t availableMemoryBytes() {
     return std::uint64_t(available);
 }
 
-std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice, const Bvh* tree) {
+std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSettings& settings, bool onDevice, const Bvh* tree,
+                                const RunControl& control) {
     const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double triangles = double(mesh.triangleCount()), vertices = double(mesh.positions.size());
     constexpr double kFloat = 4, kFlag = 1;
@@ -64,11 +66,26 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     // neighbours, the sorted edge list and the union-find parents while it is built, the merge map).
     const double topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 12 + 12 + 48 + 12);
     // Winding: one crossing (16 bytes) per row the surface crosses, plus each row's vector.
-    double projected = 0;
-    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
-        if (tree && tree->copies(t) == 0) continue; // a later copy: the scan weighs the first instead
-        const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
-        projected += 0.5 * std::fabs(glm::cross(b - a, c - a).x);
+    constexpr std::size_t kBlock = std::size_t(1) << 15; // triangles per partial sum
+    const std::size_t triangleCount = mesh.triangleCount();
+    std::vector<double> partial((triangleCount + kBlock - 1) / kBlock, 0.0);
+    std::vector<std::size_t> partialUnique(partial.size(), 0);
+    parallelFor(partial.size(), quiet(control), [&](std::size_t block) {
+        double sum = 0;
+        std::size_t unique = 0;
+        for (std::size_t t = block * kBlock; t < std::min(triangleCount, (block + 1) * kBlock); ++t) {
+            if (tree && tree->copies(std::uint32_t(t)) == 0) continue; // a later copy: the scan weighs the first instead
+            const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+            sum += 0.5 * std::fabs(glm::cross(b - a, c - a).x);
+            ++unique;
+        }
+        partial[block] = sum;
+        partialUnique[block] = unique;
+    });
+    double projected = 0, uniqueTriangles = 0; // the trees hold each set of copies once
+    for (std::size_t block = 0; block < partial.size(); ++block) {
+        projected += partial[block];
+        uniqueTriangles += double(partialUnique[block]);
     }
     const double h = grid.voxel / mesh.unit; // the positions above are local
     const double rows = double(grid.dims.y) * double(grid.dims.z);
@@ -84,6 +101,11 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     // 36-byte record per binary leaf and the 256-byte wide nodes; 95 to 111 bytes per triangle
     // measured on the bundled, shared and generated meshes.
     const double rayTree = settings.method == DistanceMethod::Rays || sign == SignMethod::Rays ? triangles * 120 : 0;
+    // The closest-point tree (core/wide_bvh.hpp): 140 to 167 bytes per triangle measured on the
+    // bundled, shared and generated meshes, and its packets' triangle lists while it is built.
+    const bool closestPoints = (settings.method == DistanceMethod::Exact && !onDevice) || sign == SignMethod::Pseudonormal ||
+                               sign == SignMethod::Auto;
+    const double wideTree = closestPoints ? uniqueTriangles * 175 : 0;
     if (settings.method == DistanceMethod::Exact && sign == SignMethod::Rays) perSample = kFloat; // the ray field
     else if (settings.method == DistanceMethod::Rays && sign != SignMethod::Rays) perSample = kFlag;
     double signBytes = 0;
@@ -103,7 +125,7 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
         const double windingTables = windingSign ? triangles * (72 + 72 + 4 + 16) + samples * (4 + kFlag) : 0;
         signBytes += std::max(distanceTables, windingTables);
     }
-    return std::uint64_t(std::min(result + samples * perSample + signBytes + rayTree, 1.8e19));
+    return std::uint64_t(std::min(result + samples * perSample + signBytes + rayTree + wideTree, 1.8e19));
 }
 
 void releaseFreedMemory() {
@@ -112,8 +134,9 @@ void releaseFreedMemory() {
 #endif
 }
 
-void checkBakeMemory(const Mesh& mesh, const Bvh& tree, const Grid& grid, const BakeSettings& settings, bool onDevice) {
-    const double needed = double(estimateBakeBytes(mesh, grid, settings, onDevice, &tree));
+void checkBakeMemory(const Mesh& mesh, const Bvh& tree, const Grid& grid, const BakeSettings& settings, bool onDevice,
+                     const RunControl& control) {
+    const double needed = double(estimateBakeBytes(mesh, grid, settings, onDevice, &tree, control));
     const std::uint64_t available = availableMemoryBytes();
     if (available > 0 && needed > double(available)) {
         const SignMethod sign = settings.sign != SignMethod::Default ? settings.sign
