@@ -65,9 +65,13 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     const Clock::time_point setupStart = Clock::now();
     const bool readsWide = (settings.method == DistanceMethod::Exact && !result.onDevice) || sign == SignMethod::Pseudonormal;
     const bool readsTopology = !method.fixedSign && sign != SignMethod::Rays;
-    const RunControl lazy = quiet(control);
-    parallelInvoke(
-        lazy, [&] { if (readsWide) context.wide(); }, [&] { if (readsTopology) context.topology(); });
+    if (readsWide && readsTopology) {
+        parallelInvoke(quiet(control), [&] { context.wide(); }, [&] { context.topology(); });
+    } else if (readsWide) {
+        context.wide();
+    } else if (readsTopology) {
+        context.topology();
+    }
     result.setupSeconds = since(setupStart);
     // The sign is settled first (auto checks the mesh), so that a method that can sign as it
     // measures (exact with the pseudonormal) writes the signed field in one pass.

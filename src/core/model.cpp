@@ -107,7 +107,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     }
     const bool needWinding = out.windingNumber || (out.signedDistance && sign == SignMethod::Winding);
     // Build what the workers share before they start.
-    if (needNearest) m.wide(quiet(control));
+    const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
     if (needWinding) m.caps(quiet(control));
 
     // Points are visited in Morton order of their position, so that each point's search is seeded
@@ -147,7 +147,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             const std::size_t index = order[at];
             const glm::dvec3 p = mesh.toLocal({points[3 * index], points[3 * index + 1], points[3 * index + 2]});
             if (needNearest) {
-                const std::uint32_t t = nearestTriangle(m.wide(), glm::vec3(p), hint);
+                const std::uint32_t t = nearestTriangle(*wide, glm::vec3(p), hint);
                 const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
                                                                     glm::dvec3(mesh.vertex(t, 2)));
                 const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
