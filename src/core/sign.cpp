@@ -501,6 +501,18 @@ struct SignOutput {
     }
 };
 
+// The samples' local coordinates along each axis: localPosition's expression once per axis (it is
+// componentwise), so position(i, j, k) == localPosition(mesh, grid, i, j, k) to the bit.
+struct SampleAxes {
+    std::vector<double> x, y, z;
+    SampleAxes(const Mesh& mesh, const Grid& grid) : x(std::size_t(grid.dims.x)), y(std::size_t(grid.dims.y)), z(std::size_t(grid.dims.z)) {
+        for (int i = 0; i < grid.dims.x; ++i) x[std::size_t(i)] = localPosition(mesh, grid, i, 0, 0).x;
+        for (int j = 0; j < grid.dims.y; ++j) y[std::size_t(j)] = localPosition(mesh, grid, 0, j, 0).y;
+        for (int k = 0; k < grid.dims.z; ++k) z[std::size_t(k)] = localPosition(mesh, grid, 0, 0, k).z;
+    }
+    glm::dvec3 position(int i, int j, int k) const { return {x[std::size_t(i)], y[std::size_t(j)], z[std::size_t(k)]}; }
+};
+
 // The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
 // ahead, coarse to fine (8³, 4³): in a block, the near fans that its ball misses have their
 // winding number expanded to first order at its centre, the few it may meet (a big fan across a
@@ -514,8 +526,8 @@ struct BrickSigns {
     static constexpr double kExpandTarget = 0.01, kPointTarget = 0.05;
     static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 4;
     static constexpr int kMeasuredEdge = 2; // blocks of 2³ are measured sample by sample
-    const Mesh& mesh;
     const Grid& grid;
+    const SampleAxes& axes;
     const WindingCaps& caps;
     const SignOutput& output;
     int orientation;
@@ -557,7 +569,7 @@ struct BrickSigns {
             return false;
         };
         if (!anyUndecided()) return;
-        const glm::dvec3 lo = localPosition(mesh, grid, ia, ja, ka), hi = localPosition(mesh, grid, ie - 1, je - 1, ke - 1);
+        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
         const glm::dvec3 centre = 0.5 * (lo + hi);
         const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
         if (caps.farFromEveryFan(centre, reach)) { // the counts decide (as insideNear() would)
@@ -578,7 +590,7 @@ struct BrickSigns {
                     for (int i = ia; i < ie; ++i) {
                         const std::uint64_t b = bit(i - i0, j - j0);
                         if (!(row(k) & b)) continue;
-                        output.set(grid.index(i, j, k), caps.insideNear(localPosition(mesh, grid, i, j, k), count(i, j, k), orientation, cut, cuts[3], &evaluations));
+                        output.set(grid.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), orientation, cut, cuts[3], &evaluations));
                         row(k) &= ~b;
                     }
             return;
@@ -593,7 +605,7 @@ struct BrickSigns {
                     for (int i = ia; i < ie; ++i) {
                         const std::uint64_t b = bit(i - i0, j - j0);
                         if (!(row(k) & b)) continue;
-                        const glm::dvec3 p = localPosition(mesh, grid, i, j, k), offset = p - centre;
+                        const glm::dvec3 p = axes.position(i, j, k), offset = p - centre;
                         double fans = near + glm::dot(gradient, offset);
                         if (!cut.exactNodes.empty()) {
                             fans += caps.exactWinding(p, cut);
@@ -622,6 +634,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     const int orientation = flipped ? -1 : 1;
     const WindingCaps caps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
+    const SampleAxes axes(mesh, grid);
 
     // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans,
     //    copies of a triangle counted once with their number as the weight.
@@ -677,6 +690,10 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
             }
         }
     }
+    // Rows pass through float (y, z).
+    std::vector<double> lineY(axes.y.size()), lineZ(axes.z.size());
+    for (int j = 0; j < ny; ++j) lineY[std::size_t(j)] = float(axes.y[std::size_t(j)]);
+    for (int k = 0; k < nz; ++k) lineZ[std::size_t(k)] = float(axes.z[std::size_t(k)]);
     parallelFor(std::size_t(bands), control.phase(0.0, 0.3), [&](std::size_t band) {
         const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
         for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
@@ -685,10 +702,9 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
             const int k0 = std::max(bandLo, planes[bandTriangles[n]].first), k1 = std::min(bandHi, planes[bandTriangles[n]].second);
             for (int k = k0; k <= k1; ++k) {
                 for (int j = j0; j <= j1; ++j) {
-                    const glm::vec3 q(localPosition(mesh, grid, 0, j, k)); // rows pass through float (y, z)
                     int orientation2d;
                     glm::dvec3 w;
-                    if (!pointInTriangle2d({q.y, q.z}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
+                    if (!pointInTriangle2d({lineY[std::size_t(j)], lineZ[std::size_t(k)]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
                     rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back(
                         {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
                 }
@@ -717,14 +733,14 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 int count = 0;
                 std::size_t next = 0;
                 for (int i = nx - 1; i >= 0; --i) {
-                    const double x = localPosition(mesh, grid, i, j, k).x;
+                    const double x = axes.x[std::size_t(i)];
                     while (next < crossings.size() && crossings[next].x > x) count += crossings[next++].sign;
                     counts[i] = count;
                 }
                 std::vector<Crossing>().swap(crossings); // done with this row
             }
         }
-        BrickSigns brick{mesh, grid, caps, output, orientation, 0, 0, {}};
+        BrickSigns brick{grid, axes, caps, output, orientation, 0, 0, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
