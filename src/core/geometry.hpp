@@ -51,6 +51,12 @@ inline int orientation2d(const glm::dvec2& u, const glm::dvec2& v, double& area)
 inline bool pointInTriangle2d(const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c,
                               int& orientation, glm::dvec3& weights) {
     const glm::dvec2 pa = a - q, pb = b - q, pc = c - q;
+    // orientation2d's sign is the comparison of its two rounded products wherever they differ, so
+    // an edge whose left product is certainly above its right and another's certainly below give
+    // signs that disagree: q is out, with no tie broken. Compared without branches, this rejects
+    // nearly every candidate row of the winding sign's crossing scan at once.
+    const double l1 = pb.y * pc.x, r1 = pb.x * pc.y, l2 = pc.y * pa.x, r2 = pc.x * pa.y, l3 = pa.y * pb.x, r3 = pa.x * pb.y;
+    if (((l1 > r1) | (l2 > r2) | (l3 > r3)) & ((l1 < r1) | (l2 < r2) | (l3 < r3))) return false;
     double wa, wb, wc;
     const int sa = orientation2d(pb, pc, wa);
     if (sa == 0) return false;

@@ -541,7 +541,7 @@ struct BrickSigns {
     int stride = 0;
     std::uint64_t undecided[kEdge] = {};
 
-    int count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
+    const int& count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
     static std::uint64_t bit(int i, int j) { return std::uint64_t(1) << (i + kEdge * j); }
     std::uint64_t& row(int k) { return undecided[k - k0]; }
 
@@ -549,11 +549,10 @@ struct BrickSigns {
         i0 = ib, j0 = jb, k0 = kb, i1 = ie, j1 = je, k1 = ke;
         counts = brickCounts;
         stride = rowStride;
-        for (int k = 0; k < kEdge; ++k) {
-            undecided[k] = 0;
-            for (int j = 0; j < je - jb; ++j)
-                for (int i = 0; i < ie - ib; ++i) undecided[k] |= k < ke - kb ? bit(i, j) : 0;
-        }
+        std::uint64_t layer = 0; // the brick's samples in one of its layers
+        for (int j = 0; j < je - jb; ++j)
+            for (int i = 0; i < ie - ib; ++i) layer |= bit(i, j);
+        for (int k = 0; k < kEdge; ++k) undecided[k] = k < ke - kb ? layer : 0;
         block(i0, j0, k0, kEdge, 0, nullptr);
     }
 
@@ -573,13 +572,18 @@ struct BrickSigns {
         const glm::dvec3 centre = 0.5 * (lo + hi);
         const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
         if (caps.farFromEveryFan(centre, reach)) { // the counts decide (as insideNear() would)
-            for (int k = ka; k < ke; ++k)
-                for (int j = ja; j < je; ++j)
+            for (int k = ka; k < ke; ++k) {
+                const std::uint64_t open = row(k) & mine;
+                if (!open) continue;
+                for (int j = ja; j < je; ++j) {
+                    const int* rowCounts = &count(i0, j, k);
+                    const std::size_t rowStart = grid.index(i0, j, k);
                     for (int i = ia; i < ie; ++i) {
-                        if (!(row(k) & bit(i - i0, j - j0))) continue;
-                        output.set(grid.index(i, j, k), orientation * count(i, j, k) >= 1);
-                        row(k) &= ~bit(i - i0, j - j0);
+                        if (open & bit(i - i0, j - j0)) output.set(rowStart + std::size_t(i - i0), orientation * rowCounts[i - i0] >= 1);
                     }
+                }
+                row(k) &= ~mine;
+            }
             return;
         }
         WindingCaps::Cut& cut = cuts[level];
