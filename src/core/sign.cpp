@@ -415,8 +415,8 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, co
 }
 
 bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
-    // Nodes bounded below kFarBound are summed, not opened; a fan the ball may touch (or that is
-    // bounded above kFarBound) ends the search. With the sum below 0.45, every point of the ball
+    // Nodes bounded below kFarBound, and leaves, are summed, not opened; a fan the ball may touch
+    // (an infinite bound) ends the search, as does a sum reaching 0.45. Below that, every point of the ball
     // has orientation * w within 0.45 of the integer orientation * ahead, so inside() can only
     // answer orientation * ahead >= 1 there.
     constexpr double kFarBound = 0.01, kMaxSum = 0.45;
@@ -428,10 +428,8 @@ bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
     while (top > 0) {
         const Node& node = nodes_[stack[--top]];
         const double b = bound(node, p, reach);
-        if (b < kFarBound) {
-            if ((sum += b) >= kMaxSum) return false;
-        } else if (node.leaf) {
-            return false;
+        if (b < kFarBound || node.leaf) {
+            if (!((sum += b) < kMaxSum)) return false;
         } else {
             stack[top++] = node.first + 1;
             stack[top++] = node.first;
