@@ -570,14 +570,16 @@ struct BrickSigns {
         const glm::dvec3 centre = 0.5 * (lo + hi);
         const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
         if (caps.farFromEveryFan(centre, reach)) { // the counts decide (as insideNear() would)
+            const SignOutput out = output; // a local copy: its pointers stay in registers across the stores
             for (int k = ka; k < ke; ++k) {
                 const std::uint64_t open = row(k) & mine;
                 if (!open) continue;
                 for (int j = ja; j < je; ++j) {
+                    const unsigned rowOpen = unsigned(open >> (kEdge * (j - j0))) & 0xffu;
                     const int* rowCounts = &count(i0, j, k);
                     const std::size_t rowStart = grid.index(i0, j, k);
-                    for (int i = ia; i < ie; ++i) {
-                        if (open & bit(i - i0, j - j0)) output.set(rowStart + std::size_t(i - i0), orientation * rowCounts[i - i0] >= 1);
+                    for (int i = ia - i0; i < ie - i0; ++i) {
+                        if (rowOpen >> i & 1u) out.set(rowStart + std::size_t(i), orientation * rowCounts[i] >= 1);
                     }
                 }
                 row(k) &= ~mine;
