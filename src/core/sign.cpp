@@ -675,21 +675,34 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     // thread count).
     constexpr int kBandPlanes = 4;
     const int bands = (nz + kBandPlanes - 1) / kBandPlanes;
-    std::vector<std::pair<int, int>> planes(scanCount);
+    // Each scan triangle's candidate planes (k) and rows (j), in parallel by chunks of triangles.
+    struct Candidates {
+        int k0, k1, j0, j1;
+    };
+    std::vector<Candidates> candidates(scanCount);
+    constexpr std::size_t kChunk = 4096;
+    parallelFor((scanCount + kChunk - 1) / kChunk, control.phase(0.0, 0.05), [&](std::size_t chunk) {
+        for (std::size_t index = chunk * kChunk; index < std::min(scanCount, (chunk + 1) * kChunk); ++index) {
+            const ScanTriangle s = scanTriangle(index);
+            const auto [k0, k1] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
+            const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
+            candidates[index] = {k0, k1, j0, j1};
+        }
+    });
     std::vector<std::uint32_t> bandStart(std::size_t(bands) + 1, 0);
     for (std::size_t index = 0; index < scanCount; ++index) {
-        const ScanTriangle s = scanTriangle(index);
-        planes[index] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
-        if (planes[index].first > planes[index].second) continue;
-        for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) ++bandStart[std::size_t(band) + 1];
+        const Candidates& c = candidates[index];
+        if (c.k0 > c.k1) continue;
+        for (int band = c.k0 / kBandPlanes; band <= c.k1 / kBandPlanes; ++band) ++bandStart[std::size_t(band) + 1];
     }
     for (int band = 0; band < bands; ++band) bandStart[std::size_t(band) + 1] += bandStart[std::size_t(band)];
     std::vector<std::uint32_t> bandTriangles(bandStart.back());
     {
         std::vector<std::uint32_t> fill(bandStart.begin(), bandStart.end() - 1);
         for (std::size_t index = 0; index < scanCount; ++index) {
-            if (planes[index].first > planes[index].second) continue;
-            for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) {
+            const Candidates& c = candidates[index];
+            if (c.k0 > c.k1) continue;
+            for (int band = c.k0 / kBandPlanes; band <= c.k1 / kBandPlanes; ++band) {
                 bandTriangles[fill[std::size_t(band)]++] = std::uint32_t(index);
             }
         }
@@ -698,14 +711,14 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     std::vector<double> lineY(axes.y.size()), lineZ(axes.z.size());
     for (int j = 0; j < ny; ++j) lineY[std::size_t(j)] = float(axes.y[std::size_t(j)]);
     for (int k = 0; k < nz; ++k) lineZ[std::size_t(k)] = float(axes.z[std::size_t(k)]);
-    parallelFor(std::size_t(bands), control.phase(0.0, 0.3), [&](std::size_t band) {
+    parallelFor(std::size_t(bands), control.phase(0.05, 0.3), [&](std::size_t band) {
         const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
         for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
             const ScanTriangle s = scanTriangle(bandTriangles[n]);
-            const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
-            const int k0 = std::max(bandLo, planes[bandTriangles[n]].first), k1 = std::min(bandHi, planes[bandTriangles[n]].second);
+            const Candidates& c = candidates[bandTriangles[n]];
+            const int k0 = std::max(bandLo, c.k0), k1 = std::min(bandHi, c.k1);
             for (int k = k0; k <= k1; ++k) {
-                for (int j = j0; j <= j1; ++j) {
+                for (int j = c.j0; j <= c.j1; ++j) {
                     int orientation2d;
                     glm::dvec3 w;
                     if (!pointInTriangle2d({lineY[std::size_t(j)], lineZ[std::size_t(k)]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
@@ -715,7 +728,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
             }
         }
     });
-    planes = {};
+    candidates = {};
     bandTriangles = {};
 
     // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
