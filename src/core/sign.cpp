@@ -297,6 +297,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.nearNodes.clear();
     out.exactNodes.clear();
     out.farNodes.clear();
+    out.farSorted = false;
     out.farSum = 0.0;
     out.smooth = true;
     out.curvature = 0.0;
@@ -375,7 +376,6 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
     out.farNodes.insert(out.farNodes.end(), pending.begin(), pending.end());
-    if (!expand) std::sort(out.farNodes.begin(), out.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
     for (const Pending& far : out.farNodes) out.farSum += far.bound;
 }
 
@@ -396,7 +396,7 @@ double WindingCaps::exactWinding(const glm::dvec3& p, const Cut& cut) const {
     return w;
 }
 
-bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, const Cut& cut, Cut& scratch, std::size_t* evaluations) const {
+bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
     Search search{*this, p, orientation, kDecisionMargin, double(ahead), pending};
@@ -404,6 +404,10 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, co
     search.farSum = cut.farSum;
     bool decided = !search.doubtful();
     if (!decided) { // the point's own bounds are tighter than the ball's, loosest first
+        if (!cut.farSorted) {
+            std::sort(cut.farNodes.begin(), cut.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
+            cut.farSorted = true;
+        }
         search.ballNext = cut.farNodes.data();
         search.ballEnd = cut.farNodes.data() + cut.farNodes.size();
         search.refine();
