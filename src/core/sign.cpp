@@ -463,12 +463,14 @@ double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
 int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
     // The same line and the same predicates as insideByWinding's row through p, so that a query at a
     // sample's position counts exactly the crossings its row scan counts ahead of it.
-    const glm::vec3 line(p); // rows pass through float (y, z)
+    // The row through p is the line at p's own (y, z), in double, as the row scan has it; its float
+    // rounding only bounds the tree's walk (a triangle whose float box holds (y, z) holds its rounding).
+    const glm::vec3 line(p);
     int ahead = 0;
     auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
         int orientation;
         glm::dvec3 w;
-        if (!pointInTriangle2d({line.y, line.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
+        if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
         if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
     };
     Bounds ray;
@@ -711,10 +713,8 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
             }
         }
     }
-    // Rows pass through float (y, z).
-    std::vector<double> lineY(axes.y.size()), lineZ(axes.z.size());
-    for (int j = 0; j < ny; ++j) lineY[std::size_t(j)] = float(axes.y[std::size_t(j)]);
-    for (int k = 0; k < nz; ++k) lineZ[std::size_t(k)] = float(axes.z[std::size_t(k)]);
+    // Rows pass through the samples' own (y, z), in double: what main's build computed (its float
+    // round trip of (y, z) was folded away by the compiler), now said in the source.
     parallelFor(std::size_t(bands), control.phase(0.05, 0.3), [&](std::size_t band) {
         const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
         for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
@@ -725,7 +725,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 for (int j = c.j0; j <= c.j1; ++j) {
                     int orientation2d;
                     glm::dvec3 w;
-                    if (!pointInTriangle2d({lineY[std::size_t(j)], lineZ[std::size_t(k)]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
+                    if (!pointInTriangle2d({axes.y[std::size_t(j)], axes.z[std::size_t(k)]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
                     rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back(
                         {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
                 }
