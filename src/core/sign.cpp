@@ -713,8 +713,8 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
             }
         }
     }
-    // Rows pass through the samples' own (y, z), in double: what main's build computed (its float
-    // round trip of (y, z) was folded away by the compiler), now said in the source.
+    // Rows pass through the samples' own (y, z), in double. (The code before rounded them through a
+    // glm::vec3 that GCC's output left out, passing the doubles: these are the fields it baked.)
     parallelFor(std::size_t(bands), control.phase(0.05, 0.3), [&](std::size_t band) {
         const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
         for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
