@@ -275,6 +275,65 @@ std::vector<glm::uvec3> reversed(std::vector<glm::uvec3> triangles) {
     return triangles;
 }
 
+// pointInTriangle2d's branchless early reject (two edges whose rounded products certainly disagree)
+// must answer as the chain of orientation2d signs, ties broken symbolically, that it stands in
+// front of: the same hits, orientations and weights, bit for bit, on cases made to be degenerate
+// (points on edges and their lines, slivers, repeated vertices, far offsets whose products round
+// to ties, double-valued fan centres as the winding sign's caps have).
+bool pointInTriangleByOrientations(const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c,
+                                   int& orientation, glm::dvec3& weights) {
+    const glm::dvec2 pa = a - q, pb = b - q, pc = c - q;
+    double wa, wb, wc;
+    const int sa = orientation2d(pb, pc, wa);
+    if (sa == 0 || orientation2d(pc, pa, wb) != sa || orientation2d(pa, pb, wc) != sa) return false;
+    const double sum = wa + wb + wc;
+    if (sum == 0.0) return false;
+    weights = glm::dvec3(wa, wb, wc) / sum;
+    orientation = -sa;
+    return true;
+}
+
+TEST(PointInTriangle2d, TheEarlyRejectAnswersAsTheOrientations) {
+    std::mt19937 rng(23);
+    std::uniform_int_distribution<int> grid(-4, 4);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::size_t hits = 0, tiedHits = 0, cases = 0;
+    auto check = [&](const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+        int fastOrientation = 0, orientation = 0;
+        glm::dvec3 fastWeights(0.0), weights(0.0);
+        const bool fast = pointInTriangle2d(q, a, b, c, fastOrientation, fastWeights);
+        const bool reference = pointInTriangleByOrientations(q, a, b, c, orientation, weights);
+        ++cases;
+        ASSERT_EQ(fast, reference) << "q " << q.x << "," << q.y << " a " << a.x << "," << a.y << " b " << b.x << "," << b.y << " c " << c.x << "," << c.y;
+        if (!reference) return;
+        ++hits;
+        const glm::dvec2 pa = a - q, pb = b - q, pc = c - q;
+        tiedHits += pb.y * pc.x == pb.x * pc.y || pc.y * pa.x == pc.x * pa.y || pa.y * pb.x == pa.x * pb.y;
+        ASSERT_EQ(fastOrientation, orientation);
+        ASSERT_EQ(fastWeights.x, weights.x);
+        ASSERT_EQ(fastWeights.y, weights.y);
+        ASSERT_EQ(fastWeights.z, weights.z);
+    };
+    for (int n = 0; n < 20000; ++n) {
+        // Small integer points: many exact ties (q on an edge, on an edge's line, at a vertex).
+        const glm::dvec2 a(grid(rng), grid(rng)), b(grid(rng), grid(rng)), c(grid(rng), grid(rng)), q(grid(rng), grid(rng));
+        check(q, a, b, c);
+        // Slivers: c on (or a rounding error off) the line ab, q on that line too.
+        const double t = unit(rng), s = unit(rng) * 3.0 - 1.0;
+        const glm::dvec2 onLine = a + (b - a) * t, qLine = a + (b - a) * s;
+        check(qLine, a, b, onLine);
+        check(onLine, a, b, qLine);
+        // Far from the origin (large products that round) and with double-valued centres.
+        const glm::dvec2 far(1e6 + grid(rng), -3e5 + grid(rng));
+        const glm::dvec2 centre = (a + b + c) / 3.0;
+        check(far + q * 1e-3, far + a * 1e-3, far + b * 1e-3, far + centre * 1e-3);
+        check(centre, b, a, c);
+        check(a + (centre - a) * s, a, b, centre);
+    }
+    EXPECT_GT(hits, cases / 20) << cases << " cases";
+    EXPECT_GT(tiedHits, 100u) << "hits whose signs needed a tie broken";
+}
+
 TEST(PointInTriangle2d, PointsOnASharedDiagonalAreCountedOnce) {
     const std::vector<glm::dvec2> square = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     // Split along either diagonal, wound counter-clockwise and then clockwise.

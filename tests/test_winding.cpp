@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <cmath>
+#include <random>
 
 namespace sdfgen {
 namespace {
@@ -175,6 +176,38 @@ TEST(WindingSign, WorkIsBoundedByWhatIsNear) {
     insideByWinding(holed, MeshTopology(holed), grid, RunControl{}, false, &stats);
     ASSERT_GT(stats.caps, 500u);
     EXPECT_LT(stats.fanEvaluations, grid.sampleCount() * 2) << stats.caps << " caps";
+}
+
+// farFromEveryFan sums the bounds of the nodes it does not open, leaves included: where it holds,
+// the fans' winding number stays below 0.45 at every point of the ball (measured at points spread
+// over it, every fan summed), so the counts alone decide there. Balls at every distance from
+// the holes of a holed sphere and from the border of an open sheet.
+TEST(WindingSign, FarFromEveryFanHoldsOnlyWhereTheFansCannotDecide) {
+    for (const Mesh& mesh : {withHoles(test::icosphere(1.0f, 3), 7), heightfield(12, false)}) {
+        const MeshTopology topology(mesh);
+        const WindingCaps caps(topology);
+        ASSERT_FALSE(caps.empty());
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> coordinate(-1.6, 1.6), unit(-1.0, 1.0);
+        std::size_t far = 0, near = 0;
+        for (int n = 0; n < 1500; ++n) {
+            const glm::dvec3 centre(coordinate(rng), coordinate(rng), coordinate(rng));
+            const double reach = 0.02 + 0.3 * (unit(rng) + 1.0);
+            if (!caps.farFromEveryFan(centre, reach)) {
+                ++near;
+                continue;
+            }
+            ++far;
+            for (int m = 0; m < 16; ++m) {
+                glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
+                if (glm::length(offset) > 1.0) offset /= glm::length(offset);
+                const glm::dvec3 p = centre + offset * reach;
+                ASSERT_LT(std::fabs(caps.winding(p, 0)), 0.45) << mesh.source << " at " << p.x << "," << p.y << "," << p.z << " reach " << reach;
+            }
+        }
+        EXPECT_GT(far, 100u) << mesh.source;
+        EXPECT_GT(near, 100u) << mesh.source;
+    }
 }
 
 // Near an open sheet every sample needs fans: there the blocks' first-order expansion of the near

@@ -60,37 +60,4 @@ double solidAngle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
     return 2.0 * std::atan2(det, denominator);
 }
 
-int orientation2d(const glm::dvec2& u, const glm::dvec2& v, double& area) {
-    // The sign comes from comparing the two rounded products, never from their difference: a
-    // compiler may fuse the subtraction into an FMA, which would break the exact antisymmetry.
-    const double left = u.y * v.x, right = u.x * v.y;
-    area = left - right;
-    if (left > right) return 1;
-    if (left < right) return -1;
-    // Exactly zero: perturb symbolically. Antisymmetric in (u, v), so each edge's tie is decided
-    // the same way for both triangles sharing it.
-    if (v.y > u.y) return 1;
-    if (v.y < u.y) return -1;
-    if (u.x > v.x) return 1;
-    if (u.x < v.x) return -1;
-    return 0;
-}
-
-bool pointInTriangle2d(const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c,
-                       int& orientation, glm::dvec3& weights) {
-    const glm::dvec2 pa = a - q, pb = b - q, pc = c - q;
-    double wa, wb, wc;
-    const int sa = orientation2d(pb, pc, wa);
-    if (sa == 0) return false;
-    const int sb = orientation2d(pc, pa, wb);
-    if (sb != sa) return false;
-    const int sc = orientation2d(pa, pb, wc);
-    if (sc != sa) return false;
-    const double sum = wa + wb + wc;
-    if (sum == 0.0) return false; // zero-area projection: the line grazes the triangle edge-on
-    weights = glm::dvec3(wa, wb, wc) / sum;
-    orientation = -sa; // orientation2d measures clockwise-positive (u.y v.x - u.x v.y)
-    return true;
-}
-
 } // namespace sdfgen

@@ -297,6 +297,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.nearNodes.clear();
     out.exactNodes.clear();
     out.farNodes.clear();
+    out.farSorted = false;
     out.farSum = 0.0;
     out.smooth = true;
     out.curvature = 0.0;
@@ -375,7 +376,6 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
     out.farNodes.insert(out.farNodes.end(), pending.begin(), pending.end());
-    if (!expand) std::sort(out.farNodes.begin(), out.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
     for (const Pending& far : out.farNodes) out.farSum += far.bound;
 }
 
@@ -396,7 +396,7 @@ double WindingCaps::exactWinding(const glm::dvec3& p, const Cut& cut) const {
     return w;
 }
 
-bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, const Cut& cut, Cut& scratch, std::size_t* evaluations) const {
+bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
     Search search{*this, p, orientation, kDecisionMargin, double(ahead), pending};
@@ -404,6 +404,10 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, co
     search.farSum = cut.farSum;
     bool decided = !search.doubtful();
     if (!decided) { // the point's own bounds are tighter than the ball's, loosest first
+        if (!cut.farSorted) {
+            std::sort(cut.farNodes.begin(), cut.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
+            cut.farSorted = true;
+        }
         search.ballNext = cut.farNodes.data();
         search.ballEnd = cut.farNodes.data() + cut.farNodes.size();
         search.refine();
@@ -415,8 +419,8 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, co
 }
 
 bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
-    // Nodes bounded below kFarBound are summed, not opened; a fan the ball may touch (or that is
-    // bounded above kFarBound) ends the search. With the sum below 0.45, every point of the ball
+    // Nodes bounded below kFarBound, and leaves, are summed, not opened; a fan the ball may touch
+    // (an infinite bound) ends the search, as does a sum reaching 0.45. Below that, every point of the ball
     // has orientation * w within 0.45 of the integer orientation * ahead, so inside() can only
     // answer orientation * ahead >= 1 there.
     constexpr double kFarBound = 0.01, kMaxSum = 0.45;
@@ -428,10 +432,8 @@ bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
     while (top > 0) {
         const Node& node = nodes_[stack[--top]];
         const double b = bound(node, p, reach);
-        if (b < kFarBound) {
-            if ((sum += b) >= kMaxSum) return false;
-        } else if (node.leaf) {
-            return false;
+        if (b < kFarBound || node.leaf) {
+            if (!((sum += b) < kMaxSum)) return false;
         } else {
             stack[top++] = node.first + 1;
             stack[top++] = node.first;
@@ -461,12 +463,14 @@ double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
 int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
     // The same line and the same predicates as insideByWinding's row through p, so that a query at a
     // sample's position counts exactly the crossings its row scan counts ahead of it.
-    const glm::vec3 line(p); // rows pass through float (y, z)
+    // The row through p is the line at p's own (y, z), in double, as the row scan has it; its float
+    // rounding only bounds the tree's walk (a triangle whose float box holds (y, z) holds its rounding).
+    const glm::vec3 line(p);
     int ahead = 0;
     auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
         int orientation;
         glm::dvec3 w;
-        if (!pointInTriangle2d({line.y, line.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
+        if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
         if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
     };
     Bounds ray;
@@ -501,6 +505,18 @@ struct SignOutput {
     }
 };
 
+// The samples' local coordinates along each axis: localPosition's expression once per axis (it is
+// componentwise), so position(i, j, k) == localPosition(mesh, grid, i, j, k) to the bit.
+struct SampleAxes {
+    std::vector<double> x, y, z;
+    SampleAxes(const Mesh& mesh, const Grid& grid) : x(std::size_t(grid.dims.x)), y(std::size_t(grid.dims.y)), z(std::size_t(grid.dims.z)) {
+        for (int i = 0; i < grid.dims.x; ++i) x[std::size_t(i)] = localPosition(mesh, grid, i, 0, 0).x;
+        for (int j = 0; j < grid.dims.y; ++j) y[std::size_t(j)] = localPosition(mesh, grid, 0, j, 0).y;
+        for (int k = 0; k < grid.dims.z; ++k) z[std::size_t(k)] = localPosition(mesh, grid, 0, 0, k).z;
+    }
+    glm::dvec3 position(int i, int j, int k) const { return {x[std::size_t(i)], y[std::size_t(j)], z[std::size_t(k)]}; }
+};
+
 // The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
 // ahead, coarse to fine (8³, 4³): in a block, the near fans that its ball misses have their
 // winding number expanded to first order at its centre, the few it may meet (a big fan across a
@@ -514,8 +530,8 @@ struct BrickSigns {
     static constexpr double kExpandTarget = 0.01, kPointTarget = 0.05;
     static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 4;
     static constexpr int kMeasuredEdge = 2; // blocks of 2³ are measured sample by sample
-    const Mesh& mesh;
     const Grid& grid;
+    const SampleAxes& axes;
     const WindingCaps& caps;
     const SignOutput& output;
     int orientation;
@@ -529,7 +545,7 @@ struct BrickSigns {
     int stride = 0;
     std::uint64_t undecided[kEdge] = {};
 
-    int count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
+    const int& count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
     static std::uint64_t bit(int i, int j) { return std::uint64_t(1) << (i + kEdge * j); }
     std::uint64_t& row(int k) { return undecided[k - k0]; }
 
@@ -537,11 +553,10 @@ struct BrickSigns {
         i0 = ib, j0 = jb, k0 = kb, i1 = ie, j1 = je, k1 = ke;
         counts = brickCounts;
         stride = rowStride;
-        for (int k = 0; k < kEdge; ++k) {
-            undecided[k] = 0;
-            for (int j = 0; j < je - jb; ++j)
-                for (int i = 0; i < ie - ib; ++i) undecided[k] |= k < ke - kb ? bit(i, j) : 0;
-        }
+        std::uint64_t layer = 0; // the brick's samples in one of its layers
+        for (int j = 0; j < je - jb; ++j)
+            for (int i = 0; i < ie - ib; ++i) layer |= bit(i, j);
+        for (int k = 0; k < kEdge; ++k) undecided[k] = k < ke - kb ? layer : 0;
         block(i0, j0, k0, kEdge, 0, nullptr);
     }
 
@@ -557,17 +572,24 @@ struct BrickSigns {
             return false;
         };
         if (!anyUndecided()) return;
-        const glm::dvec3 lo = localPosition(mesh, grid, ia, ja, ka), hi = localPosition(mesh, grid, ie - 1, je - 1, ke - 1);
+        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
         const glm::dvec3 centre = 0.5 * (lo + hi);
         const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
         if (caps.farFromEveryFan(centre, reach)) { // the counts decide (as insideNear() would)
-            for (int k = ka; k < ke; ++k)
-                for (int j = ja; j < je; ++j)
-                    for (int i = ia; i < ie; ++i) {
-                        if (!(row(k) & bit(i - i0, j - j0))) continue;
-                        output.set(grid.index(i, j, k), orientation * count(i, j, k) >= 1);
-                        row(k) &= ~bit(i - i0, j - j0);
+            const SignOutput out = output; // a local copy: its pointers stay in registers across the stores
+            for (int k = ka; k < ke; ++k) {
+                const std::uint64_t open = row(k) & mine;
+                if (!open) continue;
+                for (int j = ja; j < je; ++j) {
+                    const unsigned rowOpen = unsigned(open >> (kEdge * (j - j0))) & 0xffu;
+                    const int* rowCounts = &count(i0, j, k);
+                    const std::size_t rowStart = grid.index(i0, j, k);
+                    for (int i = ia - i0; i < ie - i0; ++i) {
+                        if (rowOpen >> i & 1u) out.set(rowStart + std::size_t(i), orientation * rowCounts[i] >= 1);
                     }
+                }
+                row(k) &= ~mine;
+            }
             return;
         }
         WindingCaps::Cut& cut = cuts[level];
@@ -578,7 +600,7 @@ struct BrickSigns {
                     for (int i = ia; i < ie; ++i) {
                         const std::uint64_t b = bit(i - i0, j - j0);
                         if (!(row(k) & b)) continue;
-                        output.set(grid.index(i, j, k), caps.insideNear(localPosition(mesh, grid, i, j, k), count(i, j, k), orientation, cut, cuts[3], &evaluations));
+                        output.set(grid.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), orientation, cut, cuts[3], &evaluations));
                         row(k) &= ~b;
                     }
             return;
@@ -593,7 +615,7 @@ struct BrickSigns {
                     for (int i = ia; i < ie; ++i) {
                         const std::uint64_t b = bit(i - i0, j - j0);
                         if (!(row(k) & b)) continue;
-                        const glm::dvec3 p = localPosition(mesh, grid, i, j, k), offset = p - centre;
+                        const glm::dvec3 p = axes.position(i, j, k), offset = p - centre;
                         double fans = near + glm::dot(gradient, offset);
                         if (!cut.exactNodes.empty()) {
                             fans += caps.exactWinding(p, cut);
@@ -622,6 +644,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     const int orientation = flipped ? -1 : 1;
     const WindingCaps caps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
+    const SampleAxes axes(mesh, grid);
 
     // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans,
     //    copies of a triangle counted once with their number as the weight.
@@ -658,44 +681,58 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     // thread count).
     constexpr int kBandPlanes = 4;
     const int bands = (nz + kBandPlanes - 1) / kBandPlanes;
-    std::vector<std::pair<int, int>> planes(scanCount);
+    // Each scan triangle's candidate planes (k) and rows (j), in parallel by chunks of triangles.
+    struct Candidates {
+        int k0, k1, j0, j1;
+    };
+    std::vector<Candidates> candidates(scanCount);
+    constexpr std::size_t kChunk = 4096;
+    parallelFor((scanCount + kChunk - 1) / kChunk, control.phase(0.0, 0.05), [&](std::size_t chunk) {
+        for (std::size_t index = chunk * kChunk; index < std::min(scanCount, (chunk + 1) * kChunk); ++index) {
+            const ScanTriangle s = scanTriangle(index);
+            const auto [k0, k1] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
+            const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
+            candidates[index] = {k0, k1, j0, j1};
+        }
+    });
     std::vector<std::uint32_t> bandStart(std::size_t(bands) + 1, 0);
     for (std::size_t index = 0; index < scanCount; ++index) {
-        const ScanTriangle s = scanTriangle(index);
-        planes[index] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
-        if (planes[index].first > planes[index].second) continue;
-        for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) ++bandStart[std::size_t(band) + 1];
+        const Candidates& c = candidates[index];
+        if (c.k0 > c.k1) continue;
+        for (int band = c.k0 / kBandPlanes; band <= c.k1 / kBandPlanes; ++band) ++bandStart[std::size_t(band) + 1];
     }
     for (int band = 0; band < bands; ++band) bandStart[std::size_t(band) + 1] += bandStart[std::size_t(band)];
     std::vector<std::uint32_t> bandTriangles(bandStart.back());
     {
         std::vector<std::uint32_t> fill(bandStart.begin(), bandStart.end() - 1);
         for (std::size_t index = 0; index < scanCount; ++index) {
-            if (planes[index].first > planes[index].second) continue;
-            for (int band = planes[index].first / kBandPlanes; band <= planes[index].second / kBandPlanes; ++band) {
+            const Candidates& c = candidates[index];
+            if (c.k0 > c.k1) continue;
+            for (int band = c.k0 / kBandPlanes; band <= c.k1 / kBandPlanes; ++band) {
                 bandTriangles[fill[std::size_t(band)]++] = std::uint32_t(index);
             }
         }
     }
-    parallelFor(std::size_t(bands), control.phase(0.0, 0.3), [&](std::size_t band) {
+    // Rows pass through the samples' own (y, z), in double. (The code before rounded them through a
+    // glm::vec3 that GCC's output left out, passing the doubles: these are the fields it baked.)
+    parallelFor(std::size_t(bands), control.phase(0.05, 0.3), [&](std::size_t band) {
         const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
         for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
             const ScanTriangle s = scanTriangle(bandTriangles[n]);
-            const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
-            const int k0 = std::max(bandLo, planes[bandTriangles[n]].first), k1 = std::min(bandHi, planes[bandTriangles[n]].second);
+            const Candidates& c = candidates[bandTriangles[n]];
+            const int k0 = std::max(bandLo, c.k0), k1 = std::min(bandHi, c.k1);
             for (int k = k0; k <= k1; ++k) {
-                for (int j = j0; j <= j1; ++j) {
-                    const glm::vec3 q(localPosition(mesh, grid, 0, j, k)); // rows pass through float (y, z)
+                for (int j = c.j0; j <= c.j1; ++j) {
                     int orientation2d;
                     glm::dvec3 w;
-                    if (!pointInTriangle2d({q.y, q.z}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
+                    if (!pointInTriangle2d({axes.y[std::size_t(j)], axes.z[std::size_t(k)]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
                     rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back(
                         {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
                 }
             }
         }
     });
-    planes = {};
+    candidates = {};
     bandTriangles = {};
 
     // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
@@ -717,14 +754,14 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 int count = 0;
                 std::size_t next = 0;
                 for (int i = nx - 1; i >= 0; --i) {
-                    const double x = localPosition(mesh, grid, i, j, k).x;
+                    const double x = axes.x[std::size_t(i)];
                     while (next < crossings.size() && crossings[next].x > x) count += crossings[next++].sign;
                     counts[i] = count;
                 }
                 std::vector<Crossing>().swap(crossings); // done with this row
             }
         }
-        BrickSigns brick{mesh, grid, caps, output, orientation, 0, 0, {}};
+        BrickSigns brick{grid, axes, caps, output, orientation, 0, 0, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }

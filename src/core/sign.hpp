@@ -65,7 +65,8 @@ public:
         std::vector<std::uint32_t> nearNodes; // leaves
         // With `expand`: leaves whose fan the ball may meet, measured at every point of the ball.
         std::vector<std::uint32_t> exactNodes;
-        std::vector<Pending> farNodes; // with their bounds over the ball (loosest first without `expand`)
+        std::vector<Pending> farNodes; // with their bounds over the ball
+        bool farSorted = false; // farNodes loosest first (insideNear sorts them when it first needs them)
         double farSum = 0; // the sum of the far nodes' bounds over the ball
         // The ball misses every near fan, and at most kMaxExactFans are exact: the near fans'
         // winding number is harmonic over it, and differs from its first-order expansion at the
@@ -93,8 +94,9 @@ public:
     // decides. Deciding only outside that margin, it answers as inside() does (their doubles of
     // w differ by rounding, far below the margin), with the tree's top walked once per block.
     static constexpr double kDecisionMargin = 1e-7;
-    // `scratch` is any Cut's: its heap is borrowed.
-    bool insideNear(const glm::dvec3& p, int ahead, int orientation, const Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
+    // `scratch` is any Cut's: its heap is borrowed. Most points are decided by the ball's bounds
+    // alone; the first that is not sorts the cut's far nodes (loosest first), for every later one.
+    bool insideNear(const glm::dvec3& p, int ahead, int orientation, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
     // The caps and their tree for a compute device (WindingFans), with `orientation` as for inside().
     WindingFans flattened(int orientation) const;
     // The exact winding number at p given `ahead`: every fan measured.
