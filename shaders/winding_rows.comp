@@ -16,9 +16,8 @@ layout(std430, binding = 5) readonly buffer Weights { int weights[]; };     // h
 // One per work group: the triangle and the first row (j, k) of its 8x4 tile of candidate rows;
 // w: the last candidate row, j in the low 16 bits, k in the high 16 bits.
 layout(std430, binding = 1) readonly buffer Tiles { uvec4 tiles[]; };
-// Sample coordinates in the mesh's local units, x per i, y per j, z per k: rounded to float (rows
-// pass through float (y, z), as on the CPU) and in double (a crossing is ahead of a sample by x).
-layout(std430, binding = 2) readonly buffer Samples { float samples[]; };
+// Sample coordinates in the mesh's local units, x per i, y per j, z per k, in double: rows pass
+// through the samples' own (y, z), as on the CPU, and a crossing is ahead of a sample by x.
 layout(std430, binding = 6) readonly buffer ExactSamples { double exactSamples[]; };
 layout(std430, binding = 3) buffer Counts { int counts[]; };               // (dims.x + 1) per row of the slab
 
@@ -49,7 +48,7 @@ void main() {
     const dvec3 a = dvec3(corners[t], corners[t + 1], corners[t + 2]);
     const dvec3 b = dvec3(corners[t + 3], corners[t + 4], corners[t + 5]);
     const dvec3 c = dvec3(corners[t + 6], corners[t + 7], corners[t + 8]);
-    const dvec2 q = dvec2(double(samples[dims.x + j]), double(samples[dims.x + dims.y + k]));
+    const dvec2 q = dvec2(exactSamples[dims.x + j], exactSamples[dims.x + dims.y + k]);
     // pointInTriangle2d of src/core/geometry.cpp, for q in the (y, z) projection.
     precise dvec2 pa = a.yz - q;
     precise dvec2 pb = b.yz - q;

@@ -206,7 +206,7 @@ public:
         const std::size_t triangleCount = corners.size() / 3;
         checkFits(corners.size() * sizeof(glm::dvec3), "the closed surface's triangles");
         if (weights.size() != triangleCount) throw Error("GPU: one winding weight per triangle expected");
-        Buffer cornerBuffer, weightBuffer, tiles, samples, exactSamples, counts, winding;
+        Buffer cornerBuffer, weightBuffer, tiles, exactSamples, counts, winding;
         weightBuffer.upload(weights);
         {
             std::vector<double> flat(corners.size() * 3);
@@ -215,9 +215,7 @@ public:
             }
             cornerBuffer.upload(flat);
         }
-        const std::vector<double> coordinates = sampleCoordinates(mesh, grid);
-        samples.upload(rounded(coordinates));
-        exactSamples.upload(coordinates);
+        exactSamples.upload(sampleCoordinates(mesh, grid));
         const std::size_t rowLength = std::size_t(dims.x) + 1;
         // The suffix sums run one invocation per row, 64 to a work group, in one dispatch per slab:
         // a slab has at most 65535 x 64 rows (the smallest work group count GL allows).
@@ -254,7 +252,6 @@ public:
         std::vector<std::int32_t> slabSides;
         cornerBuffer.bind(0);
         tiles.bind(1);
-        samples.bind(2);
         counts.bind(3);
         winding.bind(4);
         weightBuffer.bind(5);
