@@ -123,7 +123,7 @@ for mesh in "${meshes[@]}"; do
          printf "%-20s %4s %9s %-20s %6s %6s %8s %6s %6s %7s %10s %7s %7s %6s %8s %7s\n", $1, res, $2, $4, $5, $6, $7, $8, $9, total, rate, rss, old, oldRatio, vdb, vdbRatio }' <<<"$row"
   done
 done
-echo "(phases: seconds from sdfgen bench, the sign column includes topology and the mesh check; total: wall"
+echo "(phases: seconds from sdfgen bench, tree includes the closest-point tree and topology, sign the mesh check when auto needs it; total: wall"
 echo " seconds of the whole 'sdfgen bake -o .npy' process, voxels/s over it; RSS: its peak resident memory;"
 echo " before, openvdb: wall seconds of the other binary's whole process on the same grid, each ratio = its"
 echo " seconds / sdfgen's; $(nproc) cores, best of $repeat)"
