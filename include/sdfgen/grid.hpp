@@ -4,6 +4,7 @@
 #include <glm/vec3.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace sdfgen {
 
@@ -30,6 +31,11 @@ struct Grid {
 inline glm::dvec3 localPosition(const Mesh& mesh, const Grid& grid, int i, int j, int k) {
     return mesh.toLocal(grid.position(i, j, k));
 }
+
+// The samples' local coordinates per axis: x per i, then y per j, then z per k (dims.x + dims.y +
+// dims.z values). localPosition is componentwise, so sample (i, j, k) is (axes[i], axes[dims.x + j],
+// axes[dims.x + dims.y + k]) to the bit, without its three divisions per use.
+std::vector<double> sampleAxes(const Mesh& mesh, const Grid& grid);
 
 // The grid around `bounds` padded on every side by padding * longest extent, with `res` voxels
 // along the longest padded axis. Throws Error for res < 1, negative or non-finite padding, a

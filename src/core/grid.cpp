@@ -14,6 +14,15 @@ std::uint64_t physicalMemoryBytes() {
     return pages > 0 && pageSize > 0 ? std::uint64_t(pages) * std::uint64_t(pageSize) : 0;
 }
 
+std::vector<double> sampleAxes(const Mesh& mesh, const Grid& grid) {
+    std::vector<double> axes;
+    axes.reserve(std::size_t(grid.dims.x) + std::size_t(grid.dims.y) + std::size_t(grid.dims.z));
+    for (int i = 0; i < grid.dims.x; ++i) axes.push_back(localPosition(mesh, grid, i, 0, 0).x);
+    for (int j = 0; j < grid.dims.y; ++j) axes.push_back(localPosition(mesh, grid, 0, j, 0).y);
+    for (int k = 0; k < grid.dims.z; ++k) axes.push_back(localPosition(mesh, grid, 0, 0, k).z);
+    return axes;
+}
+
 Grid makeGrid(const WorldBounds& bounds, int res, double padding) {
     if (res < 1) throw Error("grid resolution must be at least 1 (got " + std::to_string(res) + ")");
     if (!(padding >= 0.0) || !std::isfinite(padding)) {

@@ -505,16 +505,13 @@ struct SignOutput {
     }
 };
 
-// The samples' local coordinates along each axis: localPosition's expression once per axis (it is
-// componentwise), so position(i, j, k) == localPosition(mesh, grid, i, j, k) to the bit.
+// sampleAxes by axis: position(i, j, k) == localPosition(mesh, grid, i, j, k) to the bit.
 struct SampleAxes {
-    std::vector<double> x, y, z;
-    SampleAxes(const Mesh& mesh, const Grid& grid) : x(std::size_t(grid.dims.x)), y(std::size_t(grid.dims.y)), z(std::size_t(grid.dims.z)) {
-        for (int i = 0; i < grid.dims.x; ++i) x[std::size_t(i)] = localPosition(mesh, grid, i, 0, 0).x;
-        for (int j = 0; j < grid.dims.y; ++j) y[std::size_t(j)] = localPosition(mesh, grid, 0, j, 0).y;
-        for (int k = 0; k < grid.dims.z; ++k) z[std::size_t(k)] = localPosition(mesh, grid, 0, 0, k).z;
-    }
-    glm::dvec3 position(int i, int j, int k) const { return {x[std::size_t(i)], y[std::size_t(j)], z[std::size_t(k)]}; }
+    std::vector<double> all;
+    const double *x, *y, *z;
+    SampleAxes(const Mesh& mesh, const Grid& grid)
+        : all(sampleAxes(mesh, grid)), x(all.data()), y(x + grid.dims.x), z(y + grid.dims.y) {}
+    glm::dvec3 position(int i, int j, int k) const { return {x[i], y[j], z[k]}; }
 };
 
 // The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
@@ -713,8 +710,8 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
             }
         }
     }
-    // Rows pass through the samples' own (y, z), in double. (The code before rounded them through a
-    // glm::vec3 that GCC's output left out, passing the doubles: these are the fields it baked.)
+    // Rows pass through the samples' own (y, z), in double, as crossingsAhead's and the GPU's
+    // (shaders/winding_rows.comp) do, so that every side counts the same crossings.
     parallelFor(std::size_t(bands), control.phase(0.05, 0.3), [&](std::size_t band) {
         const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
         for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
@@ -725,7 +722,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 for (int j = c.j0; j <= c.j1; ++j) {
                     int orientation2d;
                     glm::dvec3 w;
-                    if (!pointInTriangle2d({axes.y[std::size_t(j)], axes.z[std::size_t(k)]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
+                    if (!pointInTriangle2d({axes.y[j], axes.z[k]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
                     rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back(
                         {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
                 }
@@ -754,7 +751,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 int count = 0;
                 std::size_t next = 0;
                 for (int i = nx - 1; i >= 0; --i) {
-                    const double x = axes.x[std::size_t(i)];
+                    const double x = axes.x[i];
                     while (next < crossings.size() && crossings[next].x > x) count += crossings[next++].sign;
                     counts[i] = count;
                 }

@@ -138,7 +138,7 @@ public:
             }
             pseudonormals.upload(flat);
         }
-        const std::vector<double> coordinates = sampleCoordinates(mesh, grid);
+        const std::vector<double> coordinates = sampleAxes(mesh, grid);
         samples.upload(rounded(coordinates));
         exactSamples.upload(coordinates);
         const glm::ivec3 dims = grid.dims, bricks = (dims + 3) / 4;
@@ -215,7 +215,7 @@ public:
             }
             cornerBuffer.upload(flat);
         }
-        exactSamples.upload(sampleCoordinates(mesh, grid));
+        exactSamples.upload(sampleAxes(mesh, grid));
         const std::size_t rowLength = std::size_t(dims.x) + 1;
         // The suffix sums run one invocation per row, 64 to a work group, in one dispatch per slab:
         // a slab has at most 65535 x 64 rows (the smallest work group count GL allows).
@@ -370,17 +370,7 @@ private:
         return *program;
     }
 
-    // x per i, then y per j, then z per k: the CPU's sample positions in the mesh's local
-    // coordinates (localPosition; each coordinate depends on one index only).
-    static std::vector<double> sampleCoordinates(const Mesh& mesh, const Grid& grid) {
-        std::vector<double> out;
-        out.reserve(std::size_t(grid.dims.x) + std::size_t(grid.dims.y) + std::size_t(grid.dims.z));
-        for (int i = 0; i < grid.dims.x; ++i) out.push_back(localPosition(mesh, grid, i, 0, 0).x);
-        for (int j = 0; j < grid.dims.y; ++j) out.push_back(localPosition(mesh, grid, 0, j, 0).y);
-        for (int k = 0; k < grid.dims.z; ++k) out.push_back(localPosition(mesh, grid, 0, 0, k).z);
-        return out;
-    }
-    // The same rounded to float, as the CPU rounds them for its float search and its rows.
+    // sampleAxes rounded to float, as the CPU rounds them for its float search.
     static std::vector<float> rounded(const std::vector<double>& coordinates) {
         return std::vector<float>(coordinates.begin(), coordinates.end());
     }
