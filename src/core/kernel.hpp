@@ -31,7 +31,6 @@ struct Table {
                                                         const RunControl&);
     std::uint32_t (*nearestTriangle)(const WideBvh&, const glm::vec3&, std::uint32_t&);
     std::uint32_t (*nearest)(const WideBvh&, float, float, float, NearestSoFar&);
-    void (*collectLeaves)(const WideBvh&, const float*, const float*, float, std::vector<std::uint32_t>&);
 };
 
 namespace baseline {

@@ -156,8 +156,4 @@ std::uint32_t WideBvh::nearest(float px, float py, float pz, NearestSoFar& best)
     return kernel::active().nearest(*this, px, py, pz, best);
 }
 
-void WideBvh::collectLeaves(const float lo[3], const float hi[3], float reach, std::vector<std::uint32_t>& packets) const {
-    kernel::active().collectLeaves(*this, lo, hi, reach, packets);
-}
-
 } // namespace sdfgen

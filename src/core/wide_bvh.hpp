@@ -65,10 +65,6 @@ public:
     // Returns the packet that holds the answer, or kEmpty when the starting `best` stood.
     std::uint32_t nearest(float px, float py, float pz, NearestSoFar& best) const;
 
-    // Appends to `packets` every leaf packet whose box is within `reach` of the box [lo, hi]
-    // (reach in the same units; boxes touching count), in the tree's order.
-    void collectLeaves(const float lo[3], const float hi[3], float reach, std::vector<std::uint32_t>& packets) const;
-
     const std::vector<TrianglePacket>& packets() const { return packets_; }
     const Bounds& leafBounds(std::uint32_t packet) const { return leafBounds_[packet]; }
     const std::vector<Node>& nodes() const { return nodes_; }
