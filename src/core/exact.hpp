@@ -20,8 +20,9 @@ class MeshTopology;
 
 // Samples are visited in bricks of 8x8x8: one tree search from the brick's centre bounds the
 // distance of every sample in it (the field is 1-Lipschitz), and the leaf packets within that
-// bound of the brick are collected once; each 4x4x4 quarter narrows that list the same way (far
-// from the surface, to the lens around its centre's closest point), and each row of four samples
+// bound of the brick (far from the surface, within the lens around its centre's closest point)
+// are collected once; each 4x4x4 quarter finds its centre's nearest triangle among them and
+// narrows the list the same way from there, and each row of four samples
 // scans only its quarter's list, together, each sample seeded by the packet that held its
 // neighbour's answer. The answer is the nearest triangle by WideBvh's float distance, ties to the
 // lower index (as WideBvh::nearest, so point queries agree bit for bit); its distance is
