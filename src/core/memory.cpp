@@ -69,24 +69,19 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     constexpr std::size_t kBlock = std::size_t(1) << 15; // triangles per partial sum
     const std::size_t triangleCount = mesh.triangleCount();
     std::vector<double> partial((triangleCount + kBlock - 1) / kBlock, 0.0);
-    std::vector<std::size_t> partialUnique(partial.size(), 0);
     parallelFor(partial.size(), quiet(control), [&](std::size_t block) {
         double sum = 0;
-        std::size_t unique = 0;
         for (std::size_t t = block * kBlock; t < std::min(triangleCount, (block + 1) * kBlock); ++t) {
             if (tree && tree->copies(std::uint32_t(t)) == 0) continue; // a later copy: the scan weighs the first instead
             const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
             sum += 0.5 * std::fabs(glm::cross(b - a, c - a).x);
-            ++unique;
         }
         partial[block] = sum;
-        partialUnique[block] = unique;
     });
-    double projected = 0, uniqueTriangles = 0; // the trees hold each set of copies once
-    for (std::size_t block = 0; block < partial.size(); ++block) {
-        projected += partial[block];
-        uniqueTriangles += double(partialUnique[block]);
-    }
+    double projected = 0;
+    for (double sum : partial) projected += sum;
+    // The trees hold each set of copies once.
+    const double uniqueTriangles = double(tree ? tree->triangleCount() : triangleCount);
     const double h = grid.voxel / mesh.unit; // the positions above are local
     const double rows = double(grid.dims.y) * double(grid.dims.z);
     const double winding = topology + rows * 24 + 16 * (projected / (h * h) + triangles);
