@@ -17,7 +17,7 @@
 // Included by nearest.comp (unsigned) and nearest_signed.comp, which set SIGN_BY_PSEUDONORMAL: the
 // signed variant's extra work is compiled only into it. There the distance is negated inside by the angle-weighted pseudonormal of
 // the closest feature, as the CPU signs (sdfgen/device.hpp, PseudonormalSign). The CPU's 8-wide
-// search rounds its float distances differently (fused multiply-adds), so of nearly equal
+// search computes its float distances otherwise (in each triangle's own frame), so of nearly equal
 // triangles it may keep another one: the walk then also opens every triangle within `tie` (2^-17
 // of the coordinates' magnitude, far above both searches' rounding) of the nearest and notes the
 // side each one's closest feature tells, and the sample is signed only when all of them tell the

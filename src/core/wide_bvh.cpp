@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cfloat>
+#include <cmath>
 #include <limits>
 
 namespace sdfgen {
@@ -38,26 +39,40 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
         leafBounds_.push_back(box);
         return Child{box, kLeaf | std::uint32_t(packetIds.size() - 1)};
     };
+    // Each lane's frame in double, from the float corners every other step uses, rounded once.
     auto fillPacket = [&](TrianglePacket& p, const std::array<std::uint32_t, kWidth>& ids) {
         for (int lane = 0; lane < kWidth; ++lane) {
             const std::uint32_t id = ids[std::size_t(lane)];
-            const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
-            const glm::vec3 ab = b - a, ac = c - a, bc = c - b, ca = a - c;
-            const glm::vec3 normal = mesh.faceNormals[id];
-            const glm::vec3 inAB = glm::cross(normal, ab), inBC = glm::cross(normal, bc), inCA = glm::cross(normal, ca);
-            auto inverse = [](const glm::vec3& e) {
-                const float len2 = glm::dot(e, e);
-                return len2 > 0.0f ? 1.0f / len2 : 0.0f;
+            glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
+            // The longest edge as the base (a cyclic rotation keeps the orientation): the frame
+            // of a sliver or a needle is then as accurate as its longest side allows.
+            int base = 0;
+            double longest = -1.0;
+            for (int e = 0; e < 3; ++e) {
+                const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
+                if (glm::dot(edge, edge) > longest) longest = glm::dot(edge, edge), base = e;
+            }
+            const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
+            const double length = std::sqrt(longest);
+            const glm::dvec3 e1 = (b - a) / length;
+            // The mesh keeps only triangles whose normal has a length (mesh.cpp); its own normal
+            // stands in should the rotated corners' cross product still vanish.
+            const glm::dvec3 cross = glm::cross(b - a, c - a);
+            const double area = glm::length(cross);
+            glm::dvec3 n = area > 0.0 ? cross / area : glm::dvec3(mesh.faceNormals[id]);
+            n = glm::normalize(n - glm::dot(n, e1) * e1);
+            const glm::dvec3 e2 = glm::cross(n, e1);
+            const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
+            auto inverse = [](double length2) {
+                const float inv = float(1.0 / length2);
+                return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
             };
-            p.ax[lane] = a.x, p.ay[lane] = a.y, p.az[lane] = a.z;
-            p.abx[lane] = ab.x, p.aby[lane] = ab.y, p.abz[lane] = ab.z;
-            p.acx[lane] = ac.x, p.acy[lane] = ac.y, p.acz[lane] = ac.z;
-            p.bcx[lane] = bc.x, p.bcy[lane] = bc.y, p.bcz[lane] = bc.z;
-            p.nx[lane] = normal.x, p.ny[lane] = normal.y, p.nz[lane] = normal.z;
-            p.inABx[lane] = inAB.x, p.inABy[lane] = inAB.y, p.inABz[lane] = inAB.z;
-            p.inBCx[lane] = inBC.x, p.inBCy[lane] = inBC.y, p.inBCz[lane] = inBC.z;
-            p.inCAx[lane] = inCA.x, p.inCAy[lane] = inCA.y, p.inCAz[lane] = inCA.z;
-            p.invAB[lane] = inverse(ab), p.invBC[lane] = inverse(bc), p.invCA[lane] = inverse(ca);
+            p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
+            p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
+            p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
+            p.nx[lane] = float(n.x), p.ny[lane] = float(n.y), p.nz[lane] = float(n.z);
+            p.length[lane] = float(length), p.cu[lane] = float(cu), p.cv[lane] = float(cv), p.bcu[lane] = float(bcu);
+            p.invAC[lane] = inverse(cu * cu + cv * cv), p.invBC[lane] = inverse(bcu * bcu + cv * cv);
             p.id[lane] = std::int32_t(id);
         }
     };

@@ -18,15 +18,17 @@
 
 namespace sdfgen {
 
-// Eight triangles set up for branch-free point distance: corner a, the edges ab, ac, bc, the unit
-// normal, the in-plane normals of the edges (pointing inwards) and the inverse squared edge
-// lengths (0 for a zero-length edge). Lanes past a leaf's triangles repeat its first triangle.
+// Eight triangles set up for branch-free point distance, each in a frame of its own: corner a,
+// the unit vector e1 along its longest edge (from a), the unit normal n and e2 = n x e1. In that
+// frame the triangle is (0, 0), (length, 0), (cu, cv) with cv >= 0 (up to rounding), so a point's
+// distance is its height along n and its distance within the plane to a triangle in two
+// dimensions: a third fewer operations than in three, on a smaller packet. invAC and invBC are the
+// inverse squared lengths of the other two edges (0 for a zero-length one); bcu = cu - length.
+// Lanes past a leaf's triangles repeat its first triangle.
 struct alignas(32) TrianglePacket {
     simd::f8 ax, ay, az;
-    simd::f8 abx, aby, abz, acx, acy, acz, bcx, bcy, bcz;
-    simd::f8 nx, ny, nz;
-    simd::f8 inABx, inABy, inABz, inBCx, inBCy, inBCz, inCAx, inCAy, inCAz;
-    simd::f8 invAB, invBC, invCA;
+    simd::f8 e1x, e1y, e1z, e2x, e2y, e2z, nx, ny, nz;
+    simd::f8 length, cu, cv, bcu, invAC, invBC;
     simd::i8 id; // Mesh triangle index of each lane
 };
 
