@@ -96,11 +96,11 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     // 36-byte record per binary leaf and the 256-byte wide nodes; 95 to 111 bytes per triangle
     // measured on the bundled, shared and generated meshes.
     const double rayTree = settings.method == DistanceMethod::Rays || sign == SignMethod::Rays ? triangles * 120 : 0;
-    // The closest-point tree (core/wide_bvh.hpp): 140 to 167 bytes per triangle measured on the
+    // The closest-point tree (core/wide_bvh.hpp): 99 to 119 bytes per triangle measured on the
     // bundled, shared and generated meshes, and its packets' triangle lists while it is built.
     const bool closestPoints = (settings.method == DistanceMethod::Exact && !onDevice) || sign == SignMethod::Pseudonormal ||
                                sign == SignMethod::Auto;
-    const double wideTree = closestPoints ? uniqueTriangles * 175 : 0;
+    const double wideTree = closestPoints ? uniqueTriangles * 130 : 0;
     if (settings.method == DistanceMethod::Exact && sign == SignMethod::Rays) perSample = kFloat; // the ray field
     else if (settings.method == DistanceMethod::Rays && sign != SignMethod::Rays) perSample = kFlag;
     double signBytes = 0;
