@@ -40,6 +40,10 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
         return Child{box, kLeaf | std::uint32_t(packetIds.size() - 1)};
     };
     // Each lane's frame in double, from the float corners every other step uses, rounded once.
+    auto inverse = [](double length2) {
+        const float inv = float(1.0 / length2);
+        return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
+    };
     auto fillPacket = [&](TrianglePacket& p, const std::array<std::uint32_t, kWidth>& ids) {
         for (int lane = 0; lane < kWidth; ++lane) {
             const std::uint32_t id = ids[std::size_t(lane)];
@@ -50,7 +54,8 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
             double longest = -1.0;
             for (int e = 0; e < 3; ++e) {
                 const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
-                if (glm::dot(edge, edge) > longest) longest = glm::dot(edge, edge), base = e;
+                const double length2 = glm::dot(edge, edge);
+                if (length2 > longest) longest = length2, base = e;
             }
             const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
             const double length = std::sqrt(longest);
@@ -63,10 +68,6 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
             n = glm::normalize(n - glm::dot(n, e1) * e1);
             const glm::dvec3 e2 = glm::cross(n, e1);
             const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
-            auto inverse = [](double length2) {
-                const float inv = float(1.0 / length2);
-                return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
-            };
             p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
             p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
             p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
