@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <type_traits>
 
 namespace sdfgen {
 
@@ -26,74 +25,97 @@ constexpr std::size_t kParallelNode = std::size_t(1) << 15;
 constexpr std::size_t kGrain = 8192; // elements per parallel chunk (fixed: the schedule never shows in results)
 constexpr double kTraversalCost = 1.0; // relative to one ray/triangle test
 
-Bounds emptyBounds() {
-    return {glm::vec3(std::numeric_limits<float>::max()), glm::vec3(-std::numeric_limits<float>::max())};
-}
-// Per component (as glm::min/max, which the compiler left as calls in the binning loop).
-template <class Box, class Other>
-inline void grow(Box& b, const Other& other) {
-    for (int a = 0; a < 3; ++a) {
-        b.min[a] = std::min(b.min[a], other.min[a]);
-        b.max[a] = std::max(b.max[a], other.max[a]);
+// The build's records: a triangle's box and centroid as four float lanes (x, y, z and an unused
+// one, kept 0), so that a box grows by two vector operations instead of six scalar ones.
+typedef float float4 __attribute__((vector_size(16)));
+typedef double double2 __attribute__((vector_size(16)));
+constexpr float kMax = std::numeric_limits<float>::max();
+constexpr float4 kEmptyMin = {kMax, kMax, kMax, 0.0f}, kEmptyMax = {-kMax, -kMax, -kMax, 0.0f};
+// std::min and std::max per lane (the first operand kept on ties, as glm::min/max do).
+inline float4 lanesMin(const float4& a, const float4& b) { return b < a ? b : a; }
+inline float4 lanesMax(const float4& a, const float4& b) { return a < b ? b : a; }
+
+struct BuildBox {
+    float4 min = kEmptyMin, max = kEmptyMax;
+    // Growing the empty box by a finite box gives that box exactly.
+    void grow(const BuildBox& other) {
+        min = lanesMin(min, other.min);
+        max = lanesMax(max, other.max);
     }
+    Bounds bounds() const { return {{min[0], min[1], min[2]}, {max[0], max[1], max[2]}}; }
+};
+
+// halfArea(box.bounds()), without the copy.
+inline double halfArea(const BuildBox& b) {
+    double2 xy = double2{double(b.max[0]), double(b.max[1])} - double2{double(b.min[0]), double(b.min[1])};
+    xy = xy < 0.0 ? double2{} : xy; // std::max(extent, 0.0)
+    const double x = xy[0], y = xy[1], z = std::max(double(b.max[2]) - double(b.min[2]), 0.0);
+    return x * y + y * z + z * x;
 }
+
 // Bins in double, clamped before the conversion to int: at any float span (subnormal extents
-// included) a bin index is always a valid one, never int(inf) or int(NaN).
-int binOf(float centroid, float lo, double scale) {
-    const double bin = (double(centroid) - double(lo)) * scale;
-    return bin >= double(kBins - 1) ? kBins - 1 : bin > 0.0 ? int(bin) : 0;
+// included) a bin index is always a valid one, never int(inf) or int(NaN) (NaN > 0 is false).
+inline double clampBin(double bin) {
+    bin = bin > 0.0 ? bin : 0.0;
+    return bin < double(kBins - 1) ? bin : double(kBins - 1);
 }
+inline int binOf(float centroid, float lo, double scale) { return int(clampBin((double(centroid) - double(lo)) * scale)); }
 
 struct NodeBounds {
-    Bounds box = emptyBounds(), centroidBox = emptyBounds();
-    void add(const Bounds& triangleBox, const glm::vec3& centroid) {
-        grow(box, triangleBox);
-        grow(centroidBox, Bounds{centroid, centroid});
+    BuildBox box, centroidBox;
+    void add(const BuildBox& triangleBox, const float4& centroid) {
+        box.grow(triangleBox);
+        centroidBox.grow({centroid, centroid});
     }
     void merge(const NodeBounds& other) {
-        grow(box, other.box);
-        grow(centroidBox, other.centroidBox);
+        box.grow(other.box);
+        centroidBox.grow(other.centroidBox);
     }
 };
 
-// Bins of all three axes; an axis whose scale is 0 is not binned. A bin's box is set by its first
-// triangle (what growing the empty box by it gives exactly) and read only while its count is
-// non-zero, so the many small nodes never clear all 48 boxes (a Bounds would be zeroed: BinBox
-// is left uninitialised).
-struct BinBox {
-    glm::vec3 min, max;
-    BinBox& operator=(const Bounds& b) {
-        min = b.min;
-        max = b.max;
-        return *this;
-    }
-};
-static_assert(std::is_trivially_default_constructible_v<BinBox>);
+// Bins of all three axes, computed for every axis without a branch (an axis whose scale is 0 is
+// binned all into bin 0 and not searched). Every box starts empty and grows without a branch:
+// most nodes hold a few triangles, and a first-in-bin test would mispredict for nearly each of
+// theirs.
 struct Bins {
-    BinBox box[3][kBins];
-    std::size_t count[3][kBins] = {};
-    void add(const Bounds& triangleBox, const glm::vec3& centroid, const glm::vec3& lo, const glm::dvec3& scale) {
+    BuildBox box[3][kBins];
+    std::uint32_t count[3][kBins] = {}; // a tree holds fewer than 2^32 triangles (32-bit ids)
+    struct Scale {
+        double2 loXY, scaleXY;
+        double loZ, scaleZ;
+    };
+    void add(const BuildBox& triangleBox, const float4& centroid, const Scale& s) {
+        // (double(centroid) - double(lo)) * scale per axis, x and y in one vector.
+        double2 xy = (double2{double(centroid[0]), double(centroid[1])} - s.loXY) * s.scaleXY;
+        xy = xy > 0.0 ? xy : double2{};
+        xy = xy < double(kBins - 1) ? xy : double2{} + double(kBins - 1);
+        const int bin[3] = {int(xy[0]), int(xy[1]), int(clampBin((double(centroid[2]) - s.loZ) * s.scaleZ))};
         for (int axis = 0; axis < 3; ++axis) {
-            if (scale[axis] == 0.0) continue;
-            const int bin = binOf(centroid[axis], lo[axis], scale[axis]);
-            if (count[axis][bin]++ == 0) box[axis][bin] = triangleBox;
-            else grow(box[axis][bin], triangleBox);
+            ++count[axis][bin[axis]];
+            box[axis][bin[axis]].grow(triangleBox);
         }
     }
     void merge(const Bins& other) {
         for (int axis = 0; axis < 3; ++axis) {
             for (int b = 0; b < kBins; ++b) {
-                if (other.count[axis][b] == 0) continue;
-                if (count[axis][b] == 0) box[axis][b] = other.box[axis][b];
-                else grow(box[axis][b], other.box[axis][b]);
+                box[axis][b].grow(other.box[axis][b]);
                 count[axis][b] += other.count[axis][b];
             }
         }
     }
 };
 
+} // namespace
+
+struct BvhBuildRecords {
+    std::vector<BuildBox> boxes;
+    std::vector<float4> centroids;
+};
+
+namespace {
+
 // Min, max and sums are exact and order-free, so the parallel reductions equal the serial loop.
-// One named result (returned in place: Bins is 1.5 kB and most nodes are small).
+// One named result (returned in place: Bins is 1.7 kB and most nodes are small).
 template <class Stats, class Add>
 Stats reduceRange(std::size_t begin, std::size_t end, Add add) {
     Stats stats;
@@ -147,13 +169,6 @@ std::size_t partitionStable(std::vector<std::uint32_t>& order, std::size_t begin
 
 } // namespace
 
-// In double: float extents overflow for coordinates beyond ±1.7e38 and products underflow below
-// 1e-19, and the surface area heuristic must still compare them.
-double halfArea(const Bounds& b) {
-    const glm::dvec3 e = glm::max(glm::dvec3(b.max) - glm::dvec3(b.min), glm::dvec3(0.0));
-    return e.x * e.y + e.y * e.z + e.z * e.x;
-}
-
 Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     // Exact copies of a triangle have the same distance and the same hits, and a stack of them
     // would make every query that reaches it visit each one: the tree holds the first copy only
@@ -162,17 +177,19 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     TriangleCopies copies;
     arena.execute([&] { copies = findTriangleCopies(mesh); });
     const std::size_t n = copies.unique.size();
-    std::vector<Bounds> boxes(n);
-    std::vector<glm::vec3> centroids(n);
+    BvhBuildRecords records{std::vector<BuildBox>(n), std::vector<float4>(n)};
     std::vector<std::uint32_t> order(n);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i < r.end(); ++i) {
                 const std::uint32_t t = copies.unique[i];
                 const glm::vec3 a = mesh.vertex(t, 0), b = mesh.vertex(t, 1), c = mesh.vertex(t, 2);
-                boxes[i] = {glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))};
+                const glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
                 // Half of each before adding: the sum of two coordinates near the float limit overflows.
-                centroids[i] = boxes[i].min * 0.5f + boxes[i].max * 0.5f;
+                const glm::vec3 centroid = lo * 0.5f + hi * 0.5f;
+                records.boxes[i].min = float4{lo.x, lo.y, lo.z, 0.0f};
+                records.boxes[i].max = float4{hi.x, hi.y, hi.z, 0.0f};
+                records.centroids[i] = float4{centroid.x, centroid.y, centroid.z, 0.0f};
                 order[i] = std::uint32_t(i);
             }
         });
@@ -181,7 +198,7 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     tree.nodes.reserve(2 * n);
     tree.ids.reserve(n);
     ProgressCounter progress(control, n);
-    const BuildInput input{centroids, boxes, progress};
+    const BuildInput input{records, progress};
     arena.execute([&] { build(tree, order, 0, n, input, 0); });
     progress.finish();
     nodes_ = std::move(tree.nodes);
@@ -204,8 +221,8 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
 
 std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
                          const BuildInput& input, int depth) {
-    const std::vector<glm::vec3>& centroids = input.centroids;
-    const std::vector<Bounds>& boxes = input.boxes;
+    const std::vector<float4>& centroids = input.records.centroids;
+    const std::vector<BuildBox>& boxes = input.records.boxes;
     input.progress.checkCancel();
     std::vector<Node>& nodes = out.nodes;
     std::vector<std::uint32_t>& ids = out.ids;
@@ -213,7 +230,7 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     const NodeBounds nodeBounds = reduceRange<NodeBounds>(begin, end, [&](NodeBounds& b, std::size_t i) {
         b.add(boxes[order[i]], centroids[order[i]]);
     });
-    const Bounds box = nodeBounds.box, centroidBox = nodeBounds.centroidBox;
+    const Bounds box = nodeBounds.box.bounds(), centroidBox = nodeBounds.centroidBox.bounds();
     const std::uint32_t nodeIndex = std::uint32_t(nodes.size());
     nodes.push_back({{box.min.x, box.min.y, box.min.z}, {box.max.x, box.max.y, box.max.z}, 0, 0, 0});
     const std::size_t count = end - begin;
@@ -276,35 +293,37 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
         const double scale = kBins / centroidExtent[axis];
         if (centroidExtent[axis] > 0.0 && std::isfinite(scale)) scales[axis] = scale;
     }
+    const Bins::Scale binScale{{double(centroidBox.min.x), double(centroidBox.min.y)}, {scales.x, scales.y},
+                               double(centroidBox.min.z), scales.z};
     const Bins bins = reduceRange<Bins>(begin, end, [&](Bins& b, std::size_t i) {
         const std::uint32_t t = order[i];
-        b.add(boxes[t], centroids[t], centroidBox.min, scales);
+        b.add(boxes[t], centroids[t], binScale);
     });
     for (int axis = 0; axis < 3; ++axis) {
         if (scales[axis] == 0.0) continue;
-        const BinBox* binBox = bins.box[axis];
-        const std::size_t* binCount = bins.count[axis];
+        const BuildBox* binBox = bins.box[axis];
+        const std::uint32_t* binCount = bins.count[axis];
         double rightArea[kBins];
         std::size_t rightCount[kBins];
         // Empty bins are skipped: they change no box or count, and a plane right after one costs
         // exactly what the plane before it did, which the strict comparison below already keeps.
-        Bounds acc = emptyBounds();
+        BuildBox acc;
         std::size_t accCount = 0;
         double accArea = 0.0;
         for (int b = kBins - 1; b > 0; --b) {
             if (binCount[b] > 0) {
-                grow(acc, binBox[b]);
+                acc.grow(binBox[b]);
                 accCount += binCount[b];
                 accArea = halfArea(acc);
             }
             rightArea[b] = accArea;
             rightCount[b] = accCount;
         }
-        acc = emptyBounds();
+        acc = BuildBox();
         accCount = 0;
         for (int plane = 1; plane < kBins; ++plane) {
             if (binCount[plane - 1] == 0) continue;
-            grow(acc, binBox[plane - 1]);
+            acc.grow(binBox[plane - 1]);
             accCount += binCount[plane - 1];
             if (rightCount[plane] == 0) continue;
             const double cost = halfArea(acc) * double(accCount) + rightArea[plane] * double(rightCount[plane]);

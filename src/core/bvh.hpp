@@ -29,8 +29,17 @@ struct RayPacket {
     simd::i8 backFace;     // out: all ones where the nearest hit is a back face
 };
 
-// Half the surface area of a box (in double, so that any float box compares).
-double halfArea(const Bounds& b);
+// Half the surface area of a box, in double: float extents overflow for coordinates beyond
+// ±1.7e38 and products underflow below 1e-19, and the surface area heuristic must still compare
+// them. Inline: the tree build's split search calls it for every plane of every node.
+inline double halfArea(const Bounds& b) {
+    const double x = std::max(double(b.max.x) - double(b.min.x), 0.0);
+    const double y = std::max(double(b.max.y) - double(b.min.y), 0.0);
+    const double z = std::max(double(b.max.z) - double(b.min.z), 0.0);
+    return x * y + y * z + z * x;
+}
+
+struct BvhBuildRecords; // the triangles' boxes and centroids as the tree's build reads them (core/bvh.cpp)
 
 // The acceleration structure over a mesh's triangles: a binary bounding volume hierarchy of
 // axis-aligned boxes (each inner node splits its triangles along one axis), built with the binned
@@ -110,8 +119,7 @@ private:
         int depth = 0;
     };
     struct BuildInput {
-        const std::vector<glm::vec3>& centroids;
-        const std::vector<Bounds>& boxes;
+        const BvhBuildRecords& records;
         ProgressCounter& progress;
     };
     static std::uint32_t build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
