@@ -234,35 +234,9 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     }
 
     progress.add(1);
-    // Angle-weighted vertex normals, and the fans around each vertex.
-    vertexNormals_.assign(positions_.size(), glm::dvec3(0.0));
+    // The fans around each vertex.
     std::vector<std::uint32_t> fanRoot(positions_.size(), UINT32_MAX);
     std::vector<bool> pinched(positions_.size(), false);
-    // The corners' angles (the costly part) in parallel, a block of triangles at a time, then
-    // summed per vertex in triangle order as before.
-    std::vector<double> angle(3 * std::min(n, kAngleBlock));
-    for (std::size_t block = 0; block < n; block += kAngleBlock) {
-        const std::size_t blockEnd = std::min(n, block + kAngleBlock);
-        parallelFor((blockEnd - block + kCornerChunk - 1) / kCornerChunk, quiet(control), [&](std::size_t chunk) {
-            const std::size_t from = block + chunk * kCornerChunk, to = std::min(blockEnd, from + kCornerChunk);
-            for (std::size_t t = from; t < to; ++t) {
-                for (std::uint32_t c = 0; c < 3; ++c) {
-                    const std::uint32_t v = corners_[t][c];
-                    const glm::dvec3 e1 = positions_[corners_[t][(c + 1) % 3]] - positions_[v];
-                    const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
-                    const double l1 = glm::length(e1), l2 = glm::length(e2);
-                    angle[3 * (t - block) + c] =
-                        l1 > 0.0 && l2 > 0.0 ? std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) : -1.0;
-                }
-            }
-        });
-        for (std::size_t t = block; t < blockEnd; ++t) {
-            for (std::uint32_t c = 0; c < 3; ++c) {
-                const double a = angle[3 * (t - block) + c]; // -1: a collapsed corner, no angle
-                if (a >= 0.0) vertexNormals_[corners_[t][c]] += a * glm::dvec3(faceNormals_[t]);
-            }
-        }
-    }
     for (std::uint32_t t = 0; t < n; ++t) {
         for (std::uint32_t c = 0; c < 3; ++c) {
             const std::uint32_t v = corners_[t][c];
@@ -283,6 +257,9 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     edgeCheck_.selfIntersectionsSearched = false;
     edgeCheck_.insideOut = edgeCheck_.boundaryEdges == 0 && edgeCheck_.nonManifoldEdges == 0 &&
                            edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
+    // The vertex normals serve the pseudonormal sign only, which auto picks only for meshes whose
+    // edges are clean: built now for those, on first use for others (a forced --sign pseudonormal).
+    if (edgeCheck_.closedAndClean()) buildVertexNormals(&control);
 
     progress.add(1);
     // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
@@ -457,11 +434,56 @@ glm::dvec3 MeshTopology::pseudonormal(std::uint32_t triangle, TriangleFeature fe
     case TriangleFeature::EdgeAB: return edgeNormal(triangle, 0);
     case TriangleFeature::EdgeBC: return edgeNormal(triangle, 1);
     case TriangleFeature::EdgeCA: return edgeNormal(triangle, 2);
-    case TriangleFeature::VertexA: return vertexNormals_[corners_[triangle][0]];
-    case TriangleFeature::VertexB: return vertexNormals_[corners_[triangle][1]];
-    case TriangleFeature::VertexC: return vertexNormals_[corners_[triangle][2]];
+    case TriangleFeature::VertexA: return vertexNormal(corners_[triangle][0]);
+    case TriangleFeature::VertexB: return vertexNormal(corners_[triangle][1]);
+    case TriangleFeature::VertexC: return vertexNormal(corners_[triangle][2]);
     }
     return glm::dvec3(faceNormals_[triangle]);
+}
+
+void MeshTopology::buildVertexNormals(const RunControl* control) const {
+    std::call_once(vertexNormalsOnce_, [&] {
+        const std::size_t n = corners_.size();
+        vertexNormals_.assign(positions_.size(), glm::dvec3(0.0));
+        // The corners' angles (the costly part) in parallel, a block of triangles at a time, then
+        // summed per vertex in triangle order. Built on first use (no control) they are measured
+        // serially: that use may be a parallel loop's task, which must not wait on nested tasks.
+        std::vector<double> angle(3 * std::min(n, kAngleBlock));
+        for (std::size_t block = 0; block < n; block += kAngleBlock) {
+            const std::size_t blockEnd = std::min(n, block + kAngleBlock);
+            const auto measure = [&](std::size_t chunk) {
+                const std::size_t from = block + chunk * kCornerChunk, to = std::min(blockEnd, from + kCornerChunk);
+                for (std::size_t t = from; t < to; ++t) {
+                    for (std::uint32_t c = 0; c < 3; ++c) {
+                        const std::uint32_t v = corners_[t][c];
+                        const glm::dvec3 e1 = positions_[corners_[t][(c + 1) % 3]] - positions_[v];
+                        const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
+                        const double l1 = glm::length(e1), l2 = glm::length(e2);
+                        angle[3 * (t - block) + c] =
+                            l1 > 0.0 && l2 > 0.0 ? std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) : -1.0;
+                    }
+                }
+            };
+            const std::size_t chunks = (blockEnd - block + kCornerChunk - 1) / kCornerChunk;
+            if (control) {
+                parallelFor(chunks, quiet(*control), measure);
+            } else {
+                for (std::size_t chunk = 0; chunk < chunks; ++chunk) measure(chunk);
+            }
+            for (std::size_t t = block; t < blockEnd; ++t) {
+                for (std::uint32_t c = 0; c < 3; ++c) {
+                    const double a = angle[3 * (t - block) + c]; // -1: a collapsed corner, no angle
+                    if (a >= 0.0) vertexNormals_[corners_[t][c]] += a * glm::dvec3(faceNormals_[t]);
+                }
+            }
+        }
+        vertexNormalsBuilt_.store(true, std::memory_order_release);
+    });
+}
+
+const glm::dvec3& MeshTopology::vertexNormal(std::uint32_t vertex) const {
+    if (!vertexNormalsBuilt_.load(std::memory_order_acquire)) buildVertexNormals(nullptr);
+    return vertexNormals_[vertex];
 }
 
 glm::dvec3 MeshTopology::edgeNormal(std::uint32_t triangle, int edge) const {

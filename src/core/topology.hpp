@@ -6,7 +6,9 @@
 #include "sdfgen/run_control.hpp"
 
 #include <glm/vec3.hpp>
+#include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -38,19 +40,26 @@ public:
     // Closed and consistently oriented with negative volume (see MeshCheck::insideOut).
     bool insideOut() const { return edgeCheck_.insideOut; }
 
-    // The angle-weighted pseudonormal (Bærentzen & Aanæs 2005) of a feature of a triangle.
+    // The angle-weighted pseudonormal (Bærentzen & Aanæs 2005) of a feature of a triangle. Safe
+    // from any thread; the vertex normals of a mesh whose edges rule the pseudonormal out are
+    // built by the first call that needs one.
     glm::dvec3 pseudonormal(std::uint32_t triangle, TriangleFeature feature) const;
 
 private:
     MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
     glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
+    // The angle-weighted vertex normals, built once: in parallel with a control, else serially.
+    void buildVertexNormals(const RunControl* control) const;
+    const glm::dvec3& vertexNormal(std::uint32_t vertex) const;
     // Whether triangles t and u have a point in common other than the vertices they share (exact).
     bool trianglesCross(std::uint32_t t, std::uint32_t u) const;
 
     std::vector<glm::dvec3> positions_;  // merged vertices
     std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices
     std::vector<glm::vec3> faceNormals_;  // the mesh's (float, exact in double)
-    std::vector<glm::dvec3> vertexNormals_;
+    mutable std::once_flag vertexNormalsOnce_;
+    mutable std::atomic<bool> vertexNormalsBuilt_{false};
+    mutable std::vector<glm::dvec3> vertexNormals_; // empty until buildVertexNormals
     // 3 per triangle (AB, BC, CA): the other triangle of an edge used by exactly two, else kNoNeighbour.
     static constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
     std::vector<std::uint32_t> edgeNeighbours_;
