@@ -2,11 +2,14 @@
 #include "sdfgen/compare.hpp"
 #include "core/exact.hpp"
 #include "core/sign.hpp"
+#include "core/topology.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/reference.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <algorithm>
 #include <utility>
 #include <vector>
 
@@ -28,6 +31,38 @@ TEST(Signs, PseudonormalAndWindingEqualBruteOnClosedMeshes) {
             EXPECT_EQ(compareFields(result.field, brute, 1.0).signDifferences, c.farWrong);
         }
     }
+}
+
+// An open mesh's vertex normals are built by the first pseudonormal that needs one (the topology
+// builds them only when its edges leave the pseudonormal possible): the same normals as the
+// closed mesh's where no triangle is missing around the vertex, and the same forced
+// pseudonormal field whatever the thread count, which races the first uses against each other.
+TEST(Signs, PseudonormalOfAnOpenMeshBuildsItsVertexNormalsOnFirstUse) {
+    const Mesh closed = icosphere(1.0f, 2);
+    std::vector<glm::uvec3> kept(closed.triangles.begin(), closed.triangles.end() - 1);
+    const glm::uvec3 removed = closed.triangles.back();
+    const Mesh open = buildMesh("icosphere less one triangle", closed.worldPositions(), kept);
+    const MeshTopology closedTopology(closed), openTopology(open);
+    ASSERT_TRUE(closedTopology.edgeCheck().closedAndClean());
+    ASSERT_EQ(openTopology.edgeCheck().boundaryEdges, 3u);
+    std::size_t compared = 0;
+    for (std::uint32_t t = 0; t < open.triangleCount(); ++t) {
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t vertex = open.triangles[t][c];
+            const TriangleFeature feature = c == 0 ? TriangleFeature::VertexA : c == 1 ? TriangleFeature::VertexB : TriangleFeature::VertexC;
+            const glm::dvec3 n = openTopology.pseudonormal(t, feature);
+            EXPECT_GT(glm::dot(n, glm::dvec3(open.faceNormals[t])), 0.0) << t;
+            if (vertex == removed.x || vertex == removed.y || vertex == removed.z) continue;
+            EXPECT_EQ(n, closedTopology.pseudonormal(t, feature)) << t;
+            ++compared;
+        }
+    }
+    EXPECT_GT(compared, 3 * open.triangleCount() / 2);
+    const BakeResult one = bakeWith(open, 24, DistanceMethod::Exact, SignMethod::Pseudonormal, 1);
+    const BakeResult two = bakeWith(open, 24, DistanceMethod::Exact, SignMethod::Pseudonormal, 2);
+    EXPECT_EQ(one.sign, SignMethod::Pseudonormal);
+    EXPECT_EQ(one.field.values, two.field.values);
+    EXPECT_LT(*std::min_element(one.field.values.begin(), one.field.values.end()), 0.0f) << "the inside is signed";
 }
 
 TEST(Signs, WindingEqualsBruteOnOpenAndOverlappingMeshes) {
