@@ -39,17 +39,18 @@ TEST(Signs, PseudonormalAndWindingEqualBruteOnClosedMeshes) {
 // pseudonormal field whatever the thread count, which races the first uses against each other.
 TEST(Signs, PseudonormalOfAnOpenMeshBuildsItsVertexNormalsOnFirstUse) {
     const Mesh closed = icosphere(1.0f, 2);
-    std::vector<glm::uvec3> kept(closed.triangles.begin(), closed.triangles.end() - 1);
+    const std::vector<glm::uvec3> kept(closed.triangles.begin(), closed.triangles.end() - 1);
     const glm::uvec3 removed = closed.triangles.back();
     const Mesh open = buildMesh("icosphere less one triangle", closed.worldPositions(), kept);
     const MeshTopology closedTopology(closed), openTopology(open);
     ASSERT_TRUE(closedTopology.edgeCheck().closedAndClean());
     ASSERT_EQ(openTopology.edgeCheck().boundaryEdges, 3u);
+    const TriangleFeature corners[3] = {TriangleFeature::VertexA, TriangleFeature::VertexB, TriangleFeature::VertexC};
     std::size_t compared = 0;
     for (std::uint32_t t = 0; t < open.triangleCount(); ++t) {
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t vertex = open.triangles[t][c];
-            const TriangleFeature feature = c == 0 ? TriangleFeature::VertexA : c == 1 ? TriangleFeature::VertexB : TriangleFeature::VertexC;
+            const TriangleFeature feature = corners[c];
             const glm::dvec3 n = openTopology.pseudonormal(t, feature);
             EXPECT_GT(glm::dot(n, glm::dvec3(open.faceNormals[t])), 0.0) << t;
             if (vertex == removed.x || vertex == removed.y || vertex == removed.z) continue;

@@ -58,6 +58,8 @@ private:
     std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices
     std::vector<glm::vec3> faceNormals_;  // the mesh's (float, exact in double)
     mutable std::once_flag vertexNormalsOnce_;
+    // Set once they are built: the per-sample check is one load, where std::call_once's own fast
+    // path writes thread-locals on every call.
     mutable std::atomic<bool> vertexNormalsBuilt_{false};
     mutable std::vector<glm::dvec3> vertexNormals_; // empty until buildVertexNormals
     // 3 per triangle (AB, BC, CA): the other triangle of an edge used by exactly two, else kNoNeighbour.
