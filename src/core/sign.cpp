@@ -258,9 +258,16 @@ struct WindingCaps::Search {
         std::make_heap(pending.begin(), pending.end());
         while ((!pending.empty() || ballNext != ballEnd) && doubtful()) {
             if (ballNext != ballEnd && (pending.empty() || pending.front().bound < ballNext->bound)) {
+                // Opened at once: bounding it again at p would shave little off a ball's bound.
                 farSum -= ballNext->bound;
+                const Node& node = caps.nodes_[(ballNext++)->node];
+                if (node.leaf) {
+                    measure(node.first);
+                    continue;
+                }
                 const std::size_t before = pending.size();
-                add((ballNext++)->node);
+                add(node.first);
+                add(node.first + 1);
                 for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
                 continue;
             }
