@@ -249,41 +249,38 @@ struct WindingCaps::Search {
     }
     // The margin's factor covers the rounding of the running sums.
     bool doubtful() const { return std::fabs(orientation * w - 0.5) <= farSum * (1.0 + 1e-12) + margin; }
-    // Nodes bounded over a ball that holds p (a cut's far nodes, loosest first), not yet bounded at
-    // p itself: each is bounded at p when it is the loosest.
+    // Nodes bounded over a ball that holds p (a cut's far nodes, loosest first): each is opened
+    // when it is the loosest, without being bounded again at p (that would shave little off a
+    // ball's bound and cost a trip through the heap).
     const Pending* ballNext = nullptr;
     const Pending* ballEnd = nullptr;
+
+    // A leaf is measured; an inner node's children are bounded at p and join the heap.
+    void open(std::uint32_t index) {
+        const Node& node = caps.nodes_[index];
+        if (node.leaf) {
+            measure(node.first);
+            return;
+        }
+        const std::size_t before = pending.size();
+        add(node.first);
+        add(node.first + 1);
+        for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
+    }
 
     void refine() {
         std::make_heap(pending.begin(), pending.end());
         while ((!pending.empty() || ballNext != ballEnd) && doubtful()) {
+            Pending loosest;
             if (ballNext != ballEnd && (pending.empty() || pending.front().bound < ballNext->bound)) {
-                // Opened at once: bounding it again at p would shave little off a ball's bound.
-                farSum -= ballNext->bound;
-                const Node& node = caps.nodes_[(ballNext++)->node];
-                if (node.leaf) {
-                    measure(node.first);
-                    continue;
-                }
-                const std::size_t before = pending.size();
-                add(node.first);
-                add(node.first + 1);
-                for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
-                continue;
+                loosest = *ballNext++;
+            } else {
+                std::pop_heap(pending.begin(), pending.end());
+                loosest = pending.back();
+                pending.pop_back();
             }
-            std::pop_heap(pending.begin(), pending.end());
-            const Pending loosest = pending.back();
-            pending.pop_back();
             farSum -= loosest.bound;
-            const Node& node = caps.nodes_[loosest.node];
-            if (node.leaf) {
-                measure(node.first);
-                continue;
-            }
-            const std::size_t before = pending.size();
-            add(node.first);
-            add(node.first + 1);
-            for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
+            open(loosest.node);
         }
     }
 };
