@@ -30,11 +30,10 @@ Where the distance has no derivative these are one-sided or conventional: on the
 unsigned distance has a kink there and the sign flips; sdfgen gives a zero gradient with respect to
 the points), at points with two or more nearest triangles or features (the medial axis: the
 gradient of the triangle sdfgen's tree picked), and across a change of the closest point's feature.
-The sign is piecewise constant and contributes no gradient. Backward passes are first-order only
-(no gradients of gradients).
+The sign is piecewise constant and contributes no gradient. Backward passes are first order only:
+one with ``create_graph=True`` (for a gradient of a gradient) raises RuntimeError.
 """
 import torch
-from torch.autograd.function import once_differentiable
 
 from . import Mesh
 from ._sdfgen import _nearest_terms
@@ -114,6 +113,14 @@ def _like(values, shape, reference):
     return torch.from_numpy(values).reshape(shape).to(dtype=reference.dtype, device=reference.device)
 
 
+def _first_order_only():
+    """Backward passes give first derivatives as constants: with create_graph=True (grad mode on
+    in backward) a gradient of them would silently miss the second derivatives, so refuse."""
+    if torch.is_grad_enabled():
+        raise RuntimeError("sdfgen.torch gives first derivatives only: backward with create_graph=True "
+                           "(a gradient of a gradient) is not supported")
+
+
 class _Distance(torch.autograd.Function):
     """Signed (a sign method given) or unsigned distances, with gradients from the exact terms."""
 
@@ -133,8 +140,8 @@ class _Distance(torch.autograd.Function):
         return _like(distance, points.shape[:-1], points)
 
     @staticmethod
-    @once_differentiable
     def backward(ctx, grad):
+        _first_order_only()
         gradient, *features = ctx.saved_tensors
         g = grad.detach().to(device="cpu", dtype=torch.float64).reshape(-1, 1)
         grad_points = grad_vertices = None
@@ -166,8 +173,8 @@ class _ClosestPoints(torch.autograd.Function):
         return _like(closest, points.shape, points)
 
     @staticmethod
-    @once_differentiable
     def backward(ctx, grad):
+        _first_order_only()
         points, vertices, corners, feature_size = ctx.saved_tensors
         wants_points, wants_vertices = ctx.needs_input_grad[0], ctx.needs_input_grad[1]
         with torch.enable_grad():

@@ -223,6 +223,14 @@ def test_no_grad_and_no_inputs_requiring_grad():
     assert not plain.requires_grad and torch.equal(plain, with_grad_off)
 
 
+def test_gradients_of_gradients_are_refused():
+    mesh = sdfgen.Mesh(*MESHES["closed"])
+    points = torch.tensor([[2.0, 0.3, 0.2]], dtype=torch.float64, requires_grad=True)
+    for function in (st.signed_distance, st.closest_points):
+        with pytest.raises(RuntimeError, match="first derivatives only"):
+            torch.autograd.grad(function(points, mesh).sum(), points, create_graph=True)
+
+
 def test_other_devices():
     vertices, faces = MESHES["closed"]
     with pytest.raises(ValueError, match="meta device"):
