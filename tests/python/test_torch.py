@@ -148,6 +148,19 @@ def test_gradcheck_on_the_bunny_points(bunny):
     assert torch.autograd.gradcheck(lambda p: st.signed_distance(p, bunny), (points,), eps=1e-7, atol=1e-6, rtol=1e-5)
 
 
+def test_zero_area_triangles_are_dropped_and_indices_kept():
+    vertices, faces = MESHES["closed"]
+    with_slivers = np.concatenate([[[0, 0, 1], [2, 2, 5]], faces])  # zero area: dropped, the others shift
+    points = torch.tensor(clear_points(vertices, faces, 24, seed=11), requires_grad=True)
+    v = torch.tensor(vertices, requires_grad=True)
+    for function in (st.signed_distance, st.closest_points):
+        plain = function(points, v, torch.from_numpy(faces))
+        slivers = function(points, v, torch.from_numpy(with_slivers))
+        assert torch.equal(plain, slivers)
+        assert torch.autograd.gradcheck(lambda p, v: function(p, v, torch.from_numpy(with_slivers)), (points, v),
+                                        eps=1e-7, atol=1e-6, rtol=1e-5)
+
+
 def test_gradients_point_from_the_closest_point():
     vertices, faces = MESHES["closed"]
     points = torch.tensor(clear_points(vertices, faces, 200, seed=7), requires_grad=True)
