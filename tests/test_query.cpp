@@ -113,8 +113,8 @@ TEST(PointQuery, MatchesBruteForceAtRandomPoints) {
                         truth, 1e-6) << i;
             const double w = windingNumber(mesh, local);
             EXPECT_NEAR(winding[i], w, 1e-9) << i;
-            if (std::fabs(w - 0.5) > 1e-6) {
-                EXPECT_EQ(signedDistance[i] < 0, w > 0.5) << i << " w = " << w;
+            if (std::fabs(std::fabs(w) - 0.5) > 1e-6) {
+                EXPECT_EQ(signedDistance[i] < 0, std::fabs(w) > 0.5) << i << " w = " << w;
             }
         }
     }

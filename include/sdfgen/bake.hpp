@@ -17,10 +17,10 @@ enum class DistanceMethod {
 // How inside is told from outside.
 enum class SignMethod {
     Default,      // Rays for the rays method, Auto otherwise
-    Auto,         // Pseudonormal where the mesh check proves it right, Winding otherwise
+    Auto,         // Pseudonormal where the mesh check proves it right (flipped for a mesh inside out), Winding otherwise
     Rays,         // majority of back-face first hits (rays per sample from BakeSettings::rays)
     Pseudonormal, // angle-weighted pseudonormal of the closest feature
-    Winding,      // generalized winding number > 1/2
+    Winding,      // |generalized winding number| > 1/2: closed parts solid whichever way their faces point
 };
 const char* toString(DistanceMethod method);
 const char* toString(SignMethod sign);

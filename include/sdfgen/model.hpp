@@ -47,7 +47,11 @@ public:
 
     // Exact queries at `count` points (world coordinates, x y z interleaved), in parallel. At a
     // baked grid's sample positions (Field::position) they give exactly the baked values.
-    // `sign` is Auto, Winding or Pseudonormal (Auto decides as bake does).
+    // `sign` is Auto, Winding or Pseudonormal (Auto decides as bake does). Winding: inside where
+    // |w| > 1/2, w the exact generalized winding number, as libigl's fast-winding-number sign has
+    // it: a closed part is solid whichever way its faces point, a hollow part whose inner shell
+    // faces into its cavity stays hollow, a mesh inside out as a whole needs no special case, and
+    // where copies facing opposite ways overlap they cancel (w = 0: outside).
     void query(const double* points, std::size_t count, const PointQueryOutputs& outputs,
                SignMethod sign = SignMethod::Auto, const RunControl& control = {}) const;
 

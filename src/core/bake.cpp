@@ -22,7 +22,8 @@ std::string autoReason(const MeshCheck& c) {
     std::string problems;
     for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
                                       {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
-                                      {c.selfIntersections, "self-intersections"}}) {
+                                      {c.selfIntersections, "self-intersections"},
+                                      {c.misorientedShells, "closed shells facing against their nesting"}}) {
         if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
     }
     return "winding: the mesh has " + problems;
@@ -87,15 +88,15 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
             sign = resolveAutoSign(result.check, &result.signReason);
             if (result.check.insideOut) {
                 methodContext.flipped = true;
-                result.signReason += "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
-                                     "are swapped as if every face were flipped";
+                result.signReason += sign == SignMethod::Pseudonormal
+                                         ? "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
+                                           "are swapped as if every face were flipped"
+                                         : "; the mesh is inside out (closed, its faces point inwards): its winding number "
+                                           "is -1 inside, and |w| > 1/2 counts that as inside";
             }
-        } else if ((sign == SignMethod::Winding || sign == SignMethod::Pseudonormal) && context.topology().insideOut()) {
-            result.warnings.push_back(std::string("the mesh is inside out (closed, its faces point inwards); --sign ") +
-                                      toString(sign) + " follows the faces, so " +
-                                      (sign == SignMethod::Winding ? "nothing is inside (the winding number is -1 there)"
-                                                                   : "inside and outside are swapped") +
-                                      "; --sign auto fixes it");
+        } else if (sign == SignMethod::Pseudonormal && context.topology().insideOut()) {
+            result.warnings.push_back("the mesh is inside out (closed, its faces point inwards); --sign pseudonormal follows "
+                                      "the faces, so inside and outside are swapped; --sign auto or winding fixes it");
         }
         methodContext.sign = sign;
     }

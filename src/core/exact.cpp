@@ -125,7 +125,7 @@ Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& co
                 angle += solidAngle(p, corners[c], corners[c + 1], corners[c + 2]);
             }
             const double distance = std::sqrt(nearest) * mesh.unit;
-            field.values[grid.index(i, j, k)] = float(angle / (4.0 * M_PI) > 0.5 ? -distance : distance);
+            field.values[grid.index(i, j, k)] = float(std::fabs(angle / (4.0 * M_PI)) > 0.5 ? -distance : distance);
         }
     });
     return field;

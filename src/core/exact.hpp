@@ -59,7 +59,8 @@ std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh
 std::uint32_t nearestTriangle(const WideBvh& tree, const glm::vec3& p, std::uint32_t& hint);
 
 // The reference: for every sample, the distance to every triangle and the winding number summed
-// over every triangle, all in double (inside where it exceeds 1/2). O(samples x triangles).
+// over every triangle, all in double (inside where its magnitude exceeds 1/2, as the winding sign
+// has it). O(samples x triangles).
 Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& control);
 
 } // namespace sdfgen

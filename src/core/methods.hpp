@@ -27,7 +27,7 @@ struct BakeContext {
     const BakeSettings& settings;
     std::function<const MeshTopology&()> topology;
     std::function<const MeshCheck&()> check;
-    bool flipped = false; // the mesh is inside out: sign methods swap inside and outside
+    bool flipped = false; // the mesh is inside out: the pseudonormal sign swaps inside and outside
     // The sign bake() settled on before the distance pass (never Auto there), Default when the
     // method signs by itself.
     SignMethod sign = SignMethod::Default;

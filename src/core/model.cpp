@@ -91,7 +91,9 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
         parallelInvoke(
             quiet(control), [&] { if (needNearest) m.wide(quiet(control)); }, [&] { m.topology(quiet(control)); });
     }
-    bool flipped = false; // as bake: auto swaps inside and outside of an inside-out mesh
+    // As bake: auto swaps the pseudonormal's inside and outside on an inside-out mesh (the winding
+    // sign, |w| > 1/2, needs no swap).
+    bool flipped = false;
     if (out.signedDistance && sign == SignMethod::Auto) {
         const MeshCheck& edges = m.topology(quiet(control)).edgeCheck(); // as bake: no search when the edges decide
         const MeshCheck& check = edges.closedAndClean() ? m.check(quiet(control)) : edges;
@@ -162,7 +164,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     if (sign == SignMethod::Pseudonormal) {
                         inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                     } else {
-                        inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
+                        inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p));
                     }
                     out.signedDistance[index] = inside ? -distance : distance;
                 }

@@ -252,14 +252,17 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
 else
   echo "cli: skipped the full-disk test (cannot mount a tmpfs here)"
 fi
-# Inside out: every face of the tetrahedron flipped. Auto finds it and fixes the signs; an
-# explicit sign follows the faces, with a warning.
+# Inside out: every face of the tetrahedron flipped. Auto finds it and fixes the signs; the
+# winding sign (|w| > 1/2) needs no fix; an explicit pseudonormal follows the faces, with a warning.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' >"$work/inside-out.obj"
 expect 0 'inside out \(negative volume\)' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'auto chose pseudonormal: .*; the mesh is inside out' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/inside-out.sdf"
-expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign winding follows the faces' -- \
-  "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign winding
+expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign pseudonormal follows the faces' -- \
+  "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign pseudonormal
+check 'the winding sign warns of no inside-out mesh' sh -c '! "$1" bake "$2" -o "$3" --res 8 --sign winding 2>&1 | grep warning' \
+  sh "$sdfgen" "$work/inside-out.obj" "$work/x.sdf"
+expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/x.sdf"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
