@@ -80,7 +80,7 @@ struct Shape {
 };
 
 std::vector<Shape> shapes() {
-    const Mesh sphere = test::icosphere(1.0f, 2);
+    const Mesh sphere = test::icosphere(1.0f, 2), small = test::icosphere(0.6f, 2);
     return {
         {"icosphere (closed)", sphere, 16},
         {"box (closed, faces on grid planes)", test::box({1.0f, 0.5f, 0.25f}), 16},
@@ -97,6 +97,14 @@ std::vector<Shape> shapes() {
         {"holed torus, every triangle three times", repeated(cutOpen(test::torus(1.0f, 0.3f, 16, 8), {0, 0, 1}, 0.1f), 3), 14},
         {"closed sphere, every triangle twice", repeated(sphere, 2), 12},
         {"inside-out torus (auto flips the pseudonormal sign)", moved(test::torus(1.0f, 0.3f, 24, 12), {0, 0, 0}, true), 14},
+        // The inside rule |w| > 1/2: parts inside out are solid (w = -1), a reversed inner shell's cavity
+        // is empty, opposite copies cancel where they overlap.
+        {"sphere beside a smaller one inside out", combined("beside", {moved(sphere, {-1.2f, 0, 0}, false), moved(small, {1.0f, 0, 0}, true)}), 16},
+        {"hollow sphere (inner shell reversed)", combined("hollow", {sphere, moved(small, {0, 0, 0}, true)}), 16},
+        {"sphere overlapped by a smaller one inside out", combined("overlapped", {sphere, moved(small, {0.8f, 0, 0}, true)}), 16},
+        {"sphere and its reversed copy", combined("opposite copies", {sphere, moved(sphere, {0, 0, 0}, true)}), 12},
+        {"inside-out sphere with a hole", moved(cutOpen(sphere, {0, 1, 0}, 0.8f), {0, 0, 0}, true), 16},
+        {"inside-out sheet beside a closed sphere", combined("sheet", {moved(small, {0, 0, -1.0f}, false), moved(cutOpen(sphere, {0, 1, 0}, 0.0f), {0, 0, 1.0f}, true)}), 16},
     };
 }
 
@@ -258,7 +266,7 @@ TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
             weights.push_back(cap.weight);
         }
     }
-    const WindingFans fans = caps.flattened(1);
+    const WindingFans fans = caps.flattened();
     ComputeDevice* device = selectComputeDevice(Device::Gpu);
     ASSERT_NE(device, nullptr);
     // Two samples 2.5e-7 and 1.5e-7 below the centre of the missing face, and one far outside.
