@@ -290,6 +290,53 @@ TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
     EXPECT_EQ(farSides, std::vector<std::uint8_t>(2, 0));
 }
 
+// The device decides |w| > 1/2 itself, on either side of zero: inside an inside-out sphere with a
+// hole (w near -1) its sides say inside, outside (w near 0) outside, each the CPU's answer, and
+// few samples are left to the CPU.
+TEST_F(Gpu, DecidesInsideOutPartsByTheMagnitudeOfW) {
+    const Mesh open = moved(cutOpen(test::icosphere(1.0f, 2), {0, 1, 0}, 0.8f), {0, 0, 0}, true);
+    const MeshTopology topology(open);
+    const WindingCaps caps(topology);
+    ASSERT_FALSE(caps.empty());
+    std::vector<glm::dvec3> corners;
+    std::vector<std::int32_t> weights;
+    for (std::uint32_t t = 0; t < open.triangleCount(); ++t) {
+        corners.insert(corners.end(), {glm::dvec3(open.vertex(t, 0)), glm::dvec3(open.vertex(t, 1)), glm::dvec3(open.vertex(t, 2))});
+        weights.push_back(1);
+    }
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            corners.insert(corners.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+            weights.push_back(cap.weight);
+        }
+    }
+    const WindingFans fans = caps.flattened();
+    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ASSERT_NE(device, nullptr);
+    const Grid grid = makeGrid(open.worldBounds(), 16, 0.1);
+    std::vector<std::uint8_t> sides;
+    const std::vector<std::int32_t> ahead = device->windingNumbers(open, corners, weights, &fans, grid, {}, sides);
+    std::size_t inside = 0, outside = 0, undecided = 0;
+    for (int k = 0; k < grid.dims.z; ++k)
+        for (int j = 0; j < grid.dims.y; ++j)
+            for (int i = 0; i < grid.dims.x; ++i) {
+                const std::size_t index = grid.index(i, j, k);
+                if (sides[index] == 2) {
+                    ++undecided;
+                    continue;
+                }
+                const glm::dvec3 p = localPosition(open, grid, i, j, k);
+                ASSERT_EQ(bool(sides[index]), caps.inside(p, ahead[index])) << i << "," << j << "," << k << ": w = " << caps.winding(p, ahead[index]);
+                (sides[index] ? inside : outside) += 1;
+                if (sides[index]) {
+                    EXPECT_LT(caps.winding(p, ahead[index]), -0.5);
+                }
+            }
+    EXPECT_GT(inside, grid.sampleCount() / 10);
+    EXPECT_GT(outside, grid.sampleCount() / 10);
+    EXPECT_LT(undecided, grid.sampleCount() / 100);
+}
+
 TEST_F(Gpu, IsDeterministic) {
     const Mesh bunny = loadObj(test::bundledBunnyPath());
     const BakeResult first = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
