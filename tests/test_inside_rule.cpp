@@ -70,6 +70,7 @@ struct Case {
     std::vector<glm::dvec3> inside, outside; // world points whose side is known
     SignMethod autoSign;                    // what auto picks
     bool insideOut;                         // what the mesh check reports
+    std::size_t misorientedShells;          // likewise
 };
 
 std::vector<Case> cases() {
@@ -78,23 +79,23 @@ std::vector<Case> cases() {
     return {
         {"sphere beside a smaller sphere inside out", combined("beside", {moved(sphere, {-1.2, 0, 0}), reversed(moved(small, {1.0, 0, 0}))}),
          {{-1.2, 0, 0}, {-0.5, 0.3, 0}, {1.0, 0, 0}, {1.3, 0, 0.2}}, {{0.1, 0, 0}, {0, 1.5, 0}, {1.0, 0.9, 0}},
-         SignMethod::Winding, false},
+         SignMethod::Winding, false, 1},
         {"hollow sphere (inner shell reversed)", hollow, {{0.75, 0, 0}, {0, -0.8, 0}}, {{0, 0, 0}, {0.2, 0.1, 0}, {1.3, 0, 0}},
-         SignMethod::Pseudonormal, false},
+         SignMethod::Pseudonormal, false, 0},
         {"hollow sphere inside out as a whole", reversed(hollow), {{0.75, 0, 0}, {0, -0.8, 0}}, {{0, 0, 0}, {0.2, 0.1, 0}, {1.3, 0, 0}},
-         SignMethod::Pseudonormal, true},
-        {"sphere inside out", reversed(sphere), {{0, 0, 0}, {0.5, 0.5, 0}}, {{1.2, 0, 0}}, SignMethod::Pseudonormal, true},
+         SignMethod::Pseudonormal, true, 0},
+        {"sphere inside out", reversed(sphere), {{0, 0, 0}, {0.5, 0.5, 0}}, {{1.2, 0, 0}}, SignMethod::Pseudonormal, true, 0},
         // Both facing out, one within the other: w = 2 in the inner one, solid like the rest.
         {"sphere within a sphere, both facing out", combined("nested", {sphere, hollowed}), {{0, 0, 0}, {0.75, 0, 0}}, {{1.2, 0, 0}},
-         SignMethod::Winding, false},
+         SignMethod::Winding, false, 1},
         {"sphere inside out with a hole", reversed(cutOpen(sphere, 0.9f)), {{0, 0, 0}, {0, -0.6, 0}}, {{1.2, 0, 0}, {0, 1.4, 0}},
-         SignMethod::Winding, false},
+         SignMethod::Winding, false, 0},
         // The same sphere twice, facing opposite ways: w = 0 everywhere, nothing inside.
         {"sphere and its reversed copy", combined("opposite copies", {sphere, reversed(sphere)}), {}, {{0, 0, 0}, {0.5, 0, 0}, {1.2, 0, 0}},
-         SignMethod::Winding, false},
+         SignMethod::Winding, false, 0},
         // Overlapping: w = 1 in the first alone, -1 in the second alone, 0 where they overlap.
         {"sphere overlapped by a smaller one inside out", combined("opposite overlapping", {sphere, reversed(moved(small, {0.8, 0, 0}))}),
-         {{-0.5, 0, 0}, {1.25, 0, 0}}, {{0.6, 0, 0}, {0.6, 0.5, 0}, {2.0, 0, 0}}, SignMethod::Winding, false},
+         {{-0.5, 0, 0}, {1.25, 0, 0}}, {{0.6, 0, 0}, {0.6, 0.5, 0}, {2.0, 0, 0}}, SignMethod::Winding, false, 0},
     };
 }
 
@@ -133,6 +134,10 @@ TEST(InsideRule, BakesEqualTheReferenceWindingNumber) {
         EXPECT_EQ(model.check().insideOut, c.insideOut);
         if (c.insideOut) {
             EXPECT_CONTAINS(model.check().describe(), "inside out");
+        }
+        EXPECT_EQ(model.check().misorientedShells, c.misorientedShells);
+        if (c.misorientedShells) {
+            EXPECT_CONTAINS(model.check().describe(), "closed shells facing against their nesting");
         }
         std::vector<double> reference;
         for (SignMethod sign : {SignMethod::Winding, SignMethod::Auto}) {
