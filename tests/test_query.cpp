@@ -173,6 +173,14 @@ TEST(PointQuery, FarPointsAreAnsweredRightOrRefused) {
     EXPECT_CONTAINS(test::errorFrom([&] { model.unsignedDistance({glm::dvec3(0.0), glm::dvec3(0.0, -1e300, 0.0)}); }),
                     "query point 1 (0, -1e+300, 0) is 5e+299 mesh sizes from the mesh's bounding box; points are answered up to "
                     "10000 mesh sizes away");
+    // Within that range but beyond float's 3.4e38: an error, as for a bake, never an infinity.
+    const Mesh small = test::icosphere(1.0f, 1);
+    std::vector<glm::dvec3> huge = small.worldPositions();
+    for (glm::dvec3& p : huge) p *= 1e36;
+    const Model giant(buildMesh("giant.obj", huge, small.triangles));
+    EXPECT_CONTAINS(test::errorFrom([&] { giant.unsignedDistance({glm::dvec3(1.9e40, 0.0, 0.0)}); }),
+                    "giant.obj: distances overflow single precision");
+    EXPECT_NEAR(giant.unsignedDistance({glm::dvec3(1e38, 0.0, 0.0)})[0], 0.99e38, 0.011e38);
 }
 
 } // namespace

@@ -52,7 +52,9 @@ public:
 
     // Exact queries at `count` points (world coordinates, x y z interleaved), in parallel. At a
     // baked grid's sample positions (Field::position) they give exactly the baked values.
-    // `sign` is Auto, Winding or Pseudonormal (Auto decides as bake does).
+    // `sign` is Auto, Winding or Pseudonormal (Auto decides as bake does). Throws Error for a
+    // non-finite point, or one farther than 10^4 mesh sizes (the bounding box's longest side) from
+    // the bounding box: the single-precision search cannot tell its nearest triangle and sign.
     void query(const double* points, std::size_t count, const PointQueryOutputs& outputs,
                SignMethod sign = SignMethod::Auto, const RunControl& control = {}) const;
 

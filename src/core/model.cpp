@@ -235,6 +235,12 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             }
         }
     });
+    // Never an infinity handed back as a distance: as bake, a mesh far beyond unit scale overflows float.
+    for (float* distances : {out.signedDistance, out.unsignedDistance}) {
+        if (distances && !std::all_of(distances, distances + count, [](float v) { return std::isfinite(v); })) {
+            throw Error(mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");
+        }
+    }
 }
 
 namespace {
