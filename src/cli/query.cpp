@@ -75,7 +75,7 @@ void runQuery(const QueryArgs& args) {
     refuseOverwritingInput(args.output, {args.mesh, args.points});
     const std::vector<double> points = readPoints(args.points);
     const std::size_t n = points.size() / 3;
-    RunControl control = commandControl(args.threads);
+    const RunControl control = commandControl(args.threads);
     const Model model = Model::load(args.mesh, control);
     PointQueryOutputs out;
     if (args.what == "signed" || args.what == "unsigned") {

@@ -89,7 +89,7 @@ void runRender(const RenderArgs& args) {
     }
     const glm::ivec2 pixels{int(size[0]), int(size[1])};
 
-    RunControl control = commandControl(args.threads);
+    const RunControl control = commandControl(args.threads);
     const Model model(loadScene(args.meshes), control);
     const Mesh& mesh = model.mesh();
     Field field;
@@ -101,8 +101,9 @@ void runRender(const RenderArgs& args) {
         }
     } else if (needField) {
         ProgressBar bar;
-        control.progress = bar.callback();
-        field = model.bake(args.settings, control).field;
+        RunControl baking = control; // the bar's callback lives only as long as the bar
+        baking.progress = bar.callback();
+        field = model.bake(args.settings, baking).field;
     }
 
     std::unique_ptr<render::GlContext> context = render::createHeadlessContext(pixels);
