@@ -20,6 +20,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <type_traits>
 
 namespace py = pybind11;
 
@@ -27,15 +28,25 @@ namespace sdfgen::python {
 
 namespace {
 
+// sdfgen.Warning, the category of every warning the module gives (set when the module loads).
+PyObject* warningClass = nullptr;
+
 // Runs work(control) on another thread with the GIL released. Ctrl+C (or an exception from the
 // progress callback) raises the cancel flag, waits for the work to stop and re-raises in Python.
+// The warnings the work gives (RunControl::warn) are issued as sdfgen.Warning when it is done.
 template <class Work>
 auto runReleased(Work&& work, int threads, const py::object& progress = py::none()) {
+    // Checked here as the command line checks --threads, before any thread pool is set up.
+    if (threads < 0 || threads > kMaxThreads) {
+        throw Error("threads must be from 0 (all cores) to " + std::to_string(kMaxThreads) + ", not " + std::to_string(threads));
+    }
     std::atomic<bool> cancel{false};
     std::atomic<double> fraction{0.0};
+    std::vector<std::string> warnings; // written by the worker, read once it is done
     RunControl control;
     control.threads = threads;
     control.cancel = &cancel;
+    control.warn = [&warnings](const std::string& warning) { warnings.push_back(warning); };
     if (!progress.is_none()) control.progress = [&fraction](double f) { fraction.store(f, std::memory_order_relaxed); };
     using Result = decltype(work(control));
     std::future<Result> result;
@@ -76,6 +87,9 @@ auto runReleased(Work&& work, int threads, const py::object& progress = py::none
         throw py::error_already_set();
     }
     Result value = result.get(); // rethrows the work's Error, translated below
+    for (const std::string& warning : warnings) {
+        if (PyErr_WarnEx(warningClass, warning.c_str(), 1) != 0) throw py::error_already_set(); // a filter made it an error
+    }
     if (!progress.is_none()) progress(1.0);
     return value;
 }
@@ -160,19 +174,25 @@ PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const s
     if (!py::isinstance<py::array_t<std::int64_t>>(faces) && faces.dtype().kind() != 'i' && faces.dtype().kind() != 'u') {
         throw py::value_error("faces must be an integer array");
     }
-    const auto f = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(faces);
-    std::vector<glm::uvec3> triangles(std::size_t(f.shape(0)));
-    const std::int64_t* fd = f.data();
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        for (int c = 0; c < 3; ++c) {
-            const std::int64_t index = fd[3 * t + std::size_t(c)];
-            if (index < 0 || index > std::int64_t(std::numeric_limits<std::uint32_t>::max())) {
-                throw Error(name + ": face " + std::to_string(t) + " has vertex index " + std::to_string(index) +
-                            ", outside 0.." + std::to_string(vertices.shape(0) - 1));
+    // Unsigned indices are read as unsigned: one above 2^63 is shown as it is, never as a negative.
+    std::vector<glm::uvec3> triangles(std::size_t(faces.shape(0)));
+    auto readIndices = [&](auto integer) {
+        using Index = decltype(integer);
+        const auto f = py::array_t<Index, py::array::c_style | py::array::forcecast>::ensure(faces);
+        const Index* fd = f.data();
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            for (int c = 0; c < 3; ++c) {
+                const Index index = fd[3 * t + std::size_t(c)];
+                if ((std::is_signed_v<Index> && std::int64_t(index) < 0) || std::uint64_t(index) > std::numeric_limits<std::uint32_t>::max()) {
+                    throw Error(name + ": face " + std::to_string(t) + " has vertex index " + std::to_string(index) +
+                                ", outside 0.." + std::to_string(vertices.shape(0) - 1));
+                }
+                triangles[t][c] = std::uint32_t(index);
             }
-            triangles[t][c] = std::uint32_t(index);
         }
-    }
+    };
+    if (faces.dtype().kind() == 'u') readIndices(std::uint64_t{});
+    else readIndices(std::int64_t{});
     auto build = [&](auto&& positions) {
         PyMesh mesh;
         mesh.model = runReleased([&](const RunControl& control) {
@@ -216,6 +236,10 @@ PYBIND11_MODULE(sdfgen, m) {
     gpu::registerGlDevice();
 #endif
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+    // Warnings from loads and bakes (what was skipped or is doubtful): warnings.warn with this
+    // category, so that warnings.filterwarnings("error", category=sdfgen.Warning) turns them into errors.
+    warningClass = PyErr_NewExceptionWithDoc("sdfgen.Warning", "What sdfgen skipped or doubts in a mesh or a bake", PyExc_UserWarning, nullptr);
+    m.attr("Warning") = py::handle(warningClass);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
@@ -340,6 +364,8 @@ PYBIND11_MODULE(sdfgen, m) {
         .def_property_readonly("sign", [](const PyField& f) { return f.field.parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
         .def_property_readonly("device", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->deviceReason)) : py::object(py::none()); },
                                "Where the bake ran and why, e.g. 'cpu: asked for' (None for a loaded field)")
+        .def_property_readonly("warnings", [](const PyField& f) { return f.bake ? f.bake->warnings : std::vector<std::string>{}; },
+                               "The bake's warnings, one line each (also issued as sdfgen.Warning); empty for a loaded field")
         .def_property_readonly("sign_reason", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->signReason)) : py::object(py::none()); })
         .def_property_readonly("check", [](const PyField& f) {
             return f.bake && f.bake->checked ? py::object(checkToDict(f.bake->check)) : py::object(py::none());

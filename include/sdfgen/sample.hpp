@@ -39,7 +39,9 @@ struct Samples {
 
 // Exactly n samples of `model`, identical for the same seed, settings and mesh whatever the
 // thread count: sample i draws from its own counter-based random stream (seed, i). Throws Error for
-// bad settings, Cancelled when control.cancel is raised.
+// bad settings, for n samples that do not fit in the available memory (checked before anything is
+// allocated: about 52 bytes each at the peak) or in one call (2^32 - 1), and for samples beyond
+// float range; Cancelled when control.cancel is raised.
 Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& settings, const RunControl& control = {});
 
 // The share of each kind for n samples: near (first scale), far (second scale), uniform.

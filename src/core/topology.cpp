@@ -116,7 +116,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
     constexpr std::size_t kStages = 5;
     ProgressCounter progress(control, kStages);
-    tbb::task_arena arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena(arenaSize(control));
     // Merge vertices with identical coordinates (-0 and +0 alike; coordinates are finite, so equal
     // floats have equal bits): sorted by (bits, index) in parallel, a total order, each vertex
     // goes to the first of its group, and merged vertices are numbered in order of first use.
