@@ -1,6 +1,7 @@
 // NumPy .npz: a zip archive (stored, uncompressed, as numpy.savez writes it) of .npy members:
 // sdf (the values, as in .npy), origin (3, float64), voxel_size (float64 scalar), dims (3, int64),
-// method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k).
+// method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k). A field
+// with channels adds gradient and closest ((nx, ny, nz, 3) float32) and triangle ((nx, ny, nz) int32).
 #include "core/formats/format.hpp"
 #include "core/atomic_file.hpp"
 #include "core/formats/npy.hpp"
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <cstring>
 #include <memory>
+#include <utility>
 
 namespace sdfgen::formats {
 
@@ -152,7 +154,7 @@ void writeNpz(const std::string& path, const std::vector<NpzMember>& members) {
 void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const Grid& g = field.grid;
-    const std::vector<NpzMember> members = {
+    std::vector<NpzMember> members = {
         {"sdf.npy", npyFieldHeader(field), field.values.data(), field.values.size() * sizeof(float)},
         {"origin.npy", npyFloat64Array({double(g.origin.x), double(g.origin.y), double(g.origin.z)}, false)},
         {"voxel_size.npy", npyFloat64Array({double(g.voxel)}, true)},
@@ -160,6 +162,14 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
         {"method.npy", npyUnicodeScalar(methodLine(field))},
         {"source.npy", npyUnicodeScalar(field.source)},
     };
+    // The channels in Fortran order, as sdf: the planar buffers as they are (component last).
+    const std::uint64_t nx = std::uint64_t(g.dims.x), ny = std::uint64_t(g.dims.y), nz = std::uint64_t(g.dims.z);
+    for (const auto& [name, vector] : {std::pair{"gradient.npy", &field.gradient}, {"closest.npy", &field.closest}}) {
+        if (!vector->empty()) members.push_back({name, npyHeader("<f4", true, {nx, ny, nz, 3}), vector->data(), vector->size() * sizeof(float)});
+    }
+    if (!field.triangle.empty()) {
+        members.push_back({"triangle.npy", npyHeader("<i4", true, {nx, ny, nz}), field.triangle.data(), field.triangle.size() * sizeof(std::int32_t)});
+    }
     writeNpz(path, members);
 }
 
