@@ -29,13 +29,13 @@ struct BakeArgs {
 void runBake(BakeArgs args) {
     Stopwatch total;
     args.settings.channels = parseChannels(args.channels);
-    checkFormatHoldsChannels(args.output, args.settings.channels);
     std::string extension = std::filesystem::path(args.output).extension().string();
     for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (args.save.band > 0 && extension != ".vdb") {
         throw Error("--band applies to .vdb output only (" + args.output + ")");
     }
     refuseOverwritingInput(args.output, args.meshes);
+    if (args.settings.channels.any()) checkFormatHoldsChannels(args.output, args.settings.channels); // before the bake, not after
     const Model model(loadScene(args.meshes));
     const Mesh& mesh = model.mesh();
     if (mesh.droppedDegenerate > 0) {
