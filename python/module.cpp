@@ -121,6 +121,21 @@ DistanceMethod methodFrom(const std::string& name) {
     return it->second;
 }
 
+// Channels from "sdf,gradient" or ["sdf", "gradient"]; ValueError for an unknown name.
+Channels channelsFrom(const py::object& names) {
+    std::string list;
+    if (py::isinstance<py::str>(names)) {
+        list = names.cast<std::string>();
+    } else {
+        for (const py::handle name : names) list += (list.empty() ? "" : ",") + name.cast<std::string>();
+    }
+    try {
+        return parseChannels(list);
+    } catch (const Error& e) {
+        throw py::value_error(e.what());
+    }
+}
+
 py::dict checkToDict(const MeshCheck& c) {
     py::dict d;
     d["boundary_edges"] = c.boundaryEdges;
@@ -221,6 +236,18 @@ struct PyField {
 };
 
 py::tuple tuple3(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+// A channel of the field `self` as an (nx, ny, nz) or, for `vector`, (nx, ny, nz, 3) view of its
+// planar buffer (no copy; keeps the field alive); None when it was not baked.
+template <class T>
+py::object channelView(const py::object& self, const std::vector<T>& planes, bool vector) {
+    if (planes.empty()) return py::none();
+    const glm::ivec3 d = self.cast<const PyField&>().field.grid.dims;
+    const py::ssize_t item = sizeof(T), nx = d.x, ny = d.y, nz = d.z;
+    std::vector<py::ssize_t> shape{nx, ny, nz}, strides{item, item * nx, item * nx * ny};
+    if (vector) shape.push_back(3), strides.push_back(item * nx * ny * nz);
+    return py::array_t<T>(shape, strides, planes.data(), self);
+}
 
 } // namespace
 
@@ -350,6 +377,17 @@ PYBIND11_MODULE(sdfgen, m) {
                                           {item, item * d.x, item * d.x * d.y}, f.field.values.data(), self);
             },
             "(nx, ny, nz) float32 view of the field's values (no copy; keeps the field alive)")
+        .def_property_readonly(
+            "gradient", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.gradient, true); },
+            "(nx, ny, nz, 3) float32 view of the gradient channel: the unit gradient of the signed distance (the outward face "
+            "normal where the distance is 0); None unless baked with channels including 'gradient'")
+        .def_property_readonly(
+            "closest", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.closest, true); },
+            "(nx, ny, nz, 3) float32 view of the closest channel: the nearest surface point, world coordinates; None unless baked")
+        .def_property_readonly(
+            "triangle", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.triangle, false); },
+            "(nx, ny, nz) int32 view of the triangle channel: the nearest triangle's index (as Mesh.faces numbers them); None "
+            "unless baked")
         .def_property_readonly("dims", [](const PyField& f) { return py::make_tuple(f.field.grid.dims.x, f.field.grid.dims.y, f.field.grid.dims.z); })
         .def_property_readonly("origin", [](const PyField& f) { return tuple3(f.field.grid.origin); },
                                "The grid's minimum corner; sample (i, j, k) is at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size")
@@ -408,8 +446,9 @@ PYBIND11_MODULE(sdfgen, m) {
     m.def(
         "bake",
         [](const PyMesh& mesh, int res, double padding, const std::string& method, const std::string& sign, int threads,
-           const py::object& progress, int rays, const std::string& device) {
+           const py::object& progress, int rays, const std::string& device, const py::object& channels) {
             BakeSettings settings;
+            settings.channels = channelsFrom(channels);
             const std::map<std::string, Device> devices = {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}};
             const auto named = devices.find(device);
             if (named == devices.end()) throw py::value_error("device must be cpu, gpu or auto (got '" + device + "')");
@@ -426,9 +465,11 @@ PYBIND11_MODULE(sdfgen, m) {
         },
         py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
         py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "auto",
+        py::arg("channels") = "sdf",
         "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
         "Ctrl+C cancels. device: where exact distances and winding signs run: gpu (OpenGL 4.5 compute), cpu, or auto "
-        "(the GPU when a hardware OpenGL 4.5 driver is there).");
+        "(the GPU when a hardware OpenGL 4.5 driver is there). channels: 'sdf' or a comma-separated list (or sequence) "
+        "adding gradient, closest and triangle (method exact, on the CPU): Field.gradient, .closest, .triangle.");
 
     m.def(
         "load_field",
@@ -443,8 +484,9 @@ PYBIND11_MODULE(sdfgen, m) {
     m.def(
         "sample",
         [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double nearVariance, double farVariance,
-           double padding, const std::string& sign, int threads) {
+           double padding, const std::string& sign, int threads, const py::object& channels) {
             SampleSettings settings;
+            settings.channels = channelsFrom(channels);
             settings.seed = seed;
             settings.surfaceFraction = surfaceFraction;
             settings.nearVariance = nearVariance;
@@ -452,10 +494,19 @@ PYBIND11_MODULE(sdfgen, m) {
             settings.padding = padding;
             settings.sign = signFrom(sign);
             Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads);
-            return py::make_tuple(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}), toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
+            py::list arrays;
+            arrays.append(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}));
+            arrays.append(toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
+            if (settings.channels.gradient) arrays.append(toNumpy(std::move(samples.gradient), {py::ssize_t(n), 3}));
+            if (settings.channels.closest) arrays.append(toNumpy(std::move(samples.closest), {py::ssize_t(n), 3}));
+            if (settings.channels.triangle) arrays.append(toNumpy(std::move(samples.triangle), {py::ssize_t(n)}));
+            return py::tuple(arrays);
         },
         py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("near_variance") = 0.0025,
         py::arg("far_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
+        py::arg("channels") = "sdf",
         "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32). Defaults are DeepSDF's: 47/50 near the surface "
-        "(half with each variance, in units of the mesh normalized to the unit sphere), the rest uniform in the padded box.");
+        "(half with each variance, in units of the mesh normalized to the unit sphere), the rest uniform in the padded box. "
+        "channels ('sdf' or a list adding gradient, closest, triangle) appends, in that order, gradient (n, 3) float32, "
+        "closest (n, 3) float32 and triangle (n,) int32 to the tuple.");
 }

@@ -20,6 +20,9 @@ struct PointQueryOutputs {
     double* closestPoint = nullptr;    // world coordinates of the nearest surface point
     std::int64_t* triangle = nullptr;  // index of the nearest triangle in mesh().triangles
     double* windingNumber = nullptr;   // generalized winding number, computed exactly
+    // The unit gradient of the signed distance (3 * count, by the query's sign), as a bake's
+    // gradient channel (see Channels): sign * (p - c) / |p - c|, the outward face normal at distance 0.
+    double* gradient = nullptr;
 };
 
 // A mesh made ready for baking and point queries: the mesh, its bounding volume hierarchy (built

@@ -27,6 +27,7 @@ struct SampleSettings {
     // side, the box bake's grid covers (DeepSDF uses the cube [-1, 1]^3 of its normalized units).
     double padding = 0.1;
     SignMethod sign = SignMethod::Auto; // for the distances, as Model::query
+    Channels channels;                  // per-sample outputs besides the distance (see Channels)
 };
 
 // n points (x y z interleaved, world coordinates, float32) and their signed distances.
@@ -34,6 +35,10 @@ struct SampleSettings {
 struct Samples {
     std::vector<float> points; // 3 * n
     std::vector<float> sdf;    // n; sdf[i] == Model::query's signed distance at points[i] (as double)
+    // The channels settings.channels asks for, empty otherwise, from the same query.
+    std::vector<float> gradient;        // 3 * n, x y z interleaved: the unit gradient of the signed distance
+    std::vector<float> closest;         // 3 * n: the nearest surface point, world coordinates
+    std::vector<std::int32_t> triangle; // n: the nearest triangle's index in model.mesh().triangles
     std::size_t size() const { return sdf.size(); }
 };
 
@@ -50,8 +55,9 @@ struct SampleCounts {
 };
 SampleCounts sampleCounts(std::size_t n, const SampleSettings& settings);
 
-// Writes `points` as (n, 3) float32 and `sdf` as (n,) float32 into an .npz, atomically. Throws
-// Error naming `path`.
+// Writes `points` as (n, 3) float32 and `sdf` as (n,) float32 into an .npz, atomically, and the
+// channels present: gradient and closest (n, 3) float32, triangle (n,) int32. Throws Error naming
+// `path`.
 void saveSamples(const Samples& samples, const std::string& path);
 
 } // namespace sdfgen

@@ -16,13 +16,15 @@ struct SampleArgs {
     std::string output;
     std::size_t count = 0;
     SampleSettings settings;
+    std::string channels = "sdf";
     int threads = 0;
 };
 
-void runSample(const SampleArgs& args) {
+void runSample(SampleArgs args) {
     Stopwatch clock;
     refuseOverwritingInput(args.output, {args.mesh});
     RunControl control = commandControl(args.threads);
+    args.settings.channels = parseChannels(args.channels);
     const Model model = Model::load(args.mesh, control);
     Samples samples;
     {
@@ -60,7 +62,11 @@ void addSampleCommand(CLI::App& app) {
     CLI::App* sample = app.add_subcommand("sample", "Draw DeepSDF-style samples (points and signed distances) and save them as .npz");
     sample->add_option("mesh", args->mesh, "Input mesh")->required();
     sample->add_option("-n,--count", args->count, "Number of samples")->required()->check(wholeNumber(1, std::uint64_t(1) << 34));
-    sample->add_option("-o,--output", args->output, "Output .npz with points (n, 3) and sdf (n,), float32")->required();
+    sample->add_option("-o,--output", args->output, "Output .npz with points (n, 3) and sdf (n,), float32, and the channels asked for")->required();
+    sample->add_option("--channels", args->channels,
+                       "What each sample holds, comma-separated: sdf (always), gradient (the unit gradient, (n, 3) float32), "
+                       "closest (the nearest surface point, (n, 3) float32), triangle (the nearest triangle's index, (n,) int32)")
+        ->capture_default_str();
     addSampleOptions(*sample, args->settings);
     sample->add_option("--padding", args->settings.padding, "Margin of the box the uniform samples fill, as a fraction of the mesh's longest side")
         ->check(finiteRange(0.0, 100.0))

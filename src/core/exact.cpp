@@ -79,8 +79,8 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
 }
 
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
-                       float* values, const RunControl& control) {
-    kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control);
+                       float* values, const RunControl& control, const ChannelOutputs* channels) {
+    kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control, channels);
 }
 
 float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipped, const glm::dvec3& p, std::uint32_t t) {

@@ -111,7 +111,10 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double triangles = double(mesh.triangleCount()), vertices = double(mesh.positions.size());
     constexpr double kFloat = 4, kFlag = 1;
-    const double result = samples * kFloat; // the field's values
+    // The field's values and the channels asked for (gradient and closest point: three floats each).
+    const Channels& channels = settings.channels;
+    const double result = samples * (kFloat + (channels.gradient ? 3 * kFloat : 0) + (channels.closest ? 3 * kFloat : 0) +
+                                     (channels.triangle ? sizeof(std::int32_t) : 0));
 
     if (settings.method == DistanceMethod::Brute) return std::uint64_t(result + triangles * 3 * sizeof(glm::dvec3));
 

@@ -44,6 +44,10 @@ struct DistancePass {
     std::vector<float> distance;
     bool signedAsAsked = false;
     std::optional<std::vector<std::uint8_t>> inside;
+    // The channels the settings ask for (exact method), in Field's layout; the gradient points away
+    // from the surface until bake() signs it (see ChannelOutputs).
+    std::vector<float> gradient, closest;
+    std::vector<std::int32_t> triangle;
 };
 
 struct DistanceMethodInfo {

@@ -123,23 +123,24 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     const Impl& m = *impl_;
     const Mesh& mesh = m.mesh;
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
-    const bool needNearest = out.signedDistance || out.unsignedDistance || out.closestPoint || out.triangle;
+    const bool needSign = out.signedDistance || out.gradient;
+    const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle;
     // Every sign a query takes reads the topology: built beside the wide tree (as in bake), each
     // alone leaving a core idle.
-    if (out.signedDistance && (sign == SignMethod::Auto || sign == SignMethod::Winding || sign == SignMethod::Pseudonormal)) {
+    if (needSign && (sign == SignMethod::Auto || sign == SignMethod::Winding || sign == SignMethod::Pseudonormal)) {
         parallelInvoke(
             quiet(control), [&] { if (needNearest) m.wide(quiet(control)); }, [&] { m.topology(quiet(control)); });
     }
     // As bake: auto swaps the pseudonormal's inside and outside on an inside-out mesh (the winding
     // sign, |w| > 1/2, needs no swap).
     bool flipped = false;
-    if (out.signedDistance && sign == SignMethod::Auto) {
+    if (needSign && sign == SignMethod::Auto) {
         const MeshCheck& edges = m.topology(quiet(control)).edgeCheck(); // as bake: no search when the edges decide
         const MeshCheck& check = edges.closedAndClean() ? m.check(quiet(control)) : edges;
         flipped = check.insideOut;
         sign = resolveAutoSign(check);
     }
-    if (out.signedDistance && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
+    if (needSign && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
         throw Error(std::string("point queries sign by auto, winding or pseudonormal, not ") + toString(sign));
     }
     if (count > std::numeric_limits<std::uint32_t>::max()) throw Error("more than 4294967295 query points in one call");
@@ -170,7 +171,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             }
         }
     }
-    const bool needWinding = out.windingNumber || (out.signedDistance && sign == SignMethod::Winding);
+    const bool needWinding = out.windingNumber || (needSign && sign == SignMethod::Winding);
     // Build what the workers share before they start.
     const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
     if (needWinding) m.caps(quiet(control));
@@ -222,14 +223,20 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     const glm::dvec3 world = mesh.toWorld(closest.point);
                     for (int a = 0; a < 3; ++a) out.closestPoint[3 * index + std::size_t(a)] = world[a];
                 }
-                if (out.signedDistance) {
+                if (needSign) {
                     bool inside;
                     if (sign == SignMethod::Pseudonormal) {
                         inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                     } else {
                         inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p));
                     }
-                    out.signedDistance[index] = inside ? -distance : distance;
+                    if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
+                    if (out.gradient) {
+                        // As the bake's gradient channel (exact_kernel.inc's writeChannels, then signed by the value).
+                        const glm::dvec3 g = distance == 0.0f ? glm::dvec3(mesh.faceNormals[t]) * (flipped ? -1.0 : 1.0)
+                                                              : (p - closest.point) / std::sqrt(closest.distanceSquared) * (inside ? -1.0 : 1.0);
+                        for (int a = 0; a < 3; ++a) out.gradient[3 * index + std::size_t(a)] = g[a];
+                    }
                 }
             }
             if (out.windingNumber) {

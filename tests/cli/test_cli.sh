@@ -93,6 +93,30 @@ expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.vdb" --res 
 expect 1 '^sdfgen: --band applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
 expect 1 "x.xyz: unknown field format '.xyz'; known: .sdf, .npy, .npz, .vdb, .nrrd" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.xyz" --res 4
 expect fail '' -- test -e "$work/x.xyz"
+# Channels beside the distance: into .npz and .vdb; refused up front, in one line naming the way
+# out, for formats that hold the distance only, for methods that find no nearest triangle, and
+# for unknown names.
+expect 0 '^channels: sdf,gradient,closest,triangle$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/ch.npz" --res 8 --channels sdf,gradient,closest,triangle
+expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/ch.npz"
+expect 0 '^channels: sdf,triangle$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/ch.vdb" --res 8 --channels triangle --band 2
+for ext in sdf npy nrrd; do
+  expect 1 "^sdfgen: $work/ch.$ext: .$ext holds the distance \(sdf\) only; for channels gradient write .npz or .vdb$" -- \
+    "$sdfgen" bake "$work/tet.obj" -o "$work/ch.$ext" --res 8 --channels gradient
+  expect fail '' -- test -e "$work/ch.$ext"
+done
+expect 1 '^sdfgen: channels closest: only the exact method finds the nearest triangle they come from; --method rays gives the distance \(sdf\) only$' -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels closest --method rays
+expect 1 "^sdfgen: unknown channel 'normals' \(expected a comma-separated list of sdf, gradient, closest, triangle\)$" -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels sdf,normals
+# A target that is not a regular file (a pipe) gets the archive written through.
+mkfifo "$work/pipe.npz"
+timeout 20 cat "$work/pipe.npz" >"$work/piped.npz" &
+reader=$!
+expect 0 'voxels/s' -- timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/pipe.npz" --res 8 --channels gradient
+wait $reader
+expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/piped.npz"
+expect 0 '10 samples' -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/ch-samples.npz" --channels gradient,triangle
+expect 1 "^sdfgen: unknown channel 'normals'" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/x.npz" --channels normals
 printf 'not numpy' >"$work/bad.npy"
 expect 1 "^sdfgen: $work/bad.npy: not a NumPy .npy file" -- "$sdfgen" compare "$work/bad.npy" "$work/tet.npy"
 # Meshes in other formats (assimp-utils writes them when installed).
