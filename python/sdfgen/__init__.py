@@ -4,11 +4,13 @@ Meshes (Mesh.load, Mesh(vertices, faces)), bakes (bake, load_field), point queri
 methods) and samples (sample) take and give numpy arrays; sdfgen.torch gives the same queries on
 torch tensors, with gradients (``import sdfgen.torch``; importing sdfgen alone never loads torch).
 """
-from ._sdfgen import Error, Field, Mesh, __version__, bake, load_field, sample
+from . import _sdfgen
+from ._sdfgen import *  # noqa: F401,F403 (every public name of the compiled module)
+from ._sdfgen import __version__  # noqa: F401
 
 # The classes as users name them (the compiled module is an implementation detail).
-for _public in (Error, Field, Mesh):
-    _public.__module__ = __name__
-del _public
-
-__all__ = ["Error", "Field", "Mesh", "__version__", "bake", "load_field", "sample"]
+for _name in dir(_sdfgen):
+    _value = getattr(_sdfgen, _name)
+    if isinstance(_value, type) and _value.__module__ == _sdfgen.__name__:
+        _value.__module__ = __name__
+del _name, _value
