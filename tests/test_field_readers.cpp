@@ -262,7 +262,7 @@ TEST_F(FieldReaders, DegenerateGridsAreRefusedByEveryFormat) {
         const char* problem;
     };
     const Case cases[] = {
-        {{0, 0, 0}, 1e-320, "voxel size 9.9998886718268301e-321 is not a positive normal float32"},
+        {{0, 0, 0}, 1e-320, "voxel size 1e-320 is not a positive normal float32 (1.1754943508222875e-38 to 3.4028234663852886e+38)"},
         {{0, 0, 0}, 1e-39, "is not a positive normal float32"},
         {{0, 0, 0}, 1e300, "is not a positive normal float32"},
         {{1.7e308, 0, 0}, 0.5, "reaches beyond float32's range"},

@@ -4,6 +4,7 @@
 #include "sdfgen/error.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -42,10 +43,9 @@ void checkGrid(const Grid& grid, const std::string& path) {
         throw Error(path + ": grid origin is not finite");
     }
     const double h = grid.voxel;
-    auto text = [](double v) {
+    auto text = [](double v) { // the shortest text that reads back as v
         char buffer[32];
-        std::snprintf(buffer, sizeof buffer, "%.17g", v);
-        return std::string(buffer);
+        return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
     };
     if (!(h >= double(std::numeric_limits<float>::min())) || !(h <= double(std::numeric_limits<float>::max()))) {
         throw Error(path + ": voxel size " + text(h) + " is not a positive normal float32 (" +
