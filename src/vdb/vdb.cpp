@@ -375,6 +375,8 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
     double h = 0;
     openvdb::Vec3d translation;
     linearMap(grid.transform(), h, translation, path);
+    // What the writer could not write back (a transform OpenVDB itself refuses to make).
+    if (!representableVoxel(h)) throw Error(path + ": the grid's voxel size " + std::to_string(h) + " is below what an OpenVDB transform can hold");
     const SdfgenMetadata meta = sdfgenMetadata(grid, path);
 
     Field field;
