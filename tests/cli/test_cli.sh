@@ -285,6 +285,27 @@ expect 1 "^sdfgen: $work/nan.vdb: " -- "$sdfgen" surface "$work/nan.vdb" -o "$wo
 cp "$work/h.npz" "$work/claims.npz" # sdf.npy (the first member) claims 4 GB in its local header
 patch "$work/claims.npz" 22 80 28 6b ee
 expect 1 "^sdfgen: $work/claims.npz: " -- cap "$sdfgen" surface "$work/claims.npz" -o "$work/x.obj"
+# A 3.9 MB zip bomb: sdf.npy declares 1000^3 float32 (4 GB) and deflates to 3.9 MB (each MiB of
+# zeros after a full flush compresses to the same bytes); within deflate's ratio, refused by memory.
+if command -v python3 >/dev/null; then
+  python3 - "$work/bomb.npz" <<'PY'
+import struct, sys, zlib
+head = b"{'descr': '<f4', 'fortran_order': True, 'shape': (1000, 1000, 1000), }"
+head = b"\x93NUMPY\x01\x00" + struct.pack("<H", 118) + head.ljust(117) + b"\n"
+z = zlib.compressobj(9, zlib.DEFLATED, -15)
+data = [z.compress(head) + z.flush(zlib.Z_FULL_FLUSH)]
+mib = z.compress(bytes(1 << 20)) + z.flush(zlib.Z_FULL_FLUSH)
+data += [mib] * 3814 + [z.compress(bytes(4000000000 - 3814 * (1 << 20))) + z.flush()]
+data = b"".join(data)
+size, name = len(head) + 4000000000, b"sdf.npy"
+local = struct.pack("<4sHHHHHIIIHH", b"PK\x03\x04", 20, 0, 8, 0, 0, 0, len(data), size, len(name), 0) + name
+central = struct.pack("<4sHHHHHHIIIHHHHHII", b"PK\x01\x02", 20, 20, 0, 8, 0, 0, 0, len(data), size, len(name), 0, 0, 0, 0, 0, 0) + name
+end = struct.pack("<4sHHHHIIH", b"PK\x05\x06", 0, 0, 1, 1, len(central), len(local) + len(data), 0)
+open(sys.argv[1], "wb").write(local + data + central + end)
+PY
+  expect 0 '' -- test "$(stat -c %s "$work/bomb.npz")" -lt 4200000
+  expect 1 "^sdfgen: $work/bomb.npz: sdf.npy: (not enough memory|dimensions 1000x1000x1000 too large)" -- cap "$sdfgen" surface "$work/bomb.npz" -o "$work/x.obj"
+fi
 printf 'sdfgen-text 1\nsource s\ndims 2 2 2\norigin 0 0 0\nvoxel 1e-320\nmethod m\nvalues\n' >"$work/denormal.sdf"
 for _ in 1 2 3 4 5 6 7 8; do echo 1 >>"$work/denormal.sdf"; done
 expect 1 "^sdfgen: $work/denormal.sdf: voxel size [0-9.e-]+ is not a positive normal float32" -- "$sdfgen" surface "$work/denormal.sdf" -o "$work/x.obj"
