@@ -386,9 +386,6 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
     grid.tree().evalActiveVoxelBoundingBox(active);
     if (meta.present) {
         // Written by sdfgen: the exact grid, which must agree with the transform and the tree.
-        const std::uint64_t extent[3] = {std::uint64_t(std::max(0, meta.dims[0])), std::uint64_t(std::max(0, meta.dims[1])),
-                                         std::uint64_t(std::max(0, meta.dims[2]))};
-        checkDimsFit(extent, path);
         for (int a = 0; a < 3; ++a) {
             field.grid.dims[a] = meta.dims[a];
             field.grid.origin[a] = meta.origin[a];
@@ -409,6 +406,8 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
             throw Error(path + ": sdfgen_dims " + dimsText + " says " + std::to_string(box.volume()) + " samples, the dense grid holds " +
                         std::to_string(grid.tree().activeVoxelCount()));
         }
+        const std::uint64_t extent[3] = {std::uint64_t(meta.dims[0]), std::uint64_t(meta.dims[1]), std::uint64_t(meta.dims[2])};
+        checkDimsFit(extent, path);
         if (meta.hasMethod) parseMethodLine(meta.method, field, path);
         if (meta.hasSource) field.source = meta.source;
     } else {
