@@ -19,6 +19,8 @@
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
+#include <array>
+#include <set>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -31,6 +33,7 @@ namespace sdfgen::formats {
 namespace {
 
 constexpr const char* kGridName = "surface";
+constexpr const char* kFloatTreeType = "Tree_float_5_4_3";
 
 using DenseField = openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ>; // x fastest, like Field::values
 
@@ -55,18 +58,27 @@ public:
             fail("OpenVDB file format version " + std::to_string(version_) + " is not supported (sdfgen reads " +
                  std::to_string(openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) + " to " + std::to_string(openvdb::OPENVDB_FILE_VERSION) + ")");
         }
-        skip(8, "the library version");
+        const std::uint32_t libraryMajor = read<std::uint32_t>("the library version");
+        const std::uint32_t libraryMinor = read<std::uint32_t>("the library version");
+        openvdb::io::setVersion(in_, openvdb::VersionId(libraryMajor, libraryMinor), version_); // for Transform::read
         const bool hasOffsets = read<char>("the grid offsets flag") != 0;
         skip(36, "the file's UUID");
         metaMap("the file's metadata");
         const std::int32_t grids = read<std::int32_t>("the grid count");
         // A descriptor and its grid take at least 48 bytes (six lengths and counts, three offsets).
-        if (grids < 1 || std::uint64_t(grids) > (size_ - pos_) / 48) fail("not a readable OpenVDB file: it claims " + std::to_string(grids) + " grids, more than its remaining " + std::to_string(size_ - pos_) + " bytes hold");
+        if (grids < 1 || std::uint64_t(grids) > (size_ - pos_) / 48) {
+            fail("not a readable OpenVDB file: it claims " + std::to_string(grids) + " grids, more than its remaining " + std::to_string(size_ - pos_) + " bytes hold");
+        }
         for (std::int32_t g = 0; g < grids; ++g) {
             const std::string what = "grid " + std::to_string(g);
             string(what + "'s name");
-            string(what + "'s type");
-            string(what + "'s instance parent");
+            const std::string type = string(what + "'s type");
+            const bool instance = !string(what + "'s instance parent").empty();
+            // OpenVDB reads every grid of the file; sdfgen can check the layout of float grids.
+            const bool half = type == kFloatTreeType + std::string("_HalfFloat");
+            if (type != kFloatTreeType && !half) {
+                fail("grid " + std::to_string(g) + " is of type '" + printable(type) + "' (sdfgen reads files of float grids, " + kFloatTreeType + ")");
+            }
             const std::int64_t gridPos = read<std::int64_t>(what + "'s offsets");
             const std::int64_t blockPos = read<std::int64_t>(what + "'s offsets");
             const std::int64_t endPos = read<std::int64_t>(what + "'s offsets");
@@ -74,16 +86,13 @@ public:
                 fail(what + "'s offsets (" + std::to_string(gridPos) + ", " + std::to_string(blockPos) + ", " + std::to_string(endPos) +
                      ") do not lie in the file's " + std::to_string(size_) + " bytes");
             }
-            skip(4, what + "'s compression flags");
+            const std::uint32_t compression = read<std::uint32_t>(what + "'s compression flags");
             metaMap(what + "'s metadata");
-            string(what + "'s transform type");
-            if (g + 1 == grids) break;
-            // The next descriptor follows the grid's tree; without offsets, only OpenVDB's reading
-            // of the tree finds where that ends.
-            if (!hasOffsets) fail("holds " + std::to_string(grids) + " grids written as a stream, without grid offsets (sdfgen reads such files with one grid)");
-            if (std::uint64_t(endPos) < pos_) fail(what + " ends (at byte " + std::to_string(endPos) + ") before its transform");
-            seek(std::uint64_t(endPos));
+            transform(what + "'s transform");
+            if (!instance) tree(compression, half, what + "'s tree");
+            if (hasOffsets && std::uint64_t(endPos) != pos_) fail(what + " ends at byte " + std::to_string(pos_) + ", not at its end offset " + std::to_string(endPos));
         }
+        if (pos_ != size_) fail("not a readable OpenVDB file (" + std::to_string(size_ - pos_) + " bytes after the last grid)");
     }
 
 private:
@@ -111,7 +120,103 @@ private:
         in_.seekg(std::streamoff(to));
         pos_ = to;
     }
-    void string(const std::string& what) { skip(read<std::uint32_t>(what), what); }
+    std::string string(const std::string& what) {
+        const std::uint32_t length = read<std::uint32_t>(what);
+        need(length, what);
+        std::string text(length, '\0');
+        in_.read(text.data(), length);
+        pos_ += length;
+        return text;
+    }
+    // The transform: its type name (checked above), then a fixed-size map that OpenVDB reads.
+    void transform(const std::string& what) {
+        const std::uint64_t start = pos_;
+        string(what);
+        in_.seekg(std::streamoff(start));
+        openvdb::math::Transform transform;
+        transform.read(in_);
+        if (!in_) fail("not a readable OpenVDB file: " + what + " reaches past the end of the file");
+        pos_ = std::uint64_t(in_.tellg());
+    }
+    // A FloatTree (root, internal nodes of 32^3 and 16^3, leaves of 8^3): its topology, then each
+    // leaf's values, laid out as RootNode, InternalNode and LeafNode read them (file versions
+    // 222-224). Every node read stands for bytes in the file, and every compressed block's size
+    // is checked against the bytes left.
+    void tree(std::uint32_t compression, bool half, const std::string& what) {
+        skip(4, what); // buffer count
+        skip(4, what); // background
+        const std::uint32_t tiles = read<std::uint32_t>(what);
+        const std::uint32_t children = read<std::uint32_t>(what);
+        if (std::uint64_t(tiles) * 17 + std::uint64_t(children) * 12 > size_ - pos_) fail("not a readable OpenVDB file: " + what + " claims more nodes than the file holds");
+        // RootNode keeps one node per origin: a repeated origin would replace a node read before.
+        std::set<std::array<std::int32_t, 3>> origins;
+        auto origin = [&]() {
+            std::array<std::int32_t, 3> xyz;
+            for (std::int32_t& v : xyz) v = read<std::int32_t>(what);
+            if (!origins.insert(xyz).second) fail("not a readable OpenVDB file: " + what + " has two root nodes at one origin");
+        };
+        for (std::uint32_t t = 0; t < tiles; ++t) {
+            origin();
+            skip(5, what); // value and active flag
+        }
+        std::uint64_t leaves = 0;
+        for (std::uint32_t c = 0; c < children; ++c) {
+            origin();
+            const std::uint64_t middle = internalNode(5, compression, half, what);
+            for (std::uint64_t m = 0; m < middle; ++m) leaves += internalNode(4, compression, half, what);
+        }
+        for (std::uint64_t l = 0; l < leaves; ++l) values(512, mask(512, what), compression, half, what);
+    }
+    // An internal node of 2^(3 log2Dim) entries: child and value masks, its tile values; returns
+    // its number of children.
+    std::uint64_t internalNode(int log2Dim, std::uint32_t compression, bool half, const std::string& what) {
+        const std::uint64_t entries = std::uint64_t(1) << (3 * log2Dim);
+        const std::uint64_t childCount = mask(entries, what);
+        const std::uint64_t activeCount = mask(entries, what);
+        values(entries, activeCount, compression, half, what);
+        if (log2Dim == 4) {
+            for (std::uint64_t c = 0; c < childCount; ++c) skip(64, what); // the leaves' value masks
+        }
+        return childCount;
+    }
+    // A bit mask of `bits` bits; returns how many are set.
+    std::uint64_t mask(std::uint64_t bits, const std::string& what) {
+        need(bits / 8, what);
+        std::vector<std::uint64_t> words(bits / 64);
+        in_.read(reinterpret_cast<char*>(words.data()), std::streamsize(bits / 8));
+        pos_ += bits / 8;
+        std::uint64_t count = 0;
+        for (const std::uint64_t w : words) count += std::uint64_t(__builtin_popcountll(w));
+        return count;
+    }
+    // io::readCompressedValues: a flag saying what is implied by the mask, one or two inactive
+    // values, a selection mask, then the values (all, or only the active ones), raw or as a
+    // zip or Blosc block with its byte count before it.
+    void values(std::uint64_t count, std::uint64_t active, std::uint32_t compression, bool half, const std::string& what) {
+        const std::int8_t flag = read<std::int8_t>(what);
+        if (flag == openvdb::io::NO_MASK_AND_ONE_INACTIVE_VAL || flag == openvdb::io::MASK_AND_ONE_INACTIVE_VAL ||
+            flag == openvdb::io::MASK_AND_TWO_INACTIVE_VALS) {
+            skip(flag == openvdb::io::MASK_AND_TWO_INACTIVE_VALS ? 8 : 4, what);
+        }
+        if (flag == openvdb::io::MASK_AND_NO_INACTIVE_VALS || flag == openvdb::io::MASK_AND_ONE_INACTIVE_VAL ||
+            flag == openvdb::io::MASK_AND_TWO_INACTIVE_VALS) {
+            skip(count / 8, what);
+        }
+        if ((compression & openvdb::io::COMPRESS_ACTIVE_MASK) && flag != openvdb::io::NO_MASK_AND_ALL_VALS) count = active;
+        if (half && count == 0) return; // io::HalfReader reads nothing for no values
+        const std::uint64_t bytes = count * (half ? 2 : 4);
+        if (compression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP)) {
+            const std::int64_t stored = read<std::int64_t>(what);
+            if (stored <= 0 && std::uint64_t(-(stored + 1)) + 1 != bytes) { // -stored, without overflow
+                fail("not a readable OpenVDB file: " + what + " has a raw block of " + std::to_string(stored) + " bytes for " + std::to_string(bytes));
+            }
+            skip(stored <= 0 ? bytes : std::uint64_t(stored), what);
+        } else {
+            skip(bytes, what);
+        }
+    }
+
+
     // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes.
     void metaMap(const std::string& what) {
         const std::int32_t count = read<std::int32_t>(what);
@@ -163,7 +268,8 @@ private:
             if (stored < 16 || stored > end - pos_) fail(problem);
             std::uint32_t header[4];
             in_.read(reinterpret_cast<char*>(header), sizeof header);
-            if (header[1] != count * itemBytes || header[3] > stored) fail(problem);
+            // OpenVDB pads what it compresses to at least 128 bytes.
+            if (header[1] < count * itemBytes || header[1] > std::max<std::uint64_t>(count * itemBytes, 128) || header[3] > stored) fail(problem);
             seek(pos_ + stored);
         }
         if (pos_ > end) fail(problem);

@@ -42,7 +42,7 @@ fuzz() {
   echo "fuzz_$h: ${seconds} s"
   # -rss_limit_mb and -malloc_limit_mb catch memory blow-ups (the loaders must refuse, not
   # allocate, what they cannot hold).
-  ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS="suppressions=$root/tests/lsan.supp" \
     "$build/tests/fuzz/fuzz_$h" "$corpus" "$root/tests/fuzz/corpus/$h" -max_total_time="$seconds" -dict="$dict" \
     -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=10 -max_len=$max_len -artifact_prefix="$crashes/" -print_final_stats=1 \
     >"$log" 2>&1 || { tail -n 60 "$log"; echo "fuzz_$h found a problem: see $crashes"; return 1; }
