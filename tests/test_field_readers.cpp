@@ -11,6 +11,9 @@
 #include "support/checks.hpp"
 
 #include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetSphere.h>
 #include <zip.h>
 
 #include <cmath>
@@ -373,6 +376,43 @@ TEST_F(VdbReader, NonFiniteTransformsAreRefused) {
         EXPECT_EQ(message.rfind(file, 0), 0u) << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     }
+}
+
+TEST_F(VdbReader, FilesOfSeveralFloatGridsWithOffsetsLoadAndOtherGridTypesAreRefused) {
+    // io::File writes grid offsets, Blosc blocks and (when asked) half floats; every float grid's
+    // layout is walked, the one named "surface" is read.
+    openvdb::initialize();
+    auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(1.0f, openvdb::Vec3f(0.0f), 0.25f, 3.0f);
+    sphere->setName("surface");
+    auto halves = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(0.5f, openvdb::Vec3f(0.0f), 0.25f, 3.0f);
+    halves->setName("halves");
+    halves->setSaveFloatAsHalf(true);
+    openvdb::io::File(path("several.vdb")).write({halves, sphere});
+    const Field field = loadField(path("several.vdb"));
+    const openvdb::CoordBBox box = sphere->evalActiveVoxelBoundingBox();
+    EXPECT_EQ(field.grid.dims, glm::ivec3(box.dim().x(), box.dim().y(), box.dim().z()));
+    auto vectors = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    vectors->tree().setValue(openvdb::Coord(1, 2, 3), openvdb::Vec3s(1.0f));
+    openvdb::io::File(path("vectors.vdb")).write({sphere, vectors});
+    expectLoadError(path("vectors.vdb"), "grid 1 is of type 'Tree_vec3s_5_4_3' (sdfgen reads files of float grids, Tree_float_5_4_3)");
+}
+
+TEST_F(VdbReader, CompressedBlockSizesAreCheckedAgainstTheFile) {
+    // A banded grid's leaves are Blosc blocks, each after its byte count: claim 2^40 bytes.
+    Field field = sphereField(0.125);
+    saveField(field, path("band.vdb"), SaveOptions{2.0});
+    std::string bytes = readBytes(path("band.vdb"));
+    // The last leaf's block is the last thing in the file; find its count by trying each
+    // position from the end (a count is followed by exactly that many bytes up to the end).
+    std::size_t count = 0;
+    for (std::size_t at = bytes.size() - 16; at > bytes.size() - 4096 && count == 0; --at) {
+        std::int64_t stored;
+        std::memcpy(&stored, &bytes[at], 8);
+        if (stored > 0 && std::size_t(stored) == bytes.size() - at - 8) count = at;
+    }
+    ASSERT_NE(count, 0u);
+    put<std::int64_t>(bytes, count, std::int64_t(1) << 40);
+    expectLoadError(write("block.vdb", bytes), "reach past the end of the file's");
 }
 
 TEST_F(VdbReader, OneByteMutantsAreLoadedOrRefusedInOneLine) {
