@@ -41,12 +41,11 @@ openvdb::CoordBBox indexBox(const Grid& grid) {
     return openvdb::CoordBBox(openvdb::Coord(0, 0, 0), openvdb::Coord(grid.dims.x - 1, grid.dims.y - 1, grid.dims.z - 1));
 }
 
-// The parts of a VDB file that OpenVDB sizes its allocations by before it reads what they
-// describe: the header, the metadata (names and values of any length) and each grid's descriptor
-// and transform type. Each size is checked against the bytes the file has left, so that a
-// corrupt count or length is refused here, before OpenVDB would allocate it. (The tree is read
-// by OpenVDB from a stream that throws at the first byte past the end, so a tree's counts cannot
-// make it allocate more than a few times the file's size.)
+// A walk through a whole VDB file as OpenVDB will read it (header, metadata, grid descriptors,
+// transforms, trees), without keeping anything: OpenVDB allocates what a count or length claims
+// before it reads what it describes (strings, metadata values, compressed blocks), so each one is
+// checked here against the bytes the file has left and a corrupt one is refused before OpenVDB
+// sees the file.
 class VdbLayout {
 public:
     VdbLayout(std::istream& in, std::uint64_t fileBytes, const std::string& path) : in_(in), size_(fileBytes), path_(path) {}
