@@ -288,7 +288,7 @@ TEST_F(FieldReaders, DegenerateGridsAreRefusedByEveryFormat) {
         char voxel[40], origin[40];
         std::snprintf(voxel, sizeof voxel, "%.17g", c.voxel);
         std::snprintf(origin, sizeof origin, "%.17g", c.origin.x);
-        std::string text = "sdfgen-text 1\nsource s\ndims 1 1 1\norigin " + std::string(origin) + " 0 0\nvoxel " + voxel + "\nmethod m\nvalues\n0\n";
+        std::string text = "sdfgen-text 1\nsource s\ndims 2 1 1\norigin " + std::string(origin) + " 0 0\nvoxel " + voxel + "\nmethod m\nvalues\n0\n0\n";
         expectLoadError(write("degenerate.sdf", text), c.problem);
         saveField(smallField(), path("ok.nrrd"));
         const std::string nrrd = readBytes(path("ok.nrrd"));

@@ -51,20 +51,19 @@ void checkGrid(const Grid& grid, const std::string& path) {
         throw Error(path + ": voxel size " + text(h) + " is not a positive normal float32 (" +
                     text(std::numeric_limits<float>::min()) + " to " + text(std::numeric_limits<float>::max()) + ")");
     }
-    double largest = 0; // the largest coordinate magnitude of the grid's corners
     for (int a = 0; a < 3; ++a) {
         const double low = grid.origin[a], high = grid.origin[a] + double(grid.dims[a]) * h;
-        largest = std::max({largest, std::fabs(low), std::fabs(high)});
-    }
-    if (!(largest <= double(std::numeric_limits<float>::max()))) {
-        throw Error(path + ": grid (origin " + text(grid.origin.x) + " " + text(grid.origin.y) + " " + text(grid.origin.z) +
-                    ", voxel size " + text(h) + ") reaches beyond float32's range");
-    }
-    // Neighbouring samples must be distinct points: a voxel size far below the spacing of the
-    // numbers at the grid's coordinates would put them on top of each other.
-    if (h < largest * 0x1p-40) {
-        throw Error(path + ": voxel size " + text(h) + " is too small for coordinates as large as " + text(largest) +
-                    " (neighbouring samples would coincide)");
+        const double largest = std::max(std::fabs(low), std::fabs(high));
+        if (!(largest <= double(std::numeric_limits<float>::max()))) {
+            throw Error(path + ": grid (origin " + text(grid.origin.x) + " " + text(grid.origin.y) + " " + text(grid.origin.z) +
+                        ", voxel size " + text(h) + ") reaches beyond float32's range");
+        }
+        // Neighbouring samples must be distinct points: a voxel size far below the spacing of the
+        // numbers at the grid's coordinates would put them on top of each other.
+        if (grid.dims[a] > 1 && h < largest * 0x1p-40) {
+            throw Error(path + ": voxel size " + text(h) + " is too small for coordinates as large as " + text(largest) +
+                        " (neighbouring samples would coincide)");
+        }
     }
 }
 
