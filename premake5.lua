@@ -300,6 +300,7 @@ if not _OPTIONS["no-tests"] then
       sdfgen_use_gtest()
       sdfgen_use_core()
       sdfgen_use_openvdb()   -- the format tests read VDB files themselves
+      links { "zip" }   -- the field reader tests write hostile .npz archives themselves
       links { "gmpxx", "gmp" }   -- GMP's rationals, the exact reference of the predicate tests
 
    if SDFGEN_VIEWER then

@@ -378,9 +378,10 @@ TEST_F(VdbReader, NonFiniteTransformsAreRefused) {
     }
 }
 
-TEST_F(VdbReader, FilesOfSeveralFloatGridsWithOffsetsLoadAndOtherGridTypesAreRefused) {
-    // io::File writes grid offsets, Blosc blocks and (when asked) half floats; every float grid's
-    // layout is walked, the one named "surface" is read.
+TEST_F(VdbReader, FilesOfSeveralGridsWithOffsetsLoadAndOtherGridTypesAreRefused) {
+    // io::File writes grid offsets, Blosc blocks and (when asked) half floats; the layout of every
+    // grid of a type sdfgen writes (float, and its channels' Vec3s and Int32) is walked, the one
+    // named "surface" is read.
     openvdb::initialize();
     auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(1.0f, openvdb::Vec3f(0.0f), 0.25f, 3.0f);
     sphere->setName("surface");
@@ -393,8 +394,19 @@ TEST_F(VdbReader, FilesOfSeveralFloatGridsWithOffsetsLoadAndOtherGridTypesAreRef
     EXPECT_EQ(field.grid.dims, glm::ivec3(box.dim().x(), box.dim().y(), box.dim().z()));
     auto vectors = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     vectors->tree().setValue(openvdb::Coord(1, 2, 3), openvdb::Vec3s(1.0f));
-    openvdb::io::File(path("vectors.vdb")).write({sphere, vectors});
-    expectLoadError(path("vectors.vdb"), "grid 1 is of type 'Tree_vec3s_5_4_3' (sdfgen reads files of float grids, Tree_float_5_4_3)");
+    vectors->tree().setValue(openvdb::Coord(40, 2, 3), openvdb::Vec3s(2.0f));
+    auto halfVectors = vectors->deepCopy();
+    halfVectors->setName("half vectors");
+    halfVectors->setSaveFloatAsHalf(true);
+    auto indices = openvdb::Int32Grid::create(-1);
+    indices->tree().setValue(openvdb::Coord(1, 2, 3), 7);
+    openvdb::io::File(path("channels.vdb")).write({vectors, sphere, halfVectors, indices});
+    EXPECT_EQ(loadField(path("channels.vdb")).values, field.values);
+    auto flags = openvdb::BoolGrid::create(false);
+    flags->tree().setValue(openvdb::Coord(1, 2, 3), true);
+    openvdb::io::File(path("flags.vdb")).write({sphere, flags});
+    expectLoadError(path("flags.vdb"),
+                    "grid 1 is of type 'Tree_bool_5_4_3' (sdfgen reads files of float grids, Tree_float_5_4_3, beside Vec3s and Int32 grids)");
 }
 
 TEST_F(VdbReader, CompressedBlockSizesAreCheckedAgainstTheFile) {

@@ -77,11 +77,9 @@ public:
             string(what + "'s name");
             const std::string type = string(what + "'s type");
             const bool instance = !string(what + "'s instance parent").empty();
-            // OpenVDB reads every grid of the file; sdfgen can check the layout of float grids.
-            const bool half = type == kFloatTreeType + std::string("_HalfFloat");
-            if (type != kFloatTreeType && !half) {
-                fail("grid " + std::to_string(g) + " is of type '" + printable(type) + "' (sdfgen reads files of float grids, " + kFloatTreeType + ")");
-            }
+            // OpenVDB reads every grid of the file; sdfgen checks the layout of the grid types it
+            // writes (the distance and its channels).
+            const ValueLayout layout = valueLayout(type, what);
             const std::int64_t gridPos = read<std::int64_t>(what + "'s offsets");
             const std::int64_t blockPos = read<std::int64_t>(what + "'s offsets");
             const std::int64_t endPos = read<std::int64_t>(what + "'s offsets");
@@ -92,13 +90,31 @@ public:
             const std::uint32_t compression = read<std::uint32_t>(what + "'s compression flags");
             metaMap(what + "'s metadata");
             transform(what + "'s transform");
-            if (!instance) tree(compression, half, what + "'s tree");
+            if (!instance) tree(compression, layout, what + "'s tree");
             if (hasOffsets && std::uint64_t(endPos) != pos_) fail(what + " ends at byte " + std::to_string(pos_) + ", not at its end offset " + std::to_string(endPos));
         }
         if (pos_ != size_) fail("not a readable OpenVDB file (" + std::to_string(size_ - pos_) + " bytes after the last grid)");
     }
 
 private:
+    // How a tree's values are stored: the value type's size (background, tiles, inactive values)
+    // and whether the buffers hold them as half floats.
+    struct ValueLayout {
+        std::uint64_t bytes;
+        bool half;
+        std::uint64_t stored() const { return half ? bytes / 2 : bytes; }
+    };
+    ValueLayout valueLayout(const std::string& type, const std::string& what) const {
+        const std::string halfSuffix = "_HalfFloat";
+        const bool half = type.size() > halfSuffix.size() && type.compare(type.size() - halfSuffix.size(), halfSuffix.size(), halfSuffix) == 0;
+        const std::string base = half ? type.substr(0, type.size() - halfSuffix.size()) : type;
+        if (base == kFloatTreeType) return {4, half};
+        if (base == "Tree_vec3s_5_4_3") return {12, half};
+        if (base == "Tree_int32_5_4_3" && !half) return {4, false};
+        fail(what + " is of type '" + printable(type) + "' (sdfgen reads files of float grids, " + kFloatTreeType +
+             ", beside Vec3s and Int32 grids)");
+    }
+
     [[noreturn]] void fail(const std::string& problem) const { throw Error(path_ + ": " + problem); }
 
     void need(std::uint64_t bytes, const std::string& what) const {
@@ -141,16 +157,16 @@ private:
         if (!in_) fail("not a readable OpenVDB file: " + what + " reaches past the end of the file");
         pos_ = std::uint64_t(in_.tellg());
     }
-    // A FloatTree (root, internal nodes of 32^3 and 16^3, leaves of 8^3): its topology, then each
-    // leaf's values, laid out as RootNode, InternalNode and LeafNode read them (file versions
-    // 222-224). Every node read stands for bytes in the file, and every compressed block's size
-    // is checked against the bytes left.
-    void tree(std::uint32_t compression, bool half, const std::string& what) {
+    // A tree of the 5-4-3 kind sdfgen writes (root, internal nodes of 32^3 and 16^3, leaves of
+    // 8^3): its topology, then each leaf's values, laid out as RootNode, InternalNode and
+    // LeafNode read them (file versions 222-224). Every node read stands for bytes in the file,
+    // and every compressed block's size is checked against the bytes left.
+    void tree(std::uint32_t compression, const ValueLayout& layout, const std::string& what) {
         skip(4, what); // buffer count
-        skip(4, what); // background
+        skip(layout.bytes, what); // background
         const std::uint32_t tiles = read<std::uint32_t>(what);
         const std::uint32_t children = read<std::uint32_t>(what);
-        if (std::uint64_t(tiles) * 17 + std::uint64_t(children) * 12 > size_ - pos_) fail("not a readable OpenVDB file: " + what + " claims more nodes than the file holds");
+        if (std::uint64_t(tiles) * (13 + layout.bytes) + std::uint64_t(children) * 12 > size_ - pos_) fail("not a readable OpenVDB file: " + what + " claims more nodes than the file holds");
         // RootNode keeps one node per origin: a repeated origin would replace a node read before.
         std::set<std::array<std::int32_t, 3>> origins;
         auto origin = [&]() {
@@ -160,23 +176,23 @@ private:
         };
         for (std::uint32_t t = 0; t < tiles; ++t) {
             origin();
-            skip(5, what); // value and active flag
+            skip(layout.bytes + 1, what); // value and active flag
         }
         std::uint64_t leaves = 0;
         for (std::uint32_t c = 0; c < children; ++c) {
             origin();
-            const std::uint64_t middle = internalNode(5, compression, half, what);
-            for (std::uint64_t m = 0; m < middle; ++m) leaves += internalNode(4, compression, half, what);
+            const std::uint64_t middle = internalNode(5, compression, layout, what);
+            for (std::uint64_t m = 0; m < middle; ++m) leaves += internalNode(4, compression, layout, what);
         }
-        for (std::uint64_t l = 0; l < leaves; ++l) values(512, mask(512, what), compression, half, what);
+        for (std::uint64_t l = 0; l < leaves; ++l) values(512, mask(512, what), compression, layout, what);
     }
     // An internal node of 2^(3 log2Dim) entries: child and value masks, its tile values; returns
     // its number of children.
-    std::uint64_t internalNode(int log2Dim, std::uint32_t compression, bool half, const std::string& what) {
+    std::uint64_t internalNode(int log2Dim, std::uint32_t compression, const ValueLayout& layout, const std::string& what) {
         const std::uint64_t entries = std::uint64_t(1) << (3 * log2Dim);
         const std::uint64_t childCount = mask(entries, what);
         const std::uint64_t activeCount = mask(entries, what);
-        values(entries, activeCount, compression, half, what);
+        values(entries, activeCount, compression, layout, what);
         if (log2Dim == 4) {
             for (std::uint64_t c = 0; c < childCount; ++c) skip(64, what); // the leaves' value masks
         }
@@ -195,19 +211,19 @@ private:
     // io::readCompressedValues: a flag saying what is implied by the mask, one or two inactive
     // values, a selection mask, then the values (all, or only the active ones), raw or as a
     // zip or Blosc block with its byte count before it.
-    void values(std::uint64_t count, std::uint64_t active, std::uint32_t compression, bool half, const std::string& what) {
+    void values(std::uint64_t count, std::uint64_t active, std::uint32_t compression, const ValueLayout& layout, const std::string& what) {
         const std::int8_t flag = read<std::int8_t>(what);
         if (flag == openvdb::io::NO_MASK_AND_ONE_INACTIVE_VAL || flag == openvdb::io::MASK_AND_ONE_INACTIVE_VAL ||
             flag == openvdb::io::MASK_AND_TWO_INACTIVE_VALS) {
-            skip(flag == openvdb::io::MASK_AND_TWO_INACTIVE_VALS ? 8 : 4, what);
+            skip(flag == openvdb::io::MASK_AND_TWO_INACTIVE_VALS ? 2 * layout.bytes : layout.bytes, what);
         }
         if (flag == openvdb::io::MASK_AND_NO_INACTIVE_VALS || flag == openvdb::io::MASK_AND_ONE_INACTIVE_VAL ||
             flag == openvdb::io::MASK_AND_TWO_INACTIVE_VALS) {
             skip(count / 8, what);
         }
         if ((compression & openvdb::io::COMPRESS_ACTIVE_MASK) && flag != openvdb::io::NO_MASK_AND_ALL_VALS) count = active;
-        if (half && count == 0) return; // io::HalfReader reads nothing for no values
-        const std::uint64_t bytes = count * (half ? 2 : 4);
+        if (layout.half && count == 0) return; // io::HalfReader reads nothing for no values
+        const std::uint64_t bytes = count * layout.stored();
         if (compression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP)) {
             const std::int64_t stored = read<std::int64_t>(what);
             if (stored <= 0 && std::uint64_t(-(stored + 1)) + 1 != bytes) { // -stored, without overflow
