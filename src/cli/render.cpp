@@ -35,6 +35,7 @@ struct RenderArgs {
     std::string colormap = "diverging";
     float colourRange = 0.0f;
     bool noColourBar = false;
+    bool cutAway = false;
     bool orthographic = false;
     bool wireSeeThrough = false;
     std::string background;
@@ -114,7 +115,8 @@ void runRender(const RenderArgs& args) {
     scene.shadows = !args.noShadows;
     scene.iso = args.iso;
     scene.colormap = colormap;
-    scene.colourRange = args.colourRange;
+    if (args.colourRange > 0.0f) scene.sliceRange = scene.volumeRange = glm::vec2(-args.colourRange, args.colourRange);
+    scene.sliceCut = args.cutAway ? 1 : 0;
     scene.colourBar = !args.noColourBar;
     scene.wireSeeThrough = args.wireSeeThrough;
     if (!args.background.empty()) {
@@ -172,6 +174,8 @@ void addRenderCommand(CLI::App& app) {
         ->check(CLI::Range(0.0f, 1e30f))
         ->capture_default_str();
     render->add_flag("--no-colour-bar", args->noColourBar, "No colour bar beside the slice and volume views");
+    render->add_flag("--cut-away", args->cutAway,
+                     "The slice view cuts away the mesh, wire and ray-marched surface on the side its normal points to");
     render->add_flag("--ortho", args->orthographic, "Orthographic camera instead of perspective");
     render->add_flag("--see-through", args->wireSeeThrough, "The wire view shows hidden edges too");
     render->add_option("--background", args->background, "Background colour r,g,b in 0..1 (default: dark grey)");

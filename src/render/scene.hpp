@@ -2,6 +2,7 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/camera.hpp"
+#include "render/image.hpp"
 #include "render/renderers.hpp"
 
 #include <glm/vec3.hpp>
@@ -13,6 +14,11 @@ namespace sdfgen::render {
 
 // The unit normal of the slice across axis 0 (x), 1 (y) or 2 (z).
 glm::vec3 axisNormal(int axis);
+
+// The least and greatest values of `field` (for a colour range from the values themselves):
+// of the samples the slice (slicePolygon) passes through, or of the whole field; x <= 0 <= y.
+glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position);
+glm::vec2 fieldValueRange(const Field& field);
 
 // Which views are drawn; any combination.
 struct Views {
@@ -38,8 +44,10 @@ public:
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
 
-    // The mesh (the grid is drawn on the plane under it).
+    // The mesh, or the meshes of a scene each placed by its transform (the grid is drawn on the
+    // plane under them). meshStyles gets one entry per mesh (meshColour(i), visible).
     void setMesh(const Mesh& mesh);
+    void setMeshes(const std::vector<MeshInstance>& parts);
     void clearMesh();
     void setField(const Field& field); // throws Error when the driver cannot hold it
     void clearField();
@@ -55,12 +63,22 @@ public:
     bool headlight = true;      // the light follows the camera (else a fixed light from above)
     bool colourBar = true;      // drawn when the slice or the volume is shown
     int colormap = 0;           // 0 diverging, 1 viridis, 2 grey (shaders/colormap.glsl)
-    float colourRange = 0.0f;   // distance at which the colour map saturates; 0: automatic
+    // The distances at which the colour map saturates inside (x < 0) and outside (y > 0), for the
+    // slice and the volume each; (0, 0): symmetric, a quarter of the box's longest side.
+    glm::vec2 sliceRange{0.0f}, volumeRange{0.0f};
+    // The slice's plane (shown or not) cuts away the meshes and the ray-marched surface on one
+    // side: 0 nothing, 1 the side its normal points to, -1 the other side.
+    int sliceCut = 0;
+    std::vector<MeshStyle> meshStyles; // one per mesh of setMeshes
     std::vector<glm::vec3> markers; // segments drawn on top (the probe's point and nearest point)
     glm::vec3 background{0.16f, 0.17f, 0.19f};
 
-    // The range the colour map and bar use: colourRange, or a quarter of the box's longest side.
-    float effectiveColourRange() const;
+    // The range a view's colours use: `range`, or the symmetric automatic one where it is (0, 0).
+    glm::vec2 effectiveRange(glm::vec2 range) const;
+    // The colour bar's: the slice's while it is shown, else the volume's.
+    glm::vec2 colourBarRange() const { return effectiveRange(views.slice ? sliceRange : volumeRange); }
+    // The plane that cuts (as the shaders take it: dot(xyz, p) > w is cut), (0, 0, 0, 1) for none.
+    glm::vec4 cutPlane() const;
     glm::vec3 fieldBoxMin() const { return field_.boxMin(); }
     glm::vec3 fieldBoxSize() const { return field_.boxSize(); }
 
@@ -73,6 +91,8 @@ public:
     // surface there (mesh, ray-marched surface, slice or grid), or false where there is none.
     bool surfaceAt(glm::ivec2 pixel, glm::vec3& point);
     const FrameInfo& lastFrame() const { return frame_; }
+    // The last frame drawn, top row first.
+    Image image() const;
 
 private:
     void resizeTargets(glm::ivec2 size);
