@@ -41,7 +41,7 @@ void Viewer::showField(Field field, FieldInfo info) {
     checkFieldAgainstScene();
     // Show it, unless the user has chosen the views.
     render::Views& v = scene_.views;
-    if (!userChoseViews_ && !v.volume && !v.raymarch && !v.slice) v.slice = true;
+    if (!userChoseViews_ && !v["volume"] && !v["raymarch"] && !v["slice"]) v["slice"] = true;
     if (!sceneMesh_) frameCamera(); // nothing else to frame
     updateTitle();
 }

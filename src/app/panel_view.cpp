@@ -37,27 +37,22 @@ void Viewer::viewSection() {
     if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
     render::Views& v = scene_.views;
     const float column = std::round(panelWidth_ * 0.5f);
-    auto viewCheckbox = [&](const char* label, bool* value, const char* name) {
-        if (ImGui::Checkbox(label, value)) userChoseViews_ = true;
-        track(name);
-    };
-    viewCheckbox("Grid", &v.grid, "Grid");
-    ImGui::SameLine(column);
-    viewCheckbox("Polygon", &v.wire, "Polygon");
-    viewCheckbox("Coloured Model", &v.mesh, "Coloured_Model");
-    ImGui::SameLine(column);
-    viewCheckbox("SDF volume", &v.volume, "SDF_volume");
-    viewCheckbox("Ray-marched", &v.raymarch, "Ray-marched");
-    ImGui::SameLine(column);
-    viewCheckbox("Slice", &v.slice, "Slice");
-    viewCheckbox("Bounding box", &v.box, "Bounding_box");
-    ImGui::SameLine(column);
+    // A checkbox per registered view (render/view.hpp), two to a row.
+    int item = 0;
+    for (const render::ViewType& type : render::viewTypes()) {
+        if (item++ % 2) ImGui::SameLine(column);
+        if (ImGui::Checkbox(type.label, &v[type.name])) userChoseViews_ = true;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", type.description);
+        track(widgetName(type.label).c_str());
+    }
+    if (item++ % 2) ImGui::SameLine(column);
     ImGui::Checkbox("See-through", &scene_.wireSeeThrough);
     track("see_through");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Polygon shows hidden edges too");
+    if (item++ % 2) ImGui::SameLine(column);
     ImGui::Checkbox("Headlight", &scene_.headlight);
     track("headlight");
-    ImGui::SameLine(column);
+    if (item++ % 2) ImGui::SameLine(column);
     ImGui::Checkbox("Shadows + AO", &scene_.shadows);
     track("shadows");
 
@@ -73,7 +68,7 @@ void Viewer::viewSection() {
         const char* names[] = {"slice_x", "slice_y", "slice_z"};
         if (ImGui::Button(labels[a])) {
             scene_.sliceNormal = render::axisNormal(a);
-            if (!v.slice) v.slice = userChoseViews_ = true;
+            if (!v["slice"]) v["slice"] = userChoseViews_ = true;
         }
         track(names[a]);
     }

@@ -33,12 +33,12 @@ void Viewer::debugScreenshot(bool sceneOnly) {
     glReadBuffer(GL_BACK);
     render::savePng(render::readFramebuffer(size.x, size.y), debugDir_ + (sceneOnly ? "/scene-" : "/window-") + name + ".png");
     if (sceneOnly) return;
-    const render::Views& v = scene_.views;
-    std::printf("screenshot %d: Grid=%d Polygon=%d Coloured_Model=%d SDF_volume=%d Ray-marched=%d Slice=%d Bounding_box=%d "
-                "camera=%.3f,%.3f,%.5g slice=%.4f target=%.5g,%.5g,%.5g\n",
-                screenshots_++, v.grid, v.wire, v.mesh, v.volume, v.raymarch, v.slice, v.box, double(camera_.yaw), double(camera_.pitch),
-                double(camera_.distance), double(scene_.slicePosition), double(camera_.target.x), double(camera_.target.y),
-                double(camera_.target.z));
+    // The views shown, by their panel labels (spaces as underscores), then the camera.
+    std::string views;
+    for (const render::ViewType& type : render::viewTypes()) views += widgetName(type.label) + "=" + (scene_.views[type.name] ? "1 " : "0 ");
+    std::printf("screenshot %d: %scamera=%.3f,%.3f,%.5g slice=%.4f target=%.5g,%.5g,%.5g\n", screenshots_++, views.c_str(),
+                double(camera_.yaw), double(camera_.pitch), double(camera_.distance), double(scene_.slicePosition), double(camera_.target.x),
+                double(camera_.target.y), double(camera_.target.z));
     std::fflush(stdout);
 }
 

@@ -38,6 +38,12 @@ bool isFieldPath(const std::string& path) {
     return std::find(fields.begin(), fields.end(), lowerExtension(path)) != fields.end();
 }
 
+std::string widgetName(const std::string& label) {
+    std::string name = label;
+    std::replace(name.begin(), name.end(), ' ', '_');
+    return name;
+}
+
 glm::dmat4 SceneModel::transform() const {
     // About the mesh's own centre, so that rotating and scaling keep it in place.
     const glm::dvec3 centre = 0.5 * (glm::dvec3(mesh->bounds.min) + glm::dvec3(mesh->bounds.max));
@@ -156,7 +162,7 @@ Viewer::Viewer(GlfwContext& context, Inbox& inbox) : context_(context), inbox_(i
     GLint limit = 2048;
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &limit);
     textureLimit_ = limit;
-    scene_.views.box = true;
+    scene_.views["box"] = true;
 }
 
 void Viewer::openPaths(const std::vector<std::string>& paths, bool add) {
@@ -299,7 +305,7 @@ void Viewer::sceneInput(const FrameInput& input) {
     if (input.startX >= 0.0 && (dx != 0.0f || dy != 0.0f)) {
         if (sceneDrag_[1]) camera_.rotate(-dx * 0.3f, dy * 0.3f);
         if (sceneDrag_[2]) camera_.pan(dx / height, dy / height);
-        if (sceneDrag_[0] && scene_.views.slice && field_) dragSlice(dx, dy);
+        if (sceneDrag_[0] && scene_.views["slice"] && field_) dragSlice(dx, dy);
     }
     for (int b = 0; b < 3; ++b) {
         if (input.pressed == b) sceneDrag_[b] = !io.WantCaptureMouse && !fileBrowser_.isOpen();
@@ -361,7 +367,7 @@ void Viewer::probeAt(const FrameInput& input) {
     glm::vec3 point;
     if (!scene_.surfaceAt(pixel, point)) return;
     // Pixels of the grid (the plane under the model, within depth precision) are not probed.
-    if (scene_.views.grid && std::abs(point.y - scene_.gridHeight()) < 1e-4f * camera_.distance) return;
+    if (scene_.views["grid"] && std::abs(point.y - scene_.gridHeight()) < 1e-4f * camera_.distance) return;
     probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get());
     probeValid_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
@@ -443,7 +449,9 @@ void Viewer::drawScene() {
     const render::Views& v = scene_.views;
     state << size.x << ' ' << size.y << ' ' << camera_.yaw << ' ' << camera_.pitch << ' ' << camera_.distance << ' ' << camera_.target.x
           << ' ' << camera_.target.y << ' ' << camera_.target.z << ' ' << camera_.orthographic << ' ' << camera_.offsetX << ' '
-          << camera_.sceneRadius << ' ' << v.grid << v.mesh << v.wire << v.volume << v.raymarch << v.slice << v.box << ' '
+          << camera_.sceneRadius << ' ';
+    for (const render::ViewType& type : render::viewTypes()) state << v[type.name];
+    state << ' '
           << scene_.sliceNormal.x << ' ' << scene_.sliceNormal.y << ' ' << scene_.sliceNormal.z << ' ' << scene_.slicePosition << ' '
           << scene_.volumeDensity << scene_.shadows << scene_.wireSeeThrough << scene_.headlight << scene_.colourBar << ' ' << scene_.iso
           << ' ' << scene_.colormap << ' ' << scene_.sliceRange.x << ' ' << scene_.sliceRange.y << ' ' << scene_.volumeRange.x << ' '

@@ -89,6 +89,7 @@ struct RangeChoice {
 
 std::string lowerExtension(const std::string& path);
 bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
+std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
 
 class Viewer {
 public:

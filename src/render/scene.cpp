@@ -8,27 +8,52 @@
 
 namespace sdfgen::render {
 
+namespace {
+std::size_t viewIndex(const std::string& name) {
+    const std::vector<ViewType>& types = viewTypes();
+    for (std::size_t i = 0; i < types.size(); ++i) {
+        if (name == types[i].name) return i;
+    }
+    return types.size();
+}
+} // namespace
+
+Views::Views() {
+    for (const ViewType& type : viewTypes()) shown_.push_back(type.shownByDefault);
+}
+
+bool& Views::operator[](const std::string& name) {
+    const std::size_t i = viewIndex(name);
+    if (i == shown_.size()) throw Error("unknown view '" + name + "' (expected " + names() + ")");
+    return shown_[i];
+}
+
+bool Views::operator[](const std::string& name) const { return const_cast<Views&>(*this)[name]; }
+
+std::string Views::names() {
+    std::string text;
+    for (const ViewType& type : viewTypes()) text += (text.empty() ? "" : ", ") + std::string(type.name);
+    return text;
+}
+
 Views Views::parse(const std::string& list) {
     Views v;
-    v.grid = v.mesh = false;
+    std::fill(v.shown_.begin(), v.shown_.end(), false);
     std::stringstream in(list);
     std::string word;
     while (std::getline(in, word, ',')) {
-        if (word == "grid") v.grid = true;
-        else if (word == "mesh") v.mesh = true;
-        else if (word == "wire") v.wire = true;
-        else if (word == "volume") v.volume = true;
-        else if (word == "raymarch") v.raymarch = true;
-        else if (word == "slice") v.slice = true;
-        else if (word == "box") v.box = true;
-        else if (word == "all") v.grid = v.mesh = v.wire = v.volume = v.raymarch = v.slice = v.box = true;
+        if (word == "all") std::fill(v.shown_.begin(), v.shown_.end(), true);
         else if (word == "none" || word.empty()) continue;
-        else throw Error("unknown view '" + word + "' (expected grid, mesh, wire, volume, raymarch, slice, box, all or none)");
+        else if (viewIndex(word) == v.shown_.size()) throw Error("unknown view '" + word + "' (expected " + names() + ", all or none)");
+        else v[word] = true;
     }
     return v;
 }
 
-Scene::Scene() = default;
+Scene::Scene() {
+    for (const ViewType& type : viewTypes()) drawn_.push_back(type.make());
+}
+
 
 Scene::~Scene() {
     glDeleteFramebuffers(1, &fbo_);
@@ -157,50 +182,25 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_BLEND);
-    const glm::vec4 cut = cutPlane();
-    if (views.mesh) mesh_.drawShaded(frame, meshStyles, cut);
-    if (views.wire && !views.mesh && !wireSeeThrough) mesh_.drawDepth(frame, meshStyles, cut); // hidden-line removal
-    if (views.slice) slice_.draw(frame, field_, glm::normalize(sliceNormal), slicePosition, effectiveRange(sliceRange), colormap);
-    if (views.raymarch) raymarch_.draw(frame, field_, shadows, iso, cut, !views.slice);
-    if (views.box && !field_.empty()) {
-        std::vector<glm::vec3> edges;
-        for (int a = 0; a < 8; ++a) {
-            for (int axis = 0; axis < 3; ++axis) {
-                const int b = a | (1 << axis);
-                if (b == a) continue;
-                auto corner = [&](int c) {
-                    return field_.boxMin() + field_.boxSize() * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-                };
-                edges.push_back(corner(a));
-                edges.push_back(corner(b));
-            }
-        }
-        lines_.draw(frame, edges, glm::vec4(0.95f, 0.8f, 0.2f, 1.0f));
+    const ViewContext context{frame, *this, field_, mesh_, depth_, colourOnlyFbo_, fbo_};
+    const std::vector<ViewType>& types = viewTypes();
+    for (std::size_t i = 0; i < types.size(); ++i) {
+        if (views[types[i].name]) drawn_[i]->draw(context, View::Pass::Opaque);
     }
 
     // Then the blended ones, keeping the destination alpha at 1.
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    if (views.wire) {
-        if (wireSeeThrough) glDisable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LEQUAL);
-        mesh_.drawWire(frame, meshStyles, cut);
-        glDepthFunc(GL_LESS);
-        glEnable(GL_DEPTH_TEST);
-    }
-    if (views.grid) grid_.draw(frame, gridHeight_);
-    if (views.volume && !field_.empty()) {
-        glBindFramebuffer(GL_FRAMEBUFFER, colourOnlyFbo_);
-        glDisable(GL_DEPTH_TEST);
-        glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE); // premultiplied
-        volume_.draw(frame, field_, depth_, volumeDensity, effectiveRange(volumeRange), colormap);
-        glEnable(GL_DEPTH_TEST);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    bool distanceShown = false;
+    for (std::size_t i = 0; i < types.size(); ++i) {
+        if (!views[types[i].name]) continue;
+        drawn_[i]->draw(context, View::Pass::Blended);
+        distanceShown |= types[i].colouredByDistance;
     }
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glDisable(GL_DEPTH_TEST);
     if (!markers.empty()) lines_.draw(frame, markers, glm::vec4(1.0f, 0.95f, 0.2f, 1.0f));
-    if (colourBar && !field_.empty() && (views.slice || views.volume)) {
+    if (colourBar && !field_.empty() && distanceShown) {
         colourBar_.draw(size, colourBarRange(), colormap, "(model units)");
     }
     glEnable(GL_DEPTH_TEST);

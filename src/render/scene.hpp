@@ -4,8 +4,10 @@
 #include "render/camera.hpp"
 #include "render/image.hpp"
 #include "render/renderers.hpp"
+#include "render/view.hpp"
 
 #include <glm/vec3.hpp>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,19 +22,21 @@ glm::vec3 axisNormal(int axis);
 glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position);
 glm::vec2 fieldValueRange(const Field& field);
 
-// Which views are drawn; any combination.
-struct Views {
-    bool grid = true;
-    bool mesh = true;      // "Coloured Model": flat-shaded Lambert
-    bool wire = false;     // "Polygon": wireframe
-    bool volume = false;   // "SDF volume": ray-marched colour volume
-    bool raymarch = false; // "Ray-marched": sphere tracing with shadows and ambient occlusion
-    bool slice = false;    // "Slice": signed distance on a plane at any orientation
-    bool box = false;      // the field's bounding box, as lines
-
-    // Parses a comma-separated list of grid, mesh, wire, volume, raymarch, slice, box (or "all",
-    // "none"); throws Error naming the bad word.
+// Which views (view.hpp's registry) are shown, by name; any combination.
+class Views {
+public:
+    Views(); // the views shown by default
+    // The flag of the view `name`; Error for a name not registered.
+    bool& operator[](const std::string& name);
+    bool operator[](const std::string& name) const;
+    bool operator==(const Views& other) const { return shown_ == other.shown_; }
+    // Parses a comma-separated list of view names (or "all", "none"); throws Error naming the bad word.
     static Views parse(const std::string& list);
+    // The registered names, comma-separated, for help texts.
+    static std::string names();
+
+private:
+    std::deque<bool> shown_; // per viewTypes() entry (a deque: real bools, for bool&)
 };
 
 // Everything drawn in a frame: the mesh and field on the GPU, the renderers, and the settings
@@ -76,7 +80,7 @@ public:
     // The range a view's colours use: `range`, or the symmetric automatic one where it is (0, 0).
     glm::vec2 effectiveRange(glm::vec2 range) const;
     // The colour bar's: the slice's while it is shown, else the volume's.
-    glm::vec2 colourBarRange() const { return effectiveRange(views.slice ? sliceRange : volumeRange); }
+    glm::vec2 colourBarRange() const { return effectiveRange(views["slice"] ? sliceRange : volumeRange); }
     // The plane that cuts (as the shaders take it: dot(xyz, p) > w is cut), (0, 0, 0, 1) for none.
     glm::vec4 cutPlane() const;
     float gridHeight() const { return gridHeight_; } // the grid's plane: y = the meshes' lowest point
@@ -98,12 +102,9 @@ public:
 private:
     void resizeTargets(glm::ivec2 size);
 
-    GridRenderer grid_;
     MeshRenderer mesh_;
     FieldTexture field_;
-    VolumeRenderer volume_;
-    RaymarchRenderer raymarch_;
-    SliceRenderer slice_;
+    std::vector<std::unique_ptr<View>> drawn_; // one per viewTypes() entry
     LineRenderer lines_;
     ColourBarRenderer colourBar_;
     float gridHeight_ = 0.0f;
