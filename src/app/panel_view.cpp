@@ -8,6 +8,26 @@
 
 namespace sdfgen::app {
 
+// The views' settings as Dear ImGui controls, each reported to the GUI test by its label.
+class Viewer::PanelOptions : public render::ViewOptions {
+public:
+    explicit PanelOptions(Viewer& viewer) : viewer_(viewer) {}
+    bool checkbox(const char* label, bool& value, const char* tooltip) override {
+        const bool changed = ImGui::Checkbox(label, &value);
+        if (tooltip && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tooltip);
+        viewer_.track(widgetName(label).c_str());
+        return changed;
+    }
+    bool slider(const char* label, float& value, float min, float max, const char* format, bool logarithmic) override {
+        const bool changed = ImGui::SliderFloat(label, &value, min, max, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+        viewer_.track(widgetName(label).c_str());
+        return changed;
+    }
+
+private:
+    Viewer& viewer_;
+};
+
 // A view's colour range: symmetric, from the values it shows, or fixed limits.
 void Viewer::rangeControls(const char* label, const char* name, RangeChoice& choice, glm::vec2& sceneRange, bool slice) {
     ImGui::PushID(name);
@@ -46,21 +66,13 @@ void Viewer::viewSection() {
         track(widgetName(type.label).c_str());
     }
     if (item++ % 2) ImGui::SameLine(column);
-    ImGui::Checkbox("See-through", &scene_.wireSeeThrough);
-    track("see_through");
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Polygon shows hidden edges too");
-    if (item++ % 2) ImGui::SameLine(column);
     ImGui::Checkbox("Headlight", &scene_.headlight);
     track("headlight");
-    if (item++ % 2) ImGui::SameLine(column);
-    ImGui::Checkbox("Shadows + AO", &scene_.shadows);
-    track("shadows");
-
-    const glm::vec2 range = field_ ? scene_.effectiveRange(glm::vec2(0.0f)) : glm::vec2(-1.0f, 1.0f);
-    ImGui::SliderFloat("Iso level", &scene_.iso, range.x, range.y, "%.4g");
-    track("iso");
-    ImGui::SliderFloat("Volume density", &scene_.volumeDensity, 0.1f, 5.0f, "%.2f", ImGuiSliderFlags_Logarithmic);
-    track("density");
+    // Each shown view's own settings (its section, from the registry).
+    PanelOptions ui(*this);
+    for (const render::ViewType& type : render::viewTypes()) {
+        if (type.options && v[type.name]) type.options(ui, scene_);
+    }
     // Slice: an axis, or any orientation (dragged in the view: left-drag moves, Shift tilts).
     for (int a = 0; a < 3; ++a) {
         if (a > 0) ImGui::SameLine();
@@ -72,8 +84,6 @@ void Viewer::viewSection() {
         }
         track(names[a]);
     }
-    ImGui::SliderFloat("Slice position", &scene_.slicePosition, 0.0f, 1.0f);
-    track("slice_position");
     int cut = scene_.sliceCut == 0 ? 0 : scene_.sliceCut > 0 ? 1 : 2;
     ImGui::Combo("Cut away", &cut, "nothing\0the normal's side\0the other side\0");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("The slice's plane cuts the model and the ray-marched surface away on one side");

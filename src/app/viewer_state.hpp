@@ -139,6 +139,7 @@ private:
     void fileChosen();
 
     // panel_view.cpp
+    class PanelOptions;
     void viewSection();
     void rangeControls(const char* label, const char* name, RangeChoice& choice, glm::vec2& sceneRange, bool slice);
     void cameraSection();

@@ -6,6 +6,8 @@
 #include "render/renderers.hpp"
 #include "render/view.hpp"
 
+#include <glm/vec2.hpp>
+
 #include <glm/vec3.hpp>
 #include <deque>
 #include <optional>

@@ -34,7 +34,17 @@ public:
     virtual void draw(const ViewContext& context, Pass pass) = 0;
 };
 
-// A kind of view: its facts (usable without a GL context) and how to make one (with a context).
+// The panel's controls for a view's settings (the viewer implements them with Dear ImGui); each
+// returns whether the value changed.
+class ViewOptions {
+public:
+    virtual ~ViewOptions() = default;
+    virtual bool checkbox(const char* label, bool& value, const char* tooltip) = 0;
+    virtual bool slider(const char* label, float& value, float min, float max, const char* format, bool logarithmic) = 0;
+};
+
+// A kind of view: its facts (usable without a GL context), how to make one (with a context), and
+// its section of the panel.
 struct ViewType {
     const char* name;        // e.g. "mesh"
     const char* label;       // e.g. "Coloured Model"
@@ -43,6 +53,7 @@ struct ViewType {
     bool shownByDefault;
     bool colouredByDistance; // the colour bar goes with it
     std::unique_ptr<View> (*make)();
+    void (*options)(ViewOptions& ui, Scene& scene); // its settings on the panel, or null
 };
 
 // Every view, in drawing order (views.cpp).

@@ -26,6 +26,6 @@ private:
 } // namespace
 
 extern const ViewType kBoxView = {"box", "Bounding box", "the field's box", true, false, false,
-                                  [] { return std::unique_ptr<View>(new BoxView()); }};
+                                  [] { return std::unique_ptr<View>(new BoxView()); }, nullptr};
 
 } // namespace sdfgen::render

@@ -15,6 +15,6 @@ private:
 } // namespace
 
 extern const ViewType kGridView = {"grid", "Grid", "an infinite grid on the plane under the models (x axis red, z blue)", false, true,
-                                   false, [] { return std::unique_ptr<View>(new GridView()); }};
+                                   false, [] { return std::unique_ptr<View>(new GridView()); }, nullptr};
 
 } // namespace sdfgen::render

@@ -12,6 +12,6 @@ public:
 } // namespace
 
 extern const ViewType kMeshView = {"mesh", "Coloured Model", "the models, flat-shaded (Lambert), each in its own colour", false, true,
-                                   false, [] { return std::unique_ptr<View>(new MeshView()); }};
+                                   false, [] { return std::unique_ptr<View>(new MeshView()); }, nullptr};
 
 } // namespace sdfgen::render

@@ -18,6 +18,7 @@ private:
 } // namespace
 
 extern const ViewType kSliceView = {"slice", "Slice", "the signed distance on a plane at any orientation, with contours", true, false,
-                                    true, [] { return std::unique_ptr<View>(new SliceView()); }};
+                                    true, [] { return std::unique_ptr<View>(new SliceView()); },
+                                    [](ViewOptions& ui, Scene& s) { ui.slider("Slice position", s.slicePosition, 0.0f, 1.0f, "%.3f", false); }};
 
 } // namespace sdfgen::render

@@ -24,6 +24,7 @@ private:
 } // namespace
 
 extern const ViewType kVolumeView = {"volume", "SDF volume", "the field as a coloured volume: a shell at the surface, inside and haze",
-                                     true, false, true, [] { return std::unique_ptr<View>(new VolumeView()); }};
+                                     true, false, true, [] { return std::unique_ptr<View>(new VolumeView()); },
+                                     [](ViewOptions& ui, Scene& s) { ui.slider("Volume density", s.volumeDensity, 0.1f, 5.0f, "%.2f", true); }};
 
 } // namespace sdfgen::render

@@ -22,6 +22,7 @@ public:
 } // namespace
 
 extern const ViewType kWireView = {"wire", "Polygon", "the models' edges (See-through: hidden ones too)", false, false, false,
-                                   [] { return std::unique_ptr<View>(new WireView()); }};
+                                   [] { return std::unique_ptr<View>(new WireView()); },
+                                   [](ViewOptions& ui, Scene& s) { ui.checkbox("See-through", s.wireSeeThrough, "Polygon shows hidden edges too"); }};
 
 } // namespace sdfgen::render
