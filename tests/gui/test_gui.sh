@@ -10,7 +10,8 @@
 # an 80 ms arrow tap turns 3 +- 1 degrees and a held arrow 90 per second; the view checkboxes flip
 # exactly their view and change the scene; the probe reports the field's trilinear value where the
 # pointer is; a field made from another mesh is warned about; at 400 ms per frame a tapped F still
-# reframes and a click still toggles; a field opened without a model is framed, and Shift+F
+# reframes and a click still toggles; the surface exports and a field compares with itself as
+# equal; a field opened without a model is framed, and Shift+F
 # frames it again; the window's title names what it shows; Ctrl+Q exits with status 0. Every wait
 # polls with a deadline.
 #
@@ -243,6 +244,14 @@ until_ok grep -q "^text stats method exact loaded" "$work/shots/widgets.txt" || 
 echo "mismatched field: $(grep '^message field warning' "$work/log" | tail -1)"
 type_into field_path "$work/bunny.sdf"
 until_ok grep -q "^message field info: loaded .*bunny.sdf" "$work/log" || fail "the bunny's field did not load"
+# --- the panel's surface export and comparison (as `sdfgen surface` and `compare`).
+click surface_export
+until_ok grep -q "^message field info: saved the surface at level 0.0* as .*bunny.surface.obj ([0-9]* triangles)" "$work/log" ||
+  fail "Export did not write the surface"
+grep -q "^f " "$work/bunny.surface.obj" || fail "the exported surface has no faces"
+type_into compare_path "$work/bunny.sdf"
+until_ok grep -q "^message field info: against bunny.sdf: max |difference| 0 " "$work/log" || fail "comparing the field with itself did not report no difference"
+echo "surface export and compare: $(grep '^message field info: against' "$work/log")"
 
 # --- the probe: the pointer over the model reports the field's trilinear value at that point.
 xdotool mousemove --window "$window" 547 262
