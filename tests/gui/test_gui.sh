@@ -191,8 +191,20 @@ yaw0=$(camera_of $((shots - 3)) | cut -d, -f1)
 yaw1=$(camera_of $((shots - 2)) | cut -d, -f1)
 yaw2=$(camera_of $((shots - 1)) | cut -d, -f1)
 awk -v a="$yaw0" -v b="$yaw1" 'BEGIN { d = a - b; exit !(d >= 2 && d <= 4) }' || fail "an 80 ms arrow tap turned from $yaw0 to $yaw1, not 3 degrees"
-awk -v a="$yaw1" -v b="$yaw2" 'BEGIN { d = b - a; exit !(d >= 60 && d <= 82) }' || fail "a 1 s arrow hold turned from $yaw1 to $yaw2, not 3 + 0.75 * 90 degrees"
+awk -v a="$yaw1" -v b="$yaw2" 'BEGIN { d = b - a; exit !(d >= 60 && d <= 90) }' || fail "a 1 s arrow hold turned from $yaw1 to $yaw2, not 3 + 0.75 * 90 degrees"
 echo "arrow tap of 80 ms: yaw $yaw0 -> $yaw1; held 1 s: -> $yaw2"
+# The yaw back to 30 degrees (Ctrl+click makes the slider a text box): the checks below expect
+# the first camera.
+reach yaw
+read -r x0 y0 x1 y1 _ <<<"$(widget yaw)"
+xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2)) keydown ctrl click 1 keyup ctrl
+xdotool key ctrl+a
+xdotool type --delay 20 30
+xdotool key Return
+xdotool mousemove --window "$window" 790 490
+shoot
+[ "$(camera_of $((shots - 1)) | cut -d, -f1)" = 30.000 ] || fail "the yaw was not set back to 30: $(camera_of $((shots - 1)))"
+
 
 # --- a message right under the button that caused it: a missing model.
 type_into model_path "$work/missing.obj"
@@ -284,7 +296,7 @@ EOF
 
 # --- the view checkboxes: each flips exactly its view and changes the scene.
 shoot
-previous=0
+previous=$((shots - 1))
 for name in Grid Polygon Coloured_Model SDF_volume Ray-marched Slice; do
   click "$name"
   xdotool mousemove --window "$window" 790 490 # off the model: no probe marker in the picture
@@ -337,6 +349,7 @@ until_ok grep -q "^message field info: saved $work/union.sdf" "$work/log" || fai
 [ "$(sed -n 2p "$work/union.sdf")" = "source bunny.obj+far.obj" ] || fail "the scene's field does not name both models: $(sed -n 2p "$work/union.sdf")"
 echo "scene of two models baked: $(sed -n 2,3p "$work/union.sdf" | tr '\n' ' ')"
 grep -qx "$work/bunny.obj" "$work/config/sdfgen/recent.txt" || fail "the recent files do not list the bunny"
+
 stop
 
 # --- at 400 ms per frame: a tapped F reframes, a click toggles.
