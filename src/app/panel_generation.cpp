@@ -127,11 +127,14 @@ void Viewer::generationSection() {
 void Viewer::collectGeneration() {
     std::optional<BakeResult> result;
     std::string error;
+    std::vector<std::string> warnings;
     double seconds = 0.0;
-    if (!generation_.collect(result, error, seconds)) return;
+    if (!generation_.collect(result, error, warnings, seconds)) return;
     inbox_.wake = std::max(inbox_.wake, 2);
+    std::string warned; // the warnings, on lines after the message
+    for (const std::string& warning : warnings) warned += "\nwarning: " + warning;
     if (!result) {
-        setMessage(generationMessage_, error == "generation cancelled" ? Message::Level::Info : Message::Level::Error, error);
+        setMessage(generationMessage_, error == "generation cancelled" ? Message::Level::Info : Message::Level::Error, error + warned);
         return;
     }
     try {
@@ -144,7 +147,7 @@ void Viewer::collectGeneration() {
         setMessage(fieldMessage_, Message::Level::Info, "");
         char text[160];
         std::snprintf(text, sizeof(text), "done: %s voxels in %.2f s", dims.c_str(), seconds);
-        setMessage(generationMessage_, Message::Level::Info, text);
+        setMessage(generationMessage_, warned.empty() ? Message::Level::Info : Message::Level::Warning, text + warned);
     } catch (const std::exception& e) {
         setMessage(generationMessage_, Message::Level::Error, e.what());
     }
