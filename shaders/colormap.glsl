@@ -1,5 +1,5 @@
 // Colour maps shared by the slice, the volume and the colour bar. s is the signed distance over the
-// colour range, clamped to -1..1 (negative inside).
+// colour range, clamped to -1..1 (negative inside); scaled(d, range) maps a distance into it.
 uniform int colormap; // 0: diverging (red inside, white at the surface, blue outside); 1: viridis; 2: grey
 
 vec3 viridis(float t) {
@@ -21,3 +21,7 @@ vec3 colourOf(float s) {
     vec3 outside = vec3(0.23, 0.30, 0.75), inside = vec3(0.71, 0.02, 0.15), middle = vec3(0.87);
     return s > 0.0 ? mix(middle, outside, sqrt(s)) : mix(middle, inside, sqrt(-s));
 }
+
+// A distance over the range [range.x < 0, range.y > 0]: each side scaled on its own, so that 0
+// (the surface) stays in the middle of the map however lopsided the range.
+float scaled(float d, vec2 range) { return d < 0.0 ? d / -range.x : d / range.y; }

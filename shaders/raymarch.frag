@@ -18,6 +18,8 @@ uniform int shadows;
 
 uniform vec3 lightDirection; // towards the light
 uniform float iso;           // the level set drawn: 0 is the surface, > 0 offset outwards
+uniform vec4 cutPlane;       // points with dot(xyz, p) > w are cut away (the slice's cut; (0,0,0,1): none)
+uniform int capCut;          // where the cut enters the solid: a flat cap (else nothing: the slice is there)
 
 vec2 boxHits(vec3 origin, vec3 dir) {
     vec3 inv = 1.0 / dir;
@@ -66,6 +68,18 @@ void main() {
     vec3 dir = normalize(farPoint.xyz / farPoint.w - eye);
     vec2 span = boxHits(eye, dir);
     if (span.x >= span.y || span.y <= 0.0) discard;
+    // The cut: only the part of the ray on the kept side of the plane is marched.
+    float towards = dot(cutPlane.xyz, dir), side = cutPlane.w - dot(cutPlane.xyz, eye);
+    bool enteredAtCut = false;
+    if (towards > 0.0) {
+        span.y = min(span.y, side / towards);
+    } else if (towards < 0.0 && side / towards > span.x) {
+        span.x = side / towards;
+        enteredAtCut = true;
+    } else if (towards == 0.0 && side < 0.0) {
+        discard;
+    }
+    if (span.x >= span.y || span.y <= 0.0) discard;
 
     float t = max(span.x, 0.0); // outside the box: jump by the distance to it
     float eps = 0.02 * voxel;
@@ -74,6 +88,8 @@ void main() {
         float d = sdf(eye + t * dir);
         if (d < eps) {
             hit = true;
+            // Inside the solid where the cut plane enters it: a cap, or the slice shows that section.
+            if (i == 0 && enteredAtCut && capCut == 0) discard;
             break;
         }
         t += max(d, 0.05 * voxel);
@@ -81,10 +97,11 @@ void main() {
     if (!hit) discard;
 
     vec3 p = eye + t * dir;
-    vec3 n = normalize(gradient(p) + vec3(1e-9));
+    bool cap = enteredAtCut && t == span.x && sdf(p) < 0.0;
+    vec3 n = cap ? cutPlane.xyz : normalize(gradient(p) + vec3(1e-9)); // a cap faces the part cut away
     float light = max(dot(n, lightDirection), 0.0);
     float shadow = 1.0, occlusion = 1.0;
-    if (shadows != 0) {
+    if (shadows != 0 && !cap) { // the field beyond a cap is cut away: no shadow or occlusion from it
         if (light > 0.0) shadow = softShadow(p, n);
         occlusion = ambientOcclusion(p, n);
     }

@@ -6,13 +6,13 @@ out vec4 colour;
 
 uniform sampler3D field;
 uniform float spacing; // distance between contour lines
-uniform float range;   // distance at which the colour map saturates
+uniform vec2 range;    // distances at which the colour map saturates, inside (< 0) and outside
 
 #include "colormap.glsl"
 
 void main() {
     float d = texture(field, vUvw).r;
-    vec3 rgb = colourOf(d / range);
+    vec3 rgb = colourOf(scaled(d, range));
     float level = d / spacing;
     float contour = 1.0 - smoothstep(0.0, 1.2, abs(fract(level - 0.5) - 0.5) / max(fwidth(level), 1e-6));
     rgb = mix(rgb, rgb * 0.55, contour);

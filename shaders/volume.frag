@@ -14,7 +14,7 @@ uniform vec3 boxSize;
 uniform float voxel;
 uniform float band;    // the shell's length scale
 uniform float density; // overall opacity scale
-uniform float range;   // distance at which the colour map saturates
+uniform vec2 range;    // distances at which the colour map saturates, inside (< 0) and outside
 
 #include "colormap.glsl"
 
@@ -52,7 +52,7 @@ void main() {
         float d = texture(field, (eye + (t + 0.5 * stepLength) * dir - boxMin) / boxSize).r;
         float ds = min(d > 0.0 ? clamp(0.5 * (d - 3.0 * band), stepLength, 8.0 * stepLength) : stepLength, span.y - t);
         float shell = exp(-(d * d) / (band * band));
-        vec3 rgb = colourOf(d / range); // the colour bar's map
+        vec3 rgb = colourOf(scaled(d, range)); // the colour bar's map
         float sigma; // extinction per unit length
         if (d < 0.0) {
             sigma = mix(6.0, 14.0, shell) / longest;

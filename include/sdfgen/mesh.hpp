@@ -88,4 +88,8 @@ Mesh loadObj(const std::string& path);
 // parsed or holds no triangles.
 Mesh loadMesh(const std::string& path);
 
+// The extensions loadMesh is known to read (with the dot: ".obj", ".stl", ...), for file dialogs
+// and messages; Assimp reads a few more.
+std::vector<std::string> meshFormatExtensions();
+
 } // namespace sdfgen

@@ -10,7 +10,7 @@ namespace sdfgen::app {
 
 namespace fs = std::filesystem;
 
-void FileBrowser::open(const std::string& title, const std::string& start, std::vector<std::string> extensions, bool saving) {
+void FileBrowser::open(const std::string& title, const std::string& start, std::vector<std::string> extensions, const std::string& confirm) {
     std::error_code ec;
     fs::path path = fs::absolute(start.empty() ? fs::current_path(ec) : fs::path(start), ec);
     fs::path folder = fs::is_directory(path, ec) ? path : path.parent_path();
@@ -19,7 +19,7 @@ void FileBrowser::open(const std::string& title, const std::string& start, std::
     folder_ = folder.lexically_normal().string();
     std::snprintf(name_, sizeof(name_), "%s", fs::is_directory(path, ec) ? "" : path.filename().string().c_str());
     extensions_ = std::move(extensions);
-    saving_ = saving;
+    confirm_ = confirm;
     open_ = justOpened_ = true;
     chosen_.clear();
     list();
@@ -81,10 +81,14 @@ bool FileBrowser::draw() {
         list();
     }
     if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.35f, 1.0f), "%s", error_.c_str());
-    else ImGui::TextDisabled("%zu folders, %zu files", folders_.size(), files_.size());
+    else {
+        std::string kinds;
+        for (const std::string& e : extensions_) kinds += (kinds.empty() ? "" : " ") + e;
+        ImGui::TextDisabled("%zu folders, %zu files (%s)", folders_.size(), files_.size(), kinds.c_str());
+    }
     ImGui::SetNextItemWidth(-1.0f);
     if (ImGui::InputText("##name", name_, sizeof(name_), ImGuiInputTextFlags_EnterReturnsTrue)) chose = true;
-    if (ImGui::Button(saving_ ? "Save" : "Open")) chose = true;
+    if (ImGui::Button(confirm_.c_str())) chose = true;
     ImGui::SameLine();
     if (ImGui::Button("Cancel")) {
         open_ = false;

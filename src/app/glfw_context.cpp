@@ -3,6 +3,7 @@
 #include "render/gl.hpp"
 
 #include <GLFW/glfw3.h>
+#include <algorithm>
 #include <cstdlib>
 
 namespace sdfgen::app {
@@ -32,6 +33,18 @@ GlfwContext::GlfwContext(int width, int height, const std::string& title) {
 #ifndef NDEBUG
     glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
 #endif
+    // The first window fits the screen's work area (without the panels of the desktop), with room
+    // for its frame; GLFW_SCALE_TO_MONITOR scales the size asked for by the content scale first.
+    if (GLFWmonitor* monitor = glfwGetPrimaryMonitor()) {
+        int x = 0, y = 0, w = 0, h = 0;
+        float scaleX = 1.0f, scaleY = 1.0f;
+        glfwGetMonitorWorkarea(monitor, &x, &y, &w, &h);
+        glfwGetMonitorContentScale(monitor, &scaleX, &scaleY);
+        if (w > 0 && h > 0) {
+            width = std::max(1, std::min(width, int(0.92f * float(w) / std::max(scaleX, 1.0f))));
+            height = std::max(1, std::min(height, int(0.88f * float(h) / std::max(scaleY, 1.0f))));
+        }
+    }
     window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
     if (!window_) {
         const std::string message = glfwMessage();

@@ -30,11 +30,11 @@ int main(int argc, char** argv) {
     sdfgen::cli::addRenderCommand(app);
     std::vector<std::string> viewMeshes;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
-    view->add_option("mesh", viewMeshes, "Meshes to open (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several make one scene");
+    view->add_option("mesh", viewMeshes, "Meshes (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...; several make one scene) and fields (.sdf, .npy, .npz, .vdb, .nrrd) to open");
     // Words that are not a command are meshes to view. CLI11 matches command names first, so
     // `sdfgen bake ...` still runs bake.
     std::vector<std::string> meshes;
-    app.add_option("mesh", meshes, "Meshes to open in the viewer (like `sdfgen view MESH...`)");
+    app.add_option("mesh", meshes, "Meshes and fields to open in the viewer (like `sdfgen view FILE...`)");
 #else
     app.footer("This sdfgen was built without the viewer (-DSDFGEN_VIEWER=OFF): no view or render command.");
 #endif

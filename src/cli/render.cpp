@@ -35,6 +35,7 @@ struct RenderArgs {
     std::string colormap = "diverging";
     float colourRange = 0.0f;
     bool noColourBar = false;
+    bool cutAway = false;
     bool orthographic = false;
     bool wireSeeThrough = false;
     std::string background;
@@ -93,7 +94,8 @@ void runRender(const RenderArgs& args) {
     const Model model(loadScene(args.meshes), control);
     const Mesh& mesh = model.mesh();
     Field field;
-    const bool needField = views.volume || views.raymarch || views.slice || views.box;
+    bool needField = false;
+    for (const render::ViewType& type : render::viewTypes()) needField |= type.needsField && views[type.name];
     if (!args.sdf.empty()) {
         field = loadField(args.sdf);
         if (const std::string mismatch = fieldMismatch(field, mesh); !mismatch.empty()) {
@@ -114,7 +116,8 @@ void runRender(const RenderArgs& args) {
     scene.shadows = !args.noShadows;
     scene.iso = args.iso;
     scene.colormap = colormap;
-    scene.colourRange = args.colourRange;
+    if (args.colourRange > 0.0f) scene.sliceRange = scene.volumeRange = glm::vec2(-args.colourRange, args.colourRange);
+    scene.sliceCut = args.cutAway ? 1 : 0;
     scene.colourBar = !args.noColourBar;
     scene.wireSeeThrough = args.wireSeeThrough;
     if (!args.background.empty()) {
@@ -154,7 +157,7 @@ void addRenderCommand(CLI::App& app) {
     render->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several make one scene")->required();
     render->add_option("-o,--output", args->output, "Output PNG file")->required();
     render->add_option("--sdf", args->sdf, "Field file to show (default: bake one from the mesh when a view needs it)");
-    render->add_option("--view", args->views, "Comma-separated views: grid, mesh, wire, volume, raymarch, slice, box (or all, none)")
+    render->add_option("--view", args->views, "Comma-separated views: " + render::Views::names() + " (or all, none)")
         ->capture_default_str();
     render->add_option("--camera", args->camera, "Orbit camera: yaw,pitch in degrees and zoom (1 frames the mesh; 2 is twice as far)")
         ->capture_default_str();
@@ -173,6 +176,8 @@ void addRenderCommand(CLI::App& app) {
         ->check(finiteRange(0.0, 1e30))
         ->capture_default_str();
     render->add_flag("--no-colour-bar", args->noColourBar, "No colour bar beside the slice and volume views");
+    render->add_flag("--cut-away", args->cutAway,
+                     "The slice's plane (see --slice-axis, --slice-normal, --slice-pos) cuts away the mesh, wire and ray-marched surface on the side its normal points to");
     render->add_flag("--ortho", args->orthographic, "Orthographic camera instead of perspective");
     render->add_flag("--see-through", args->wireSeeThrough, "The wire view shows hidden edges too");
     render->add_option("--background", args->background, "Background colour r,g,b in 0..1 (default: dark grey)");

@@ -23,6 +23,10 @@ const AssimpPlugin& assimpPlugin() {
     return *plugin;
 }
 
+std::vector<std::string> meshFormatExtensions() {
+    return {".obj", ".stl", ".ply", ".off", ".gltf", ".glb", ".fbx", ".dae", ".3ds", ".3mf"};
+}
+
 Mesh loadMesh(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a mesh file");
@@ -34,8 +38,9 @@ Mesh loadMesh(const std::string& path) {
     if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     const AssimpPlugin& assimp = assimpPlugin();
     if (!assimp.supports(extension)) {
-        throw Error(path + ": unknown mesh format '" + extension + "'" +
-                    "; known: .obj, .stl, .ply, .off, .gltf, .glb, .fbx, .dae, .3ds, .3mf and the other formats Assimp reads");
+        std::string known;
+        for (const std::string& e : meshFormatExtensions()) known += e + ", ";
+        throw Error(path + ": unknown mesh format '" + extension + "'; known: " + known + "and the other formats Assimp reads");
     }
     return assimp.load(path);
 }

@@ -56,7 +56,7 @@ void setRayUniforms(Program& program, const FrameInfo& frame) {
 
 VolumeRenderer::VolumeRenderer() : program_("fullscreen.vert", "volume.frag") { glCreateVertexArrays(1, &vao_); }
 
-void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density, float range,
+void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density, glm::vec2 range,
                           int colormap) {
     if (field.empty()) return;
     program_.use();
@@ -75,27 +75,34 @@ void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLu
 
 RaymarchRenderer::RaymarchRenderer() : program_("fullscreen.vert", "raymarch.frag") { glCreateVertexArrays(1, &vao_); }
 
-void RaymarchRenderer::draw(const FrameInfo& frame, const FieldTexture& field, bool shadows, float iso) {
+void RaymarchRenderer::draw(const FrameInfo& frame, const FieldTexture& field, bool shadows, float iso, glm::vec4 cut, bool capCut) {
     if (field.empty()) return;
     program_.use();
     setRayUniforms(program_, frame);
     field.setUniforms(program_);
     program_.set("shadows", shadows ? 1 : 0);
     program_.set("iso", iso);
+    program_.set("cutPlane", cut);
+    program_.set("capCut", capCut ? 1 : 0);
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position) {
-    glm::vec3 corners[8];
+glm::vec4 slicePlane(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position) {
     float lowest = INFINITY, highest = -INFINITY;
     for (int c = 0; c < 8; ++c) {
-        corners[c] = boxMin + boxSize * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-        lowest = std::min(lowest, glm::dot(normal, corners[c]));
-        highest = std::max(highest, glm::dot(normal, corners[c]));
+        const glm::vec3 corner = boxMin + boxSize * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+        lowest = std::min(lowest, glm::dot(normal, corner));
+        highest = std::max(highest, glm::dot(normal, corner));
     }
     // Kept a hair inside the box so that an axis-aligned plane at 0 or 1 still cuts it.
-    const float level = lowest + (highest - lowest) * std::clamp(position, 1e-4f, 1.0f - 1e-4f);
+    return glm::vec4(normal, lowest + (highest - lowest) * std::clamp(position, 1e-4f, 1.0f - 1e-4f));
+}
+
+std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position) {
+    glm::vec3 corners[8];
+    for (int c = 0; c < 8; ++c) corners[c] = boxMin + boxSize * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+    const float level = slicePlane(boxMin, boxSize, normal, position).w;
     std::vector<glm::vec3> points;
     for (int a = 0; a < 8; ++a) {
         for (int axis = 0; axis < 3; ++axis) {
@@ -121,7 +128,7 @@ std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::ve
 
 SliceRenderer::SliceRenderer() : program_("slice.vert", "slice.frag") { glCreateVertexArrays(1, &vao_); }
 
-void SliceRenderer::draw(const FrameInfo& frame, const FieldTexture& field, glm::vec3 normal, float position, float range,
+void SliceRenderer::draw(const FrameInfo& frame, const FieldTexture& field, glm::vec3 normal, float position, glm::vec2 range,
                          int colormap) {
     if (field.empty()) return;
     const std::vector<glm::vec3> polygon = slicePolygon(field.boxMin(), field.boxSize(), normal, position);

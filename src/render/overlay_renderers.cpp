@@ -1,7 +1,10 @@
-// Line segments and the colour bar (2D, with text from stb_easy_font).
+// Line segments and the colour bar (2D, with text in the interface font, else stb_easy_font).
+#include "render/font.hpp"
 #include "render/renderers.hpp"
 
 #include <stb/stb_easy_font.h>
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <string>
@@ -34,24 +37,36 @@ void LineRenderer::draw(const FrameInfo& frame, const std::vector<glm::vec3>& se
 
 namespace {
 
-// One overlay vertex: pixel position from the top left, colour, and the colour-map value (-1..1)
-// or kPlain for a plain colour.
+// One overlay vertex: pixel position from the top left, colour, the colour-map value (-1..1) or
+// kPlain for a plain colour or kText for a glyph, and the glyph texture's coordinates.
 struct OverlayVertex {
     float x, y;
     float r, g, b, a;
     float value;
+    float u, v;
 };
-constexpr float kPlain = -2.0f;
+constexpr float kPlain = -2.0f, kText = -3.0f;
 
 void addRect(std::vector<OverlayVertex>& out, float x0, float y0, float x1, float y1, glm::vec4 c, float v0 = kPlain,
              float v1 = kPlain) {
-    const OverlayVertex a{x0, y0, c.r, c.g, c.b, c.a, v0}, b{x1, y0, c.r, c.g, c.b, c.a, v0};
-    const OverlayVertex d{x0, y1, c.r, c.g, c.b, c.a, v1}, e{x1, y1, c.r, c.g, c.b, c.a, v1};
+    const OverlayVertex a{x0, y0, c.r, c.g, c.b, c.a, v0, 0, 0}, b{x1, y0, c.r, c.g, c.b, c.a, v0, 0, 0};
+    const OverlayVertex d{x0, y1, c.r, c.g, c.b, c.a, v1, 0, 0}, e{x1, y1, c.r, c.g, c.b, c.a, v1, 0, 0};
     out.insert(out.end(), {a, b, e, a, e, d});
 }
 
-// Text at (x, y) (top left), `scale` times stb_easy_font's 7-pixel glyphs, with a dark shadow.
-void addText(std::vector<OverlayVertex>& out, float x, float y, float scale, const std::string& text) {
+// Text at (x, y) (top left) in the atlas's font, with a dark shadow.
+void addText(std::vector<OverlayVertex>& out, const GlyphAtlas& atlas, float x, float y, const std::string& text) {
+    for (const auto& [offset, c] : {std::pair{1.0f, glm::vec4(0.0f, 0.0f, 0.0f, 0.8f)}, std::pair{0.0f, glm::vec4(0.95f)}}) {
+        for (const GlyphAtlas::Quad& q : atlas.layout(text, x + offset, y + offset + atlas.ascent())) {
+            const OverlayVertex a{q.x0, q.y0, c.r, c.g, c.b, c.a, kText, q.u0, q.v0}, b{q.x1, q.y0, c.r, c.g, c.b, c.a, kText, q.u1, q.v0};
+            const OverlayVertex d{q.x0, q.y1, c.r, c.g, c.b, c.a, kText, q.u0, q.v1}, e{q.x1, q.y1, c.r, c.g, c.b, c.a, kText, q.u1, q.v1};
+            out.insert(out.end(), {a, b, e, a, e, d});
+        }
+    }
+}
+
+// The built-in fallback: `scale` times stb_easy_font's 7-pixel glyphs, with a dark shadow.
+void addEasyText(std::vector<OverlayVertex>& out, float x, float y, float scale, const std::string& text) {
     static char quads[64 * 1024];
     std::string copy = text;
     const int count = stb_easy_font_print(0.0f, 0.0f, copy.data(), nullptr, quads, sizeof(quads));
@@ -64,7 +79,7 @@ void addText(std::vector<OverlayVertex>& out, float x, float y, float scale, con
     }
 }
 
-float textWidth(const std::string& text, float scale) {
+float easyTextWidth(const std::string& text, float scale) {
     std::string copy = text;
     return float(stb_easy_font_width(copy.data())) * scale;
 }
@@ -81,9 +96,9 @@ ColourBarRenderer::ColourBarRenderer() : program_("overlay.vert", "overlay.frag"
     glCreateVertexArrays(1, &vao_);
     glCreateBuffers(1, &vbo_);
     glVertexArrayVertexBuffer(vao_, 0, vbo_, 0, sizeof(OverlayVertex));
-    const GLuint sizes[3] = {2, 4, 1};
-    const GLuint offsets[3] = {offsetof(OverlayVertex, x), offsetof(OverlayVertex, r), offsetof(OverlayVertex, value)};
-    for (GLuint a = 0; a < 3; ++a) {
+    const GLuint sizes[4] = {2, 4, 1, 2};
+    const GLuint offsets[4] = {offsetof(OverlayVertex, x), offsetof(OverlayVertex, r), offsetof(OverlayVertex, value), offsetof(OverlayVertex, u)};
+    for (GLuint a = 0; a < 4; ++a) {
         glEnableVertexArrayAttrib(vao_, a);
         glVertexArrayAttribFormat(vao_, a, GLint(sizes[a]), GL_FLOAT, GL_FALSE, offsets[a]);
         glVertexArrayAttribBinding(vao_, a, 0);
@@ -95,32 +110,40 @@ ColourBarRenderer::~ColourBarRenderer() {
     glDeleteVertexArrays(1, &vao_);
 }
 
-void ColourBarRenderer::draw(glm::ivec2 size, float range, int colormap, const char* units) {
-    // Text twice as large on big frames; the bar is 45% of the height, at the right edge.
+void ColourBarRenderer::draw(glm::ivec2 size, glm::vec2 range, int colormap, const char* units) {
+    // The bar is 45% of the height at the right edge, its marks and text larger on big frames.
     const float scale = size.y >= 400 ? 2.0f : 1.0f;
     const float margin = 10.0f * scale, width = 8.0f * scale;
     const float height = 0.45f * float(size.y);
     const float x1 = float(size.x) - margin, x0 = x1 - width;
     const float y0 = 0.5f * (float(size.y) - height), y1 = y0 + height;
+    const bool font = !uiFontPath().empty() && atlas_.load(uiFontPath(), std::clamp(std::round(float(size.y) / 42.0f), 11.0f, 26.0f));
+    const float lineHeight = font ? atlas_.pixelHeight() : 9.0f * scale;
+    auto text = [&](std::vector<OverlayVertex>& out, float right, float top, const std::string& line) {
+        if (font) addText(out, atlas_, right - atlas_.width(line), top, line);
+        else addEasyText(out, right - easyTextWidth(line, scale), top + scale, scale, line);
+    };
     std::vector<OverlayVertex> vertices;
     addRect(vertices, x0 - 1.0f, y0 - 1.0f, x1 + 1.0f, y1 + 1.0f, glm::vec4(0.0f, 0.0f, 0.0f, 0.8f));
-    addRect(vertices, x0, y0, x1, y1, glm::vec4(1.0f), 1.0f, -1.0f); // top outside (+range), bottom inside
-    const float lineHeight = 9.0f * scale;
-    const float ticks[3] = {range, 0.0f, -range};
+    addRect(vertices, x0, y0, x1, y1, glm::vec4(1.0f), 1.0f, -1.0f); // top outside (range.y), bottom inside (range.x)
+    const float ticks[3] = {range.y, 0.0f, range.x};
     for (int t = 0; t < 3; ++t) {
-        const std::string text = label(ticks[t]);
+        if (t == 2 && range.x == 0.0f) continue; // nothing inside: the bottom is 0, as the middle
         const float y = y0 + height * float(t) / 2.0f;
         addRect(vertices, x0 - 3.0f * scale, y - 0.5f * scale, x0, y + 0.5f * scale, glm::vec4(0.95f));
-        addText(vertices, x0 - 5.0f * scale - textWidth(text, scale), y - 0.5f * lineHeight + scale, scale, text);
+        text(vertices, x0 - 5.0f * scale, y - 0.5f * lineHeight, label(ticks[t]));
     }
     for (int line = 0; line < 2; ++line) {
-        const std::string text = line == 0 ? "signed distance" : units;
-        addText(vertices, x1 - textWidth(text, scale), y0 - (2.6f - 1.1f * float(line)) * lineHeight, scale, text);
+        text(vertices, x1, y0 - (2.6f - 1.1f * float(line)) * lineHeight, line == 0 ? "signed distance" : units);
     }
     glNamedBufferData(vbo_, GLsizeiptr(vertices.size() * sizeof(OverlayVertex)), vertices.data(), GL_STREAM_DRAW);
     program_.use();
     program_.set("viewport", glm::vec2(size));
     program_.set("colormap", colormap);
+    if (font) {
+        glBindTextureUnit(0, atlas_.texture());
+        program_.set("glyphs", 0);
+    }
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
 }

@@ -4,6 +4,7 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/gl.hpp"
+#include "render/font.hpp"
 #include "render/shader.hpp"
 
 #include <glm/mat4x4.hpp>
@@ -38,25 +39,41 @@ private:
     GLuint vao_ = 0;
 };
 
-// The triangle mesh, flat shaded (Lambert, "Coloured Model") and/or as wireframe ("Polygon").
+// How one mesh of a scene is drawn.
+struct MeshStyle {
+    glm::vec3 colour{0.85f, 0.62f, 0.42f};
+    bool visible = true;
+};
+// The colour of the scene's mesh number `index` (the first one the single mesh's orange).
+glm::vec3 meshColour(std::size_t index);
+
+// The triangle meshes of a scene, flat shaded (Lambert, "Coloured Model") and/or as wireframe
+// ("Polygon"), each in its own colour; every pass skips hidden meshes and discards what the cut
+// plane (dot(xyz, p) > w) cuts away.
 class MeshRenderer {
 public:
     MeshRenderer();
     ~MeshRenderer();
-    void setMesh(const Mesh& mesh);
+    // The meshes, each placed by its transform (applied to its world coordinates).
+    void setMeshes(const std::vector<MeshInstance>& parts);
     void clear();
-    bool empty() const { return vertexCount_ == 0; }
-    void drawShaded(const FrameInfo& frame);
+    bool empty() const { return ranges_.empty(); }
+    std::size_t partCount() const { return ranges_.size(); }
+    float lowestY() const { return lowestY_; } // of every vertex drawn
+    void drawShaded(const FrameInfo& frame, const std::vector<MeshStyle>& styles, glm::vec4 cut);
     // Only the depth of the faces, pushed back a little, so that the wireframe drawn over it shows
     // just the visible edges (hidden-line removal).
-    void drawDepth(const FrameInfo& frame);
+    void drawDepth(const FrameInfo& frame, const std::vector<MeshStyle>& styles, glm::vec4 cut);
     // Lines over whatever is in the depth buffer (the shaded and depth passes are offset behind them).
-    void drawWire(const FrameInfo& frame);
+    void drawWire(const FrameInfo& frame, const std::vector<MeshStyle>& styles, glm::vec4 cut);
 
 private:
+    void drawParts(const std::vector<MeshStyle>& styles);
+
     Program program_;
     GLuint vao_ = 0, vbo_ = 0;
-    GLsizei vertexCount_ = 0;
+    std::vector<std::pair<GLint, GLsizei>> ranges_; // first vertex and vertex count of each mesh
+    float lowestY_ = 0.0f;
 };
 
 // The field as a GL_R32F 3D texture (trilinear, clamped) and the box it covers: texel centres
@@ -90,8 +107,9 @@ private:
 class VolumeRenderer {
 public:
     VolumeRenderer();
-    // `range`: the distance at which the colour map saturates; `colormap` as in colormap.glsl.
-    void draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density, float range, int colormap);
+    // `range`: the distances at which the colour map saturates inside (< 0) and outside (> 0);
+    // `colormap` as in colormap.glsl.
+    void draw(const FrameInfo& frame, const FieldTexture& field, GLuint depthTexture, float density, glm::vec2 range, int colormap);
 
 private:
     Program program_;
@@ -104,7 +122,9 @@ private:
 class RaymarchRenderer {
 public:
     RaymarchRenderer();
-    void draw(const FrameInfo& frame, const FieldTexture& field, bool shadows, float iso);
+    // `cut`: the part where dot(xyz, p) > w is not marched ((0, 0, 0, 1): nothing is cut); where
+    // the cut enters the solid, a flat cap when `capCut` (else nothing: a slice is drawn there).
+    void draw(const FrameInfo& frame, const FieldTexture& field, bool shadows, float iso, glm::vec4 cut, bool capCut);
 
 private:
     Program program_;
@@ -115,13 +135,15 @@ private:
 // empty when it misses). The plane has unit `normal` and sits at `position` (0..1) between the
 // box's lowest and highest corner along the normal.
 std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position);
+// That plane as (normal, level): the points p with dot(normal, p) = level.
+glm::vec4 slicePlane(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position);
 
 // A plane through the box at any orientation (see slicePolygon), coloured by signed distance with
 // the colour map, iso-distance contours and an emphasised zero contour.
 class SliceRenderer {
 public:
     SliceRenderer();
-    void draw(const FrameInfo& frame, const FieldTexture& field, glm::vec3 normal, float position, float range, int colormap);
+    void draw(const FrameInfo& frame, const FieldTexture& field, glm::vec3 normal, float position, glm::vec2 range, int colormap);
 
 private:
     Program program_;
@@ -140,17 +162,19 @@ private:
     GLuint vao_ = 0, vbo_ = 0;
 };
 
-// The colour bar: the colour map from -range (bottom, inside) to +range (top, outside) at the right
-// edge of the frame, with its values and units written beside it (stb_easy_font).
+// The colour bar: the colour map from range.x (bottom, inside) through 0 to range.y (top, outside)
+// at the right edge of the frame, with its values and units written beside it in the interface
+// font (render/font.hpp).
 class ColourBarRenderer {
 public:
     ColourBarRenderer();
     ~ColourBarRenderer();
-    void draw(glm::ivec2 size, float range, int colormap, const char* units);
+    void draw(glm::ivec2 size, glm::vec2 range, int colormap, const char* units);
 
 private:
     Program program_;
     GLuint vao_ = 0, vbo_ = 0;
+    GlyphAtlas atlas_;
 };
 
 } // namespace sdfgen::render

@@ -3,31 +3,57 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace sdfgen::render {
 
+namespace {
+std::size_t viewIndex(const std::string& name) {
+    const std::vector<ViewType>& types = viewTypes();
+    for (std::size_t i = 0; i < types.size(); ++i) {
+        if (name == types[i].name) return i;
+    }
+    return types.size();
+}
+} // namespace
+
+Views::Views() {
+    for (const ViewType& type : viewTypes()) shown_.push_back(type.shownByDefault);
+}
+
+bool& Views::operator[](const std::string& name) {
+    const std::size_t i = viewIndex(name);
+    if (i == shown_.size()) throw Error("unknown view '" + name + "' (expected " + names() + ")");
+    return shown_[i];
+}
+
+bool Views::operator[](const std::string& name) const { return const_cast<Views&>(*this)[name]; }
+
+std::string Views::names() {
+    std::string text;
+    for (const ViewType& type : viewTypes()) text += (text.empty() ? "" : ", ") + std::string(type.name);
+    return text;
+}
+
 Views Views::parse(const std::string& list) {
     Views v;
-    v.grid = v.mesh = false;
+    std::fill(v.shown_.begin(), v.shown_.end(), false);
     std::stringstream in(list);
     std::string word;
     while (std::getline(in, word, ',')) {
-        if (word == "grid") v.grid = true;
-        else if (word == "mesh") v.mesh = true;
-        else if (word == "wire") v.wire = true;
-        else if (word == "volume") v.volume = true;
-        else if (word == "raymarch") v.raymarch = true;
-        else if (word == "slice") v.slice = true;
-        else if (word == "box") v.box = true;
-        else if (word == "all") v.grid = v.mesh = v.wire = v.volume = v.raymarch = v.slice = v.box = true;
+        if (word == "all") std::fill(v.shown_.begin(), v.shown_.end(), true);
         else if (word == "none" || word.empty()) continue;
-        else throw Error("unknown view '" + word + "' (expected grid, mesh, wire, volume, raymarch, slice, box, all or none)");
+        else if (viewIndex(word) == v.shown_.size()) throw Error("unknown view '" + word + "' (expected " + names() + ", all or none)");
+        else v[word] = true;
     }
     return v;
 }
 
-Scene::Scene() = default;
+Scene::Scene() {
+    for (const ViewType& type : viewTypes()) drawn_.push_back(type.make());
+}
+
 
 Scene::~Scene() {
     glDeleteFramebuffers(1, &fbo_);
@@ -43,16 +69,59 @@ glm::vec3 axisNormal(int axis) {
 }
 
 void Scene::setMesh(const Mesh& mesh) {
-    mesh_.setMesh(mesh);
+    setMeshes({{&mesh, glm::dmat4(1.0)}});
     gridHeight_ = float(mesh.worldBounds().min.y);
 }
 
-float Scene::effectiveColourRange() const {
-    if (colourRange > 0.0f) return colourRange;
-    const glm::vec3 box = field_.boxSize();
-    return std::max(0.25f * std::max({box.x, box.y, box.z}), 1e-6f);
+void Scene::setMeshes(const std::vector<MeshInstance>& parts) {
+    mesh_.setMeshes(parts);
+    gridHeight_ = mesh_.lowestY();
+    meshStyles.clear();
+    for (std::size_t i = 0; i < parts.size(); ++i) meshStyles.push_back({meshColour(i), true});
 }
-void Scene::clearMesh() { mesh_.clear(); }
+
+glm::vec2 Scene::effectiveRange(glm::vec2 range) const {
+    if (range != glm::vec2(0.0f)) return range;
+    const glm::vec3 box = field_.boxSize();
+    const float r = std::max(0.25f * std::max({box.x, box.y, box.z}), 1e-6f);
+    return glm::vec2(-r, r);
+}
+
+glm::vec4 Scene::cutPlane() const {
+    if (sliceCut == 0 || field_.empty()) return glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+    const glm::vec4 plane = slicePlane(field_.boxMin(), field_.boxSize(), glm::normalize(sliceNormal), slicePosition);
+    return sliceCut > 0 ? plane : -plane;
+}
+
+glm::vec2 fieldValueRange(const Field& field) {
+    glm::vec2 range(0.0f);
+    for (const float v : field.values) range = glm::vec2(std::min(range.x, v), std::max(range.y, v));
+    return range;
+}
+
+glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position) {
+    // The samples within half a voxel of the plane: the ones the slice's colours come from.
+    const Grid& g = field.grid;
+    const float h = float(g.voxel);
+    const glm::vec3 boxMin(g.origin), boxSize = glm::vec3(g.dims) * h;
+    const glm::vec4 plane = slicePlane(boxMin, boxSize, normal, position);
+    glm::vec2 range(0.0f);
+    for (int k = 0; k < g.dims.z; ++k) {
+        for (int j = 0; j < g.dims.y; ++j) {
+            for (int i = 0; i < g.dims.x; ++i) {
+                const glm::vec3 p = boxMin + (glm::vec3(i, j, k) + 0.5f) * h;
+                if (std::abs(glm::dot(glm::vec3(plane), p) - plane.w) > 0.5f * h) continue;
+                const float v = field.values[(std::size_t(k) * std::size_t(g.dims.y) + std::size_t(j)) * std::size_t(g.dims.x) + std::size_t(i)];
+                range = glm::vec2(std::min(range.x, v), std::max(range.y, v));
+            }
+        }
+    }
+    return range;
+}
+void Scene::clearMesh() {
+    mesh_.clear();
+    meshStyles.clear();
+}
 void Scene::setField(const Field& field) { field_.upload(field); }
 void Scene::clearField() { field_.clear(); }
 
@@ -113,51 +182,26 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_BLEND);
-    const float range = effectiveColourRange();
-    if (views.mesh) mesh_.drawShaded(frame);
-    if (views.wire && !views.mesh && !wireSeeThrough) mesh_.drawDepth(frame); // hidden-line removal
-    if (views.slice) slice_.draw(frame, field_, glm::normalize(sliceNormal), slicePosition, range, colormap);
-    if (views.raymarch) raymarch_.draw(frame, field_, shadows, iso);
-    if (views.box && !field_.empty()) {
-        std::vector<glm::vec3> edges;
-        for (int a = 0; a < 8; ++a) {
-            for (int axis = 0; axis < 3; ++axis) {
-                const int b = a | (1 << axis);
-                if (b == a) continue;
-                auto corner = [&](int c) {
-                    return field_.boxMin() + field_.boxSize() * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
-                };
-                edges.push_back(corner(a));
-                edges.push_back(corner(b));
-            }
-        }
-        lines_.draw(frame, edges, glm::vec4(0.95f, 0.8f, 0.2f, 1.0f));
+    const ViewContext context{frame, *this, field_, mesh_, depth_, colourOnlyFbo_, fbo_};
+    const std::vector<ViewType>& types = viewTypes();
+    for (std::size_t i = 0; i < types.size(); ++i) {
+        if (views[types[i].name]) drawn_[i]->draw(context, View::Pass::Opaque);
     }
 
     // Then the blended ones, keeping the destination alpha at 1.
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    if (views.wire) {
-        if (wireSeeThrough) glDisable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LEQUAL);
-        mesh_.drawWire(frame);
-        glDepthFunc(GL_LESS);
-        glEnable(GL_DEPTH_TEST);
-    }
-    if (views.grid) grid_.draw(frame, gridHeight_);
-    if (views.volume && !field_.empty()) {
-        glBindFramebuffer(GL_FRAMEBUFFER, colourOnlyFbo_);
-        glDisable(GL_DEPTH_TEST);
-        glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE); // premultiplied
-        volume_.draw(frame, field_, depth_, volumeDensity, range, colormap);
-        glEnable(GL_DEPTH_TEST);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    bool distanceShown = false;
+    for (std::size_t i = 0; i < types.size(); ++i) {
+        if (!views[types[i].name]) continue;
+        drawn_[i]->draw(context, View::Pass::Blended);
+        distanceShown |= types[i].colouredByDistance;
     }
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glDisable(GL_DEPTH_TEST);
     if (!markers.empty()) lines_.draw(frame, markers, glm::vec4(1.0f, 0.95f, 0.2f, 1.0f));
-    if (colourBar && !field_.empty() && (views.slice || views.volume)) {
-        colourBar_.draw(size, range, colormap, "(model units)");
+    if (colourBar && !field_.empty() && distanceShown) {
+        colourBar_.draw(size, colourBarRange(), colormap, "(model units)");
     }
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
@@ -172,6 +216,14 @@ void Scene::present(GLuint target) {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
     glBlitFramebuffer(0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, target);
+}
+
+Image Scene::image() const {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    Image image = readFramebuffer(targetSize_.x, targetSize_.y);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    return image;
 }
 
 bool Scene::surfaceAt(glm::ivec2 pixel, glm::vec3& point) {

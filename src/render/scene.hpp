@@ -2,9 +2,14 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/camera.hpp"
+#include "render/image.hpp"
 #include "render/renderers.hpp"
+#include "render/view.hpp"
+
+#include <glm/vec2.hpp>
 
 #include <glm/vec3.hpp>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,19 +19,26 @@ namespace sdfgen::render {
 // The unit normal of the slice across axis 0 (x), 1 (y) or 2 (z).
 glm::vec3 axisNormal(int axis);
 
-// Which views are drawn; any combination.
-struct Views {
-    bool grid = true;
-    bool mesh = true;      // "Coloured Model": flat-shaded Lambert
-    bool wire = false;     // "Polygon": wireframe
-    bool volume = false;   // "SDF volume": ray-marched colour volume
-    bool raymarch = false; // "Ray-marched": sphere tracing with shadows and ambient occlusion
-    bool slice = false;    // "Slice": signed distance on a plane at any orientation
-    bool box = false;      // the field's bounding box, as lines
+// The least and greatest values of `field` (for a colour range from the values themselves):
+// of the samples the slice (slicePolygon) passes through, or of the whole field; x <= 0 <= y.
+glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position);
+glm::vec2 fieldValueRange(const Field& field);
 
-    // Parses a comma-separated list of grid, mesh, wire, volume, raymarch, slice, box (or "all",
-    // "none"); throws Error naming the bad word.
+// Which views (view.hpp's registry) are shown, by name; any combination.
+class Views {
+public:
+    Views(); // the views shown by default
+    // The flag of the view `name`; Error for a name not registered.
+    bool& operator[](const std::string& name);
+    bool operator[](const std::string& name) const;
+    bool operator==(const Views& other) const { return shown_ == other.shown_; }
+    // Parses a comma-separated list of view names (or "all", "none"); throws Error naming the bad word.
     static Views parse(const std::string& list);
+    // The registered names, comma-separated, for help texts.
+    static std::string names();
+
+private:
+    std::deque<bool> shown_; // per viewTypes() entry (a deque: real bools, for bool&)
 };
 
 // Everything drawn in a frame: the mesh and field on the GPU, the renderers, and the settings
@@ -38,8 +50,10 @@ public:
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
 
-    // The mesh (the grid is drawn on the plane under it).
+    // The mesh, or the meshes of a scene each placed by its transform (the grid is drawn on the
+    // plane under them). meshStyles gets one entry per mesh (meshColour(i), visible).
     void setMesh(const Mesh& mesh);
+    void setMeshes(const std::vector<MeshInstance>& parts);
     void clearMesh();
     void setField(const Field& field); // throws Error when the driver cannot hold it
     void clearField();
@@ -55,12 +69,23 @@ public:
     bool headlight = true;      // the light follows the camera (else a fixed light from above)
     bool colourBar = true;      // drawn when the slice or the volume is shown
     int colormap = 0;           // 0 diverging, 1 viridis, 2 grey (shaders/colormap.glsl)
-    float colourRange = 0.0f;   // distance at which the colour map saturates; 0: automatic
+    // The distances at which the colour map saturates inside (x < 0) and outside (y > 0), for the
+    // slice and the volume each; (0, 0): symmetric, a quarter of the box's longest side.
+    glm::vec2 sliceRange{0.0f}, volumeRange{0.0f};
+    // The slice's plane (shown or not) cuts away the meshes and the ray-marched surface on one
+    // side: 0 nothing, 1 the side its normal points to, -1 the other side.
+    int sliceCut = 0;
+    std::vector<MeshStyle> meshStyles; // one per mesh of setMeshes
     std::vector<glm::vec3> markers; // segments drawn on top (the probe's point and nearest point)
     glm::vec3 background{0.16f, 0.17f, 0.19f};
 
-    // The range the colour map and bar use: colourRange, or a quarter of the box's longest side.
-    float effectiveColourRange() const;
+    // The range a view's colours use: `range`, or the symmetric automatic one where it is (0, 0).
+    glm::vec2 effectiveRange(glm::vec2 range) const;
+    // The colour bar's: the slice's while it is shown, else the volume's.
+    glm::vec2 colourBarRange() const { return effectiveRange(views["slice"] ? sliceRange : volumeRange); }
+    // The plane that cuts (as the shaders take it: dot(xyz, p) > w is cut), (0, 0, 0, 1) for none.
+    glm::vec4 cutPlane() const;
+    float gridHeight() const { return gridHeight_; } // the grid's plane: y = the meshes' lowest point
     glm::vec3 fieldBoxMin() const { return field_.boxMin(); }
     glm::vec3 fieldBoxSize() const { return field_.boxSize(); }
 
@@ -73,16 +98,15 @@ public:
     // surface there (mesh, ray-marched surface, slice or grid), or false where there is none.
     bool surfaceAt(glm::ivec2 pixel, glm::vec3& point);
     const FrameInfo& lastFrame() const { return frame_; }
+    // The last frame drawn, top row first.
+    Image image() const;
 
 private:
     void resizeTargets(glm::ivec2 size);
 
-    GridRenderer grid_;
     MeshRenderer mesh_;
     FieldTexture field_;
-    VolumeRenderer volume_;
-    RaymarchRenderer raymarch_;
-    SliceRenderer slice_;
+    std::vector<std::unique_ptr<View>> drawn_; // one per viewTypes() entry
     LineRenderer lines_;
     ColourBarRenderer colourBar_;
     float gridHeight_ = 0.0f;

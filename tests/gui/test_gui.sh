@@ -5,10 +5,15 @@
 # when the layout changes), so that clicks find their targets however the panel is laid out.
 # Checks: every control can be scrolled into view and Generate works; settings are validated
 # (resolution 0 and 100000 refused with the reason); a message appears right under the button that
-# caused it; an idle viewer uses under 5% of a core; the view checkboxes flip exactly their view
-# and change the scene; the probe reports the field's trilinear value where the pointer is; a
-# field made from another mesh is warned about; at 400 ms per frame a tapped F still reframes and
-# a click still toggles; Ctrl+Q exits with status 0. Every wait polls with a deadline.
+# caused it; an idle viewer uses under 5% of a core; a list opened by a still click (no pointer
+# motion after it) is drawn; a .npz from Recent loads as a field; a long error is shown in full;
+# an 80 ms arrow tap turns 3 +- 1 degrees and a held arrow 90 per second; the view checkboxes flip
+# exactly their view and change the scene; the probe reports the field's trilinear value where the
+# pointer is; a field made from another mesh is warned about; at 400 ms per frame a tapped F still
+# reframes and a click still toggles; the surface exports and a field compares with itself as
+# equal; a field opened without a model is framed, and Shift+F
+# frames it again; the window's title names what it shows; Ctrl+Q exits with status 0. Every wait
+# polls with a deadline.
 #
 # Usage: tests/gui/test_gui.sh SDFGEN_BINARY REPO_ROOT   (ctest runs it under xvfb-run)
 set -euo pipefail
@@ -41,18 +46,20 @@ cp "$root/assets/bunny.obj" "$work/bunny.obj"
 "$sdfgen" bake "$work/bunny.obj" -o "$work/bunny.sdf" >/dev/null
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tet.obj"
 "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 >/dev/null
-mkdir "$work/shots" "$work/config"
+"$sdfgen" bake "$work/bunny.obj" -o "$work/bunny.npz" --res 24 >/dev/null
+mkdir -p "$work/shots" "$work/config/sdfgen"
+echo "$work/bunny.npz" >"$work/config/sdfgen/recent.txt" # a field among the recent files
 
 window=""
 shots=0
 # start [ENV...]: runs the viewer on the bunny (in $work, so its screenshots land there), waits
-# for its window and resizes it to 800x500.
+# for its window and resizes it to 800x500. SDFGEN_GUI_OPEN names another file to open.
 start() {
   shots=0
   rm -f "$work/shots/"*
-  (cd "$work" && env SDFGEN_SCREENSHOT_DIR="$work/shots" XDG_CONFIG_HOME="$work/config" "$@" "$sdfgen" bunny.obj >"$work/log" 2>&1) &
+  (cd "$work" && env SDFGEN_SCREENSHOT_DIR="$work/shots" XDG_CONFIG_HOME="$work/config" "$@" "$sdfgen" "${SDFGEN_GUI_OPEN:-bunny.obj}" >"$work/log" 2>&1) &
   pid=$!
-  find_window() { window=$(xdotool search --onlyvisible --name '^sdfgen$' 2>/dev/null | head -1); [ -n "$window" ]; }
+  find_window() { window=$(xdotool search --onlyvisible --name ' - sdfgen$' 2>/dev/null | head -1); [ -n "$window" ]; }
   until_ok grep -qs "^viewer ready$" "$work/log" || fail "the viewer did not start"
   until_ok find_window || fail "no viewer window appeared"
   xdotool windowsize --sync "$window" 800 500 || fail "cannot resize the window"
@@ -111,8 +118,11 @@ type_into() {
   xdotool key Return
 }
 message() { grep "^text $1 " "$work/shots/widgets.txt" | cut -d' ' -f3-; }
+# The camera (yaw,pitch,distance) of screenshot N.
+camera_of() { grep "^screenshot $1:" "$work/log" | sed 's/.*camera=\([^ ]*\).*/\1/'; }
 
 start
+[ "$(xdotool getwindowname "$window")" = "bunny.obj - sdfgen" ] || fail "the window's title is '$(xdotool getwindowname "$window")'"
 # --- idle: nothing changes, so nothing is drawn; CPU over 5 s under 5% of a core.
 xdotool mousemove --window "$window" 790 490
 sleep 0.5
@@ -134,6 +144,67 @@ for name in $names; do
 done
 [ "$count" -ge 40 ] || fail "only $count widgets reported"
 echo "all $count panel widgets reached at 800x500"
+
+# --- a list opened by a still click is drawn at once: click Recent without moving the pointer
+# after the click, then wait; its entries must be on screen (not hidden while ImGui measures them).
+reach model_recent
+read -r x0 y0 x1 y1 _ <<<"$(widget model_recent)"
+xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2))
+sleep 0.5
+xdotool click 1
+sleep 1
+grep -q "^recent_1 .* 1$" "$work/shots/widgets.txt" || fail "the Recent list opened by a still click is not drawn: $(grep '^recent_' "$work/shots/widgets.txt" | tr '\n' ' ')"
+echo "Recent opened by a still click: drawn"
+# --- a .npz picked from Recent loads as a field (not as a mesh).
+click recent_1
+until_ok grep -q "^message field info: loaded $work/bunny.npz" "$work/log" || fail "the .npz from Recent did not load as a field"
+echo "a .npz from Recent: $(grep '^message field info: loaded .*npz' "$work/log")"
+
+# --- a long error is shown in full: wrapped, every word of it on screen.
+long="$work/a-folder-with-a-rather-long-name-to-make-the-message-wrap/and-another-one-inside-it/missing-field.npz"
+type_into field_path "$long"
+until_ok grep -q "^message field error: .*missing-field.npz" "$work/log" || fail "no error for a missing field"
+reach '##field_message'
+read -r _ ey0 _ ey1 evisible <<<"$(widget '##field_message')"
+line_height=$(( $(widget field_save | cut -d' ' -f4) - $(widget field_save | cut -d' ' -f2) ))
+[ "$evisible" = 1 ] && [ $((ey1 - ey0)) -ge $((2 * line_height)) ] || fail "the long error is not wrapped in full view ($ey0-$ey1, visible $evisible)"
+message '##field_message' | grep -q "missing-field.npz: .*)$" || fail "the error's text is cut: $(message '##field_message')"
+echo "long error in full, $((ey1 - ey0)) px high: $(message '##field_message')"
+type_into field_path "$work/bunny.sdf"
+
+# --- arrows: an 80 ms tap turns 3 +- 1 degrees (the frame after idle does not count the idle
+# time); holding turns 90 degrees a second after the first quarter second.
+xdotool mousemove --window "$window" 790 490 click 1 # the scene has the keyboard, not a text box
+sleep 0.5
+shoot
+xdotool keydown Left
+sleep 0.08
+xdotool keyup Left
+sleep 0.3
+shoot
+xdotool keydown Right
+sleep 1
+xdotool keyup Right
+sleep 0.3
+shoot
+yaw0=$(camera_of $((shots - 3)) | cut -d, -f1)
+yaw1=$(camera_of $((shots - 2)) | cut -d, -f1)
+yaw2=$(camera_of $((shots - 1)) | cut -d, -f1)
+awk -v a="$yaw0" -v b="$yaw1" 'BEGIN { d = a - b; exit !(d >= 2 && d <= 4) }' || fail "an 80 ms arrow tap turned from $yaw0 to $yaw1, not 3 degrees"
+awk -v a="$yaw1" -v b="$yaw2" 'BEGIN { d = b - a; exit !(d >= 60 && d <= 90) }' || fail "a 1 s arrow hold turned from $yaw1 to $yaw2, not 3 + 0.75 * 90 degrees"
+echo "arrow tap of 80 ms: yaw $yaw0 -> $yaw1; held 1 s: -> $yaw2"
+# The yaw back to 30 degrees (Ctrl+click makes the slider a text box): the checks below expect
+# the first camera.
+reach yaw
+read -r x0 y0 x1 y1 _ <<<"$(widget yaw)"
+xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2)) keydown ctrl click 1 keyup ctrl
+xdotool key ctrl+a
+xdotool type --delay 20 30
+xdotool key Return
+xdotool mousemove --window "$window" 790 490
+shoot
+[ "$(camera_of $((shots - 1)) | cut -d, -f1)" = 30.000 ] || fail "the yaw was not set back to 30: $(camera_of $((shots - 1)))"
+
 
 # --- a message right under the button that caused it: a missing model.
 type_into model_path "$work/missing.obj"
@@ -185,6 +256,14 @@ until_ok grep -q "^text stats method exact loaded" "$work/shots/widgets.txt" || 
 echo "mismatched field: $(grep '^message field warning' "$work/log" | tail -1)"
 type_into field_path "$work/bunny.sdf"
 until_ok grep -q "^message field info: loaded .*bunny.sdf" "$work/log" || fail "the bunny's field did not load"
+# --- the panel's surface export and comparison (as `sdfgen surface` and `compare`).
+click surface_export
+until_ok grep -q "^message field info: saved the surface at level 0.0* as .*bunny.surface.obj ([0-9]* triangles)" "$work/log" ||
+  fail "Export did not write the surface"
+grep -q "^f " "$work/bunny.surface.obj" || fail "the exported surface has no faces"
+type_into compare_path "$work/bunny.sdf"
+until_ok grep -q "^message field info: against bunny.sdf: max |difference| 0 " "$work/log" || fail "comparing the field with itself did not report no difference"
+echo "surface export and compare: $(grep '^message field info: against' "$work/log")"
 
 # --- the probe: the pointer over the model reports the field's trilinear value at that point.
 xdotool mousemove --window "$window" 547 262
@@ -217,7 +296,7 @@ EOF
 
 # --- the view checkboxes: each flips exactly its view and changes the scene.
 shoot
-previous=0
+previous=$((shots - 1))
 for name in Grid Polygon Coloured_Model SDF_volume Ray-marched Slice; do
   click "$name"
   xdotool mousemove --window "$window" 790 490 # off the model: no probe marker in the picture
@@ -270,11 +349,13 @@ until_ok grep -q "^message field info: saved $work/union.sdf" "$work/log" || fai
 [ "$(sed -n 2p "$work/union.sdf")" = "source bunny.obj+far.obj" ] || fail "the scene's field does not name both models: $(sed -n 2p "$work/union.sdf")"
 echo "scene of two models baked: $(sed -n 2,3p "$work/union.sdf" | tr '\n' ' ')"
 grep -qx "$work/bunny.obj" "$work/config/sdfgen/recent.txt" || fail "the recent files do not list the bunny"
+
 stop
 
 # --- at 400 ms per frame: a tapped F reframes, a click toggles.
 start SDFGEN_DEBUG_FRAME_DELAY_MS=400
 xdotool mousemove --window "$window" 545 250
+xdotool key f # framed for the window's size now (it was framed at its first size, before the resize)
 shoot
 framed=$(grep "^screenshot 0:" "$work/log" | sed 's/.*camera=//')
 xdotool click 5 click 5 click 5 # zoom out over the scene
@@ -295,4 +376,31 @@ echo "click at 400 ms/frame: $grid_before -> $grid_after"
 stop
 
 if [ -n "${SDFGEN_GUI_SHOT:-}" ]; then cp "$work/shots/window-3.png" "$SDFGEN_GUI_SHOT"; fi
+
+# --- a field opened without a model is framed (the camera aims at its box's centre), and F, with
+# Shift too, frames it again after a zoom.
+SDFGEN_GUI_OPEN=bunny.npz start
+[ "$(xdotool getwindowname "$window")" = "bunny.npz - sdfgen" ] || fail "the window's title is '$(xdotool getwindowname "$window")'"
+xdotool mousemove --window "$window" 790 490
+shoot
+target=$(grep "^screenshot 0:" "$work/log" | sed 's/.*target=//')
+/usr/bin/python3 - "$work/bunny.npz" "$target" <<'EOF' || fail "the field alone is not framed (camera target $target)"
+import sys
+import numpy as np
+archive = np.load(sys.argv[1])
+centre = np.asarray(archive["origin"], float) + 0.5 * np.asarray(archive["dims"], float) * float(archive["voxel_size"])
+target = np.array([float(v) for v in sys.argv[2].split(",")])
+print(f"field alone: camera target {target}, box centre {centre}")
+sys.exit(0 if np.all(np.abs(target - centre) <= 1e-3 * np.abs(centre).max() + 1e-4) else 1)
+EOF
+xdotool key f # framed again for the window's size now (it was framed at its first size)
+shoot
+framed=$(camera_of 1)
+xdotool click 5 click 5
+shoot
+xdotool key shift+f
+shoot
+[ "$(camera_of 3)" = "$framed" ] && [ "$(camera_of 2)" != "$framed" ] || fail "Shift+F did not frame the field ($framed, $(camera_of 2), $(camera_of 3))"
+echo "field alone framed; Shift+F frames it again: $framed"
+stop
 echo "GUI test passed"

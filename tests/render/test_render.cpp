@@ -53,12 +53,13 @@ protected:
         addModel("bunny", loadMesh(test::bundledBunnyPath()), 128);
         // A scene of two meshes (mergeMeshes): the bunny and a torus three times as large beside it.
         const Mesh& bunny = models_->at("bunny").mesh;
-        const Mesh ring = test::torus(1.0f, 0.4f, 48, 24);
-        const glm::dmat4 place = glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(bunny.worldBounds().max.x + 3.0, 4.0, 0.0)), glm::dvec3(3.0));
-        addModel("scene", mergeMeshes({{&bunny, glm::dmat4(1.0)}, {&ring, place}}, "bunny+torus"), 96);
+        ring_ = new Mesh(test::torus(1.0f, 0.4f, 48, 24));
+        ringPlace_ = glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(bunny.worldBounds().max.x + 3.0, 4.0, 0.0)), glm::dvec3(3.0));
+        addModel("scene", mergeMeshes({{&bunny, glm::dmat4(1.0)}, {ring_, ringPlace_}}, "bunny+torus"), 96);
     }
     static void TearDownTestSuite() {
         delete models_;
+        delete ring_;
         delete scene_;
         delete context_;
     }
@@ -87,7 +88,8 @@ protected:
         scene_->wireSeeThrough = false;
         scene_->colourBar = true;
         scene_->colormap = 0;
-        scene_->colourRange = 0.0f;
+        scene_->sliceRange = scene_->volumeRange = glm::vec2(0.0f);
+        scene_->sliceCut = 0;
         if (tweak) tweak(*scene_);
         OrbitCamera camera;
         camera.yaw = yaw;
@@ -101,10 +103,16 @@ protected:
     static GlContext* context_;
     static Scene* scene_;
     static std::map<std::string, Model>* models_;
+
+public:
+    static Mesh* ring_;
+    static glm::dmat4 ringPlace_;
 };
 GlContext* RenderTest::context_ = nullptr;
 Scene* RenderTest::scene_ = nullptr;
 std::map<std::string, Model>* RenderTest::models_ = nullptr;
+Mesh* RenderTest::ring_ = nullptr;
+glm::dmat4 RenderTest::ringPlace_{1.0};
 
 Views only(const std::string& list) { return Views::parse(list); }
 
@@ -151,13 +159,24 @@ std::string shotName(const ::testing::TestParamInfo<Shot>& info) { return fileNa
 
 // The variants: oblique slices, iso levels out and in (in voxels of the res-128 bunny field), the
 // see-through wireframe, another colour map with a fixed range.
+// The scene's meshes as separate parts (one colour each): the bunny and the placed torus.
+std::vector<MeshInstance> sceneParts();
+
 std::function<void(Scene&)> tweakFor(const std::string& variant) {
     if (variant == "oblique") return [](Scene& s) { s.sliceNormal = glm::normalize(glm::vec3(1.0f, 1.0f, 0.5f)); s.slicePosition = 0.45f; };
     if (variant == "isoout") return [](Scene& s) { s.iso = 0.5f; };
     if (variant == "isoin") return [](Scene& s) { s.iso = -0.3f; };
     if (variant == "seethrough") return [](Scene& s) { s.wireSeeThrough = true; };
-    if (variant == "viridis") return [](Scene& s) { s.colormap = 1; s.colourRange = 1.0f; };
+    if (variant == "viridis") return [](Scene& s) { s.colormap = 1; s.sliceRange = glm::vec2(-1.0f, 1.0f); };
+    if (variant == "cut") return [](Scene& s) { s.sliceCut = 1; s.sliceNormal = axisNormal(0); s.slicePosition = 0.55f; };
+    if (variant == "parts") return [](Scene& s) { s.setMeshes(sceneParts()); };
     return {};
+}
+
+std::vector<MeshInstance> sceneParts() {
+    // The bunny as loaded (the merged scene's first part) and the ring where the scene put it.
+    static const Mesh bunny = loadMesh(test::bundledBunnyPath());
+    return {{&bunny, glm::dmat4(1.0)}, {RenderTest::ring_, RenderTest::ringPlace_}};
 }
 
 class Screenshot : public RenderTest, public ::testing::WithParamInterface<Shot> {};
@@ -209,6 +228,12 @@ std::vector<Shot> allShots() {
     shots.push_back({"bunny", "wire", "seethrough"});
     shots.push_back({"scene", "grid,mesh", ""});
     shots.push_back({"scene", "raymarch,slice", ""});
+    // The slice cutting the mesh and the ray-marched surface away on its normal's side; one
+    // colour per mesh of a scene.
+    shots.push_back({"bunny", "mesh", "cut"});
+    shots.push_back({"bunny", "raymarch", "cut"});
+    shots.push_back({"bunny", "raymarch,slice", "cut"});
+    shots.push_back({"scene", "grid,mesh", "parts"});
     return shots;
 }
 INSTANTIATE_TEST_SUITE_P(Views, Screenshot, ::testing::ValuesIn(allShots()), shotName);
@@ -340,6 +365,43 @@ TEST_F(RenderTest, ColourBarFollowsTheColourMap) {
     const int bottom = int(0.5f * (1.0f + 0.45f) * float(diverging.height)) - 3;
     EXPECT_GT(diverging.pixel(x, top)[2], diverging.pixel(x, top)[0] + 60);
     EXPECT_GT(diverging.pixel(x, bottom)[0], diverging.pixel(x, bottom)[2] + 60);
+}
+
+// A scene's mesh hidden with its visibility toggle is not drawn, and nothing else changes.
+TEST_F(RenderTest, HiddenMeshOfASceneIsNotDrawn) {
+    const glm::vec3 grey(0.16f, 0.17f, 0.19f);
+    const Image both = draw("scene", only("mesh"), 30.0f, 20.0f, grey, true, [](Scene& s) { s.setMeshes(sceneParts()); });
+    const Image hidden = draw("scene", only("mesh"), 30.0f, 20.0f, grey, true, [](Scene& s) {
+        s.setMeshes(sceneParts());
+        s.meshStyles[1].visible = false;
+    });
+    const Image bunnyAlone = draw("scene", only("mesh"), 30.0f, 20.0f, grey, true, [](Scene& s) { s.setMeshes({sceneParts()[0]}); });
+    EXPECT_GT(differingPixels(both, hidden, 8), pixelCount(both) / 50) << "hiding the torus changed little";
+    EXPECT_EQ(differingPixels(hidden, bunnyAlone, 0), 0u) << "a hidden mesh still shows";
+}
+
+// The cut removes the model on the normal's side of the slice only: the other half is unchanged.
+TEST_F(RenderTest, SliceCutRemovesOneSide) {
+    const glm::vec3 black(0.0f);
+    const Image whole = draw("bunny", only("mesh"), 0.0f, 0.0f, black);
+    const Image cut = draw("bunny", only("mesh"), 0.0f, 0.0f, black, true, [](Scene& s) {
+        s.sliceCut = 1;
+        s.sliceNormal = axisNormal(0);
+        s.colourBar = false;
+        s.slicePosition = 0.5f;
+    });
+    // Seen from the front (yaw 0), +x is to the right: the left half must be as without the cut,
+    // the right half is gone.
+    std::size_t leftChanged = 0, rightChanged = 0;
+    for (int y = 0; y < whole.height; ++y) {
+        for (int x = 0; x < whole.width; ++x) {
+            int d = 0;
+            for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(whole.pixel(x, y)[c]) - int(cut.pixel(x, y)[c])));
+            (x < whole.width / 2 - 4 ? leftChanged : rightChanged) += d > 8;
+        }
+    }
+    EXPECT_GT(rightChanged, pixelCount(whole) / 50);
+    EXPECT_LT(leftChanged, pixelCount(whole) / 200);
 }
 
 TEST_F(RenderTest, SlicePolygonCutsTheBox) {

@@ -1,0 +1,182 @@
+// The panel's Field section: saving and loading fields in every format, exporting the iso-surface,
+// comparing with another field; and what the panel knows about the field shown.
+#include "app/viewer_state.hpp"
+#include "core/surface.hpp"
+#include "sdfgen/compare.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/field_match.hpp"
+#include "sdfgen/formats.hpp"
+
+#include <imgui.h>
+#include <cstdio>
+#include <filesystem>
+
+namespace sdfgen::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+std::string signSummaryOf(const Field& field) { return "sign: " + field.parameter("sign"); }
+// A .npy holds the values only: its loader places them with unit voxels at the origin and an
+// unknown method and source.
+bool hasNoGrid(const Field& field) { return field.source.empty() && field.method == "unknown"; }
+} // namespace
+
+// A loaded or baked field that no longer fits the scene (another source, or moved or added
+// models) gets a warning in the field's slot when that first happens.
+void Viewer::checkFieldAgainstScene() {
+    const std::string previous = fieldWarning_;
+    fieldWarning_.clear();
+    if (field_ && sceneMesh_) fieldWarning_ = hasNoGrid(*field_) ? "" : fieldMismatch(*field_, *sceneMesh_);
+    if (!fieldWarning_.empty() && fieldWarning_ != previous) {
+        setMessage(fieldMessage_, Message::Level::Warning, "the field shown does not fit the scene: " + fieldWarning_);
+    }
+}
+
+void Viewer::showField(Field field, FieldInfo info) {
+    scene_.setField(field);
+    field_ = std::move(field);
+    fieldInfo_ = std::move(info);
+    ++fieldVersion_;
+    checkFieldAgainstScene();
+    // Show it, unless the user has chosen the views.
+    render::Views& v = scene_.views;
+    if (!userChoseViews_ && !v["volume"] && !v["raymarch"] && !v["slice"]) v["slice"] = true;
+    if (!sceneMesh_) frameCamera(); // nothing else to frame
+    updateTitle();
+}
+
+// A field saved next to the model (MODEL.sdf) is shown at once instead of being regenerated,
+// when it was made from a file of the same name, is newer than the model and was made with the
+// panel's settings; otherwise (stale or unreadable) it is ignored.
+void Viewer::loadSavedField(const std::string& meshPath) {
+    const fs::path saved = fs::path(meshPath).replace_extension(".sdf");
+    std::error_code ec;
+    if (!fs::exists(saved, ec) || fs::last_write_time(saved, ec) < fs::last_write_time(meshPath, ec)) return;
+    try {
+        Field field = loadField(saved.string());
+        if (fs::path(field.source).filename() != fs::path(meshPath).filename()) return;
+        char padding[32];
+        std::snprintf(padding, sizeof(padding), "%g", double(settings_.padding));
+        if (field.method != toString(settings_.method) || field.parameter("res") != std::to_string(settings_.res) ||
+            field.parameter("padding") != padding) {
+            return;
+        }
+        FieldInfo info{"loaded from " + saved.string(), field.method, -1.0, 0.0, signSummaryOf(field)};
+        showField(std::move(field), info);
+        setMessage(fieldMessage_, Message::Level::Info, "the saved field " + saved.filename().string() + " was loaded with the model");
+    } catch (const std::exception&) {
+        // A broken saved field is not an error for loading the model: generate a new one.
+    }
+}
+
+void Viewer::loadFieldFile(const std::string& path) {
+    try {
+        Field field = loadField(path);
+        const bool noGrid = hasNoGrid(field);
+        FieldInfo info{"loaded from " + path, field.method, -1.0, 0.0, signSummaryOf(field)};
+        fieldWarning_.clear();
+        showField(std::move(field), info);
+        rememberRecent(path);
+        setMessage(generationMessage_, Message::Level::Info, ""); // the last bake is no longer shown
+        if (noGrid) {
+            setMessage(fieldMessage_, Message::Level::Warning,
+                       "loaded " + path + ", which has no grid (a .npy holds only the values): shown with unit voxels from the origin; "
+                       "save fields as .npz, .sdf, .vdb or .nrrd to keep their place");
+        } else if (!fieldWarning_.empty()) {
+            setMessage(fieldMessage_, Message::Level::Warning, "loaded " + path + ", but " + fieldWarning_);
+        } else {
+            setMessage(fieldMessage_, Message::Level::Info, "loaded " + path);
+        }
+    } catch (const std::exception& e) {
+        setMessage(fieldMessage_, Message::Level::Error, e.what());
+    }
+}
+
+void Viewer::exportSurface() {
+    try {
+        if (!field_) throw Error("no field to take the surface from: Generate or Load one first");
+        const SurfaceMesh surface = extractSurface(*field_, double(scene_.iso), 0.0);
+        saveSurface(surface, surfacePath_);
+        rememberRecent(surfacePath_);
+        setMessage(fieldMessage_, Message::Level::Info,
+                   "saved the surface at level " + std::to_string(scene_.iso).substr(0, 6) + " as " + surfacePath_ + " (" +
+                       std::to_string(surface.triangles.size()) + " triangles)");
+    } catch (const std::exception& e) {
+        setMessage(fieldMessage_, Message::Level::Error, e.what());
+    }
+}
+
+void Viewer::compareWith(const std::string& path) {
+    try {
+        if (!field_) throw Error("no field to compare: Generate or Load one first");
+        const Field other = loadField(path);
+        const FieldDifference d = compareFields(*field_, other, 0.0);
+        char text[320];
+        std::snprintf(text, sizeof(text), "against %s: max |difference| %.4g (%.3g voxels), mean %.3g, rms %.3g; signs differ at %zu of %zu samples",
+                      fs::path(path).filename().string().c_str(), d.maxAbs, d.maxAbs / d.voxel, d.meanAbs, d.rmsAbs, d.signDifferences,
+                      d.compared);
+        setMessage(fieldMessage_, Message::Level::Info, text);
+    } catch (const std::exception& e) {
+        setMessage(fieldMessage_, Message::Level::Error, e.what());
+    }
+}
+
+void Viewer::fieldSection() {
+    if (!ImGui::CollapsingHeader("Field", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const float browseWidth = ImGui::CalcTextSize("Browse...").x + ImGui::GetStyle().FramePadding.x * 2 + ImGui::GetStyle().ItemSpacing.x;
+    ImGui::SetNextItemWidth(-browseWidth);
+    const bool enter = ImGui::InputText("##field", fieldPath_, sizeof(fieldPath_), ImGuiInputTextFlags_EnterReturnsTrue);
+    track("field_path");
+    ImGui::SameLine();
+    if (ImGui::Button("Browse...##field")) fileBrowser_.open("Choose a field file", fieldPath_, fieldFormatExtensions(), "Choose");
+    track("field_browse");
+    if (ImGui::Button("Save")) {
+        try {
+            if (!field_) throw Error("no field to save: Generate one first");
+            saveField(*field_, fieldPath_);
+            rememberRecent(fieldPath_);
+            setMessage(fieldMessage_, Message::Level::Info, std::string("saved ") + fieldPath_);
+        } catch (const std::exception& e) {
+            setMessage(fieldMessage_, Message::Level::Error, e.what());
+        }
+    }
+    track("field_save");
+    ImGui::SameLine();
+    if (ImGui::Button("Load##field") || enter) loadFieldFile(fieldPath_);
+    track("field_load");
+    messageLine("##field_message", fieldMessage_);
+
+    // The iso-surface (at the ray-marched view's level) as a mesh, and a comparison, as the CLI's
+    // `surface` and `compare` do.
+    if (!surfacePath_[0] && fieldPath_[0]) std::snprintf(surfacePath_, sizeof(surfacePath_), "%s", fs::path(fieldPath_).replace_extension(".surface.obj").string().c_str());
+    ImGui::BeginDisabled(!field_);
+    ImGui::SetNextItemWidth(-browseWidth);
+    ImGui::InputText("##surface", surfacePath_, sizeof(surfacePath_));
+    track("surface_path");
+    ImGui::SameLine();
+    if (ImGui::Button("Export")) exportSurface();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Save the surface at the Iso level as OBJ or PLY");
+    track("surface_export");
+    ImGui::SetNextItemWidth(-browseWidth);
+    const bool compareEnter = ImGui::InputTextWithHint("##compare", "another field to compare", comparePath_, sizeof(comparePath_),
+                                                       ImGuiInputTextFlags_EnterReturnsTrue);
+    track("compare_path");
+    ImGui::SameLine();
+    if (ImGui::Button("Compare") || compareEnter) compareWith(comparePath_);
+    track("compare");
+    ImGui::EndDisabled();
+}
+
+void Viewer::fileChosen() {
+    const std::string path = fileBrowser_.chosen();
+    if (fileBrowser_.title() == "Open a model") {
+        std::snprintf(meshPath_, sizeof(meshPath_), "%s", path.c_str());
+        openPaths({path}, false);
+    } else {
+        std::snprintf(fieldPath_, sizeof(fieldPath_), "%s", path.c_str()); // Save or Load it with the buttons
+        setMessage(fieldMessage_, Message::Level::Info, "chose " + path + ": Save writes the field there, Load reads it");
+    }
+}
+
+} // namespace sdfgen::app

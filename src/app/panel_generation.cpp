@@ -1,0 +1,183 @@
+// The panel's Generation section: the bake's settings (validated), Generate and Cancel with
+// progress, the field's figures, and the question asked when loading during a bake.
+#include "app/viewer_state.hpp"
+#include "sdfgen/error.hpp"
+
+#include <imgui.h>
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+namespace sdfgen::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+std::string formatBytes(double bytes) {
+    const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+    int u = 0;
+    while (bytes >= 1024.0 && u < 4) {
+        bytes /= 1024.0;
+        ++u;
+    }
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.3g %s", bytes, units[u]);
+    return text;
+}
+
+std::string signSummaryOf(const Field& field) { return "sign: " + field.parameter("sign"); }
+} // namespace
+
+// The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they describe.
+std::string Viewer::validateSettings(Grid& grid) const {
+    if (settings_.res < 1) return "Resolution must be at least 1 (voxels along the longest side)";
+    if (settings_.res > textureLimit_) {
+        return "Resolution " + std::to_string(settings_.res) + " is above this OpenGL driver's 3D texture limit of " +
+               std::to_string(textureLimit_) + ", so the field could not be shown";
+    }
+    if (settings_.rays < 1 || settings_.rays > 65536) return "Rays must be 1 to 65536";
+    if (!(settings_.padding >= 0.0f && settings_.padding <= 100.0f)) return "Padding must be 0 to 100 (a fraction of the longest side)";
+    if (threads_ < 0 || threads_ > 1024) return "Threads must be 0 (all cores) to 1024";
+    if (!sceneMesh_) return "";
+    try {
+        grid = makeGrid(sceneMesh_->worldBounds(), settings_.res, settings_.padding);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+void Viewer::generationSection() {
+    if (!ImGui::CollapsingHeader("Generation", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const bool busy = generation_.running();
+    ImGui::BeginDisabled(busy);
+    ImGui::InputInt("Resolution", &settings_.res);
+    track("resolution");
+    ImGui::InputInt("Rays", &settings_.rays);
+    track("rays");
+    ImGui::InputDouble("Padding", &settings_.padding, 0.01, 0.1, "%.3f");
+    track("padding");
+    ImGui::InputInt("Threads (0 = all)", &threads_);
+    track("threads");
+    int method = int(settings_.method);
+    ImGui::Combo("Method", &method, "rays\0exact\0brute\0");
+    settings_.method = DistanceMethod(method);
+    track("method");
+    int sign = int(settings_.sign);
+    ImGui::Combo("Sign", &sign, "default\0auto\0rays\0pseudonormal\0winding\0");
+    settings_.sign = SignMethod(sign);
+    track("sign");
+    // The GPU device makes its own headless context current on the generation's worker thread.
+    int device = int(settings_.device);
+    ImGui::Combo("Device", &device, "cpu\0gpu\0auto\0");
+    settings_.device = Device(device);
+    track("device");
+    ImGui::EndDisabled();
+
+    Grid grid;
+    const std::string problem = validateSettings(grid);
+    // The grid the settings make, or why they cannot be used (only once there is a model to bake).
+    if (!problem.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.35f, 1.0f));
+        ImGui::TextWrapped("%s", problem.c_str());
+        ImGui::PopStyleColor();
+        track("validation");
+        if (!debugDir_.empty()) layout_ += "text validation " + problem + "\n";
+    } else if (sceneMesh_) {
+        ImGui::TextDisabled("grid %dx%dx%d, %s", grid.dims.x, grid.dims.y, grid.dims.z, formatBytes(4.0 * double(grid.sampleCount())).c_str());
+        track("validation");
+    }
+
+    const float buttonWidth = ImGui::CalcTextSize("Generate").x + ImGui::GetStyle().FramePadding.x * 2.0f;
+    if (busy) {
+        if (ImGui::Button("Cancel", ImVec2(buttonWidth, 0))) generation_.cancel();
+        track("cancel");
+    } else {
+        ImGui::BeginDisabled(!problem.empty() || !sceneMesh_);
+        if (ImGui::Button("Generate", ImVec2(buttonWidth, 0))) {
+            setMessage(generationMessage_, Message::Level::Info, "generating...");
+            generation_.start(sceneMesh_, settings_, GenerationOptions{threads_});
+        }
+        ImGui::EndDisabled();
+        if (!sceneMesh_ && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Load a model first");
+        track("generate");
+    }
+    ImGui::SameLine();
+    char overlay[64];
+    std::snprintf(overlay, sizeof(overlay), busy ? "%.0f%%, %.1f s" : "idle", 100.0 * generation_.progress(), generation_.elapsed());
+    ImGui::ProgressBar(busy ? float(generation_.progress()) : 0.0f, ImVec2(-1.0f, 0.0f), overlay);
+    messageLine("##generation_message", generationMessage_);
+
+    // The field's own figures, wrapped.
+    if (field_) {
+        const Grid& g = field_->grid;
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        if (fieldInfo_.seconds >= 0) {
+            ImGui::TextWrapped("%dx%dx%d voxels, %.2f s, %.3g voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
+        } else {
+            ImGui::TextWrapped("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
+        }
+        ImGui::TextWrapped("method: %s\n%s", fieldInfo_.method.c_str(), fieldInfo_.signSummary.c_str());
+        ImGui::PopStyleColor();
+        track("stats");
+        if (!debugDir_.empty()) layout_ += "text stats method " + fieldInfo_.method + (fieldInfo_.seconds >= 0 ? " baked" : " loaded") + "\n";
+    }
+}
+
+void Viewer::collectGeneration() {
+    std::optional<BakeResult> result;
+    std::string error;
+    std::vector<std::string> warnings;
+    double seconds = 0.0;
+    if (!generation_.collect(result, error, warnings, seconds)) return;
+    inbox_.wake = std::max(inbox_.wake, 2);
+    std::string warned; // the warnings, on lines after the message
+    for (const std::string& warning : warnings) warned += "\nwarning: " + warning;
+    if (!result) {
+        setMessage(generationMessage_, error == "generation cancelled" ? Message::Level::Info : Message::Level::Error, error + warned);
+        return;
+    }
+    try {
+        const Grid& g = result->field.grid;
+        FieldInfo info{"baked", result->field.method, seconds, double(g.sampleCount()) / std::max(seconds, 1e-9), signSummaryOf(result->field)};
+        if (result->checked) info.signSummary += " (" + result->signReason + ")\nmesh check: " + result->check.describe();
+        if (!result->deviceReason.empty()) info.signSummary += "\ndevice: " + result->deviceReason;
+        const std::string dims = std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z);
+        showField(std::move(result->field), info);
+        setMessage(fieldMessage_, Message::Level::Info, "");
+        char text[160];
+        std::snprintf(text, sizeof(text), "done: %s voxels in %.2f s", dims.c_str(), seconds);
+        setMessage(generationMessage_, warned.empty() ? Message::Level::Info : Message::Level::Warning, text + warned);
+    } catch (const std::exception& e) {
+        setMessage(generationMessage_, Message::Level::Error, e.what());
+    }
+}
+
+void Viewer::bakeQuestion() {
+    if (askAboutBake_) {
+        ImGui::OpenPopup("A bake is running");
+        askAboutBake_ = false;
+    }
+    if (!ImGui::BeginPopupModal("A bake is running", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+    std::string names;
+    for (const std::string& p : pendingPaths_) names += (names.empty() ? "" : ", ") + fs::path(p).filename().string();
+    ImGui::Text("Loading %s stops the bake that is running.", names.c_str());
+    if (ImGui::Button("Cancel the bake and load")) {
+        generation_.stop();
+        setMessage(generationMessage_, Message::Level::Info, "generation cancelled to load " + names);
+        ImGui::CloseCurrentPopup();
+        openModels(pendingPaths_, pendingAdd_);
+        pendingPaths_.clear();
+    }
+    track("bake_cancel_and_load");
+    ImGui::SameLine();
+    if (ImGui::Button("Keep baking")) {
+        setMessage(modelMessage_, Message::Level::Info, "not loaded: the bake goes on");
+        pendingPaths_.clear();
+        ImGui::CloseCurrentPopup();
+    }
+    track("bake_keep");
+    ImGui::EndPopup();
+}
+
+} // namespace sdfgen::app

@@ -1,0 +1,167 @@
+// The panel's View, Camera and Probe sections.
+#include "app/viewer_state.hpp"
+
+#include <imgui.h>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace sdfgen::app {
+
+// The views' settings as Dear ImGui controls, each reported to the GUI test by its label.
+class Viewer::PanelOptions : public render::ViewOptions {
+public:
+    explicit PanelOptions(Viewer& viewer) : viewer_(viewer) {}
+    bool checkbox(const char* label, bool& value, const char* tooltip) override {
+        const bool changed = ImGui::Checkbox(label, &value);
+        if (tooltip && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tooltip);
+        viewer_.track(widgetName(label).c_str());
+        return changed;
+    }
+    bool slider(const char* label, float& value, float min, float max, const char* format, bool logarithmic) override {
+        const bool changed = ImGui::SliderFloat(label, &value, min, max, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+        viewer_.track(widgetName(label).c_str());
+        return changed;
+    }
+
+private:
+    Viewer& viewer_;
+};
+
+// A view's colour range: symmetric, from the values it shows, or fixed limits.
+void Viewer::rangeControls(const char* label, const char* name, RangeChoice& choice, glm::vec2& sceneRange, bool slice) {
+    ImGui::PushID(name);
+    const char* modes = slice ? "symmetric\0from the slice\0fixed\0" : "symmetric\0from the field\0fixed\0";
+    ImGui::Combo(label, &choice.mode, modes);
+    if (ImGui::IsItemHovered()) {
+        ImGui::SetTooltip("symmetric: +-a quarter of the box; from the %s: its least to greatest value (0 stays in the middle "
+                          "of the map); fixed: the limits below",
+                          slice ? "slice" : "field");
+    }
+    track(name);
+    if (choice.mode == 2) {
+        ImGui::DragFloat2("inside, outside", &choice.fixed.x, std::max(std::abs(choice.fixed.y), 1e-3f) * 0.01f, 0.0f, 0.0f, "%.4g");
+        choice.fixed.x = std::min(choice.fixed.x, -1e-9f);
+        choice.fixed.y = std::max(choice.fixed.y, 1e-9f);
+    }
+    ImGui::PopID();
+    if (!field_ || choice.mode == 0) sceneRange = glm::vec2(0.0f);
+    else if (choice.mode == 2) sceneRange = choice.fixed;
+    else if (slice) sceneRange = render::sliceValueRange(*field_, glm::normalize(scene_.sliceNormal), scene_.slicePosition);
+    else sceneRange = render::fieldValueRange(*field_);
+    // A range with nothing on one side still needs a scale there (the bar shows 0 at that end).
+    if (sceneRange != glm::vec2(0.0f)) sceneRange = glm::vec2(std::min(sceneRange.x, 0.0f), std::max(sceneRange.y, 1e-9f));
+}
+
+void Viewer::viewSection() {
+    if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    render::Views& v = scene_.views;
+    const float column = std::round(panelWidth_ * 0.5f);
+    // A checkbox per registered view (render/view.hpp), two to a row.
+    int item = 0;
+    for (const render::ViewType& type : render::viewTypes()) {
+        if (item++ % 2) ImGui::SameLine(column);
+        if (ImGui::Checkbox(type.label, &v[type.name])) userChoseViews_ = true;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", type.description);
+        track(widgetName(type.label).c_str());
+    }
+    if (item++ % 2) ImGui::SameLine(column);
+    ImGui::Checkbox("Headlight", &scene_.headlight);
+    track("headlight");
+    // Each shown view's own settings (its section, from the registry).
+    PanelOptions ui(*this);
+    for (const render::ViewType& type : render::viewTypes()) {
+        if (type.options && v[type.name]) type.options(ui, scene_);
+    }
+    // Slice: an axis, or any orientation (dragged in the view: left-drag moves, Shift tilts).
+    for (int a = 0; a < 3; ++a) {
+        if (a > 0) ImGui::SameLine();
+        const char* labels[] = {"Slice X", "Slice Y", "Slice Z"};
+        const char* names[] = {"slice_x", "slice_y", "slice_z"};
+        if (ImGui::Button(labels[a])) {
+            scene_.sliceNormal = render::axisNormal(a);
+            if (!v["slice"]) v["slice"] = userChoseViews_ = true;
+        }
+        track(names[a]);
+    }
+    int cut = scene_.sliceCut == 0 ? 0 : scene_.sliceCut > 0 ? 1 : 2;
+    ImGui::Combo("Cut away", &cut, "nothing\0the normal's side\0the other side\0");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The slice's plane cuts the model and the ray-marched surface away on one side");
+    scene_.sliceCut = cut == 0 ? 0 : cut == 1 ? 1 : -1;
+    track("slice_cut");
+    const glm::vec3 n = scene_.sliceNormal;
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("normal (%.2f %.2f %.2f); in the view: left-drag moves, Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
+    ImGui::PopStyleColor();
+    ImGui::Combo("Colour map", &scene_.colormap, "diverging\0viridis\0grey\0");
+    track("colormap");
+    rangeControls("Slice colours", "slice_range", sliceColours_, scene_.sliceRange, true);
+    rangeControls("Volume colours", "volume_range", volumeColours_, scene_.volumeRange, false);
+    ImGui::Checkbox("Colour bar", &scene_.colourBar);
+    track("colour_bar");
+
+    if (ImGui::Button("Screenshot")) saveScreenshot();
+    track("screenshot");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1.0f);
+    ImGui::InputInt2("##screenshot_size", screenshotSize_);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Width and height in pixels; 0 0: the size of the scene's area");
+    track("screenshot_size");
+    messageLine("##screenshot_message", screenshotMessage_);
+}
+
+void Viewer::cameraSection() {
+    if (!ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const struct {
+        const char* label;
+        float yaw, pitch;
+    } presets[] = {{"Front", 0.0f, 0.0f}, {"Side", 90.0f, 0.0f}, {"Top", 0.0f, 89.0f}};
+    for (const auto& p : presets) {
+        if (ImGui::Button(p.label)) {
+            camera_.yaw = p.yaw;
+            camera_.pitch = p.pitch;
+        }
+        track(p.label);
+        ImGui::SameLine();
+    }
+    if (ImGui::Button("Frame (F)")) frameCamera();
+    track("frame");
+    ImGui::Checkbox("Orthographic", &camera_.orthographic);
+    track("ortho");
+    ImGui::SliderFloat("Yaw", &camera_.yaw, -180.0f, 180.0f, "%.1f");
+    track("yaw");
+    ImGui::SliderFloat("Pitch", &camera_.pitch, -89.0f, 89.0f, "%.1f");
+    track("pitch");
+    ImGui::DragFloat("Distance", &camera_.distance, camera_.sceneRadius * 0.01f, 1e-4f, 1e6f, "%.4g");
+    track("distance");
+    ImGui::DragFloat3("Target", &camera_.target.x, camera_.sceneRadius * 0.01f, 0.0f, 0.0f, "%.4g");
+    track("target");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped("right-drag orbit, middle-drag pan, wheel zoom, arrows orbit (a tap 3 degrees, held 90 per second), F frames");
+    ImGui::PopStyleColor();
+}
+
+void Viewer::probeSection() {
+    if (!ImGui::CollapsingHeader("Probe", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    ImGui::Checkbox("Probe under the cursor", &probeOn_);
+    track("probe");
+    if (!probeValid_) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("move the pointer over the model, the slice or the ray-marched surface");
+        ImGui::PopStyleColor();
+        return;
+    }
+    const ProbeResult& p = probe_;
+    ImGui::TextWrapped("at (%.4g %.4g %.4g)", p.point.x, p.point.y, p.point.z);
+    if (field_) {
+        ImGui::TextWrapped("field: %.5g%s", double(p.fieldValue), p.insideField ? "" : " (outside the box: clamped)");
+        ImGui::TextWrapped("gradient (%.3f %.3f %.3f)", double(p.gradient.x), double(p.gradient.y), double(p.gradient.z));
+    }
+    if (p.haveMesh) {
+        ImGui::TextWrapped("mesh: distance %.5g (exact)", p.meshDistance);
+        ImGui::TextWrapped("nearest (%.4g %.4g %.4g)", p.nearest.x, p.nearest.y, p.nearest.z);
+    }
+    track("probe_values");
+}
+
+} // namespace sdfgen::app

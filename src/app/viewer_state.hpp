@@ -1,0 +1,199 @@
+#pragma once
+// The viewer's state and its parts: the window loop and the scene (viewer.cpp), one file per panel
+// section (panel_model.cpp, panel_generation.cpp, panel_field.cpp, panel_view.cpp) and the GUI
+// test's hooks (test_hooks.cpp).
+#include "app/file_browser.hpp"
+#include "app/generation.hpp"
+#include "app/glfw_context.hpp"
+#include "app/input_queue.hpp"
+#include "app/probe.hpp"
+#include "app/recent_files.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/mesh.hpp"
+#include "sdfgen/model.hpp"
+#include "render/camera.hpp"
+#include "render/scene.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sdfgen::app {
+
+// Arrow keys: a tap turns kArrowTapDegrees at once; held longer than kArrowHoldDelay seconds, the
+// view turns on at kArrowDegreesPerSecond (timed from the key events, not from frames).
+constexpr float kArrowTapDegrees = 3.0f;
+constexpr double kArrowHoldDelay = 0.25;
+constexpr float kArrowDegreesPerSecond = 90.0f;
+
+// Shortcuts handled in GLFW's key callback itself, so that a tap shorter than a frame still acts.
+struct Shortcuts {
+    int frameRequests = 0;
+    bool quit = false;
+    double arrowPressedAt[4] = {-1.0, -1.0, -1.0, -1.0}; // left, right, up, down: glfwGetTime of the press; < 0 released
+    double arrowTurnedUntil[4] = {0.0, 0.0, 0.0, 0.0};   // held turning applied up to this time
+    float arrowTurn[2] = {0.0f, 0.0f};                   // degrees of yaw and pitch not yet applied
+
+    bool arrowsHeld() const { return arrowPressedAt[0] >= 0 || arrowPressedAt[1] >= 0 || arrowPressedAt[2] >= 0 || arrowPressedAt[3] >= 0; }
+    // Adds the held turning of arrow `a` up to time `now` to arrowTurn.
+    void turnHeld(int a, double now);
+};
+
+// Everything the GLFW callbacks hand to the viewer (the window's user pointer).
+struct Inbox {
+    InputQueue input;
+    Shortcuts shortcuts;
+    std::vector<std::string> drops;
+    bool textInput = false; // a text box has the keyboard (last frame): F and arrows are typing
+    bool cursorInside = true;
+    int wake = 2;           // frames still to draw (ImGui settles a frame or two after an event)
+};
+
+// A message under the control that caused it, as long as its text needs (wrapped); the next
+// message of the same kind replaces it; warnings and errors stay until dismissed or replaced.
+struct Message {
+    enum class Level { Info, Warning, Error } level = Level::Info;
+    std::string text;
+};
+
+// One model of the scene, placed by its transform, with its colour and visibility.
+struct SceneModel {
+    std::shared_ptr<const Mesh> mesh;
+    glm::vec3 move{0.0f};
+    glm::vec3 rotate{0.0f}; // degrees about x, then y, then z
+    float scale = 1.0f;
+    glm::vec3 colour{0.0f};
+    bool visible = true;
+
+    bool identity() const { return move == glm::vec3(0.0f) && rotate == glm::vec3(0.0f) && scale == 1.0f; }
+    glm::dmat4 transform() const;
+};
+
+// What the panel shows about the current field: the bake's or the loaded file's own figures.
+struct FieldInfo {
+    std::string origin;  // "baked" or "loaded from PATH"
+    std::string method;  // the field's method line
+    double seconds = -1; // the bake's time; < 0 for a loaded field
+    double rate = 0;
+    std::string signSummary;
+};
+
+// How a view's colours are scaled: symmetric about 0 from the field's size, from the values the
+// view shows (the slice's own, or the whole field's), or fixed limits.
+struct RangeChoice {
+    int mode = 0; // 0 symmetric, 1 from the values, 2 fixed
+    glm::vec2 fixed{-1.0f, 1.0f};
+};
+
+std::string lowerExtension(const std::string& path);
+bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
+std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
+
+class Viewer {
+public:
+    Viewer(GlfwContext& context, Inbox& inbox);
+    // Opens `paths` (models and fields, by extension) as the scene (replacing it) or adds the
+    // models; during a bake, asks first.
+    void openPaths(const std::vector<std::string>& paths, bool add);
+    int run();
+
+private:
+    // viewer.cpp: the loop, the scene, its input and drawing.
+    void sceneInput(const FrameInput& input);
+    void dragSlice(float dx, float dy);
+    void probeAt(const FrameInput& input);
+    void probeOverlay();
+    std::string probeText(const char* separator) const;
+    void panel();
+    void drawScene();
+    bool imguiSettling();
+    void setMessage(Message& slot, Message::Level level, const std::string& text);
+    void messageLine(const char* id, Message& m);
+    void updateTitle();
+    void frameCamera();
+    void saveScreenshot();
+
+    // panel_model.cpp
+    void openModels(const std::vector<std::string>& paths, bool add);
+    void rememberRecent(const std::string& path);
+    void rebuildScene(bool reframe);
+    void handleDrops();
+    void modelSection();
+
+    // panel_generation.cpp
+    std::string validateSettings(Grid& grid) const;
+    void generationSection();
+    void collectGeneration();
+    void bakeQuestion();
+
+    // panel_field.cpp
+    void checkFieldAgainstScene();
+    void showField(Field field, FieldInfo info);
+    void loadSavedField(const std::string& meshPath);
+    void loadFieldFile(const std::string& path);
+    void fieldSection();
+    void exportSurface();
+    void compareWith(const std::string& path);
+    void fileChosen();
+
+    // panel_view.cpp
+    class PanelOptions;
+    void viewSection();
+    void rangeControls(const char* label, const char* name, RangeChoice& choice, glm::vec2& sceneRange, bool slice);
+    void cameraSection();
+    void probeSection();
+
+    // test_hooks.cpp: for the GUI test (SDFGEN_SCREENSHOT_DIR set).
+    void track(const char* name);
+    void debugScreenshot(bool sceneOnly);
+    void writeDebugState();
+
+    GlfwContext& context_;
+    Inbox& inbox_;
+    render::Scene scene_;
+    render::OrbitCamera camera_;
+    std::vector<SceneModel> models_;
+    std::shared_ptr<const Mesh> sceneMesh_;
+    std::unique_ptr<Model> probeModel_; // the scene mesh's, for the probe; built on first use
+    std::optional<Field> field_;
+    FieldInfo fieldInfo_;
+    std::string fieldWarning_;
+    Generation generation_;
+    BakeSettings settings_;
+    int threads_ = 0;
+    int textureLimit_ = 2048;
+    char meshPath_[1024] = "";
+    char fieldPath_[1024] = "";
+    char comparePath_[1024] = "";
+    char surfacePath_[1024] = "";
+    Message modelMessage_, generationMessage_, fieldMessage_, screenshotMessage_;
+    RecentFiles recent_;
+    FileBrowser fileBrowser_;
+    std::vector<std::string> pendingPaths_;
+    bool pendingAdd_ = false, askAboutBake_ = false;
+    bool userChoseViews_ = false;
+    bool sceneDrag_[3] = {false, false, false};
+    bool sliceTilt_ = false;
+    bool probeOn_ = true, probeValid_ = false;
+    ProbeResult probe_;
+    glm::ivec2 probePointer_{0, 0};
+    RangeChoice sliceColours_, volumeColours_;
+    int screenshotSize_[2] = {0, 0}; // 0 0: the scene area's size
+    float panelWidth_ = 300.0f;
+    int meshVersion_ = 0, fieldVersion_ = 0;
+    std::string lastSceneState_;
+    long sceneDraws_ = 0;
+    std::size_t lastDrawHash_ = 0;
+    int settleFrames_ = 0;
+    // Test hooks.
+    std::string debugDir_;
+    int frameDelayMs_ = 0;
+    int screenshots_ = 0;
+    bool announced_ = false;
+    std::string layout_, lastLayout_, lastProbeLine_;
+    std::string pendingOut_, readyOut_; // message lines for the test, printed a frame late
+};
+
+} // namespace sdfgen::app
