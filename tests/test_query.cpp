@@ -166,9 +166,9 @@ TEST(PointQuery, FarPointsAreAnsweredRightOrRefused) {
         EXPECT_NEAR(d[i], expected, 0.02) << i;
     }
     // Farther: refused with the reason, never an infinity or a wrong sign.
-    for (const auto& [far, text] : {std::pair<double, const char*>{1e5, "100000"}, {1e10, "1e+10"}, {1e300, "1e+300"}}) {
-        EXPECT_CONTAINS(test::errorFrom([&] { model.signedDistance({glm::dvec3(far, 0.0, 0.0)}); }),
-                        std::string("query point 0 (") + text + ", 0, 0) is ");
+    for (const auto& [distance, text] : {std::pair<double, const char*>{1e5, "100000"}, {1e10, "1e+10"}, {1e300, "1e+300"}}) {
+        const glm::dvec3 far(distance, 0.0, 0.0); // a copy: C++17 lambdas cannot capture structured bindings
+        EXPECT_CONTAINS(test::errorFrom([&] { model.signedDistance({far}); }), std::string("query point 0 (") + text + ", 0, 0) is ");
     }
     EXPECT_CONTAINS(test::errorFrom([&] { model.unsignedDistance({glm::dvec3(0.0), glm::dvec3(0.0, -1e300, 0.0)}); }),
                     "query point 1 (0, -1e+300, 0) is 5e+299 mesh sizes from the mesh's bounding box; points are answered up to "
