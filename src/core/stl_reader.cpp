@@ -86,6 +86,7 @@ public:
     // The next word, which must be `keyword` (any case).
     void expect(const char* keyword) {
         const std::string_view word = next();
+        if (word.empty()) fail("the file ends where '" + std::string(keyword) + "' was expected");
         if (!is(word, keyword)) fail("expected '" + std::string(keyword) + "', not '" + printable(word) + "'");
     }
 
