@@ -4,10 +4,10 @@
 # Usage: tests/fuzz/run.sh [--parallel] [DURATION [HARNESS...]]
 #   --parallel: run the harnesses at the same time (one core each) instead of one after another.
 #   DURATION per harness: seconds, or with a suffix: 20s, 30m, 2h (default 20s).
-#   HARNESS: obj, field, bake (default: all).
+#   HARNESS: obj, field, bake, ply, mesh (default: all).
 # Each starts from its seed corpus (tests/fuzz/corpus/HARNESS) plus what earlier runs found
 # (build-sanitize/corpus/HARNESS); crashes are written to build-sanitize/crashes/HARNESS/ and stop the run
-# with a non-zero exit. Long runs: `nice tests/fuzz/run.sh 2h` (about 6 hours for all three).
+# with a non-zero exit. Long runs: `nice tests/fuzz/run.sh 2h` (about 10 hours for all five).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 parallel=0
@@ -15,7 +15,7 @@ parallel=0
 duration=${1:-20s}
 shift || true
 harnesses=("$@")
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(obj field bake)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(obj field bake ply mesh)
 case $duration in
   *h) seconds=$(( ${duration%h} * 3600 )) ;;
   *m) seconds=$(( ${duration%m} * 60 )) ;;
