@@ -4,7 +4,7 @@
 # Usage: bench/accuracy.sh [--res N] [MESH ...]   (default: the bundled bunny and ../shared/meshes/*.obj)
 #        bench/accuracy.sh --rays-table [bench_ray_error options]
 # --rays-table prints instead the ray method's error against a sphere's analytic distance for
-# 16 to 1024 rays (bench/ray_error.cpp; the table of the README's "Ray sampling").
+# 16 to 1024 rays (bench/ray_error.cpp; the table in docs/how-it-works.md, "Distances").
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 res=48

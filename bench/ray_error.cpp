@@ -1,5 +1,5 @@
 // The ray method's distance error against the analytic distance of a sphere, per ray count: the
-// table of the README's "Ray sampling" section (bench/accuracy.sh --rays-table runs it).
+// table in docs/how-it-works.md ("Distances") (bench/accuracy.sh --rays-table runs it).
 //
 //   bench_ray_error [--res 24] [--levels 4] [--rays 16,64,256,1024]
 //

@@ -2,7 +2,7 @@
 # Usage: bench/speed.sh [--res "128 256"] [--hard] [--sdfgen PATH] [--before PATH] [--openvdb PATH]
 #                       [--repeat N] [--timeout S] [--bunny PATH] [MESH.obj ...]
 #
-# The speed and memory benchmark behind the README's tables. For each mesh and resolution:
+# The speed and memory benchmark behind the tables of docs/benchmarks.md. For each mesh and resolution:
 #   - `sdfgen bench` (exact distances, sign auto): the seconds of each phase;
 #   - `sdfgen bake MESH -o FIELD.npy` under /usr/bin/time: the whole process (wall seconds,
 #     voxels/s) and its peak resident memory;

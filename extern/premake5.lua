@@ -1,11 +1,15 @@
 -- extern/premake5.lua: build glue for third-party libraries, the premake counterpart of
 -- extern/CMakeLists.txt. Included from the top-level premake5.lua inside its workspace, which sets
--- SDFGEN_OBJ_DIR. Everything comes from the Debian packages in extern/debian-packages.txt; glm,
--- CLI11 and stb are header-only in /usr/include and need nothing here.
+-- SDFGEN_OBJ_DIR and SDFGEN_VIEWER. Everything comes from the Debian packages in
+-- extern/debian-packages.txt; glm, CLI11 and stb's headers are in /usr/include and need nothing here.
 --
 -- Premake does not pass a static library's links or include directories on to the programs that
 -- use it, so a program using glad or the ImGui backends calls sdfgen_use_glad() or
 -- sdfgen_use_imgui(), which add what CMake's sdfgen::glad and sdfgen::imgui targets carry.
+
+if not SDFGEN_VIEWER then
+   return
+end
 
 -- glad: the GL 4.5 core loader, generated from the spec bundled with python3-glad into
 -- <objdir>/glad, outside every project's own object directory so that a clean keeps it.
@@ -24,36 +28,38 @@ if _ACTION and _ACTION ~= "clean" and not os.isfile(glad_source) then
    end
 end
 
-project "glad"
+project "sdfgen_glad"
    kind "StaticLib"
    language "C"
-   files { glad_source, GLAD_DIR .. "/include/glad/gl.h" }
-   includedirs { GLAD_DIR .. "/include" }
+   files { glad_source }
+   externalincludedirs { GLAD_DIR .. "/include" }
    prebuildcommands { 'test -f "' .. glad_source .. '" || ' .. glad_command }
 
 function sdfgen_use_glad()
-   includedirs { GLAD_DIR .. "/include" }
-   links { "glad", "dl" }
+   externalincludedirs { GLAD_DIR .. "/include" }
+   links { "sdfgen_glad", "dl" }
 end
 
--- Dear ImGui: the library is Debian's libimgui (static, and built against Debian's libstb, so it
--- needs -lstb: pkg-config imgui requires stb); its GLFW and OpenGL3 backends ship only as sources
--- in the package's examples, so they are compiled here.
-IMGUI_INCLUDE_DIR = "/usr/include/imgui"
+-- Dear ImGui: the library is Debian's libimgui (static, and built against Debian's libstb: pkg-config
+-- imgui gives stb's include folder and library too); its GLFW and OpenGL3 backends ship only as
+-- sources in the package's examples, so they are compiled here.
+IMGUI_INCLUDE_DIRS = { "/usr/include/imgui", "/usr/include/imgui/backends", "/usr/include/stb" }
 local imgui_backends = "/usr/share/doc/libimgui-dev/examples/backends"
 
 project "sdfgen_imgui"
    kind "StaticLib"
-   language "C++"
    files { imgui_backends .. "/imgui_impl_glfw.cpp", imgui_backends .. "/imgui_impl_opengl3.cpp" }
-   includedirs { IMGUI_INCLUDE_DIR, IMGUI_INCLUDE_DIR .. "/backends" }
+   externalincludedirs(IMGUI_INCLUDE_DIRS)
 
--- System libraries a program linking sdfgen_imgui needs (CMake: PkgConfig::IMGUI, which is imgui
--- and stb, PkgConfig::GLFW3, OpenGL::GL and ${CMAKE_DL_LIBS}).
-SDFGEN_IMGUI_LINKS = { "imgui", "stb", "glfw", "GL", "dl" }
+-- The libraries linking sdfgen_imgui brings (CMake: PkgConfig::IMGUI, which is imgui and stb,
+-- PkgConfig::GLFW3, OpenGL::GL, which is GLVND's OpenGL and GLX, and ${CMAKE_DL_LIBS}); a program
+-- that links a static library using ImGui privately (sdfgen_app) needs these but not the headers.
+function sdfgen_link_imgui()
+   links { "sdfgen_imgui", "imgui", "stb", "GLX", "OpenGL", "glfw", "dl" }
+end
 
+-- Compiling with ImGui and its backends, and linking them.
 function sdfgen_use_imgui()
-   includedirs { IMGUI_INCLUDE_DIR, IMGUI_INCLUDE_DIR .. "/backends" }
-   links { "sdfgen_imgui" }
-   links(SDFGEN_IMGUI_LINKS)
+   externalincludedirs(IMGUI_INCLUDE_DIRS)
+   sdfgen_link_imgui()
 end
