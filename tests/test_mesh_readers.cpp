@@ -357,7 +357,13 @@ std::string gltfTriangle(std::uint32_t lastIndex, const std::string& extra = "",
 }
 
 TEST_F(MeshReaders, GltfIsCheckedBeforeAssimpReadsIt) {
-    EXPECT_EQ(loadMesh(write("good.gltf", gltfTriangle(2))).triangleCount(), 1u);
+    const Mesh good = loadMesh(write("good.gltf", gltfTriangle(2)));
+    EXPECT_EQ(good.triangleCount(), 1u);
+    EXPECT_TRUE(good.warnings.empty()) << good.warnings.front(); // Assimp read what the file declares
+    // Two nodes instancing it, one under the other: two triangles, as declared.
+    const Mesh twice = loadMesh(write("twice.gltf", gltfTriangle(2, "", R"([{"mesh": 0, "children": [1]}, {"mesh": 0, "translation": [0, 0, 1]}])")));
+    EXPECT_EQ(twice.triangleCount(), 2u);
+    EXPECT_TRUE(twice.warnings.empty()) << twice.warnings.front();
     EXPECT_CONTAINS(loadError("index.gltf", gltfTriangle(4000000000u)), "mesh 0 primitive 0 refers to vertex 4000000000 but it has 3 vertices");
 
     // 30,000 nested nodes; a cycle; JSON nested 100,000 deep.

@@ -100,9 +100,10 @@ Mesh loadWithAssimp(const std::string& path) {
                                                             aiComponent_BONEWEIGHTS);
     std::string extension = std::filesystem::path(path).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    GltfCheck gltf;
     if (extension == ".gltf" || extension == ".glb") {
-        std::string bounded = guardGltf(path, extension == ".glb");
-        if (!bounded.empty()) importer.SetIOHandler(new ReplacingIOSystem(path, std::move(bounded)));
+        gltf = guardGltf(path, extension == ".glb");
+        if (!gltf.replacement.empty()) importer.SetIOHandler(new ReplacingIOSystem(path, std::move(gltf.replacement)));
     }
     const aiScene* scene = importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
                                                        aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure);
@@ -115,7 +116,12 @@ Mesh loadWithAssimp(const std::string& path) {
     std::vector<glm::uvec3> triangles;
     std::size_t pointsAndLines = 0;
     collect(*scene, positions, triangles, pointsAndLines);
+    const std::size_t read = triangles.size();
     Mesh mesh = buildMesh(path, std::move(positions), std::move(triangles));
+    if (gltf.counted && read != gltf.triangles) {
+        mesh.warnings.push_back(path + ": Assimp read " + std::to_string(read) + " triangles where the file's scene has " +
+                                std::to_string(gltf.triangles));
+    }
     if (pointsAndLines) {
         mesh.warnings.push_back(path + ": skipped " + std::to_string(pointsAndLines) + " points and lines (only triangles and polygons make a surface)");
     }

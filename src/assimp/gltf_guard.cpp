@@ -132,7 +132,7 @@ public:
         else json_ = readInputFile(path, InputKind::Binary);
     }
 
-    std::string check() {
+    GltfCheck check() {
         if (jsonDepth(json_) > kMaxJsonDepth) fail("its JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
         try {
             doc_ = json::parse(json_);
@@ -150,7 +150,8 @@ public:
         checkAccessors();
         checkMeshes();
         checkNodes();
-        return bounded_ ? rewritten() : std::string();
+        if (bounded_) result_.replacement = rewritten();
+        return result_;
     }
 
 private:
@@ -489,16 +490,21 @@ private:
             }
         }
         std::uint64_t totalTriangles = 0, totalVertices = 0;
-        for (const json& scene : array("scenes")) {
-            const json* roots = scene.is_object() ? member(scene, "nodes") : nullptr;
+        const json& scenes = array("scenes");
+        // The scene Assimp reads: `scene`, else the first.
+        const std::uint64_t defaultScene = scenes.empty() ? 0 : number(doc_, "scene", "the file", 0);
+        for (std::size_t s = 0; s < scenes.size(); ++s) {
+            const json* roots = scenes[s].is_object() ? member(scenes[s], "nodes") : nullptr;
             if (!roots) continue;
             if (!roots->is_array()) fail("a scene's nodes is not an array");
             for (const json& r : *roots) {
                 if (!r.is_number_unsigned() || r.get<std::uint64_t>() >= nodes.size()) fail("a scene refers to a node that does not exist");
                 totalTriangles = saturatingAdd(totalTriangles, triangles[r.get<std::size_t>()]);
                 totalVertices = saturatingAdd(totalVertices, vertices[r.get<std::size_t>()]);
+                if (s == defaultScene) result_.triangles = saturatingAdd(result_.triangles, triangles[r.get<std::size_t>()]);
             }
         }
+        result_.counted = defaultScene < scenes.size();
         // What the mesh built from them holds: positions read (12), in double (24) and local (12)
         // bytes per vertex; indices (12), normals (12) and the degenerate flags per triangle.
         const std::uint64_t available = availableMemoryBytes();
@@ -539,10 +545,11 @@ private:
     std::vector<Accessor> accessors_;
     std::vector<std::uint64_t> meshTriangles_, meshVertices_;
     bool bounded_ = false;
+    GltfCheck result_;
 };
 
 } // namespace
 
-std::string guardGltf(const std::string& path, bool binary) { return GltfGuard(path, binary).check(); }
+GltfCheck guardGltf(const std::string& path, bool binary) { return GltfGuard(path, binary).check(); }
 
 } // namespace sdfgen
