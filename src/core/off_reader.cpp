@@ -7,7 +7,6 @@
 #include "sdfgen/error.hpp"
 
 #include <charconv>
-#include <cmath>
 #include <cstdlib>
 
 namespace sdfgen {

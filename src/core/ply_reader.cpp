@@ -167,8 +167,9 @@ public:
         }
     }
 
-    // The fewest bytes `count` more values of `type` can take (a check before reserving for them).
+    // Bytes not read yet.
     std::uint64_t remaining() const { return text_.size() - pos_; }
+    // The fewest bytes a value of `type` takes (ASCII: a digit and a separator).
     std::uint64_t minimumBytes(Type type) const { return encoding_ == Encoding::Ascii ? 2 : sizeOf(type); }
 
     // What a problem message names: "vertex 12 of 100" (`element` null: "the data").
@@ -190,7 +191,7 @@ public:
         throw Error(path_ + ": " + problem + " (byte " + std::to_string(pos_) + ")");
     }
 
-    // Whether anything but white space (ASCII) or any byte (binary) follows the last element.
+    // The bytes after the last element, white space aside (ASCII).
     std::uint64_t trailingBytes() const {
         std::size_t pos = pos_;
         if (encoding_ == Encoding::Ascii) {
@@ -276,8 +277,9 @@ const Property* findProperty(const Element& element, std::initializer_list<const
     return nullptr;
 }
 
-// Reads one list's items (checked against the bytes left before any are stored).
-void readList(DataReader& data, const Property& p, std::vector<std::int64_t>& items) {
+// Reads one list's items (checked against the bytes left before any are stored); in a strip, an
+// unsigned type's largest value reads as -1, the restart of files that store indices unsigned.
+void readList(DataReader& data, const Property& p, bool strip, std::vector<std::int64_t>& items) {
     const double count = data.value(p.countType);
     if (count < 0) data.fail("a list in " + data.where() + " has a negative length");
     if (count > 0 && std::uint64_t(count) - 1 > data.remaining() / data.minimumBytes(p.type)) {
@@ -285,11 +287,8 @@ void readList(DataReader& data, const Property& p, std::vector<std::int64_t>& it
     }
     items.resize(std::size_t(count));
     for (std::int64_t& item : items) {
-        const double v = data.value(p.type);
-        if (v != std::floor(v)) data.fail("a vertex index in " + data.where() + " is not a whole number");
-        // Unsigned all-ones is the strip restart of files that store indices unsigned.
-        if (!isSigned(p.type) && v == std::ldexp(1.0, int(8 * sizeOf(p.type))) - 1.0) item = -1;
-        else item = std::int64_t(std::fmax(std::fmin(v, 9e18), -9e18));
+        const double v = data.value(p.type); // a whole number of at most 32 bits: p.type is an integer type
+        item = strip && !isSigned(p.type) && v == std::ldexp(1.0, int(8 * sizeOf(p.type))) - 1.0 ? -1 : std::int64_t(v);
     }
 }
 
@@ -358,7 +357,7 @@ Mesh loadPly(const std::string& path) {
                         if (axisOf[axis] == int(k)) positions[std::size_t(i)][axis] = v;
                     }
                 } else if (&p == indices) {
-                    readList(data, p, items);
+                    readList(data, p, element.name == "tristrips", items);
                     if (element.name == "face") {
                         const auto where = [&] { return path + ": " + data.where(); };
                         if (!addPolygon(items, vertexCount, where, triangles)) ++skippedFaces;

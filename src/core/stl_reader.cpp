@@ -6,6 +6,7 @@
 #include "core/mesh_readers.hpp"
 #include "sdfgen/error.hpp"
 
+#include <cctype>
 #include <charconv>
 #include <cstdlib>
 #include <cstring>
