@@ -385,6 +385,13 @@ TEST_F(MeshReaders, GltfIsCheckedBeforeAssimpReadsIt) {
     std::string accessor = gltfTriangle(2);
     accessor.replace(accessor.find(R"("count": 3, "type": "VEC3")"), 26, R"("count": 9, "type": "VEC3")");
     EXPECT_CONTAINS(loadError("accessor.gltf", accessor), "accessor 0 (9 elements of 12 bytes from byte 0) does not fit bufferView 0 (36 bytes)");
+    // A sparse accessor: patching vertex 0 with itself reads; indices past their view do not.
+    std::string sparse = gltfTriangle(2);
+    sparse.replace(sparse.find(R"("max": [1, 1, 0]})"), 17,
+                   R"("max": [1, 1, 0], "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 0}}})");
+    EXPECT_EQ(loadMesh(write("sparse.gltf", sparse)).triangleCount(), 1u);
+    sparse.replace(sparse.find(R"("componentType": 5121})"), 22, R"("componentType": 5121, "byteOffset": 100000})");
+    EXPECT_CONTAINS(loadError("sparse-indices.gltf", sparse), "accessor 0's sparse indices (1 of 1 bytes from byte 100000) do not fit their bufferView (12 bytes)");
     EXPECT_CONTAINS(loadError("version.gltf", R"({"asset": {"version": "1.0"}})"), "only glTF 2.x files are read");
 }
 

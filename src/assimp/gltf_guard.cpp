@@ -349,11 +349,32 @@ private:
                 // Without a view its elements are zeros (or sparse), allocated whole by Assimp.
                 fail(what + " claims " + std::to_string(acc.count) + " elements without data, more than the file could describe");
             }
-            if (const json* sparse = member(a, "sparse")) {
-                if (!sparse->is_object()) fail(what + "'s sparse is not an object");
-                if (number(*sparse, "count", what + "'s sparse", kNoData) > acc.count) fail(what + "'s sparse count exceeds its count");
-            }
+            if (const json* sparse = member(a, "sparse")) checkSparse(what + "'s sparse", *sparse, acc);
             accessors_.push_back(acc);
+        }
+    }
+
+    // A sparse accessor's indices and values, which Assimp reads without checking their views.
+    void checkSparse(const std::string& what, const json& sparse, const Accessor& acc) const {
+        if (!sparse.is_object()) fail(what + " is not an object");
+        const std::uint64_t count = number(sparse, "count", what, kNoData);
+        if (count > acc.count) fail(what + " count " + std::to_string(count) + " exceeds the accessor's " + std::to_string(acc.count));
+        for (const char* part : {"indices", "values"}) {
+            const json* p = member(sparse, part);
+            if (!p || !p->is_object()) fail(what + " has no " + part);
+            const std::string partWhat = what + " " + part;
+            const View& v = views_[reference(*p, "bufferView", "bufferViews", partWhat)];
+            const std::uint64_t offset = number(*p, "byteOffset", partWhat, 0);
+            std::uint64_t size = acc.elementSize;
+            if (std::string(part) == "indices") {
+                const std::uint64_t type = number(*p, "componentType", partWhat, kNoData);
+                if (type != 5121 && type != 5123 && type != 5125) fail(partWhat + " are not unsigned integers");
+                size = type == 5121 ? 1 : type == 5123 ? 2 : 4;
+            }
+            if (offset > v.length || count > (v.length - offset) / size) {
+                fail(partWhat + " (" + std::to_string(count) + " of " + std::to_string(size) + " bytes from byte " +
+                     std::to_string(offset) + ") do not fit their bufferView (" + std::to_string(v.length) + " bytes)");
+            }
         }
     }
 
