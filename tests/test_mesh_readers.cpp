@@ -392,6 +392,9 @@ TEST_F(MeshReaders, GltfIsCheckedBeforeAssimpReadsIt) {
     EXPECT_EQ(loadMesh(write("sparse.gltf", sparse)).triangleCount(), 1u);
     sparse.replace(sparse.find(R"("componentType": 5121})"), 22, R"("componentType": 5121, "byteOffset": 100000})");
     EXPECT_CONTAINS(loadError("sparse-indices.gltf", sparse), "accessor 0's sparse indices (1 of 1 bytes from byte 100000) do not fit their bufferView (12 bytes)");
+    std::string quantized = gltfTriangle(2);
+    quantized.replace(quantized.find(R"("componentType": 5126)"), 21, R"("componentType": 5121)");
+    EXPECT_CONTAINS(loadError("quantized.gltf", quantized), "mesh 0 primitive 0's positions are integers (KHR_mesh_quantization)");
     EXPECT_CONTAINS(loadError("version.gltf", R"({"asset": {"version": "1.0"}})"), "only glTF 2.x files are read");
 }
 

@@ -414,6 +414,10 @@ private:
                 // Draco-compressed primitives are decoded by Assimp; their accessors hold no data here.
                 const json* extensions = member(primitive, "extensions");
                 const bool compressed = extensions && extensions->is_object() && member(*extensions, "KHR_draco_mesh_compression");
+                // Assimp copies integer positions' bytes into floats as they are: refused, not misread.
+                if (!compressed && positions.componentType != 5126) {
+                    fail(what + "'s positions are integers (KHR_mesh_quantization), which Assimp does not convert; only float positions are read");
+                }
                 if (member(primitive, "indices")) {
                     const std::size_t i = reference(primitive, "indices", "accessors", what);
                     const Accessor& indices = accessors_[i];

@@ -22,7 +22,8 @@ struct GltfCheck {
 // problem") for: a GLB header or chunk length that does not fit the file; JSON nested deeper than
 // 200 levels or not valid; glTF other than 2.x; a buffer that declares more bytes than its data
 // holds; a buffer view, accessor or sparse accessor's part outside what it refers to; an accessor
-// without data larger than 64 times the bytes of the file and its buffers; a triangle index past
+// without data larger than 64 times the bytes of the file and its buffers; integer positions
+// (KHR_mesh_quantization, which Assimp would misread); a triangle index past
 // its primitive's vertices; triangles whose vertex count is not a multiple of 3; node trees deeper
 // than 1000, with cycles or references past the arrays; a scene whose instanced triangles would
 // need more memory than is available.
