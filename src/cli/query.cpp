@@ -1,6 +1,7 @@
 // `sdfgen query`: exact point queries from the command line, NumPy arrays in and out.
 #include "cli/commands.hpp"
 #include "core/atomic_file.hpp"
+#include "core/formats/format.hpp"
 #include "core/formats/npy.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
@@ -35,14 +36,15 @@ std::vector<double> readPoints(const std::string& path) {
     };
     const formats::NpyHeader header = formats::readNpyHeader(read, path);
     if (header.descr != "<f4" && header.descr != "<f8") {
-        throw Error(path + ": points must be float32 or float64 (dtype '" + header.descr + "')");
+        throw Error(path + ": points must be float32 or float64 (dtype '" + formats::printable(header.descr) + "')");
     }
     if (header.shape.size() != 2 || header.shape[1] != 3) throw Error(path + ": points must be an (N, 3) array");
     const std::uint64_t n = header.shape[0];
     const std::size_t item = header.itemSize();
-    if (n > (fileBytes - header.headerBytes) / (3 * item) || fileBytes - header.headerBytes != n * 3 * item) {
+    const std::uint64_t declared = header.dataBytes(path); // Error when it overflows
+    if (fileBytes - header.headerBytes != declared) {
         throw Error(path + ": the file holds " + std::to_string(fileBytes - header.headerBytes) + " bytes of data, not the " +
-                    std::to_string(n * 3 * item) + " its header declares");
+                    std::to_string(declared) + " its header declares");
     }
     std::vector<char> raw(n * 3 * item);
     if (read(raw.data(), raw.size()) != raw.size()) throw Error(path + ": read error");
@@ -75,9 +77,8 @@ void runQuery(const QueryArgs& args) {
     refuseOverwritingInput(args.output, {args.mesh, args.points});
     const std::vector<double> points = readPoints(args.points);
     const std::size_t n = points.size() / 3;
-    const Model model = Model::load(args.mesh);
-    RunControl control;
-    control.threads = args.threads;
+    const RunControl control = commandControl(args.threads);
+    const Model model = Model::load(args.mesh, control);
     PointQueryOutputs out;
     if (args.what == "signed" || args.what == "unsigned") {
         std::vector<float> values(n);
@@ -116,7 +117,7 @@ void addQueryCommand(CLI::App& app) {
     const std::map<std::string, SignMethod> signs = {{"auto", SignMethod::Auto}, {"winding", SignMethod::Winding}, {"pseudonormal", SignMethod::Pseudonormal}};
     query->add_option("--sign", args->sign, "Sign of signed distances: auto (as bake), winding or pseudonormal")
         ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
-    query->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    addThreadsOption(*query, args->threads);
     query->footer("At a baked field's sample positions the signed distances equal the field's values exactly.");
     query->callback([args] { runQuery(*args); });
 }

@@ -93,6 +93,30 @@ expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.vdb" --res 
 expect 1 '^sdfgen: --band applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
 expect 1 "x.xyz: unknown field format '.xyz'; known: .sdf, .npy, .npz, .vdb, .nrrd" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.xyz" --res 4
 expect fail '' -- test -e "$work/x.xyz"
+# Channels beside the distance: into .npz and .vdb; refused up front, in one line naming the way
+# out, for formats that hold the distance only, for methods that find no nearest triangle, and
+# for unknown names.
+expect 0 '^channels: sdf,gradient,closest,triangle$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/ch.npz" --res 8 --channels sdf,gradient,closest,triangle
+expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/ch.npz"
+expect 0 '^channels: sdf,triangle$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/ch.vdb" --res 8 --channels triangle --band 2
+for ext in sdf npy nrrd; do
+  expect 1 "^sdfgen: $work/ch.$ext: .$ext holds the distance \(sdf\) only; for channels gradient write .npz or .vdb$" -- \
+    "$sdfgen" bake "$work/tet.obj" -o "$work/ch.$ext" --res 8 --channels gradient
+  expect fail '' -- test -e "$work/ch.$ext"
+done
+expect 1 '^sdfgen: channels closest: only the exact method finds the nearest triangle they come from; --method rays gives the distance \(sdf\) only$' -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels closest --method rays
+expect 1 "^sdfgen: unknown channel 'normals' \(expected a comma-separated list of sdf, gradient, closest, triangle\)$" -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels sdf,normals
+# A target that is not a regular file (a pipe) gets the archive written through.
+mkfifo "$work/pipe.npz"
+timeout 20 cat "$work/pipe.npz" >"$work/piped.npz" &
+reader=$!
+expect 0 'voxels/s' -- timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/pipe.npz" --res 8 --channels gradient
+wait $reader
+expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/piped.npz"
+expect 0 '10 samples' -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/ch-samples.npz" --channels gradient,triangle
+expect 1 "^sdfgen: unknown channel 'normals'" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/x.npz" --channels normals
 printf 'not numpy' >"$work/bad.npy"
 expect 1 "^sdfgen: $work/bad.npy: not a NumPy .npy file" -- "$sdfgen" compare "$work/bad.npy" "$work/tet.npy"
 # Meshes in other formats (assimp-utils writes them when installed).
@@ -269,14 +293,164 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
 else
   echo "cli: skipped the full-disk test (cannot mount a tmpfs here)"
 fi
-# Inside out: every face of the tetrahedron flipped. Auto finds it and fixes the signs; an
-# explicit sign follows the faces, with a warning.
+# Inside out: every face of the tetrahedron flipped. Auto finds it and fixes the signs; the
+# winding sign (|w| > 1/2) needs no fix; an explicit pseudonormal follows the faces, with a warning.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' >"$work/inside-out.obj"
 expect 0 'inside out \(negative volume\)' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'auto chose pseudonormal: .*; the mesh is inside out' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/inside-out.sdf"
-expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign winding follows the faces' -- \
-  "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign winding
+expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign pseudonormal follows the faces' -- \
+  "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign pseudonormal
+check 'the winding sign warns of no inside-out mesh' sh -c '! "$1" bake "$2" -o "$3" --res 8 --sign winding 2>&1 | grep warning' \
+  sh "$sdfgen" "$work/inside-out.obj" "$work/x.sdf"
+expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/x.sdf"
+
+# Every command refuses an output that is one of its inputs, directly or through a link, before any work.
+for link in keep.obj keep-link.obj keep-hard.obj; do
+  expect 1 "$link: is the input file .*keep.obj; refusing to overwrite it" -- "$sdfgen" surface "$work/keep.obj" -o "$work/$link" --res 8
+  expect 1 "$link: is the input file .*keep.obj; refusing to overwrite it" -- "$sdfgen" sample "$work/keep.obj" -n 10 -o "$work/$link"
+done
+"$sdfgen" bake "$work/tet.obj" -o "$work/field.sdf" --res 8 >/dev/null
+ln -s field.sdf "$work/field-link.obj"
+expect 1 "field-link.obj: is the input file .*field.sdf; refusing" -- "$sdfgen" surface "$work/field.sdf" -o "$work/field-link.obj"
+expect 1 "refusing to overwrite it" -- "$sdfgen" query "$work/keep.obj" "$work/keep.obj" -o "$work/keep-link.obj"
+expect 0 '' -- cmp "$work/tet.obj" "$work/keep.obj"
+expect 0 '^dims 8 8 8$' -- sed -n 3p "$work/field.sdf"
+# A not-yet-existing output that names an input by another path (dir/../name) is refused too.
+expect 1 "refusing to overwrite it" -- "$sdfgen" sample "$work/keep.obj" -n 10 -o "$work/sub/../keep.obj"
+# A surface that cannot be a valid mesh (a voxel of 1e300: float positions overflow) is refused
+# before the old output is touched.
+sed 's/^voxel .*/voxel 1e300/' "$work/field.sdf" >"$work/huge-voxel.sdf"
+echo old >"$work/surface-old.obj"
+expect 1 "^sdfgen: .*huge-voxel.sdf: " -- "$sdfgen" surface "$work/huge-voxel.sdf" -o "$work/surface-old.obj"
+expect 0 '^old$' -- cat "$work/surface-old.obj"
+expect 0 'mesh check of the output' -- "$sdfgen" surface "$work/field.sdf" -o "$work/surface-new.obj"
+# A mesh far beyond float range: the error names the file and its extent.
+printf 'v -1e38 0 0\nv 1e38 0 0\nv 0 1e38 0\nv 0 0 1e38\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/huge.obj"
+expect 1 "^sdfgen: .*huge.obj: the mesh is 2e\+38 across; with padding 0.1 its grid would be 2.4e\+38 across" -- \
+  "$sdfgen" bake "$work/huge.obj" -o "$work/x.sdf" --res 8
+
+# Numeric options: NaN, infinities and values out of range are refused by every option of every
+# command, at parsing (the numeric options are read from each command's --help).
+printf 'tet.obj\n' >"$work/list.txt"
+declare -A base=(
+  [bake]="$work/tet.obj -o $work/never.sdf"
+  [render]="$work/tet.obj -o $work/never.png"
+  [surface]="$work/tet.obj -o $work/never.obj"
+  [query]="$work/tet.obj $work/points.npy -o $work/never.npy"
+  [sample]="$work/tet.obj -n 10 -o $work/never.npz"
+  [batch]="$work/list.txt --out $work/never"
+  [bench]="$work/tet.obj"
+  [compare]="$work/field.sdf $work/field.sdf"
+)
+numeric_options=0
+for command in "${!base[@]}"; do
+  "$sdfgen" "$command" --help >"$work/help.txt" 2>&1 || continue
+  for option in $(grep -oE -- '--[a-z-]+ (INT|UINT|FLOAT)' "$work/help.txt" | cut -d' ' -f1 | sort -u); do
+    numeric_options=$((numeric_options + 1))
+    for value in nan inf -inf 1e999; do
+      # shellcheck disable=SC2086 # the base arguments are words
+      expect fail "$option" -- "$sdfgen" "$command" ${base[$command]} "$option=$value"
+    done
+  done
+done
+expect 0 '' -- test "$numeric_options" -ge 30
+expect 1 '' -- test -e "$work/never.sdf" -o -e "$work/never.npz" -o -e "$work/never.obj" -o -e "$work/never"
+for command in bake surface query sample batch bench; do
+  expect fail "^--threads: Value 1025 not in range 0 to 1024" -- "$sdfgen" "$command" ${base[$command]} --threads 1025
+done
+# Seeds are whole numbers in 0..2^64-1: negative and too large ones are refused, not saturated.
+expect fail "^--seed: '-1' is not a whole number from 0 to 18446744073709551615" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed -1
+expect fail "^--seed: '18446744073709551616' is not a whole number" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed 18446744073709551616
+expect fail "^--seed: '1e3' is not a whole number" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed 1e3
+expect 0 'seed 18446744073709551615' -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed 18446744073709551615
+expect fail "^--count: '0' is not a whole number from 1" -- "$sdfgen" sample "$work/tet.obj" -n 0 -o "$work/s.npz"
+# 2^34 samples (about 832 GiB at the peak) are refused by the memory check before anything is allocated.
+expect 1 "^sdfgen: .*tet.obj: 17179869184 samples need about 851968 MiB but only [0-9]+ MiB of memory is available" -- \
+  timeout 20 "$sdfgen" sample "$work/tet.obj" -n 17179869184 -o "$work/s.npz"
+
+# Warnings reach the user from every command: two zero-area triangles are dropped, and said so.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 1 2\nf 2 3 3\n' >"$work/degenerate.obj"
+warned='^sdfgen: warning: .*degenerate.obj: dropped 2 zero-area triangles$'
+expect 0 "$warned" -- "$sdfgen" bake "$work/degenerate.obj" -o "$work/d.sdf" --res 8
+expect 0 "$warned" -- "$sdfgen" surface "$work/degenerate.obj" -o "$work/d.obj" --res 8
+expect 0 "$warned" -- "$sdfgen" sample "$work/degenerate.obj" -n 10 -o "$work/d.npz"
+expect 0 "$warned" -- "$sdfgen" bench "$work/degenerate.obj" --res 8
+vexpect 0 "$warned" -- env ASAN_OPTIONS=detect_leaks=0 "$sdfgen" render "$work/degenerate.obj" --view mesh --size 16x16 -o "$work/d.png"
+# (N, 3) float64 points in .npy: one point at the origin.
+{ printf '\x93NUMPY\x01\x00\x76\x00'; printf '%-117s\n' "{'descr': '<f8', 'fortran_order': False, 'shape': (1, 3), }"; head -c 24 /dev/zero; } >"$work/origin.npy"
+expect 0 "$warned" -- "$sdfgen" query "$work/degenerate.obj" "$work/origin.npy" -o "$work/d.npy"
+# A point 1e300 away: refused with the reason (the search cannot answer it exactly), never an inf.
+{ printf '\x93NUMPY\x01\x00\x76\x00'; printf '%-117s\n' "{'descr': '<f8', 'fortran_order': False, 'shape': (1, 3), }"
+  printf '\x9c\x75\x00\x88\x3c\xe4\x37\x7e'; head -c 16 /dev/zero; } >"$work/far.npy"
+expect 1 "^sdfgen: .*tet.obj: query point 0 \(1e\+300, 0, 0\) is 1e\+300 mesh sizes from the mesh's bounding box; points are answered up to 10000 mesh sizes away" -- \
+  "$sdfgen" query "$work/tet.obj" "$work/far.npy" -o "$work/far-out.npy"
+expect 1 '' -- test -e "$work/far-out.npy"
+
+# ---- Hostile field files: sizes checked before allocating (under a 1 GB address-space cap, so
+# that a reader that allocates what a file claims fails the test), one line naming the file --------
+cap() { prlimit --as=1000000000 "$@"; }
+# patch FILE OFFSET HEX...: overwrites bytes in place.
+patch() { local file=$1 at=$2; shift 2; printf "$(printf '\\x%s' "$@")" | dd of="$file" bs=1 seek="$at" conv=notrunc status=none; }
+offset() { grep -boa -- "$2" "$1" | head -1 | cut -d: -f1; } # offset FILE TEXT: where TEXT first is
+"$sdfgen" bake "$work/tet.obj" -o "$work/h.vdb" --res 8 >/dev/null
+head -c 200 "$work/h.vdb" >"$work/cut.vdb"
+expect 1 "^sdfgen: $work/cut.vdb: not a readable OpenVDB file: .*$" -- cap "$sdfgen" surface "$work/cut.vdb" -o "$work/x.obj"
+for keep in 1000 4000 8000 12000; do
+  head -c $keep "$work/h.vdb" >"$work/cut.vdb"
+  expect 1 "^sdfgen: $work/cut.vdb: not a readable OpenVDB file" -- cap "$sdfgen" compare "$work/cut.vdb" "$work/h.vdb"
+done
+cp "$work/h.vdb" "$work/dims.vdb" # sdfgen_dims 1000^3 on a grid of 8^3 samples
+patch "$work/dims.vdb" $(($(offset "$work/dims.vdb" sdfgen_dims) + 24)) e8 03 00 00 e8 03 00 00 e8 03 00 00
+expect 1 "^sdfgen: $work/dims.vdb: sdfgen_dims 1000x1000x1000 says 1000000000 samples, the dense grid holds 512$" -- \
+  cap "$sdfgen" surface "$work/dims.vdb" -o "$work/x.obj"
+cp "$work/h.vdb" "$work/nan.vdb" # the transform's scale NaN
+patch "$work/nan.vdb" $(($(offset "$work/nan.vdb" UniformScaleTranslateMap) + 24)) 00 00 00 00 00 00 f8 7f
+expect 1 "^sdfgen: $work/nan.vdb: " -- "$sdfgen" surface "$work/nan.vdb" -o "$work/x.obj"
+"$sdfgen" bake "$work/tet.obj" -o "$work/h.npz" --res 8 >/dev/null
+cp "$work/h.npz" "$work/claims.npz" # sdf.npy (the first member) claims 4 GB in its local header
+patch "$work/claims.npz" 22 80 28 6b ee
+expect 1 "^sdfgen: $work/claims.npz: " -- cap "$sdfgen" surface "$work/claims.npz" -o "$work/x.obj"
+# A 3.9 MB zip bomb: sdf.npy declares 1000^3 float32 (4 GB) and deflates to 3.9 MB (each MiB of
+# zeros after a full flush compresses to the same bytes); within deflate's ratio, refused by memory.
+if command -v python3 >/dev/null; then
+  python3 - "$work/bomb.npz" <<'PY'
+import struct, sys, zlib
+head = b"{'descr': '<f4', 'fortran_order': True, 'shape': (1000, 1000, 1000), }"
+head = b"\x93NUMPY\x01\x00" + struct.pack("<H", 118) + head.ljust(117) + b"\n"
+z = zlib.compressobj(9, zlib.DEFLATED, -15)
+data = [z.compress(head) + z.flush(zlib.Z_FULL_FLUSH)]
+mib = z.compress(bytes(1 << 20)) + z.flush(zlib.Z_FULL_FLUSH)
+data += [mib] * 3814 + [z.compress(bytes(4000000000 - 3814 * (1 << 20))) + z.flush()]
+data = b"".join(data)
+size, name = len(head) + 4000000000, b"sdf.npy"
+local = struct.pack("<4sHHHHHIIIHH", b"PK\x03\x04", 20, 0, 8, 0, 0, 0, len(data), size, len(name), 0) + name
+central = struct.pack("<4sHHHHHHIIIHHHHHII", b"PK\x01\x02", 20, 20, 0, 8, 0, 0, 0, len(data), size, len(name), 0, 0, 0, 0, 0, 0) + name
+end = struct.pack("<4sHHHHIIH", b"PK\x05\x06", 0, 0, 1, 1, len(central), len(local) + len(data), 0)
+open(sys.argv[1], "wb").write(local + data + central + end)
+PY
+  expect 0 '' -- test "$(stat -c %s "$work/bomb.npz")" -lt 4200000
+  expect 1 "^sdfgen: $work/bomb.npz: sdf.npy: (not enough memory|dimensions 1000x1000x1000 too large)" -- cap "$sdfgen" surface "$work/bomb.npz" -o "$work/x.obj"
+fi
+printf 'sdfgen-text 1\nsource s\ndims 2 2 2\norigin 0 0 0\nvoxel 1e-320\nmethod m\nvalues\n' >"$work/denormal.sdf"
+for _ in 1 2 3 4 5 6 7 8; do echo 1 >>"$work/denormal.sdf"; done
+expect 1 "^sdfgen: $work/denormal.sdf: voxel size [0-9.e-]+ is not a positive normal float32" -- "$sdfgen" surface "$work/denormal.sdf" -o "$work/x.obj"
+sed 's/^voxel .*/voxel 1e300/' "$work/denormal.sdf" >"$work/huge.sdf"
+expect 1 "^sdfgen: $work/huge.sdf: voxel size 1e\+300 is not a positive normal float32" -- "$sdfgen" surface "$work/huge.sdf" -o "$work/x.obj"
+sed 's/^origin .*/origin 1.7e308 0 0/' "$work/denormal.sdf" | sed 's/^voxel .*/voxel 1/' >"$work/far.sdf"
+expect 1 "^sdfgen: $work/far.sdf: grid .* reaches beyond float32's range" -- "$sdfgen" surface "$work/far.sdf" -o "$work/x.obj"
+expect fail '' -- test -e "$work/x.obj"
+"$sdfgen" bake "$work/tet.obj" -o "$work/h.nrrd" --res 8 >/dev/null
+sed '0,/^type: float$/s//type: float\ntype: double/' "$work/h.nrrd" >"$work/twice.nrrd"
+expect 1 "^sdfgen: $work/twice.nrrd:4: field 'type' appears twice in the NRRD header$" -- "$sdfgen" surface "$work/twice.nrrd" -o "$work/x.obj"
+sed 's/^kinds: domain domain domain$/kinds: RGB-color domain domain/' "$work/h.nrrd" >"$work/rgb.nrrd"
+expect 1 "^sdfgen: $work/rgb.nrrd: NRRD kind 'RGB-color' on axis 0 is not a spatial axis" -- "$sdfgen" surface "$work/rgb.nrrd" -o "$work/x.obj"
+sed 's/^type: float$/type: fl\x01oa\tt/' "$work/h.nrrd" >"$work/ctl.nrrd"
+expect 1 "^sdfgen: $work/ctl.nrrd: NRRD type 'fl\\\\x01oa\\\\tt' is not supported" -- "$sdfgen" surface "$work/ctl.nrrd" -o "$work/x.obj"
+# Points whose byte count overflows 64 bits: (2^62, 3) float64.
+{ printf '\x93NUMPY\x01\x00\x76\x00'; printf "%-117s\n" "{'descr': '<f8', 'fortran_order': False, 'shape': (4611686018427387904, 3), }"; } >"$work/overflow.npy"
+expect 1 "^sdfgen: $work/overflow.npy: shape \(4611686018427387904, 3\) of 8-byte items is more than 2\^64 bytes$" -- \
+  "$sdfgen" query "$work/tet.obj" "$work/overflow.npy" -o "$work/x.npy"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]
