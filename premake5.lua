@@ -151,7 +151,7 @@ project "sdfgen_openvdb"
 
 project "sdfgen_assimp"
    kind "SharedLib"
-   files { "src/assimp/assimp_mesh.cpp" }
+   files { "src/assimp/assimp_mesh.cpp", "src/assimp/gltf_guard.cpp" }
    sdfgen_use_core()
    -- assimp and what Assimp's CMake package links with it.
    links { "assimp", "z", "draco", "minizip", "rt" }

@@ -11,7 +11,7 @@ ctest --test-dir build --output-on-failure -j "$jobs"
 # viewer, and Mesa's llvmpipe is not built with the sanitizers anyway; the install test links a
 # consumer without them. It is clang's, with the libFuzzer harnesses (-DSDFGEN_FUZZ=ON), so that
 # the unit tests and the fuzzers share one instrumented build of the core.
-scripts/build-sanitize.sh -- sdfgen sdfgen_tests fuzz_obj fuzz_field fuzz_npy fuzz_npz fuzz_nrrd fuzz_vdb fuzz_bake
+scripts/build-sanitize.sh -- sdfgen sdfgen_tests fuzz_obj fuzz_field fuzz_npy fuzz_npz fuzz_nrrd fuzz_vdb fuzz_bake fuzz_ply fuzz_mesh
 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui|gpu|install"
 # libFuzzer harnesses (each mesh and field reader, load -> tree -> bake), about 15 s of CPU each,
 # from the seed corpus in tests/fuzz/corpus, side by side on every core. tests/fuzz/run.sh 2h runs

@@ -155,7 +155,7 @@ TEST_F(MeshFormats, BadFilesAreOneLineErrors) {
         SCOPED_TRACE(name);
         const std::string file = write(name, contents);
         const std::string message = errorFrom([&] { loadMesh(file); });
-        EXPECT_EQ(message.rfind(file + ": ", 0), 0u) << message;
+        EXPECT_EQ(message.rfind(file + ":", 0), 0u) << message; // "PATH: problem" or "PATH:LINE: problem"
         EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     }
 }

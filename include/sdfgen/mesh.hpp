@@ -81,11 +81,16 @@ Mesh mergeMeshes(const std::vector<MeshInstance>& parts, std::string source);
 // Loads a Wavefront OBJ (polygons are triangulated). Throws Error("PATH: problem") on any bad input.
 Mesh loadObj(const std::string& path);
 
-// Loads a mesh file in the format its extension names: .obj through loadObj; .stl (ASCII or
-// binary), .ply, .off, .gltf, .glb, .fbx and the other formats Assimp reads through Assimp.
-// Node transforms are applied and all meshes of the file form one mesh; polygons are
-// triangulated, points and lines ignored. Throws Error("PATH: problem") for a file that cannot be
-// parsed or holds no triangles.
+// Loads a mesh file in the format its extension names: .obj through loadObj; .ply (faces and
+// triangle strips, ASCII or binary), .off and .stl (ASCII or binary) by sdfgen's own readers;
+// .gltf, .glb (checked first), .fbx and the other formats Assimp reads through Assimp. Node
+// transforms are applied and all meshes of the file form one mesh; polygons are triangulated as
+// a fan around their first corner (Assimp: its own way), points and lines ignored. Counts a file
+// declares are checked against its size before anything is allocated; indices out of range are
+// errors. Throws Error("PATH: problem") or Error("PATH:LINE: problem") for a file that cannot be
+// parsed or holds no triangles; what was read but not used (faces of fewer than 3 vertices,
+// points and lines, data after the declared elements, many vertices no triangle uses) is
+// reported in Mesh::warnings.
 Mesh loadMesh(const std::string& path);
 
 // The extensions loadMesh is known to read (with the dot: ".obj", ".stl", ...), for file dialogs

@@ -1,15 +1,9 @@
-// loadMesh: OBJ through tinyobjloader (mesh.cpp), every other format through Assimp in
-// libsdfgen_assimp.so, opened on first use.
+// Assimp in libsdfgen_assimp.so, opened on first use (loadMesh in mesh_formats.cpp uses it for the
+// formats sdfgen has no reader of its own for).
 #include "core/assimp_plugin.hpp"
 #include "core/plugin.hpp"
 #include "sdfgen/error.hpp"
 
-#include <algorithm>
-#include <cctype>
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <mutex>
 
 namespace sdfgen {
@@ -21,28 +15,6 @@ const AssimpPlugin& assimpPlugin() {
     const std::lock_guard<std::mutex> lock(mutex);
     if (!plugin) plugin = reinterpret_cast<AssimpPluginEntry>(openPlugin("libsdfgen_assimp.so", kAssimpPluginEntry, "Assimp support"))();
     return *plugin;
-}
-
-std::vector<std::string> meshFormatExtensions() {
-    return {".obj", ".stl", ".ply", ".off", ".gltf", ".glb", ".fbx", ".dae", ".3ds", ".3mf"};
-}
-
-Mesh loadMesh(const std::string& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a mesh file");
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    // OBJ is read once by loadObj (which reports unreadable files itself): opening a FIFO or pipe
-    // here first would swallow its contents. Pipes and /dev/stdin have no extension: OBJ text.
-    if (extension == ".obj" || extension.empty()) return loadObj(path);
-    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    const AssimpPlugin& assimp = assimpPlugin();
-    if (!assimp.supports(extension)) {
-        std::string known;
-        for (const std::string& e : meshFormatExtensions()) known += e + ", ";
-        throw Error(path + ": unknown mesh format '" + extension + "'; known: " + known + "and the other formats Assimp reads");
-    }
-    return assimp.load(path);
 }
 
 } // namespace sdfgen

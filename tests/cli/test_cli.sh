@@ -126,7 +126,24 @@ if command -v assimp >/dev/null; then
   expect 0 'max 0 \(0 voxels\)' -- "$sdfgen" compare "$work/tet.sdf" "$work/tet-stl.sdf"
 fi
 printf 'solid broken\n facet normal 0 0 1\n' >"$work/broken.stl"
-expect 1 "^sdfgen: $work/broken.stl: " -- "$sdfgen" bake "$work/broken.stl" -o "$work/x.sdf" --res 4
+expect 1 "^sdfgen: $work/broken.stl:3: the file ends where 'outer' was expected$" -- "$sdfgen" bake "$work/broken.stl" -o "$work/x.sdf" --res 4
+# sdfgen's own readers: PLY triangle strips (-1 between strips) give the same field as the OBJ;
+# counts beyond the file, indices past the vertices and 4-corner STL facets are one-line errors;
+# skipped faces are warned about.
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n15 0 2 1 -1 0 1 3 -1 0 3 2 -1 1 2 3\n' >"$work/strips.ply"
+expect 0 '4 triangles' -- "$sdfgen" bake "$work/strips.ply" -o "$work/strips.sdf" --res 8
+expect 0 'max 0 \(0 voxels\)' -- "$sdfgen" compare "$work/tet.sdf" "$work/strips.sdf"
+{ printf 'ply\nformat binary_little_endian 1.0\nelement vertex 200000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n'; head -c 300 /dev/zero; } >"$work/huge.ply"
+expect 1 "^sdfgen: $work/huge.ply: the header declares 200000000 vertices \(at least 2.4e\+09 bytes\) but only 300 bytes follow it$" -- \
+  "$sdfgen" bake "$work/huge.ply" -o "$work/x.sdf" --res 4
+printf 'OFF\n4 2000000000 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n' >"$work/huge.off"
+expect 1 "^sdfgen: $work/huge.off: the header declares 2000000000 faces" -- "$sdfgen" bake "$work/huge.off" -o "$work/x.sdf" --res 4
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 4\n' >"$work/index.off"
+expect 1 "^sdfgen: $work/index.off:8: face refers to vertex 4 but the file has 4 vertices" -- "$sdfgen" bake "$work/index.off" -o "$work/x.sdf" --res 4
+printf 'OFF\n4 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n2 0 1\n' >"$work/short-face.off"
+expect 0 "^sdfgen: warning: $work/short-face.off: skipped 1 face of fewer than 3 vertices$" -- "$sdfgen" bake "$work/short-face.off" -o "$work/x.sdf" --res 4
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nvertex 1 1 0\nendloop\nendfacet\nendsolid x\n' >"$work/four.stl"
+expect 1 "^sdfgen: $work/four.stl:7: a facet has more than 3 vertices" -- "$sdfgen" bake "$work/four.stl" -o "$work/x.sdf" --res 4
 cp "$work/tet.obj" "$work/tet.xyz"
 expect 1 "unknown mesh format '.xyz'" -- "$sdfgen" bake "$work/tet.xyz" -o "$work/x.sdf" --res 4
 # surface: a closed manifold mesh from an open one, from a mesh or a saved field.

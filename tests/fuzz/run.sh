@@ -5,13 +5,13 @@
 #        tests/fuzz/run.sh --count   (prints how many harnesses a plain run runs)
 #   --parallel: run the harnesses at the same time (one core each) instead of one after another.
 #   DURATION per harness: seconds, or with a suffix: 20s, 30m, 2h (default 20s).
-#   HARNESS: obj, bake, and the field readers field (.sdf), npy, npz, nrrd, vdb (default: all).
+#   HARNESS: obj, ply, mesh (OFF, STL, glTF, GLB), bake, and the field readers field (.sdf), npy, npz, nrrd, vdb (default: all).
 # Each starts from its seed corpus (tests/fuzz/corpus/HARNESS) plus what earlier runs found
 # (build-sanitize/corpus/HARNESS); crashes are written to build-sanitize/crashes/HARNESS/ and stop the run
 # with a non-zero exit. Long runs: `nice tests/fuzz/run.sh 2h` (two hours each, one after another).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
-all_harnesses=(obj field npy npz nrrd vdb bake)
+all_harnesses=(obj ply mesh field npy npz nrrd vdb bake)
 [ "${1:-}" = --count ] && echo ${#all_harnesses[@]} && exit 0
 parallel=0
 [ "${1:-}" = --parallel ] && parallel=1 && shift

@@ -1,0 +1,18 @@
+// Fuzzes the other mesh readers through loadMesh: the first byte picks the format (OFF and STL,
+// read by sdfgen; glTF and GLB, checked by sdfgen and read by Assimp), the rest is the file. Any
+// input either loads into a valid mesh or is an Error; never a crash, a sanitizer report, a hang
+// or an allocation beyond what the file holds.
+#include "fuzz_input.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/mesh.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size < 1) return 0;
+    static const char* const extensions[] = {".off", ".stl", ".gltf", ".glb"};
+    const std::string& path = sdfgen::fuzz::writeInput(data + 1, size - 1, extensions[data[0] % 4]);
+    try {
+        sdfgen::fuzz::checkMesh(sdfgen::loadMesh(path));
+    } catch (const sdfgen::Error&) {
+    }
+    return 0;
+}

@@ -1,0 +1,463 @@
+// sdfgen's own mesh readers (PLY, OFF, STL) and the checks before Assimp reads a glTF: what a file
+// declares is read in full, or refused with a one-line error naming the file; counts are checked
+// against the file's size before anything is allocated; what is skipped is warned about.
+#include "sdfgen/error.hpp"
+#include "sdfgen/mesh.hpp"
+
+#include "support/checks.hpp"
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <string>
+#include <sys/resource.h>
+#include <unistd.h>
+#include <vector>
+
+namespace sdfgen {
+namespace {
+
+using test::errorFrom;
+
+// An octagonal prism (closed): its sides as one triangle strip around it, each cap as a strip
+// zig-zagging across it; the strips' triangles, by the rule that every second one is turned.
+struct Prism {
+    std::vector<glm::vec3> positions;
+    std::vector<std::vector<int>> strips;
+    std::vector<glm::uvec3> triangles() const {
+        std::vector<glm::uvec3> out;
+        for (const std::vector<int>& s : strips) {
+            for (std::size_t k = 0; k + 2 < s.size(); ++k) {
+                if (k % 2 == 0) out.emplace_back(s[k], s[k + 1], s[k + 2]);
+                else out.emplace_back(s[k + 1], s[k], s[k + 2]);
+            }
+        }
+        return out;
+    }
+};
+
+Prism prism() {
+    Prism p;
+    const int n = 8;
+    for (int i = 0; i < n; ++i) {
+        const float a = float(i) * 6.2831853f / float(n);
+        p.positions.emplace_back(std::cos(a), std::sin(a), -0.75f); // bottom: 0..7
+    }
+    for (int i = 0; i < n; ++i) p.positions.push_back(p.positions[std::size_t(i)] + glm::vec3(0, 0, 1.5f)); // top: 8..15
+    std::vector<int> side;
+    for (int i = 0; i <= n; ++i) {
+        side.push_back(n + i % n);
+        side.push_back(i % n);
+    }
+    std::vector<int> top{n}, bottom{0};
+    for (int lo = 1, hi = n - 1; lo <= hi; ++lo, --hi) {
+        top.push_back(n + lo);
+        bottom.push_back(hi);
+        if (lo != hi) {
+            top.push_back(n + hi);
+            bottom.push_back(lo);
+        }
+    }
+    p.strips = {side, top, bottom};
+    return p;
+}
+
+void appendBytes(std::string& out, const void* value, std::size_t size, bool bigEndian) {
+    const auto* bytes = static_cast<const char*>(value);
+    for (std::size_t i = 0; i < size; ++i) out += bytes[bigEndian ? size - 1 - i : i];
+}
+
+template <class T>
+void append(std::string& out, T value, bool bigEndian) {
+    appendBytes(out, &value, sizeof value, bigEndian);
+}
+
+enum class Encoding { Ascii, Little, Big };
+
+// The prism as PLY: its strips in one tristrips list (-1 between them), or its triangles as faces.
+std::string prismPly(const Prism& p, Encoding encoding, bool asStrips) {
+    std::vector<int> strip;
+    for (const std::vector<int>& s : p.strips) {
+        if (!strip.empty()) strip.push_back(-1);
+        strip.insert(strip.end(), s.begin(), s.end());
+    }
+    const std::vector<glm::uvec3> triangles = p.triangles();
+    std::string text = "ply\nformat ";
+    text += encoding == Encoding::Ascii ? "ascii" : encoding == Encoding::Little ? "binary_little_endian" : "binary_big_endian";
+    text += " 1.0\nelement vertex " + std::to_string(p.positions.size()) + "\nproperty float x\nproperty float y\nproperty float z\n";
+    text += asStrips ? "element tristrips 1\nproperty list int int vertex_indices\n"
+                     : "element face " + std::to_string(triangles.size()) + "\nproperty list uchar int vertex_indices\n";
+    text += "end_header\n";
+    const bool big = encoding == Encoding::Big;
+    for (const glm::vec3& v : p.positions) {
+        for (int axis = 0; axis < 3; ++axis) {
+            if (encoding == Encoding::Ascii) text += std::to_string(v[axis]) + (axis < 2 ? " " : "\n");
+            else append(text, v[axis], big);
+        }
+    }
+    if (encoding == Encoding::Ascii) {
+        if (asStrips) {
+            text += std::to_string(strip.size());
+            for (int i : strip) text += " " + std::to_string(i);
+            text += "\n";
+        } else {
+            for (const glm::uvec3& t : triangles) text += "3 " + std::to_string(t.x) + " " + std::to_string(t.y) + " " + std::to_string(t.z) + "\n";
+        }
+    } else if (asStrips) {
+        append(text, std::int32_t(strip.size()), big);
+        for (int i : strip) append(text, std::int32_t(i), big);
+    } else {
+        for (const glm::uvec3& t : triangles) {
+            append(text, std::uint8_t(3), big);
+            for (int c = 0; c < 3; ++c) append(text, std::int32_t(t[c]), big);
+        }
+    }
+    return text;
+}
+
+std::uint32_t littleEndianAt(const std::string& bytes, std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return v;
+}
+
+std::size_t peakResidentKiB() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return std::size_t(usage.ru_maxrss);
+}
+
+class MeshReaders : public test::ScratchFolderTest {
+protected:
+    // The Error loading `name` with `contents` gives: one line, naming the file first.
+    std::string loadError(const std::string& name, const std::string& contents) {
+        const std::string file = write(name, contents);
+        const std::string message = errorFrom([&] { loadMesh(file); });
+        EXPECT_EQ(message.rfind(file + ":", 0), 0u) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        return message;
+    }
+};
+
+TEST_F(MeshReaders, PlyTriangleStripsGiveTheTrianglesOfTheEquivalentFaceList) {
+    const Prism p = prism();
+    const std::vector<glm::uvec3> expected = p.triangles();
+    ASSERT_EQ(expected.size(), 16u + 6u + 6u);
+    BakeSettings settings;
+    settings.res = 12;
+    for (const Encoding encoding : {Encoding::Ascii, Encoding::Little, Encoding::Big}) {
+        SCOPED_TRACE(int(encoding));
+        const Mesh strips = loadMesh(write("strips.ply", prismPly(p, encoding, true)));
+        const Mesh faces = loadMesh(write("faces.ply", prismPly(p, encoding, false)));
+        EXPECT_EQ(strips.triangles, expected);
+        EXPECT_EQ(faces.triangles, expected);
+        EXPECT_EQ(strips.positions, faces.positions);
+        EXPECT_TRUE(strips.warnings.empty()) << strips.warnings.front();
+        // The alternation is right: every face of the closed prism points out of it.
+        for (std::size_t t = 0; t < strips.triangleCount(); ++t) {
+            const glm::vec3 centre = (strips.vertex(t, 0) + strips.vertex(t, 1) + strips.vertex(t, 2)) / 3.0f;
+            EXPECT_GT(glm::dot(strips.faceNormals[t], centre), 0.0f) << "triangle " << t;
+        }
+        EXPECT_EQ(test::bakeMesh(strips, settings).field.values, test::bakeMesh(faces, settings).field.values);
+    }
+}
+
+TEST_F(MeshReaders, PlyReadsEveryScalarTypeAndSkipsWhatItDoesNotUse) {
+    // Big-endian; x, y, z of three types among other properties, a list in the vertex, an element
+    // of lists before the faces, a ushort count with uint indices, a quad (two triangles).
+    std::string text =
+        "ply\nformat binary_big_endian 1.0\ncomment every type\nobj_info test\n"
+        "element vertex 4\nproperty uchar red\nproperty float64 x\nproperty int16 junk\nproperty float y\n"
+        "property list uint8 float32 extra\nproperty int z\n"
+        "element edge 2\nproperty list char ushort corners\nproperty uint32 flags\n"
+        "element face 2\nproperty int8 tag\nproperty list ushort uint vertex_indices\nproperty double quality\nend_header\n";
+    const double xs[4] = {0.0, 1.5, 1.5, 0.0};
+    const float ys[4] = {0.0f, 0.0f, 2.0f, 2.0f};
+    for (int v = 0; v < 4; ++v) {
+        append(text, std::uint8_t(200), true);
+        append(text, xs[v], true);
+        append(text, std::int16_t(-7), true);
+        append(text, ys[v], true);
+        append(text, std::uint8_t(2), true);
+        append(text, 1.0f, true);
+        append(text, 2.0f, true);
+        append(text, std::int32_t(v == 3 ? -4 : 4), true);
+    }
+    for (int e = 0; e < 2; ++e) {
+        append(text, std::int8_t(3), true);
+        for (int i = 0; i < 3; ++i) append(text, std::uint16_t(i), true);
+        append(text, std::uint32_t(0xdeadbeef), true);
+    }
+    append(text, std::int8_t(1), true);
+    append(text, std::uint16_t(4), true);
+    for (std::uint32_t i : {0u, 1u, 2u, 3u}) append(text, i, true);
+    append(text, 0.5, true);
+    append(text, std::int8_t(2), true);
+    append(text, std::uint16_t(3), true);
+    for (std::uint32_t i : {0u, 2u, 1u}) append(text, i, true);
+    append(text, 0.25, true);
+    const Mesh mesh = loadMesh(write("types.ply", text));
+    ASSERT_EQ(mesh.positions.size(), 4u);
+    const std::vector<glm::dvec3> world = mesh.worldPositions();
+    EXPECT_EQ(world[1], glm::dvec3(1.5, 0, 4));
+    EXPECT_EQ(world[3], glm::dvec3(0, 2, -4));
+    EXPECT_EQ(mesh.triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {0, 2, 3}, {0, 2, 1}}));
+
+    // The same in ASCII with the other type names and the vertex_index spelling.
+    const Mesh ascii = loadMesh(write("types-ascii.ply",
+                                      "ply\nformat ascii 1.0\nelement vertex 4\nproperty uint8 red\nproperty double x\n"
+                                      "property short junk\nproperty float32 y\nproperty list uchar float extra\nproperty int32 z\n"
+                                      "element face 2\nproperty char tag\nproperty list uint16 uint32 vertex_index\nend_header\n"
+                                      "200 0 -7 0 2 1 2 4\n200 1.5 -7 0 0 4\n200 1.5 -7 2 1 9 4\n200 0 -7 2 0 -4\n"
+                                      "1 4 0 1 2 3\n-2 3 0 2 1\n"));
+    EXPECT_EQ(ascii.worldPositions(), world);
+    EXPECT_EQ(ascii.triangles, mesh.triangles);
+}
+
+TEST_F(MeshReaders, PlyFacesOfFewerThanThreeVerticesAreSkippedWithAWarning) {
+    const std::string file = write("short-faces.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                                      "property float z\nelement face 3\nproperty list uchar int vertex_indices\n"
+                                                      "end_header\n0 0 0\n1 0 0\n0 1 0\n0\n3 0 1 2\n2 0 1\n");
+    const Mesh mesh = loadMesh(file);
+    EXPECT_EQ(mesh.triangleCount(), 1u);
+    ASSERT_EQ(mesh.warnings.size(), 1u);
+    EXPECT_EQ(mesh.warnings[0], file + ": skipped 2 faces of fewer than 3 vertices");
+}
+
+TEST_F(MeshReaders, PlyCountsBeyondTheFileAreRefusedBeforeAllocating) {
+    const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 200000000\nproperty float x\nproperty float y\n"
+                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string file = header + std::string(400 - header.size(), '\0');
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_CONTAINS(loadError("huge.ply", file), "declares 200000000 vertices (at least 2.4e+09 bytes) but only");
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+    EXPECT_CONTAINS(loadError("huge-ascii.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                                "property float z\nelement face 2000000000\nproperty list uchar int vertex_indices\n"
+                                                "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                    "declares 2000000000 faces");
+    // A list claiming 4e9 items in a small file.
+    std::string list = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                       "element face 1\nproperty list uint int vertex_indices\nend_header\n";
+    for (int i = 0; i < 9; ++i) append(list, float(i % 2), false);
+    append(list, std::uint32_t(4000000000u), false);
+    for (int i = 0; i < 3; ++i) append(list, std::int32_t(i), false);
+    EXPECT_CONTAINS(loadError("long-list.ply", list), "claims 4000000000 items");
+}
+
+TEST_F(MeshReaders, PlyIndicesOutOfRangeAreErrors) {
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n";
+    EXPECT_CONTAINS(loadError("past.ply", header + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + vertices + "3 0 1 3\n"),
+                    "face 1 of 1 refers to vertex 3 but the file has 3 vertices");
+    EXPECT_CONTAINS(loadError("negative.ply", header + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + vertices + "3 0 -2 1\n"),
+                    "refers to vertex -2");
+    EXPECT_CONTAINS(loadError("strip.ply", header + "element tristrips 1\nproperty list int int vertex_indices\nend_header\n" + vertices + "5 0 1 2 -1 7\n"),
+                    "tristrips 1 of 1 refers to vertex 7");
+    EXPECT_CONTAINS(loadError("truncated.ply", header + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + vertices + "3 0 1\n"),
+                    "the file ends inside face 1 of 1");
+    EXPECT_CONTAINS(loadError("type.ply", header + "element face 1\nproperty list uchar int vertex_indices\nend_header\n" + vertices + "300 0 1 2\n"),
+                    "'300' in face 1 of 1 is not a whole number of its type's range");
+}
+
+TEST_F(MeshReaders, PlyWithByteFlipsLoadsOrFailsCleanly) {
+    const std::string valid = prismPly(prism(), Encoding::Little, false);
+    const std::string stripsValid = prismPly(prism(), Encoding::Big, true);
+    std::mt19937 random(12345);
+    const auto start = std::chrono::steady_clock::now();
+    int loaded = 0, refused = 0;
+    for (int i = 0; i < 200; ++i) {
+        std::string mutant = i % 2 ? valid : stripsValid;
+        const int flips = 1 + int(random() % 4);
+        for (int f = 0; f < flips; ++f) mutant[random() % mutant.size()] = char(random() % 256);
+        if (i % 10 == 0) mutant.resize(random() % mutant.size());
+        const std::string file = write("mutant.ply", mutant);
+        try {
+            const Mesh mesh = loadMesh(file);
+            for (const glm::uvec3& t : mesh.triangles) ASSERT_LT(std::max({t.x, t.y, t.z}), mesh.positions.size());
+            ++loaded;
+        } catch (const Error& e) {
+            ASSERT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+            ++refused;
+        }
+    }
+    EXPECT_GT(loaded, 0);
+    EXPECT_GT(refused, 0);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20));
+}
+
+TEST_F(MeshReaders, OffIsReadInFullOrRefused) {
+    const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    const Mesh quad = loadMesh(write("quad.off", "# comment\nOFF 5 2 0\n0 0 0 1 0 0 1\n1 0 0\n1 1 0\n0 1 0\n0 0 5\n4 0 1 2 3 255 0 0\n2 0 4\n"));
+    EXPECT_EQ(quad.triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {0, 2, 3}}));
+    ASSERT_EQ(quad.warnings.size(), 2u);
+    EXPECT_CONTAINS(quad.warnings[0], "quad.off: skipped 1 face of fewer than 3 vertices");
+    EXPECT_CONTAINS(quad.warnings[1], "quad.off: 1 of 5 vertices are used by no triangle");
+
+    EXPECT_CONTAINS(loadError("past.off", "OFF\n4 1 0\n" + vertices + "3 0 1 4\n"), ":7: face refers to vertex 4 but the file has 4 vertices");
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_CONTAINS(loadError("faces.off", "OFF\n4 2000000000 0\n" + vertices + "3 0 1 2\n"), "declares 2000000000 faces");
+    EXPECT_CONTAINS(loadError("vertices.off", "OFF\n100000000 1 0\n" + vertices + "3 0 1 2\n"), "declares 100000000 vertices");
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+    EXPECT_CONTAINS(loadError("short.off", "OFF\n4 2 0\n" + vertices + "3 0 1 2\n"), "the file ends after 1 of its 2 faces");
+    EXPECT_CONTAINS(loadError("binary.off", "OFF BINARY\n"), "binary OFF files are not supported");
+
+    const Mesh extra = loadMesh(write("extra.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n"));
+    EXPECT_EQ(extra.triangleCount(), 1u);
+    ASSERT_EQ(extra.warnings.size(), 1u);
+    EXPECT_CONTAINS(extra.warnings[0], "1 lines after the 1 faces the header declares were not read");
+}
+
+TEST_F(MeshReaders, UnusedVerticesInBulkAreWarnedAbout) {
+    std::string text = "OFF\n10 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+    for (int i = 0; i < 7; ++i) text += "5 5 " + std::to_string(i) + "\n";
+    const std::string file = write("unused.off", text + "3 0 1 2\n");
+    const Mesh mesh = loadMesh(file);
+    ASSERT_EQ(mesh.warnings.size(), 1u);
+    EXPECT_EQ(mesh.warnings[0], file + ": 7 of 10 vertices are used by no triangle");
+}
+
+TEST_F(MeshReaders, StlFacetsAreTrianglesAndCornersAreJoined) {
+    const std::string facet = " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\n";
+    const std::string second = " FACET NORMAL 0 0 -1\n  OUTER LOOP\n   VERTEX 0 0 0\n   VERTEX 0 1 0\n   VERTEX -1 0 -0\n  ENDLOOP\n ENDFACET\n";
+    const Mesh mesh = loadMesh(write("two.stl", "solid a\n" + facet + "endsolid a\nsolid b\n" + second + "endsolid\n"));
+    EXPECT_EQ(mesh.positions.size(), 4u); // the shared corners are one vertex each
+    EXPECT_EQ(mesh.triangles, (std::vector<glm::uvec3>{{0, 1, 2}, {0, 2, 3}}));
+
+    const std::string four = " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n   vertex 1 1 0\n  endloop\n endfacet\n";
+    EXPECT_CONTAINS(loadError("four.stl", "solid x\n" + four + "endsolid x\n"), ":7: a facet has more than 3 vertices (an STL facet has 3)");
+    EXPECT_CONTAINS(loadError("unfinished.stl", "solid x\n" + facet), "the file ends without 'endsolid'");
+
+    std::string binary(80, '\0');
+    append(binary, std::uint32_t(1000000), false);
+    binary += std::string(50, '\0');
+    EXPECT_CONTAINS(loadError("short.stl", binary), "a binary STL file declaring 1000000 triangles has 50000084 bytes, this one 134");
+}
+
+// A glTF of one triangle, its indices (uint32) given; extra JSON members added at the top level.
+std::string gltfTriangle(std::uint32_t lastIndex, const std::string& extra = "", const std::string& nodes = R"([{"mesh": 0}])") {
+    std::string buffer;
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) append(buffer, v, false);
+    for (std::uint32_t i : {0u, 1u, lastIndex}) append(buffer, i, false);
+    std::string b64;
+    static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    for (std::size_t i = 0; i < buffer.size(); i += 3) { // 48 bytes: no padding
+        const std::uint32_t n = std::uint32_t(std::uint8_t(buffer[i])) << 16 | std::uint32_t(std::uint8_t(buffer[i + 1])) << 8 | std::uint8_t(buffer[i + 2]);
+        for (int s = 18; s >= 0; s -= 6) b64 += digits[(n >> s) & 63];
+    }
+    return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": )" + nodes + R"(,
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}],
+  "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
+  "buffers": [{"byteLength": 48, "uri": "data:application/octet-stream;base64,)" + b64 + "\"}]" + extra + "}";
+}
+
+TEST_F(MeshReaders, GltfIsCheckedBeforeAssimpReadsIt) {
+    const Mesh good = loadMesh(write("good.gltf", gltfTriangle(2)));
+    EXPECT_EQ(good.triangleCount(), 1u);
+    EXPECT_TRUE(good.warnings.empty()) << good.warnings.front(); // Assimp read what the file declares
+    // Two nodes instancing it, one under the other: two triangles, as declared.
+    const Mesh twice = loadMesh(write("twice.gltf", gltfTriangle(2, "", R"([{"mesh": 0, "children": [1]}, {"mesh": 0, "translation": [0, 0, 1]}])")));
+    EXPECT_EQ(twice.triangleCount(), 2u);
+    EXPECT_TRUE(twice.warnings.empty()) << twice.warnings.front();
+    EXPECT_CONTAINS(loadError("index.gltf", gltfTriangle(4000000000u)), "mesh 0 primitive 0 refers to vertex 4000000000 but it has 3 vertices");
+
+    // 30,000 nested nodes; a cycle; JSON nested 100,000 deep.
+    std::string nested = "[";
+    for (int n = 0; n < 30000; ++n) nested += std::string(n ? "," : "") + (n < 29999 ? R"({"children": [)" + std::to_string(n + 1) + "]}" : R"({"mesh": 0})");
+    EXPECT_CONTAINS(loadError("deep.gltf", gltfTriangle(2, "", nested + "]")), "its node tree is deeper than 1000 levels");
+    EXPECT_CONTAINS(loadError("cycle.gltf", gltfTriangle(2, "", R"([{"mesh": 0, "children": [1]}, {"children": [0]}])")), "a cycle in the node tree");
+    EXPECT_CONTAINS(loadError("json.gltf", gltfTriangle(2, R"(, "extras": )" + std::string(100000, '[') + std::string(100000, ']'))),
+                    "its JSON nests deeper than 200 levels");
+    // Each node instancing the next twice, 64 deep: 2^64 copies of the triangle.
+    std::string doubling = "[";
+    for (int n = 0; n < 64; ++n) doubling += (n ? "," : "") + (n < 63 ? R"({"mesh": 0, "children": [)" + std::to_string(n + 1) + "," + std::to_string(n + 1) + "]}" : R"({"mesh": 0})");
+    EXPECT_CONTAINS(loadError("instances.gltf", gltfTriangle(2, "", doubling + "]")), "more than the 2^32 - 1 vertices sdfgen supports");
+    // Views and accessors outside what they refer to (Assimp checks an accessor's count times
+    // its component size, not its element size, against the view).
+    std::string view = gltfTriangle(2);
+    view.replace(view.find(R"("byteOffset": 36, "byteLength": 12)"), 34, R"("byteOffset": 40, "byteLength": 12)");
+    EXPECT_CONTAINS(loadError("view.gltf", view), "bufferView 1 (bytes 40 + 12) is outside buffer 0 (48 bytes)");
+    std::string accessor = gltfTriangle(2);
+    accessor.replace(accessor.find(R"("count": 3, "type": "VEC3")"), 26, R"("count": 9, "type": "VEC3")");
+    EXPECT_CONTAINS(loadError("accessor.gltf", accessor), "accessor 0 (9 elements of 12 bytes from byte 0) does not fit bufferView 0 (36 bytes)");
+    // A sparse accessor: patching vertex 0 with itself reads; indices past their view do not.
+    std::string sparse = gltfTriangle(2);
+    sparse.replace(sparse.find(R"("max": [1, 1, 0]})"), 17,
+                   R"("max": [1, 1, 0], "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 0}}})");
+    EXPECT_EQ(loadMesh(write("sparse.gltf", sparse)).triangleCount(), 1u);
+    sparse.replace(sparse.find(R"("componentType": 5121})"), 22, R"("componentType": 5121, "byteOffset": 100000})");
+    EXPECT_CONTAINS(loadError("sparse-indices.gltf", sparse), "accessor 0's sparse indices (1 of 1 bytes from byte 100000) do not fit their bufferView (12 bytes)");
+    std::string quantized = gltfTriangle(2);
+    quantized.replace(quantized.find(R"("componentType": 5126)"), 21, R"("componentType": 5121)");
+    EXPECT_CONTAINS(loadError("quantized.gltf", quantized), "mesh 0 primitive 0's positions are integers (KHR_mesh_quantization)");
+    EXPECT_CONTAINS(loadError("version.gltf", R"({"asset": {"version": "1.0"}})"), "only glTF 2.x files are read");
+}
+
+// The triangle as GLB, its buffer in the binary chunk.
+std::string glbTriangle() {
+    std::string json = gltfTriangle(2);
+    json.replace(json.find(R"(, "uri")"), json.find("}]", json.find(R"(, "uri")")) - json.find(R"(, "uri")"), "");
+    while (json.size() % 4) json += ' ';
+    std::string bin;
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) append(bin, v, false);
+    for (std::uint32_t i : {0u, 1u, 2u}) append(bin, i, false);
+    std::string glb = "glTF";
+    append(glb, std::uint32_t(2), false);
+    append(glb, std::uint32_t(12 + 8 + json.size() + 8 + bin.size()), false);
+    append(glb, std::uint32_t(json.size()), false);
+    glb += "JSON" + json;
+    append(glb, std::uint32_t(bin.size()), false);
+    glb += std::string("BIN\0", 4) + bin;
+    return glb;
+}
+
+TEST_F(MeshReaders, GlbChunkLengthsAreChecked) {
+    const std::string glb = glbTriangle();
+    EXPECT_EQ(loadMesh(write("good.glb", glb)).triangleCount(), 1u);
+    std::string json = glb;
+    const std::uint32_t huge = 0x7fffffff;
+    std::memcpy(json.data() + 12, &huge, 4);
+    EXPECT_CONTAINS(loadError("json.glb", json), "the JSON chunk declares 2147483647 bytes but only");
+    std::string total = glb;
+    std::memcpy(total.data() + 8, &huge, 4);
+    EXPECT_CONTAINS(loadError("total.glb", total), "the header declares 2147483647 bytes but the file has");
+    std::string bin = glb;
+    const std::size_t binHeader = 20 + littleEndianAt(glb, 12);
+    std::memcpy(bin.data() + binHeader, &huge, 4);
+    EXPECT_CONTAINS(loadError("bin.glb", bin), "the binary chunk declares 2147483647 bytes but only 48 follow it");
+}
+
+TEST_F(MeshReaders, GltfExternalBufferIsReadOnlyAsFarAsItsViewsGo) {
+    // A 3 GB buffer file (sparse: no disk used) of which the views use 48 bytes.
+    std::string gltf = gltfTriangle(2);
+    const std::size_t uri = gltf.find(R"("byteLength": 48, "uri")");
+    gltf.replace(uri, gltf.find("}]", uri) - uri, R"("byteLength": 3000000000, "uri": "big.bin")");
+    std::string bin;
+    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) append(bin, v, false);
+    for (std::uint32_t i : {0u, 1u, 2u}) append(bin, i, false);
+    const std::string binFile = write("big.bin", bin);
+    ASSERT_EQ(truncate(binFile.c_str(), 3000000000), 0);
+    const std::size_t before = peakResidentKiB();
+    EXPECT_EQ(loadMesh(write("big.gltf", gltf)).triangleCount(), 1u);
+    EXPECT_LT(peakResidentKiB() - before, std::size_t(256) << 10) << "KiB more at the peak";
+    // More than the file holds.
+    ASSERT_EQ(truncate(binFile.c_str(), 1000), 0);
+    EXPECT_CONTAINS(loadError("short.gltf", gltf), "buffer 0 declares 3000000000 bytes but its file 'big.bin' has 1000");
+}
+
+TEST_F(MeshReaders, PointsAndLinesFromAssimpAreWarnedAbout) {
+    std::string gltf = gltfTriangle(2);
+    gltf.replace(gltf.find(R"("indices": 1})"), 13, R"("indices": 1}, {"attributes": {"POSITION": 0}, "mode": 0})");
+    const Mesh mesh = loadMesh(write("points.gltf", gltf));
+    EXPECT_EQ(mesh.triangleCount(), 1u);
+    ASSERT_FALSE(mesh.warnings.empty());
+    EXPECT_CONTAINS(mesh.warnings[0], "skipped 3 points and lines");
+}
+
+} // namespace
+} // namespace sdfgen
