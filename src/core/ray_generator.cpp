@@ -35,8 +35,8 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
 
     // Eight neighbouring samples, a 2x2x2 block, trace each direction together as a packet:
     // parallel rays less than two voxels apart take nearly the same path through the tree. The
-    // blocks are the same whatever the thread count (and each lane's hits are those of
-    // Bvh::intersect for the block, see core/ray_kernel.inc). One work item is a row of blocks.
+    // blocks are the same whatever the thread count (and each lane's hits are those of the binary
+    // tree's traversal for the block, see core/ray_kernel.inc). One work item is a row of blocks.
     const RayTree rayTree(mesh, tree);
     const rays::Table& kernel = rays::active();
     const int blocksX = (nx + 1) / 2, blocksY = (grid.dims.y + 1) / 2, blocksZ = (grid.dims.z + 1) / 2;
