@@ -5,6 +5,7 @@
 #include "core/duplicates.hpp"
 #include "core/exact.hpp"
 #include "core/memory.hpp"
+#include "core/sample_positions.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
 #include "sdfgen/model.hpp"

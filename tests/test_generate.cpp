@@ -4,9 +4,10 @@
 #include "sdfgen/error.hpp"
 #include "core/bake.hpp"
 #include "core/ray_generator.hpp"
+#include "core/sample_positions.hpp"
 #include "support/checks.hpp"
-#include "support/shapes.hpp"
 #include "support/binary_rays.hpp"
+#include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>

@@ -1,5 +1,4 @@
 #pragma once
-#include "sdfgen/device.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh_check.hpp"
 
@@ -28,6 +27,15 @@ const char* toString(SignMethod sign);
 DistanceMethod parseDistanceMethod(const std::string& name);
 SignMethod parseSignMethod(const std::string& name);
 
+// Where a bake runs: exact distances and winding signs on the CPU, or on a compute device that a
+// program registers (the viewer and the command line register the GPU; see sdfgen/device.hpp).
+enum class Device {
+    Cpu,  // the core library's generators
+    Gpu,  // the registered compute device; an error when there is none or it cannot start
+    Auto, // the compute device when it runs on real GPU hardware, the CPU otherwise
+};
+const char* toString(Device device);
+
 // What to bake: the grid (see makeGrid), the method and the sign.
 struct BakeSettings {
     int res = 64;
@@ -35,7 +43,7 @@ struct BakeSettings {
     DistanceMethod method = DistanceMethod::Exact;
     SignMethod sign = SignMethod::Default;
     int rays = 64; // for the rays method and the rays sign
-    // Where exact distances and winding signs run (see device.hpp); other methods run on the CPU.
+    // Where exact distances and winding signs run; other methods run on the CPU.
     Device device = Device::Auto;
 };
 

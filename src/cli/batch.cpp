@@ -4,6 +4,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "core/batch.hpp"
+#include "core/memory.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"

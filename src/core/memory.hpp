@@ -10,6 +10,9 @@ namespace sdfgen {
 
 class Bvh;
 
+// Bytes of physical memory on this machine (0 when unknown).
+std::uint64_t physicalMemoryBytes();
+
 // Bytes this process can still take: MemAvailable from /proc/meminfo, lowered to the room left
 // under a cgroup v2 memory limit when there is one; the physical memory when neither is readable
 // (0 when nothing is known).

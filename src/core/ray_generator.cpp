@@ -4,6 +4,7 @@
 #include "core/ray_tree.hpp"
 #include "sdfgen/error.hpp"
 #include "core/parallel.hpp"
+#include "core/sample_positions.hpp"
 
 #include <glm/geometric.hpp>
 #include <chrono>

@@ -5,6 +5,7 @@
 #include "fuzz_input.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
+#include "core/formats/format.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,6 @@
 // What every field format shares: the checks on saved and loaded fields, and the method line.
 #include "core/formats/format.hpp"
+#include "core/memory.hpp"
 #include "sdfgen/error.hpp"
 
 #include <cmath>

@@ -3,6 +3,7 @@
 #include "core/formats/format.hpp"
 #include "core/atomic_file.hpp"
 #include "core/input_file.hpp"
+#include "core/memory.hpp"
 
 #include <tbb/parallel_for.h>
 
