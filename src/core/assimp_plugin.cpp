@@ -32,6 +32,10 @@ Mesh loadMesh(const std::string& path) {
     // here first would swallow its contents. Pipes and /dev/stdin have no extension: OBJ text.
     if (extension == ".obj" || extension.empty()) return loadObj(path);
     if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+    if (!SDFGEN_HAS_ASSIMP) {
+        throw Error(path + ": mesh formats other than OBJ need Assimp, and this sdfgen was built without Assimp "
+                           "(configure with -DSDFGEN_ASSIMP=ON)");
+    }
     const AssimpPlugin& assimp = assimpPlugin();
     if (!assimp.supports(extension)) {
         throw Error(path + ": unknown mesh format '" + extension + "'" +
