@@ -23,13 +23,11 @@ int main(int argc, char** argv) {
     std::string input;
     int res = 128, repeat = 1, threads = 0;
     double padding = 0.1;
-    bool flipped = false;
     app.add_option("mesh", input, "A mesh file")->required();
     app.add_option("--res", res, "Voxels along the longest side")->check(CLI::Range(1, 4096))->capture_default_str();
     app.add_option("--padding", padding, "Margin as a fraction of the longest side")->capture_default_str();
     app.add_option("--threads", threads, "Worker threads, 0 for all cores")->capture_default_str();
     app.add_option("--repeat", repeat, "Runs; the best is printed")->check(CLI::Range(1, 100))->capture_default_str();
-    app.add_flag("--flipped", flipped, "Signs of the mesh with every face flipped");
     CLI11_PARSE(app, argc, argv);
     try {
         using namespace sdfgen;
@@ -46,7 +44,7 @@ int main(int argc, char** argv) {
             const auto start = Clock::now();
             const std::clock_t cpuStart = std::clock();
             stats = {};
-            inside = insideByWinding(mesh, topology, grid, control, flipped, &stats);
+            inside = insideByWinding(mesh, topology, grid, control, &stats);
             wall = std::min(wall, std::chrono::duration<double>(Clock::now() - start).count());
             cpu = std::min(cpu, double(std::clock() - cpuStart) / CLOCKS_PER_SEC);
         }

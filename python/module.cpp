@@ -20,6 +20,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <type_traits>
 
 namespace py = pybind11;
 
@@ -27,15 +28,25 @@ namespace sdfgen::python {
 
 namespace {
 
+// sdfgen.Warning, the category of every warning the module gives (set when the module loads).
+PyObject* warningClass = nullptr;
+
 // Runs work(control) on another thread with the GIL released. Ctrl+C (or an exception from the
 // progress callback) raises the cancel flag, waits for the work to stop and re-raises in Python.
+// The warnings the work gives (RunControl::warn) are issued as sdfgen.Warning when it is done.
 template <class Work>
 auto runReleased(Work&& work, int threads, const py::object& progress = py::none()) {
+    // Checked here as the command line checks --threads, before any thread pool is set up.
+    if (threads < 0 || threads > kMaxThreads) {
+        throw Error("threads must be from 0 (all cores) to " + std::to_string(kMaxThreads) + ", not " + std::to_string(threads));
+    }
     std::atomic<bool> cancel{false};
     std::atomic<double> fraction{0.0};
+    std::vector<std::string> warnings; // written by the worker, read once it is done
     RunControl control;
     control.threads = threads;
     control.cancel = &cancel;
+    control.warn = [&warnings](const std::string& warning) { warnings.push_back(warning); };
     if (!progress.is_none()) control.progress = [&fraction](double f) { fraction.store(f, std::memory_order_relaxed); };
     using Result = decltype(work(control));
     std::future<Result> result;
@@ -76,6 +87,9 @@ auto runReleased(Work&& work, int threads, const py::object& progress = py::none
         throw py::error_already_set();
     }
     Result value = result.get(); // rethrows the work's Error, translated below
+    for (const std::string& warning : warnings) {
+        if (PyErr_WarnEx(warningClass, warning.c_str(), 1) != 0) throw py::error_already_set(); // a filter made it an error
+    }
     if (!progress.is_none()) progress(1.0);
     return value;
 }
@@ -105,6 +119,21 @@ DistanceMethod methodFrom(const std::string& name) {
     const auto it = methods.find(name);
     if (it == methods.end()) throw py::value_error("method must be exact, rays or brute (got '" + name + "')");
     return it->second;
+}
+
+// Channels from "sdf,gradient" or ["sdf", "gradient"]; ValueError for an unknown name.
+Channels channelsFrom(const py::object& names) {
+    std::string list;
+    if (py::isinstance<py::str>(names)) {
+        list = names.cast<std::string>();
+    } else {
+        for (const py::handle name : names) list += (list.empty() ? "" : ",") + name.cast<std::string>();
+    }
+    try {
+        return parseChannels(list);
+    } catch (const Error& e) {
+        throw py::value_error(e.what());
+    }
 }
 
 py::dict checkToDict(const MeshCheck& c) {
@@ -160,19 +189,25 @@ PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const s
     if (!py::isinstance<py::array_t<std::int64_t>>(faces) && faces.dtype().kind() != 'i' && faces.dtype().kind() != 'u') {
         throw py::value_error("faces must be an integer array");
     }
-    const auto f = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(faces);
-    std::vector<glm::uvec3> triangles(std::size_t(f.shape(0)));
-    const std::int64_t* fd = f.data();
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        for (int c = 0; c < 3; ++c) {
-            const std::int64_t index = fd[3 * t + std::size_t(c)];
-            if (index < 0 || index > std::int64_t(std::numeric_limits<std::uint32_t>::max())) {
-                throw Error(name + ": face " + std::to_string(t) + " has vertex index " + std::to_string(index) +
-                            ", outside 0.." + std::to_string(vertices.shape(0) - 1));
+    // Unsigned indices are read as unsigned: one above 2^63 is shown as it is, never as a negative.
+    std::vector<glm::uvec3> triangles(std::size_t(faces.shape(0)));
+    auto readIndices = [&](auto integer) {
+        using Index = decltype(integer);
+        const auto f = py::array_t<Index, py::array::c_style | py::array::forcecast>::ensure(faces);
+        const Index* fd = f.data();
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            for (int c = 0; c < 3; ++c) {
+                const Index index = fd[3 * t + std::size_t(c)];
+                if ((std::is_signed_v<Index> && std::int64_t(index) < 0) || std::uint64_t(index) > std::numeric_limits<std::uint32_t>::max()) {
+                    throw Error(name + ": face " + std::to_string(t) + " has vertex index " + std::to_string(index) +
+                                ", outside 0.." + std::to_string(vertices.shape(0) - 1));
+                }
+                triangles[t][c] = std::uint32_t(index);
             }
-            triangles[t][c] = std::uint32_t(index);
         }
-    }
+    };
+    if (faces.dtype().kind() == 'u') readIndices(std::uint64_t{});
+    else readIndices(std::int64_t{});
     auto build = [&](auto&& positions) {
         PyMesh mesh;
         mesh.model = runReleased([&](const RunControl& control) {
@@ -202,6 +237,18 @@ struct PyField {
 
 py::tuple tuple3(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 
+// A channel of the field `self` as an (nx, ny, nz) or, for `vector`, (nx, ny, nz, 3) view of its
+// planar buffer (no copy; keeps the field alive); None when it was not baked.
+template <class T>
+py::object channelView(const py::object& self, const std::vector<T>& planes, bool vector) {
+    if (planes.empty()) return py::none();
+    const glm::ivec3 d = self.cast<const PyField&>().field.grid.dims;
+    const py::ssize_t item = sizeof(T), nx = d.x, ny = d.y, nz = d.z;
+    std::vector<py::ssize_t> shape{nx, ny, nz}, strides{item, item * nx, item * nx * ny};
+    if (vector) shape.push_back(3), strides.push_back(item * nx * ny * nz);
+    return py::array_t<T>(shape, strides, planes.data(), self);
+}
+
 } // namespace
 
 } // namespace sdfgen::python
@@ -216,6 +263,10 @@ PYBIND11_MODULE(sdfgen, m) {
     gpu::registerGlDevice();
 #endif
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+    // Warnings from loads and bakes (what was skipped or is doubtful): warnings.warn with this
+    // category, so that warnings.filterwarnings("error", category=sdfgen.Warning) turns them into errors.
+    warningClass = PyErr_NewExceptionWithDoc("sdfgen.Warning", "What sdfgen skipped or doubts in a mesh or a bake", PyExc_UserWarning, nullptr);
+    m.attr("Warning") = py::handle(warningClass);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
@@ -326,6 +377,17 @@ PYBIND11_MODULE(sdfgen, m) {
                                           {item, item * d.x, item * d.x * d.y}, f.field.values.data(), self);
             },
             "(nx, ny, nz) float32 view of the field's values (no copy; keeps the field alive)")
+        .def_property_readonly(
+            "gradient", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.gradient, true); },
+            "(nx, ny, nz, 3) float32 view of the gradient channel: the unit gradient of the signed distance (the outward face "
+            "normal where the distance is 0); None unless baked with channels including 'gradient'")
+        .def_property_readonly(
+            "closest", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.closest, true); },
+            "(nx, ny, nz, 3) float32 view of the closest channel: the nearest surface point, world coordinates; None unless baked")
+        .def_property_readonly(
+            "triangle", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.triangle, false); },
+            "(nx, ny, nz) int32 view of the triangle channel: the nearest triangle's index (as Mesh.faces numbers them); None "
+            "unless baked")
         .def_property_readonly("dims", [](const PyField& f) { return py::make_tuple(f.field.grid.dims.x, f.field.grid.dims.y, f.field.grid.dims.z); })
         .def_property_readonly("origin", [](const PyField& f) { return tuple3(f.field.grid.origin); },
                                "The grid's minimum corner; sample (i, j, k) is at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size")
@@ -340,6 +402,8 @@ PYBIND11_MODULE(sdfgen, m) {
         .def_property_readonly("sign", [](const PyField& f) { return f.field.parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
         .def_property_readonly("device", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->deviceReason)) : py::object(py::none()); },
                                "Where the bake ran and why, e.g. 'cpu: asked for' (None for a loaded field)")
+        .def_property_readonly("warnings", [](const PyField& f) { return f.bake ? f.bake->warnings : std::vector<std::string>{}; },
+                               "The bake's warnings, one line each (also issued as sdfgen.Warning); empty for a loaded field")
         .def_property_readonly("sign_reason", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->signReason)) : py::object(py::none()); })
         .def_property_readonly("check", [](const PyField& f) {
             return f.bake && f.bake->checked ? py::object(checkToDict(f.bake->check)) : py::object(py::none());
@@ -382,8 +446,9 @@ PYBIND11_MODULE(sdfgen, m) {
     m.def(
         "bake",
         [](const PyMesh& mesh, int res, double padding, const std::string& method, const std::string& sign, int threads,
-           const py::object& progress, int rays, const std::string& device) {
+           const py::object& progress, int rays, const std::string& device, const py::object& channels) {
             BakeSettings settings;
+            settings.channels = channelsFrom(channels);
             const std::map<std::string, Device> devices = {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}};
             const auto named = devices.find(device);
             if (named == devices.end()) throw py::value_error("device must be cpu, gpu or auto (got '" + device + "')");
@@ -400,9 +465,11 @@ PYBIND11_MODULE(sdfgen, m) {
         },
         py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
         py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "auto",
+        py::arg("channels") = "sdf",
         "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
         "Ctrl+C cancels. device: where exact distances and winding signs run: gpu (OpenGL 4.5 compute), cpu, or auto "
-        "(the GPU when a hardware OpenGL 4.5 driver is there).");
+        "(the GPU when a hardware OpenGL 4.5 driver is there). channels: 'sdf' or a comma-separated list (or sequence) "
+        "adding gradient, closest and triangle (method exact, on the CPU): Field.gradient, .closest, .triangle.");
 
     m.def(
         "load_field",
@@ -417,8 +484,9 @@ PYBIND11_MODULE(sdfgen, m) {
     m.def(
         "sample",
         [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double nearVariance, double farVariance,
-           double padding, const std::string& sign, int threads) {
+           double padding, const std::string& sign, int threads, const py::object& channels) {
             SampleSettings settings;
+            settings.channels = channelsFrom(channels);
             settings.seed = seed;
             settings.surfaceFraction = surfaceFraction;
             settings.nearVariance = nearVariance;
@@ -426,10 +494,19 @@ PYBIND11_MODULE(sdfgen, m) {
             settings.padding = padding;
             settings.sign = signFrom(sign);
             Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads);
-            return py::make_tuple(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}), toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
+            py::list arrays;
+            arrays.append(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}));
+            arrays.append(toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
+            if (settings.channels.gradient) arrays.append(toNumpy(std::move(samples.gradient), {py::ssize_t(n), 3}));
+            if (settings.channels.closest) arrays.append(toNumpy(std::move(samples.closest), {py::ssize_t(n), 3}));
+            if (settings.channels.triangle) arrays.append(toNumpy(std::move(samples.triangle), {py::ssize_t(n)}));
+            return py::tuple(arrays);
         },
         py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("near_variance") = 0.0025,
         py::arg("far_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
+        py::arg("channels") = "sdf",
         "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32). Defaults are DeepSDF's: 47/50 near the surface "
-        "(half with each variance, in units of the mesh normalized to the unit sphere), the rest uniform in the padded box.");
+        "(half with each variance, in units of the mesh normalized to the unit sphere), the rest uniform in the padded box. "
+        "channels ('sdf' or a list adding gradient, closest, triangle) appends, in that order, gradient (n, 3) float32, "
+        "closest (n, 3) float32 and triangle (n,) int32 to the tuple.");
 }

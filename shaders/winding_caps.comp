@@ -1,19 +1,19 @@
 #version 450 core
 // The winding number's fractional part, step 3 of 3 for meshes with holes (src/gpu/gl_device.cpp):
 // w = (the crossings ahead, from winding_prefix.comp) - (the winding number of the fans that close
-// the holes, sdfgen/device.hpp's WindingFans), and each sample's side of orientation * w = 1/2.
+// the holes, sdfgen/device.hpp's WindingFans), and each sample's side of |w| = 1/2.
 //
 // As src/core/sign.cpp's WindingCaps::inside, a node of the fans' box tree seen from p at distance
 // d is worth at most area / (4π d²): nodes bounded below kSkip are summed into the doubt (up to
 // kBudget in all), every other one is opened and its fans measured. The integer part leaves
-// orientation * ahead at least ½ from ½, so the fans must move w by ½ to change a side: a doubt of
+// |ahead| at least ½ from ½, so the fans must move w by ½ to change a side: a doubt of
 // up to 0.4 still decides most samples near the holes, and opens few nodes (on the Stanford bunny at
 // res 48, 215 of 92,160 samples are left to the CPU, against 5 with 1e-3 and 0.05, at half the time). A fan's angle is its
 // triangles' complex product in double (fanSolidAngle's steps) and its argument, also in double
 // (atanDouble: GLSL's atan is float only, with no precision the spec guarantees), all far within
 // kFanError per unit of weight. A sample is decided (1 inside, 0 outside) only when
-// orientation * w is farther from 1/2 than the doubt plus those errors; otherwise it is 2 and the
-// CPU measures it in double, so every sign is the CPU's.
+// |w| is farther from ½ than the doubt plus those errors (w that far from both ½ and -½);
+// otherwise it is 2 and the CPU measures it in double, so every sign is the CPU's.
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 4) readonly buffer Winding { int winding[]; };           // the crossings ahead, per sample of the slab
@@ -28,7 +28,6 @@ uniform ivec3 dims;
 uniform int slabZ;
 uniform int firstSample; // of the slab, for this dispatch
 uniform int slabSamples;
-uniform int orientation;
 
 const double kPi = 3.14159265358979323846LF;
 const double kSkip = 0.1;
@@ -127,6 +126,6 @@ void main() {
         }
     }
     const double margin = doubt * (1.0 + 1e-12) + error;
-    const double x = double(orientation) * w - 0.5;
+    const double x = abs(w) - 0.5;
     sides[index] = x > margin ? 1 : x < -margin ? 0 : 2;
 }

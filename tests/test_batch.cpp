@@ -84,6 +84,36 @@ TEST_F(BatchPlan, ListErrorsNameTheLine) {
     EXPECT_CONTAINS(errorFrom([&] { batch::planBatch((dir_ / "empty").string(), out(), ".npz"); }), "no mesh files");
 }
 
+TEST_F(BatchPlan, ListOutputsStayInsideTheOutputFolder) {
+    touch("a.obj");
+    EXPECT_CONTAINS(errorFrom([&] { batch::planBatch(write("up.txt", "# up\na.obj\t../x.npz\n"), out(), ".npz"); }),
+                    "up.txt:2: output name ../x.npz has a '..' part");
+    EXPECT_CONTAINS(errorFrom([&] { batch::planBatch(write("deep.txt", "a.obj\tsub/../../x.npz\n"), out(), ".npz"); }),
+                    "deep.txt:1: output name sub/../../x.npz has a '..' part");
+    EXPECT_CONTAINS(errorFrom([&] { batch::planBatch(write("abs.txt", "a.obj\t/abs/x.npz\n"), out(), ".npz"); }),
+                    "abs.txt:1: output name /abs/x.npz is an absolute path");
+    // Below --out, '..'-free names are kept as given.
+    const auto tasks = batch::planBatch(write("ok.txt", "a.obj\tsub/x.npz\n"), out(), ".npz");
+    ASSERT_EQ(tasks.size(), 1u);
+    EXPECT_EQ(tasks[0].output, (dir_ / "out/sub/x.npz").string());
+}
+
+TEST_F(BatchPlan, FolderLinksAreFollowedOnceAndLoopsEnd) {
+    touch("m/a.obj");
+    touch("m/sub/b.obj");
+    fs::create_directory_symlink("..", dir_ / "m/sub/loop");    // back up the tree
+    fs::create_directory_symlink("../m", dir_ / "m/sub/again"); // a second loop, by another path
+    fs::create_directories(dir_ / "elsewhere");
+    touch("elsewhere/c.obj");
+    fs::create_directory_symlink("../elsewhere", dir_ / "m/linked");   // a folder outside: followed
+    fs::create_directory_symlink("../elsewhere", dir_ / "m/linked2");  // the same folder again: skipped
+    const auto tasks = batch::planBatch((dir_ / "m").string(), out(), ".npz");
+    std::vector<std::string> outputs;
+    for (const batch::Task& task : tasks) outputs.push_back(task.output);
+    EXPECT_EQ(outputs, (std::vector<std::string>{(dir_ / "out/a.npz").string(), (dir_ / "out/linked/c.npz").string(),
+                                                 (dir_ / "out/sub/b.npz").string()}));
+}
+
 TEST(BatchShard, EveryTaskInExactlyOneBalancedShard) {
     std::vector<batch::Task> tasks;
     for (int i = 0; i < 103; ++i) tasks.push_back({"m" + std::to_string(1000 + i) + ".obj", "o" + std::to_string(i)});

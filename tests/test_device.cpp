@@ -70,7 +70,7 @@ public:
                             w -= fan.weight * solidAngle(p, a, b, centre) / (4.0 * M_PI);
                         }
                     }
-                    sides[index] = fans->orientation * w > 0.5;
+                    sides[index] = std::fabs(w) > 0.5;
                 }
             }
         }

@@ -177,19 +177,22 @@ TEST(TriangleCopies, StackedOpenTrianglesShareOneFan) {
 
     const Grid grid = makeGrid(many.worldBounds(), 12, 0.15);
     const std::vector<std::uint8_t> inside = insideByWinding(many, topology, grid, RunControl{});
-    std::size_t compared = 0, in = 0;
+    std::size_t compared = 0, in = 0, inOnce = 0;
     for (int k = 0; k < grid.dims.z; ++k)
         for (int j = 0; j < grid.dims.y; ++j)
             for (int i = 0; i < grid.dims.x; ++i) {
                 const double w = kCopies * windingNumber(open, localPosition(open, grid, i, j, k));
-                if (std::fabs(w - 0.5) < 1e-6) continue;
+                if (std::fabs(std::fabs(w) - 0.5) < 1e-6) continue;
                 ++compared;
-                in += w > 0.5;
-                ASSERT_EQ(bool(inside[grid.index(i, j, k)]), w > 0.5) << i << "," << j << "," << k << ": w = " << w;
+                in += std::fabs(w) > 0.5;
+                inOnce += std::fabs(w / kCopies) > 0.5;
+                ASSERT_EQ(bool(inside[grid.index(i, j, k)]), std::fabs(w) > 0.5) << i << "," << j << "," << k << ": w = " << w;
             }
     EXPECT_GT(compared, grid.sampleCount() * 9 / 10);
-    EXPECT_GT(in, 0u);
-    EXPECT_LT(in, compared);
+    // |w| > 1/2 nearly everywhere around so many copies; one copy alone would have few samples
+    // inside: the fan's weight decides.
+    EXPECT_GT(in, compared * 9 / 10);
+    EXPECT_LT(inOnce, in / 2);
 
     // Point queries count the same weighted crossings as the bake's rows.
     const Model model(many);

@@ -113,8 +113,8 @@ TEST(PointQuery, MatchesBruteForceAtRandomPoints) {
                         truth, 1e-6) << i;
             const double w = windingNumber(mesh, local);
             EXPECT_NEAR(winding[i], w, 1e-9) << i;
-            if (std::fabs(w - 0.5) > 1e-6) {
-                EXPECT_EQ(signedDistance[i] < 0, w > 0.5) << i << " w = " << w;
+            if (std::fabs(std::fabs(w) - 0.5) > 1e-6) {
+                EXPECT_EQ(signedDistance[i] < 0, std::fabs(w) > 0.5) << i << " w = " << w;
             }
         }
     }
@@ -149,6 +149,38 @@ TEST(PointQuery, BadPointsAndSignsAreErrors) {
     EXPECT_CONTAINS(test::errorFrom([&] { model.query(good, 1, out, SignMethod::Rays); }), "auto, winding or pseudonormal");
     model.query(good, 1, out);
     EXPECT_LT(d, 0.0f);
+}
+
+TEST(PointQuery, FarPointsAreAnsweredRightOrRefused) {
+    const Model model(test::icosphere(1.0f, 3)); // 2 across
+    // Up to 10^4 mesh sizes away: the exact distance and the right sign, in every direction.
+    std::vector<glm::dvec3> points;
+    for (int i = 0; i < 200; ++i) {
+        const double a = 0.7 * i, b = 0.3 * i;
+        points.push_back(glm::dvec3(std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b)) * 19990.0);
+    }
+    const std::vector<float> d = model.signedDistance(points);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const double expected = glm::length(points[i]) - 1.0; // the sphere's facets are within 1e-2 of radius 1
+        EXPECT_GT(d[i], 0.0f) << i;
+        EXPECT_NEAR(d[i], expected, 0.02) << i;
+    }
+    // Farther: refused with the reason, never an infinity or a wrong sign.
+    for (const auto& [far, text] : {std::pair<double, const char*>{1e5, "100000"}, {1e10, "1e+10"}, {1e300, "1e+300"}}) {
+        EXPECT_CONTAINS(test::errorFrom([&] { model.signedDistance({glm::dvec3(far, 0.0, 0.0)}); }),
+                        std::string("query point 0 (") + text + ", 0, 0) is ");
+    }
+    EXPECT_CONTAINS(test::errorFrom([&] { model.unsignedDistance({glm::dvec3(0.0), glm::dvec3(0.0, -1e300, 0.0)}); }),
+                    "query point 1 (0, -1e+300, 0) is 5e+299 mesh sizes from the mesh's bounding box; points are answered up to "
+                    "10000 mesh sizes away");
+    // Within that range but beyond float's 3.4e38: an error, as for a bake, never an infinity.
+    const Mesh small = test::icosphere(1.0f, 1);
+    std::vector<glm::dvec3> huge = small.worldPositions();
+    for (glm::dvec3& p : huge) p *= 1e36;
+    const Model giant(buildMesh("giant.obj", huge, small.triangles));
+    EXPECT_CONTAINS(test::errorFrom([&] { giant.unsignedDistance({glm::dvec3(1.9e40, 0.0, 0.0)}); }),
+                    "giant.obj: distances overflow single precision");
+    EXPECT_NEAR(giant.unsignedDistance({glm::dvec3(1e38, 0.0, 0.0)})[0], 0.99e38, 0.011e38);
 }
 
 } // namespace

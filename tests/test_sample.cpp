@@ -108,5 +108,13 @@ TEST(Sample, CancelStopsIt) {
     EXPECT_THROW(sampleSdf(model, 100000, {}, control), Cancelled);
 }
 
+TEST(Sample, SamplesBeyondSinglePrecisionAreErrors) {
+    const Mesh sphere = test::icosphere(1.0f, 1);
+    std::vector<glm::dvec3> huge = sphere.worldPositions();
+    for (glm::dvec3& p : huge) p *= 1e39; // beyond float's 3.4e38
+    const Model model(buildMesh("huge.obj", huge, sphere.triangles));
+    EXPECT_CONTAINS(errorFrom([&] { sampleSdf(model, 100, {}); }), "huge.obj: the samples' coordinates are beyond single precision");
+}
+
 } // namespace
 } // namespace sdfgen

@@ -164,6 +164,17 @@ TEST_F(Surface, OffsetSurfaceIsAtTheIsoDistance) {
     }
 }
 
+TEST_F(Surface, VerticesBeyondSinglePrecisionAreRefused) {
+    BakeSettings settings;
+    settings.res = 12;
+    Field field = test::bakeMesh(test::icosphere(1.0f, 2), settings).field;
+    field.grid.voxel = 1e300; // the vertices' float positions overflow: no mesh file can hold them
+    EXPECT_CONTAINS(errorFrom([&] { extractSurface(field, 0.0, 0.0); }), "the surface's vertices are beyond single precision");
+    field.grid.voxel = 1.0;
+    field.grid.origin = glm::dvec3(1.7e308, 0.0, 0.0);
+    EXPECT_CONTAINS(errorFrom([&] { extractSurface(field, 0.0, 0.0); }), "beyond single precision (grid origin 1.7e+308 0 0");
+}
+
 TEST_F(Surface, SurfaceReachingTheBoundaryIsRefused) {
     BakeSettings settings;
     settings.res = 16;

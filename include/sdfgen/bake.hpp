@@ -16,10 +16,10 @@ enum class DistanceMethod {
 // How inside is told from outside.
 enum class SignMethod {
     Default,      // Rays for the rays method, Auto otherwise
-    Auto,         // Pseudonormal where the mesh check proves it right, Winding otherwise
+    Auto,         // Pseudonormal where the mesh check proves it right (flipped for a mesh inside out), Winding otherwise
     Rays,         // majority of back-face first hits (rays per sample from BakeSettings::rays)
     Pseudonormal, // angle-weighted pseudonormal of the closest feature
-    Winding,      // generalized winding number > 1/2
+    Winding,      // |generalized winding number| > 1/2: closed parts solid whichever way their faces point
 };
 const char* toString(DistanceMethod method);
 const char* toString(SignMethod sign);
@@ -36,6 +36,26 @@ enum class Device {
 };
 const char* toString(Device device);
 
+// What a bake or a set of samples gives per point besides the signed distance ("sdf", always
+// there), each from the same nearest-triangle search as the distance (exact method only):
+// - gradient: the unit gradient of the signed distance, sign * (p - c) / |p - c| with c the closest
+//   surface point; where the distance is 0 (p on the surface), the nearest triangle's face normal,
+//   pointing outside as the sign sees it (reversed when auto found the mesh inside out).
+// - closest: c, the nearest point of the surface, in the mesh's (world) coordinates.
+// - triangle: the index of the nearest triangle in Model::mesh().triangles (the file's triangles in
+//   order, zero-area ones dropped; a scene's meshes one after another), ties to the lower index.
+struct Channels {
+    bool gradient = false;
+    bool closest = false;
+    bool triangle = false;
+    bool any() const { return gradient || closest || triangle; }
+};
+// The channels a comma-separated list names ("sdf,gradient,closest,triangle"; "sdf" alone or "" for
+// none besides the distance); throws Error naming an unknown one and listing the known names.
+Channels parseChannels(const std::string& list);
+// The list parseChannels reads, "sdf" first.
+std::string toString(const Channels& channels);
+
 // What to bake: the grid (see makeGrid), the method and the sign.
 struct BakeSettings {
     int res = 64;
@@ -45,6 +65,9 @@ struct BakeSettings {
     int rays = 64; // for the rays method and the rays sign
     // Where exact distances and winding signs run; other methods run on the CPU.
     Device device = Device::Auto;
+    // Per-sample channels besides the distance, into Field::gradient, closest and triangle (exact
+    // method, on the CPU). The distances are the same, bit for bit, with or without them.
+    Channels channels;
 };
 
 // A bake's field and what was decided on the way.

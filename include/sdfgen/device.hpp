@@ -30,9 +30,9 @@ struct PseudonormalSign {
 };
 
 // The fans that close a mesh's holes (the core's WindingCaps, flattened), for the winding sign's
-// fractional part: w = (crossings ahead) - (the fans' winding number), inside where
-// orientation * w > 1/2. Fan f is the triangles (loop[i + 1], loop[i], centre), the centre at
-// points[first] and the loop at points[first + 1 .. first + count], counted `weight` times.
+// fractional part: w = (crossings ahead) - (the fans' winding number), inside where |w| > 1/2.
+// Fan f is the triangles (loop[i + 1], loop[i], centre), the centre at points[first] and the loop
+// at points[first + 1 .. first + count], counted `weight` times.
 // Nodes: a box tree over the fans (root first; inner: children first and first + 1; leaf: fan
 // `first`), `area` the sum of |weight| x area below, which bounds the winding number seen from a
 // point at distance d by area / (4π d²).
@@ -50,7 +50,6 @@ struct WindingFans {
     std::vector<glm::dvec3> points;
     std::vector<Fan> fans;
     std::vector<Node> nodes;
-    int orientation = 1; // -1 for a mesh that is inside out
 };
 
 // A processor that can do the two heavy parts of an exact bake. Both must give exactly what the
@@ -78,7 +77,7 @@ public:
     // other way round), an integer, counted as the CPU's insideByWinding counts it (signed
     // crossings ahead along +x of the sample's local position, robust tie-breaking).
     // With `fans` (not empty), also `sides` for every sample: 1 inside, 0 outside by the sign of
-    // orientation * w - 1/2 (w as in WindingFans, the fans' part measured where their bounds leave
+    // |w| - 1/2 (w as in WindingFans, the fans' part measured where their bounds leave
     // doubt), 2 where the device's float cannot tell it from the CPU's double: the caller decides.
     virtual std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& triangles,
                                                      const std::vector<std::int32_t>& weights, const WindingFans* fans,

@@ -1,6 +1,7 @@
 #pragma once
 #include "sdfgen/grid.hpp"
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,6 +15,11 @@ struct Field {
     std::vector<std::pair<std::string, std::string>> parameters; // e.g. {"rays", "64"}
     Grid grid;
     std::vector<float> values; // grid.sampleCount() values, x fastest
+    // Channels a bake gives on request (BakeSettings::channels, see Channels), empty otherwise. The
+    // vectors are planar, each plane laid out as values: every sample's x, then every y, then every z.
+    std::vector<float> gradient;        // 3 * grid.sampleCount(): the unit gradient of the signed distance
+    std::vector<float> closest;         // 3 * grid.sampleCount(): the nearest surface point, world coordinates
+    std::vector<std::int32_t> triangle; // grid.sampleCount(): the nearest triangle's index
 
     float at(int i, int j, int k) const { return values[grid.index(i, j, k)]; }
     // The value of parameter `key`, or "" when absent.

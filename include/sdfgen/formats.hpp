@@ -1,4 +1,5 @@
 #pragma once
+#include "sdfgen/bake.hpp"
 #include "sdfgen/field.hpp"
 
 #include <string>
@@ -14,8 +15,13 @@ struct SaveOptions {
 };
 
 // Saves `field` in the format its extension names (.sdf, .npy, .npz, .vdb, .nrrd), atomically.
-// An unknown extension is an Error naming the path and the known extensions.
+// An unknown extension is an Error naming the path and the known extensions, and so is a field
+// with channels (Field::gradient, closest, triangle) for a format that cannot hold them.
 void saveField(const Field& field, const std::string& path, const SaveOptions& options = {});
+
+// Throws saveField's Error for `path` before a bake: an unknown extension, or `channels` that its
+// format cannot hold (.npz and .vdb hold them; .sdf, .npy and .nrrd the distance only).
+void checkFormatHoldsChannels(const std::string& path, const Channels& channels);
 
 // Loads a field in any of those formats, validated as strictly as the text format.
 Field loadField(const std::string& path);

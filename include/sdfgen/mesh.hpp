@@ -74,7 +74,8 @@ struct MeshInstance {
 // their triangles' winding reversed, so normals still point out). Baking it gives the union of the
 // solids: the generalized winding number of the concatenated soup is >= 1 inside any part, and
 // the distance to it is the minimum over all parts. `source` names the result (for the field's
-// source line). Throws Error for no parts or a non-finite transform. Defined in mesh_merge.cpp.
+// source line); the parts' warnings and dropped triangles are kept in the result's. Throws Error
+// for no parts or a non-finite transform. Defined in mesh_merge.cpp.
 Mesh mergeMeshes(const std::vector<MeshInstance>& parts, std::string source);
 
 // Loads a Wavefront OBJ (polygons are triangulated). Throws Error("PATH: problem") on any bad input.

@@ -55,6 +55,9 @@ struct PointQueryOutputs {
     double* closestPoint = nullptr;    // world coordinates of the nearest surface point
     std::int64_t* triangle = nullptr;  // index of the nearest triangle in mesh().triangles
     double* windingNumber = nullptr;   // generalized winding number, computed exactly
+    // The unit gradient of the signed distance (3 * count, by the query's sign), as a bake's
+    // gradient channel (see Channels): sign * (p - c) / |p - c|, the outward face normal at distance 0.
+    double* gradient = nullptr;
 };
 
 // A mesh made ready for baking and point queries: the mesh, its bounding volume hierarchy (built
@@ -65,6 +68,10 @@ class Model {
 public:
     // Loads a mesh file (format from the extension, see loadMesh) and builds the tree.
     static Model load(const std::string& path, const RunControl& control = {});
+    // Builds the tree of `mesh`. `control` is the one the caller's later calls use, made before
+    // this: the tree is built on its threads (Error for a count outside 0..kMaxThreads), its cancel
+    // flag is read before the load and during the build (Cancelled), its progress reports the
+    // build, and its warn receives the mesh's warnings (Mesh::warnings, dropped zero-area triangles).
     explicit Model(Mesh mesh, const RunControl& control = {});
     ~Model();
     Model(Model&&) noexcept;
@@ -77,12 +84,20 @@ public:
     const MeshCheck& check(const RunControl& control = {}) const;
 
     // A field on the grid that `settings` describes (see makeGrid). Throws Error for bad settings
-    // or a grid that does not fit in memory, Cancelled when control.cancel is raised.
+    // or a grid that does not fit in memory (naming the mesh), Cancelled when control.cancel is
+    // raised. BakeResult::warnings also go to control.warn, each prefixed with the mesh's source.
     BakeResult bake(const BakeSettings& settings, const RunControl& control = {}) const;
 
     // Exact queries at `count` points (world coordinates, x y z interleaved), in parallel. At a
     // baked grid's sample positions (Field::position) they give exactly the baked values.
-    // `sign` is Auto, Winding or Pseudonormal (Auto decides as bake does).
+    // `sign` is Auto, Winding or Pseudonormal (Auto decides as bake does). Winding: inside where
+    // |w| > 1/2, w the exact generalized winding number, as libigl's fast-winding-number sign has
+    // it: a closed part is solid whichever way its faces point, a hollow part whose inner shell
+    // faces into its cavity stays hollow, a mesh inside out as a whole needs no special case, and
+    // where copies facing opposite ways overlap they cancel (w = 0: outside).
+    // Throws Error for a non-finite point, or one farther than 10^4 mesh sizes (the bounding box's
+    // longest side) from the bounding box: the single-precision search cannot tell its nearest
+    // triangle and sign.
     void query(const double* points, std::size_t count, const PointQueryOutputs& outputs,
                SignMethod sign = SignMethod::Auto, const RunControl& control = {}) const;
 

@@ -27,6 +27,7 @@ struct SampleSettings {
     // side, the box bake's grid covers (DeepSDF uses the cube [-1, 1]^3 of its normalized units).
     double padding = 0.1;
     SignMethod sign = SignMethod::Auto; // for the distances, as Model::query
+    Channels channels;                  // per-sample outputs besides the distance (see Channels)
 };
 
 // n points (x y z interleaved, world coordinates, float32) and their signed distances.
@@ -34,12 +35,18 @@ struct SampleSettings {
 struct Samples {
     std::vector<float> points; // 3 * n
     std::vector<float> sdf;    // n; sdf[i] == Model::query's signed distance at points[i] (as double)
+    // The channels settings.channels asks for, empty otherwise, from the same query.
+    std::vector<float> gradient;        // 3 * n, x y z interleaved: the unit gradient of the signed distance
+    std::vector<float> closest;         // 3 * n: the nearest surface point, world coordinates
+    std::vector<std::int32_t> triangle; // n: the nearest triangle's index in model.mesh().triangles
     std::size_t size() const { return sdf.size(); }
 };
 
 // Exactly n samples of `model`, identical for the same seed, settings and mesh whatever the
 // thread count: sample i draws from its own counter-based random stream (seed, i). Throws Error for
-// bad settings, Cancelled when control.cancel is raised.
+// bad settings, for n samples that do not fit in the available memory (checked before anything is
+// allocated: about 52 bytes each at the peak) or in one call (2^32 - 1), and for samples beyond
+// float range; Cancelled when control.cancel is raised.
 Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& settings, const RunControl& control = {});
 
 // The share of each kind for n samples: near (first scale), far (second scale), uniform.
@@ -48,8 +55,9 @@ struct SampleCounts {
 };
 SampleCounts sampleCounts(std::size_t n, const SampleSettings& settings);
 
-// Writes `points` as (n, 3) float32 and `sdf` as (n,) float32 into an .npz, atomically. Throws
-// Error naming `path`.
+// Writes `points` as (n, 3) float32 and `sdf` as (n,) float32 into an .npz, atomically, and the
+// channels present: gradient and closest (n, 3) float32, triangle (n,) int32. Throws Error naming
+// `path`.
 void saveSamples(const Samples& samples, const std::string& path);
 
 } // namespace sdfgen

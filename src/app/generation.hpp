@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace sdfgen::app {
 
@@ -33,8 +34,9 @@ public:
     double progress() const { return progress_; }
     double elapsed() const;
     // When the job has finished since the last call: joins it, hands over the result (empty on
-    // failure, with the message in `error`) and returns true. False while running or idle.
-    bool collect(std::optional<BakeResult>& result, std::string& error, double& seconds);
+    // failure, with the message in `error`) and the warnings of the mesh and the bake (one line
+    // each, naming the mesh), and returns true. False while running or idle.
+    bool collect(std::optional<BakeResult>& result, std::string& error, std::vector<std::string>& warnings, double& seconds);
 
 private:
     std::thread thread_;
@@ -46,6 +48,7 @@ private:
     std::mutex mutex_;
     std::optional<BakeResult> result_;
     std::string error_;
+    std::vector<std::string> warnings_;
 };
 
 } // namespace sdfgen::app

@@ -408,11 +408,14 @@ private:
     void collectGeneration() {
         std::optional<BakeResult> result;
         std::string error;
+        std::vector<std::string> warnings;
         double seconds = 0.0;
-        if (!generation_.collect(result, error, seconds)) return;
+        if (!generation_.collect(result, error, warnings, seconds)) return;
         inbox_.wake = std::max(inbox_.wake, 2);
+        std::string warned; // the warnings, on lines after the message
+        for (const std::string& warning : warnings) warned += "\nwarning: " + warning;
         if (!result) {
-            setMessage(generationMessage_, error == "generation cancelled" ? Message::Level::Info : Message::Level::Error, error);
+            setMessage(generationMessage_, error == "generation cancelled" ? Message::Level::Info : Message::Level::Error, error + warned);
             return;
         }
         try {
@@ -423,7 +426,8 @@ private:
             if (!result->deviceReason.empty()) info.signSummary += "\ndevice: " + result->deviceReason;
             const std::string dims = std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z);
             showField(std::move(result->field), info);
-            setMessage(generationMessage_, Message::Level::Info, "done: " + dims + " voxels in " + std::to_string(seconds).substr(0, 5) + " s");
+            setMessage(generationMessage_, warned.empty() ? Message::Level::Info : Message::Level::Warning,
+                       "done: " + dims + " voxels in " + std::to_string(seconds).substr(0, 5) + " s" + warned);
         } catch (const std::exception& e) {
             setMessage(generationMessage_, Message::Level::Error, e.what());
         }

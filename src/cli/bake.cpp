@@ -22,25 +22,23 @@ struct BakeArgs {
     std::string output;
     BakeSettings settings;
     SaveOptions save;
+    std::string channels = "sdf";
     int threads = 0;
 };
 
-void runBake(const BakeArgs& args) {
+void runBake(BakeArgs args) {
     Stopwatch total;
+    args.settings.channels = parseChannels(args.channels);
     std::string extension = std::filesystem::path(args.output).extension().string();
     for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (args.save.band > 0 && extension != ".vdb") {
         throw Error("--band applies to .vdb output only (" + args.output + ")");
     }
     refuseOverwritingInput(args.output, args.meshes);
-    const Model model(loadScene(args.meshes));
+    if (args.settings.channels.any()) checkFormatHoldsChannels(args.output, args.settings.channels); // before the bake, not after
+    RunControl control = commandControl(args.threads);
+    const Model model(loadScene(args.meshes), control);
     const Mesh& mesh = model.mesh();
-    if (mesh.droppedDegenerate > 0) {
-        std::fprintf(stderr, "sdfgen: warning: %s: dropped %zu zero-area triangles\n", mesh.source.c_str(), mesh.droppedDegenerate);
-    }
-    for (const std::string& warning : mesh.warnings) std::fprintf(stderr, "sdfgen: warning: %s\n", warning.c_str());
-    RunControl control;
-    control.threads = args.threads;
     BakeResult result;
     {
         ProgressBar bar;
@@ -55,7 +53,7 @@ void runBake(const BakeArgs& args) {
                 mesh.source.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
-    for (const std::string& warning : result.warnings) std::fprintf(stderr, "sdfgen: warning: %s: %s\n", mesh.source.c_str(), warning.c_str());
+    if (args.settings.channels.any()) std::printf("channels: %s\n", toString(args.settings.channels).c_str());
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
     if (!result.deviceReason.empty()) std::printf("device: %s\n", result.deviceReason.c_str());
 }
@@ -68,7 +66,12 @@ void addBakeCommand(CLI::App& app) {
     bake->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several give the field of their union")->required();
     bake->add_option("-o,--output", args->output, "Output field file: " + fieldFormatList() + " (docs/field-format.md)")->required();
     bake->add_option("--band", args->save.band, "For .vdb: keep only voxels within this many voxels of the surface (0 = dense)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteRange(0.0, 1e9))
+        ->capture_default_str();
+    bake->add_option("--channels", args->channels,
+                     "What each sample holds, comma-separated: sdf (the signed distance, always), gradient (its unit gradient), "
+                     "closest (the nearest surface point), triangle (the nearest triangle's index); for .npz and .vdb, "
+                     "--method exact")
         ->capture_default_str();
     addBakeOptions(*bake, args->settings, args->threads);
     bake->footer("The summary line counts the whole process: load, tree, generation and save.");

@@ -65,6 +65,7 @@ struct Outcome {
     std::string error;
     std::string details; // JSON members from the child: grid, sign, triangles, device
     std::string device;  // where it was baked, briefly: "cpu" or "gpu RENDERER"
+    std::vector<std::string> warnings; // from the mesh's load and its bake, one line each
 };
 
 const std::map<std::string, std::string> formatExtensions = {
@@ -81,24 +82,6 @@ int availableCpus() {
     cpu_set_t set;
     if (sched_getaffinity(0, sizeof(set), &set) == 0) return std::max(1, CPU_COUNT(&set));
     return int(std::max(1u, std::thread::hardware_concurrency()));
-}
-
-// Bytes this process may use: physical memory, or less under a cgroup v2 memory limit on its
-// cgroup or any parent (Slurm's task/cgroup, container runtimes).
-std::uint64_t usableMemoryBytes() {
-    std::uint64_t bytes = physicalMemoryBytes();
-    std::ifstream cgroups("/proc/self/cgroup");
-    std::string line;
-    while (std::getline(cgroups, line)) {
-        if (line.rfind("0::", 0) != 0) continue;
-        for (fs::path group = line.substr(3); !group.empty(); group = group.parent_path()) {
-            std::ifstream limit("/sys/fs/cgroup" / group.relative_path() / "memory.max");
-            std::string value;
-            if (limit >> value && value != "max") bytes = std::min<std::uint64_t>(bytes, std::strtoull(value.c_str(), nullptr, 10));
-            if (group == group.root_path()) break;
-        }
-    }
-    return bytes;
 }
 
 std::string jsonNumber(double value) {
@@ -158,17 +141,18 @@ std::string deviceUsed(const BakeResult& result, Device asked) {
     return device ? "gpu " + device->renderer() : "gpu";
 }
 
-// Bakes one mesh into its output; returns the status line's JSON members and sets `device`.
-std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads, const std::atomic<bool>& cancel, std::string& device) {
+// Bakes one mesh into its output; returns the status line's JSON members, sets `device` and adds
+// the warnings of the load and the bake to `warnings` as they arise (kept when the bake fails).
+std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads, const std::atomic<bool>& cancel, std::string& device,
+                    std::vector<std::string>& warnings) {
+    refuseOverwritingInput(task.output, {task.mesh});
     RunControl control;
     control.threads = threads;
     control.cancel = &cancel;
+    control.warn = [&warnings](const std::string& warning) { warnings.push_back(warning); };
     const Model model = Model::load(task.mesh, control);
     const Mesh& mesh = model.mesh();
     std::string details = "\"triangles\":" + std::to_string(mesh.triangleCount());
-    std::string warnings;
-    for (const std::string& warning : mesh.warnings) warnings += (warnings.empty() ? "" : ",") + batch::jsonString(warning);
-    details += ",\"warnings\":[" + warnings + "]";
 
     fs::create_directories(fs::path(task.output).parent_path().empty() ? fs::path(".") : fs::path(task.output).parent_path());
     const fs::path output(task.output);
@@ -201,6 +185,16 @@ std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads,
     return details;
 }
 
+// The report's warning lines: "warning:TEXT\n" each, TEXT on one line.
+std::string warningLines(const std::vector<std::string>& warnings) {
+    std::string lines;
+    for (std::string warning : warnings) {
+        std::replace_if(warning.begin(), warning.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+        lines += "warning:" + warning + "\n";
+    }
+    return lines;
+}
+
 // The budget counts from the size the process already has (the program and its libraries).
 void limitAddressSpace(double budgetMiB) {
     std::ifstream statm("/proc/self/statm");
@@ -214,6 +208,7 @@ void limitAddressSpace(double budgetMiB) {
 [[noreturn]] void runChild(const batch::Task& task, const BatchArgs& args, int threads, double memoryMiB, int reportFd) {
     static std::atomic<bool> cancel{false};
     std::string report;
+    std::vector<std::string> warnings;
     int code = 0;
     try {
         if (memoryMiB > 0) limitAddressSpace(memoryMiB);
@@ -223,19 +218,20 @@ void limitAddressSpace(double budgetMiB) {
                      cancel);
         }
         std::string device;
-        const std::string details = bakeOne(task, args, threads, cancel, device);
-        report = "ok\n" + device + "\n" + details;
+        const std::string details = bakeOne(task, args, threads, cancel, device, warnings);
+        report = "ok\n" + device + "\n" + warningLines(warnings) + details;
     } catch (const Cancelled&) {
-        report = "failed\ntimed out after " + secondsText(args.timeout) + "\n";
+        report = "failed\ntimed out after " + secondsText(args.timeout) + "\n" + warningLines(warnings);
         code = 1;
     } catch (const std::bad_alloc&) {
-        report = "failed\nout of memory: over the budget of " + std::to_string(std::llround(memoryMiB)) + " MiB (--memory)\n";
+        report = "failed\nout of memory: over the budget of " + std::to_string(std::llround(memoryMiB)) + " MiB (--memory)\n" +
+                 warningLines(warnings);
         code = 1;
     } catch (const Error& e) {
-        report = std::string("failed\n") + e.what() + "\n";
+        report = std::string("failed\n") + e.what() + "\n" + warningLines(warnings);
         code = 1;
     } catch (const std::exception& e) {
-        report = std::string("failed\ninternal error: ") + e.what() + "\n";
+        report = std::string("failed\ninternal error: ") + e.what() + "\n" + warningLines(warnings);
         code = 1;
     } catch (...) {
         report = "failed\ninternal error: an unknown exception\n"; // the child must never return into the parent's code
@@ -326,12 +322,17 @@ private:
         Outcome outcome;
         outcome.task = r.task;
         outcome.seconds = r.clock.seconds();
+        // The report: "ok" or "failed", the device or the error, warning lines, the details.
         const std::size_t first = r.report.find('\n');
         const std::size_t second = first == std::string::npos ? std::string::npos : r.report.find('\n', first + 1);
+        std::size_t rest = second == std::string::npos ? r.report.size() : second + 1;
+        for (std::size_t end; r.report.compare(rest, 8, "warning:") == 0 && (end = r.report.find('\n', rest)) != std::string::npos; rest = end + 1) {
+            outcome.warnings.push_back(r.report.substr(rest + 8, end - rest - 8));
+        }
         if (second != std::string::npos && r.report.compare(0, first, "ok") == 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
             outcome.status = "done";
             outcome.device = r.report.substr(first + 1, second - first - 1);
-            outcome.details = r.report.substr(second + 1);
+            outcome.details = r.report.substr(rest);
             return outcome;
         }
         outcome.status = "failed";
@@ -360,6 +361,9 @@ std::string statusLine(const Outcome& o, const batch::Shard& shard, const std::s
     std::string line = "{\"mesh\":" + batch::jsonString(o.task.mesh) + ",\"output\":" + batch::jsonString(o.task.output) +
                        ",\"status\":\"" + o.status + "\",\"seconds\":" + jsonNumber(std::round(o.seconds * 1000.0) / 1000.0) +
                        ",\"error\":" + (o.error.empty() ? "null" : batch::jsonString(o.error));
+    std::string warnings;
+    for (const std::string& warning : o.warnings) warnings += (warnings.empty() ? "" : ",") + batch::jsonString(warning);
+    line += ",\"warnings\":[" + warnings + "]";
     line += "," + (o.details.empty() ? std::string("\"triangles\":null,\"dims\":null,\"origin\":null,\"voxel\":null,\"sign\":null,\"sign_reason\":null,\"device\":null")
                                      : o.details);
     line += ",\"shard\":\"" + std::to_string(shard.index) + "/" + std::to_string(shard.count) + "\",\"host\":" + batch::jsonString(host) + "}";
@@ -409,6 +413,8 @@ int runBatch(const BatchArgs& args) {
                     o.task.output.c_str(), o.seconds, o.device.empty() ? "" : ", ", o.device.c_str(), o.error.empty() ? "" : ": ",
                     o.error.c_str());
         std::fflush(stdout);
+        for (const std::string& warning : o.warnings) std::printf("  warning: %s\n", warning.c_str());
+        std::fflush(stdout);
         if (!statusPath.empty()) batch::appendLine(statusPath, statusLine(o, shard, host));
     };
     Scheduler scheduler(args, threadsPerJob, memoryMiB);
@@ -418,7 +424,7 @@ int runBatch(const BatchArgs& args) {
             const batch::Task& task = tasks[next++];
             std::error_code ec;
             if (!args.force && fs::is_regular_file(task.output, ec)) {
-                record({task, "skipped", 0.0, "", "", ""});
+                record({task, "skipped", 0.0, "", "", "", {}});
                 continue;
             }
             scheduler.start(task);
@@ -444,13 +450,13 @@ void addBatchCommand(CLI::App& app, int& exitCode) {
         ->capture_default_str();
     addBakeOptions(*batch, args->settings, args->threads);
     addSampleOptions(*batch, args->sampling);
-    batch->add_option("--samples", args->samples, "Samples per mesh for --format samples")->check(CLI::Range(std::size_t(1), std::size_t(1) << 34))->capture_default_str();
+    batch->add_option("--samples", args->samples, "Samples per mesh for --format samples")->check(wholeNumber(1, std::uint64_t(1) << 34))->capture_default_str();
     batch->add_option("--jobs", args->jobs, "Meshes baked at a time; each gets threads / jobs threads")->check(CLI::Range(1, 1024))->capture_default_str();
     batch->add_option("--timeout", args->timeout, "Seconds per mesh before it is cancelled and recorded as failed (0 = none)")
-        ->check(CLI::Range(0.0, 1e9))
+        ->check(finiteRange(0.0, 1e9))
         ->capture_default_str();
     batch->add_option("--memory", args->memoryMiB, "Memory budget per mesh in MiB: address space beyond the program's own (0 = the memory this process may use / jobs)")
-        ->check(CLI::Range(0.0, 1e12))
+        ->check(finiteRange(0.0, 1e12))
         ->capture_default_str();
     batch->add_flag("--force", args->force, "Bake again even when the output exists");
     batch->add_option("--status", args->status, "Append one JSON line per mesh to this file ({shard} becomes the shard index)");

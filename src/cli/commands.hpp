@@ -1,7 +1,9 @@
 #pragma once
+#include "core/atomic_file.hpp"
 #include "sdfgen/sdfgen.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,13 +24,22 @@ void addBatchCommand(CLI::App& app, int& exitCode);
 // The options every generating command shares (--res, --rays, --padding, --threads).
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);
 
+// The --threads option, 0 (all cores) to kMaxThreads, the same for every command.
+void addThreadsOption(CLI::App& command, int& threads);
+
+// A command's RunControl, made before it loads anything: `threads`, and warnings printed to
+// stderr as "sdfgen: warning: ..." the moment they arise. Progress is the command's to add.
+RunControl commandControl(int threads);
+
 // The field file extensions, for help texts: ".sdf, .npy, ...".
 std::string fieldFormatList();
-// A CLI11 check that the value is a finite number in [min, max] (CLI::Range lets NaN through).
+// The checks of numeric options (every one uses one of them): CLI::Range lets NaN and infinities
+// through, and an unsigned option saturates negative and too large values at its maximum.
+// A finite number in [min, max].
 CLI::Validator finiteRange(double min, double max);
+// A whole number in [min, max] written in decimal digits alone (no sign, no exponent).
+CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max);
 
-// Refuses (Error) an output path that names one of the inputs, also through symbolic or hard links.
-void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs);
 // One mesh, or several merged into one scene (mergeMeshes, in place, named "A.obj+B.obj").
 Mesh loadScene(const std::vector<std::string>& paths);
 

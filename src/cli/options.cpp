@@ -2,7 +2,12 @@
 #include "sdfgen/formats.hpp"
 #include "sdfgen/error.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <unistd.h>
@@ -37,7 +42,21 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
                        "cpu, or auto (the GPU when a hardware OpenGL 4.5 driver is there, else the CPU)")
         ->transform(CLI::CheckedTransformer(devices, CLI::ignore_case))
         ->default_str("auto");
-    command.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    addThreadsOption(command, threads);
+}
+
+void addThreadsOption(CLI::App& command, int& threads) {
+    command.add_option("--threads", threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, kMaxThreads))->capture_default_str();
+}
+
+RunControl commandControl(int threads) {
+    RunControl control;
+    control.threads = threads;
+    // On a terminal the line is cleared first: a progress bar may be drawn there.
+    control.warn = [terminal = isatty(fileno(stderr)) != 0](const std::string& warning) {
+        std::fprintf(stderr, "%ssdfgen: warning: %s\n", terminal ? "\r\033[K" : "", warning.c_str());
+    };
+    return control;
 }
 
 std::string fieldFormatList() {
@@ -62,13 +81,18 @@ CLI::Validator finiteRange(double min, double max) {
         "FINITE in [" + CLI::detail::to_string(min) + " - " + CLI::detail::to_string(max) + "]");
 }
 
-void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs) {
-    for (const std::string& input : inputs) {
-        std::error_code ec;
-        if (!input.empty() && std::filesystem::equivalent(output, input, ec) && !ec) {
-            throw Error(output + ": is the input file " + input + "; refusing to overwrite it");
-        }
-    }
+CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
+    return CLI::Validator(
+        [min, max](std::string& text) -> std::string {
+            const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+            errno = 0;
+            const unsigned long long value = digits ? std::strtoull(text.c_str(), nullptr, 10) : 0;
+            if (!digits || errno == ERANGE || value < min || value > max) {
+                return "'" + text + "' is not a whole number from " + std::to_string(min) + " to " + std::to_string(max);
+            }
+            return "";
+        },
+        "UINT in [" + std::to_string(min) + " - " + std::to_string(max) + "]");
 }
 
 Mesh loadScene(const std::vector<std::string>& paths) {

@@ -75,9 +75,8 @@ void runQuery(const QueryArgs& args) {
     refuseOverwritingInput(args.output, {args.mesh, args.points});
     const std::vector<double> points = readPoints(args.points);
     const std::size_t n = points.size() / 3;
-    const Model model = Model::load(args.mesh);
-    RunControl control;
-    control.threads = args.threads;
+    const RunControl control = commandControl(args.threads);
+    const Model model = Model::load(args.mesh, control);
     PointQueryOutputs out;
     if (args.what == "signed" || args.what == "unsigned") {
         std::vector<float> values(n);
@@ -116,7 +115,7 @@ void addQueryCommand(CLI::App& app) {
     const std::map<std::string, SignMethod> signs = {{"auto", SignMethod::Auto}, {"winding", SignMethod::Winding}, {"pseudonormal", SignMethod::Pseudonormal}};
     query->add_option("--sign", args->sign, "Sign of signed distances: auto (as bake), winding or pseudonormal")
         ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
-    query->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    addThreadsOption(*query, args->threads);
     query->footer("At a baked field's sample positions the signed distances equal the field's values exactly.");
     query->callback([args] { runQuery(*args); });
 }

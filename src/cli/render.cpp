@@ -89,21 +89,21 @@ void runRender(const RenderArgs& args) {
     }
     const glm::ivec2 pixels{int(size[0]), int(size[1])};
 
-    const Model model(loadScene(args.meshes));
+    const RunControl control = commandControl(args.threads);
+    const Model model(loadScene(args.meshes), control);
     const Mesh& mesh = model.mesh();
     Field field;
     const bool needField = views.volume || views.raymarch || views.slice || views.box;
     if (!args.sdf.empty()) {
         field = loadField(args.sdf);
         if (const std::string mismatch = fieldMismatch(field, mesh); !mismatch.empty()) {
-            std::fprintf(stderr, "sdfgen: warning: %s: %s\n", args.sdf.c_str(), mismatch.c_str());
+            control.warn(args.sdf + ": " + mismatch);
         }
     } else if (needField) {
-        RunControl control;
-        control.threads = args.threads;
         ProgressBar bar;
-        control.progress = bar.callback();
-        field = model.bake(args.settings, control).field;
+        RunControl baking = control; // the bar's callback lives only as long as the bar
+        baking.progress = bar.callback();
+        field = model.bake(args.settings, baking).field;
     }
 
     std::unique_ptr<render::GlContext> context = render::createHeadlessContext(pixels);
@@ -165,11 +165,12 @@ void addRenderCommand(CLI::App& app) {
         ->check(finiteRange(0.0, 1.0))
         ->capture_default_str();
     render->add_option("--iso", args->iso, "Level set the raymarch view shows (0: the surface; > 0 outwards, < 0 inwards)")
+        ->check(finiteRange(-1e30, 1e30))
         ->capture_default_str();
     render->add_option("--colormap", args->colormap, "Colour map of the slice, volume and colour bar: diverging, viridis or grey")
         ->capture_default_str();
     render->add_option("--range", args->colourRange, "Distance at which the colour map saturates (0: a quarter of the field's box)")
-        ->check(CLI::Range(0.0f, 1e30f))
+        ->check(finiteRange(0.0, 1e30))
         ->capture_default_str();
     render->add_flag("--no-colour-bar", args->noColourBar, "No colour bar beside the slice and volume views");
     render->add_flag("--ortho", args->orthographic, "Orthographic camera instead of perspective");

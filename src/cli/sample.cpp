@@ -16,15 +16,16 @@ struct SampleArgs {
     std::string output;
     std::size_t count = 0;
     SampleSettings settings;
+    std::string channels = "sdf";
     int threads = 0;
 };
 
-void runSample(const SampleArgs& args) {
+void runSample(SampleArgs args) {
     Stopwatch clock;
-    RunControl control;
-    control.threads = args.threads;
+    refuseOverwritingInput(args.output, {args.mesh});
+    RunControl control = commandControl(args.threads);
+    args.settings.channels = parseChannels(args.channels);
     const Model model = Model::load(args.mesh, control);
-    for (const std::string& warning : model.mesh().warnings) std::fprintf(stderr, "sdfgen: warning: %s\n", warning.c_str());
     Samples samples;
     {
         ProgressBar bar;
@@ -43,15 +44,16 @@ void runSample(const SampleArgs& args) {
 
 void addSampleOptions(CLI::App& command, SampleSettings& settings) {
     command.add_option("--seed", settings.seed, "Random seed: the same seed gives the same samples, whatever the thread count")
+        ->check(wholeNumber(0, UINT64_MAX))
         ->capture_default_str();
     command.add_option("--surface-fraction", settings.surfaceFraction, "Share of samples near the surface (DeepSDF: 47/50); the rest are uniform in the padded box")
-        ->check(CLI::Range(0.0, 1.0))
+        ->check(finiteRange(0.0, 1.0))
         ->capture_default_str();
     command.add_option("--near-variance", settings.nearVariance, "Variance of the first noise scale, in DeepSDF's normalized units (unit sphere)")
-        ->check(CLI::Range(0.0, 1e6))
+        ->check(finiteRange(0.0, 1e6))
         ->capture_default_str();
     command.add_option("--far-variance", settings.farVariance, "Variance of the second noise scale, in the same units")
-        ->check(CLI::Range(0.0, 1e6))
+        ->check(finiteRange(0.0, 1e6))
         ->capture_default_str();
 }
 
@@ -59,13 +61,17 @@ void addSampleCommand(CLI::App& app) {
     auto args = std::make_shared<SampleArgs>();
     CLI::App* sample = app.add_subcommand("sample", "Draw DeepSDF-style samples (points and signed distances) and save them as .npz");
     sample->add_option("mesh", args->mesh, "Input mesh")->required();
-    sample->add_option("-n,--count", args->count, "Number of samples")->required()->check(CLI::Range(std::size_t(1), std::size_t(1) << 34));
-    sample->add_option("-o,--output", args->output, "Output .npz with points (n, 3) and sdf (n,), float32")->required();
+    sample->add_option("-n,--count", args->count, "Number of samples")->required()->check(wholeNumber(1, std::uint64_t(1) << 34));
+    sample->add_option("-o,--output", args->output, "Output .npz with points (n, 3) and sdf (n,), float32, and the channels asked for")->required();
+    sample->add_option("--channels", args->channels,
+                       "What each sample holds, comma-separated: sdf (always), gradient (the unit gradient, (n, 3) float32), "
+                       "closest (the nearest surface point, (n, 3) float32), triangle (the nearest triangle's index, (n,) int32)")
+        ->capture_default_str();
     addSampleOptions(*sample, args->settings);
     sample->add_option("--padding", args->settings.padding, "Margin of the box the uniform samples fill, as a fraction of the mesh's longest side")
-        ->check(CLI::Range(0.0, 100.0))
+        ->check(finiteRange(0.0, 100.0))
         ->capture_default_str();
-    sample->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    addThreadsOption(*sample, args->threads);
     sample->footer("Noise standard deviations are sqrt(variance) x the normalized radius: 1.03 x the farthest vertex's distance from the bounding box centre.");
     sample->callback([args] { runSample(*args); });
 }

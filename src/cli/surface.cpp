@@ -36,14 +36,14 @@ bool isFieldFile(const std::string& path) {
 
 void runSurface(const SurfaceArgs& args) {
     Stopwatch total;
+    refuseOverwritingInput(args.output, {args.input});
     Field field;
     if (isFieldFile(args.input)) {
         field = loadField(args.input);
     } else {
         if (!(args.settings.padding > 0.0)) throw Error("--padding must be above 0: the surface must stay inside the grid to be closed");
-        const Model model = Model::load(args.input);
-        RunControl control;
-        control.threads = args.threads;
+        RunControl control = commandControl(args.threads);
+        const Model model = Model::load(args.input, control);
         ProgressBar bar;
         control.progress = bar.callback();
         field = model.bake(args.settings, control).field;
@@ -54,11 +54,11 @@ void runSurface(const SurfaceArgs& args) {
     } catch (const Error& e) {
         throw Error(args.input + ": " + e.what());
     }
-    saveSurface(surface, args.output);
-    const double seconds = total.seconds();
-
+    // Checked before the old output is replaced: a surface that is no valid mesh is never saved.
     const Mesh result = buildMesh(args.output, surface.positions, surface.triangles);
     const MeshCheck check = MeshTopology(result).check(result, Bvh(result));
+    saveSurface(surface, args.output);
+    const double seconds = total.seconds();
     const Grid& g = field.grid;
     std::printf("%s -> %s: %zu vertices, %zu triangles, iso %g, adaptivity %g, grid %dx%dx%d, %.3f s\n", args.input.c_str(),
                 args.output.c_str(), surface.positions.size(), surface.triangles.size(), args.iso, args.adaptivity, g.dims.x,
@@ -74,17 +74,18 @@ void addSurfaceCommand(CLI::App& app) {
     surface->add_option("input", args->input, "A mesh (baked first: exact distances, automatic sign) or a field file (" + fieldFormatList() + ")")
         ->required();
     surface->add_option("-o,--output", args->output, "Output mesh: .obj or .ply (binary)")->required();
-    surface->add_option("--iso", args->iso, "Distance of the surface: 0 is the mesh's surface, > 0 an offset outwards")->capture_default_str();
+    surface->add_option("--iso", args->iso, "Distance of the surface: 0 is the mesh's surface, > 0 an offset outwards")
+        ->check(finiteRange(-1e30, 1e30))->capture_default_str();
     surface->add_option("--adaptivity", args->adaptivity, "0 (uniform triangles) to 1 (fewer, larger triangles where the surface is flat)")
-        ->check(CLI::Range(0.0, 1.0))
+        ->check(finiteRange(0.0, 1.0))
         ->capture_default_str();
     surface->add_option("--res", args->settings.res, "For a mesh: voxels along the longest side of the padded bounding box")
         ->check(CLI::Range(1, 1 << 16))
         ->capture_default_str();
     surface->add_option("--padding", args->settings.padding, "For a mesh: margin around it, as a fraction of its longest side (> 0)")
-        ->check(CLI::Range(0.0f, 100.0f))
+        ->check(finiteRange(0.0, 100.0))
         ->capture_default_str();
-    surface->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    addThreadsOption(*surface, args->threads);
     surface->footer("The surface is OpenVDB's volumeToMesh of the field; it is closed when it stays inside the grid.");
     surface->callback([args] { runSurface(*args); });
 }

@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fcntl.h>
 #include <fstream>
 #include <memory>
@@ -319,6 +320,24 @@ void writeFileAtomicallyAt(const std::string& path, const std::function<void(con
     temporary.reopen();
     applyMode(path, temporary.fd(), target); // again: the writer may have made a new file
     temporary.commit();
+}
+
+void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs) {
+    struct stat outputStat{};
+    const bool outputExists = ::stat(output.c_str(), &outputStat) == 0;
+    for (const std::string& input : inputs) {
+        if (input.empty()) continue;
+        struct stat inputStat{};
+        bool same;
+        if (outputExists && ::stat(input.c_str(), &inputStat) == 0) {
+            same = outputStat.st_dev == inputStat.st_dev && outputStat.st_ino == inputStat.st_ino;
+        } else {
+            std::error_code ec, ec2;
+            const std::filesystem::path a = std::filesystem::weakly_canonical(output, ec), b = std::filesystem::weakly_canonical(input, ec2);
+            same = !ec && !ec2 && a == b;
+        }
+        if (same) throw Error(output + ": is the input file " + input + "; refusing to overwrite it");
+    }
 }
 
 } // namespace sdfgen

@@ -2,6 +2,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace sdfgen {
 
@@ -28,5 +29,11 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 // gets the temporary's path and must write the whole file there (it may replace that file); the
 // rest is as above. A target that is not a regular file is passed to `writeTo` itself.
 void writeFileAtomicallyAt(const std::string& path, const std::function<void(const std::string& temporaryPath)>& writeTo);
+
+// Throws Error("OUTPUT: is the input file INPUT; refusing to overwrite it") when `output` names
+// one of `inputs` (empty ones are skipped): the same file by device and inode (so also through
+// symbolic links and hard links), or, where either does not exist yet, the same canonical path.
+// Every command calls it before it starts work.
+void refuseOverwritingInput(const std::string& output, const std::vector<std::string>& inputs);
 
 } // namespace sdfgen

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <utility>
 
@@ -22,13 +23,58 @@ std::string autoReason(const MeshCheck& c) {
     std::string problems;
     for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
                                       {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
-                                      {c.selfIntersections, "self-intersections"}}) {
+                                      {c.selfIntersections, "self-intersections"},
+                                      {c.misorientedShells, "closed shells facing against their nesting"}}) {
         if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
     }
     return "winding: the mesh has " + problems;
 }
 
+// The gradient of the signed distance: the direction away from the surface, negated where the
+// value is negative (where it is 0 the direction is already the outward normal). In fixed blocks.
+void signGradient(const std::vector<float>& values, std::vector<float>& gradient, const RunControl& control) {
+    const std::size_t n = values.size();
+    constexpr std::size_t kBlock = std::size_t(1) << 16;
+    parallelFor((n + kBlock - 1) / kBlock, quiet(control), [&](std::size_t block) {
+        for (std::size_t i = block * kBlock; i < std::min(n, (block + 1) * kBlock); ++i) {
+            if (values[i] < 0.0f) {
+                for (std::size_t a = 0; a < 3; ++a) gradient[a * n + i] = -gradient[a * n + i];
+            }
+        }
+    });
+}
+
+constexpr const char* kChannelNames[] = {"sdf", "gradient", "closest", "triangle"};
+
 } // namespace
+
+Channels parseChannels(const std::string& list) {
+    Channels channels;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const std::size_t comma = std::min(list.find(',', start), list.size());
+        const std::string name = list.substr(start, comma - start);
+        if (name == "gradient") channels.gradient = true;
+        else if (name == "closest") channels.closest = true;
+        else if (name == "triangle") channels.triangle = true;
+        else if (name != "sdf" && !(name.empty() && list.empty())) {
+            std::string known;
+            for (const char* channel : kChannelNames) known += std::string(known.empty() ? "" : ", ") + channel;
+            throw Error("unknown channel '" + name + "' (expected a comma-separated list of " + known + ")");
+        }
+        start = comma + 1;
+    }
+    return channels;
+}
+
+std::string toString(const Channels& channels) {
+    std::string list = kChannelNames[0];
+    const bool on[] = {true, channels.gradient, channels.closest, channels.triangle};
+    for (int c = 1; c < 4; ++c) {
+        if (on[c]) list += std::string(",") + kChannelNames[c];
+    }
+    return list;
+}
 
 SignMethod resolveAutoSign(const MeshCheck& check, std::string* reason) {
     if (reason) *reason = autoReason(check);
@@ -50,9 +96,23 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     if (settings.device == Device::Gpu && settings.method != DistanceMethod::Exact) {
         throw Error(std::string("--device gpu computes exact distances; --method ") + method.name + " runs on the CPU");
     }
+    const Channels& channels = settings.channels;
+    if (channels.any()) {
+        const std::string named = toString(channels).substr(4); // without "sdf,"
+        if (settings.method != DistanceMethod::Exact) {
+            throw Error("channels " + named + ": only the exact method finds the nearest triangle they come from; --method " +
+                        method.name + " gives the distance (sdf) only");
+        }
+        if (settings.device == Device::Gpu) throw Error("channels " + named + ": made on the CPU only; use --device cpu or auto");
+        if (channels.triangle && context.mesh.triangleCount() > std::size_t(INT32_MAX)) {
+            throw Error(context.mesh.source + ": more than 2147483647 triangles for the triangle channel's int32 indices");
+        }
+    }
     BakeResult result;
     BakeContext deviceContext = context;
-    if (settings.method == DistanceMethod::Exact) {
+    if (channels.any()) {
+        result.deviceReason = "cpu: asked for channels " + toString(channels).substr(4) + " (made on the CPU only)";
+    } else if (settings.method == DistanceMethod::Exact) {
         deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
         result.onDevice = deviceContext.device != nullptr;
     }
@@ -87,15 +147,15 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
             sign = resolveAutoSign(result.check, &result.signReason);
             if (result.check.insideOut) {
                 methodContext.flipped = true;
-                result.signReason += "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
-                                     "are swapped as if every face were flipped";
+                result.signReason += sign == SignMethod::Pseudonormal
+                                         ? "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
+                                           "are swapped as if every face were flipped"
+                                         : "; the mesh is inside out (closed, its faces point inwards): its winding number "
+                                           "is -1 inside, and |w| > 1/2 counts that as inside";
             }
-        } else if ((sign == SignMethod::Winding || sign == SignMethod::Pseudonormal) && context.topology().insideOut()) {
-            result.warnings.push_back(std::string("the mesh is inside out (closed, its faces point inwards); --sign ") +
-                                      toString(sign) + " follows the faces, so " +
-                                      (sign == SignMethod::Winding ? "nothing is inside (the winding number is -1 there)"
-                                                                   : "inside and outside are swapped") +
-                                      "; --sign auto fixes it");
+        } else if (sign == SignMethod::Pseudonormal && context.topology().insideOut()) {
+            result.warnings.push_back("the mesh is inside out (closed, its faces point inwards); --sign pseudonormal follows "
+                                      "the faces, so inside and outside are swapped; --sign auto or winding fixes it");
         }
         methodContext.sign = sign;
     }
@@ -124,6 +184,10 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     field.source = context.mesh.source;
     field.grid = context.grid;
     field.values = std::move(pass.distance);
+    if (!pass.gradient.empty()) signGradient(field.values, pass.gradient, control);
+    field.gradient = std::move(pass.gradient);
+    field.closest = std::move(pass.closest);
+    field.triangle = std::move(pass.triangle);
     // Never a silently wrong field: float distances overflow on meshes far beyond unit scale.
     if (!std::all_of(field.values.begin(), field.values.end(), [](float v) { return std::isfinite(v); })) {
         throw Error(context.mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");

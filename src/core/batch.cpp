@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace sdfgen::batch {
@@ -56,17 +58,38 @@ std::vector<Task> sortedUnique(std::vector<Task> tasks) {
     return tasks;
 }
 
+// The mesh files below `folder`, following symbolic links to folders but reading each folder (by
+// device and inode) once: a link back up the tree, or a second link to a folder already read, is
+// skipped, so that loops end and no mesh is baked twice. Entries are visited in name order, so the
+// path a folder is read under does not depend on the file system's order.
+void findMeshes(const fs::path& folder, const fs::path& top, std::set<std::pair<dev_t, ino_t>>& visited, std::vector<fs::path>& meshes) {
+    struct stat info{};
+    if (::stat(folder.c_str(), &info) != 0 || !visited.insert({info.st_dev, info.st_ino}).second) return;
+    std::error_code ec;
+    std::vector<fs::path> entries;
+    for (fs::directory_iterator it(folder, ec), end; it != end; it.increment(ec)) {
+        if (ec) break;
+        entries.push_back(it->path());
+    }
+    if (ec) throw Error(folder == top ? top.string() + ": cannot read the folder: " + ec.message()
+                                      : folder.string() + ": cannot read the folder (below " + top.string() + "): " + ec.message());
+    std::sort(entries.begin(), entries.end());
+    for (const fs::path& entry : entries) {
+        const fs::file_status status = fs::status(entry, ec); // through links; a dangling link is skipped
+        if (fs::is_directory(status)) findMeshes(entry, top, visited, meshes);
+        else if (fs::is_regular_file(status) && isMeshFile(entry.string())) meshes.push_back(entry);
+    }
+}
+
 std::vector<Task> planFolder(const fs::path& folder, const fs::path& outDir, const std::string& extension) {
     std::vector<Task> tasks;
-    std::error_code ec;
-    fs::recursive_directory_iterator it(folder, fs::directory_options::follow_directory_symlink, ec), end;
-    if (ec) throw Error(folder.string() + ": cannot read the folder: " + ec.message());
-    for (; it != end; it.increment(ec)) {
-        if (ec) throw Error(folder.string() + ": cannot read the folder: " + ec.message());
-        if (!it->is_regular_file(ec) || !isMeshFile(it->path().string())) continue;
-        fs::path relative = insideOf(it->path(), folder);
+    std::set<std::pair<dev_t, ino_t>> visited;
+    std::vector<fs::path> meshes;
+    findMeshes(folder, folder, visited, meshes);
+    for (const fs::path& mesh : meshes) {
+        fs::path relative = insideOf(mesh, folder);
         relative.replace_extension(extension);
-        tasks.push_back({it->path().lexically_normal().string(), (outDir / relative).lexically_normal().string()});
+        tasks.push_back({mesh.lexically_normal().string(), (outDir / relative).lexically_normal().string()});
     }
     tasks = sortedUnique(std::move(tasks));
     OutputNames names;
@@ -98,7 +121,15 @@ std::vector<Task> planList(const fs::path& list, const fs::path& outDir, const s
                 throw Error(where + ": expected MESH or MESH<TAB>OUTPUT, got more than one TAB or an empty output");
             }
             if (!endsWith(name, extension)) throw Error(where + ": output name " + name + " does not end with " + extension);
-            output = fs::path(name).is_absolute() ? fs::path(name) : outDir / name;
+            // Outputs stay inside the output folder: no absolute path, no way up out of it.
+            const fs::path relative(name);
+            if (relative.is_absolute() || relative.has_root_name() || relative.has_root_directory()) {
+                throw Error(where + ": output name " + name + " is an absolute path; give it relative to the output folder");
+            }
+            if (std::any_of(relative.begin(), relative.end(), [](const fs::path& part) { return part == ".."; })) {
+                throw Error(where + ": output name " + name + " has a '..' part; it must stay inside the output folder");
+            }
+            output = outDir / relative;
         } else {
             fs::path relative = insideOf(mesh, base);
             if (relative.empty()) relative = mesh.filename();

@@ -20,11 +20,12 @@ struct Task {
 bool isMeshFile(const std::string& path);
 
 // The tasks for `input`, sorted by mesh path, duplicates removed:
-// - a folder: every mesh file below it (recursively); the output keeps its path relative to the
-//   folder, with `extension` in place of the mesh's (chairs/a/model.obj -> OUT/a/model.npz);
+// - a folder: every mesh file below it (recursively, through symbolic links to folders, each
+//   folder read once, so link loops end); the output keeps its path relative to the folder, with
+//   `extension` in place of the mesh's (chairs/a/model.obj -> OUT/a/model.npz);
 // - a list file: one mesh per line (blank lines and lines starting with '#' are skipped), relative
 //   paths taken from the list's folder; optionally a TAB and an explicit output name relative to
-//   `outDir`, which must end with `extension`. Without one, the output keeps the mesh's path
+//   `outDir`, which must end with `extension` and stay inside `outDir` (no absolute path, no '..'). Without one, the output keeps the mesh's path
 //   relative to the list's folder, or only its file name for a mesh outside that folder.
 // Throws Error naming the list (and line) or folder for anything wrong, including two meshes that
 // would write the same output.

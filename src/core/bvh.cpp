@@ -1,5 +1,6 @@
 #include "core/bvh.hpp"
 #include "core/duplicates.hpp"
+#include "core/parallel.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -173,7 +174,7 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     // Exact copies of a triangle have the same distance and the same hits, and a stack of them
     // would make every query that reaches it visit each one: the tree holds the first copy only
     // (the lowest index, so the wide tree built from it keeps the lower-index tie rule).
-    tbb::task_arena arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena(arenaSize(control));
     TriangleCopies copies;
     arena.execute([&] { copies = findTriangleCopies(mesh); });
     const std::size_t n = copies.unique.size();

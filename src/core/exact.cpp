@@ -80,8 +80,8 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
 }
 
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
-                       float* values, const RunControl& control) {
-    kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control);
+                       float* values, const RunControl& control, const ChannelOutputs* channels) {
+    kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control, channels);
 }
 
 float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipped, const glm::dvec3& p, std::uint32_t t) {
@@ -126,7 +126,7 @@ Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& co
                 angle += solidAngle(p, corners[c], corners[c + 1], corners[c + 2]);
             }
             const double distance = std::sqrt(nearest) * mesh.unit;
-            field.values[grid.index(i, j, k)] = float(angle / (4.0 * M_PI) > 0.5 ? -distance : distance);
+            field.values[grid.index(i, j, k)] = float(std::fabs(angle / (4.0 * M_PI)) > 0.5 ? -distance : distance);
         }
     });
     return field;

@@ -31,12 +31,26 @@ class MeshTopology;
 NearestField computeNearest(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const RunControl& control);
 NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control);
 
+// Where computeExactField also writes each sample's channels (sdfgen::Channels), from the closest
+// point it measures the distance with: at grid.index(i, j, k) of each plane, in Field's planar
+// layout (the y plane `plane` floats after the x plane, the z plane after that). Null: not written.
+struct ChannelOutputs {
+    // (p - c) / |p - c|, pointing away from the surface whatever the sign (the caller negates it
+    // where the signed value is negative); where the float distance is 0, the nearest triangle's
+    // face normal, reversed when `flipped`.
+    float* gradient = nullptr;
+    float* closest = nullptr; // c in world coordinates
+    std::int32_t* triangle = nullptr;
+    std::size_t plane = 0; // grid.sampleCount()
+};
+
 // The same search writing each sample's exact distance (world units) straight into
 // values[grid.index(i, j, k)] (grid.sampleCount() floats): negated where the closest feature's
 // angle-weighted pseudonormal points away from the sample when `pseudonormal` is given (the other
-// way round when `flipped`), unsigned otherwise. No per-sample side arrays.
+// way round when `flipped`), unsigned otherwise. No per-sample side arrays, unless `channels` asks
+// for them; the distances are the same with or without.
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
-                       float* values, const RunControl& control);
+                       float* values, const RunControl& control, const ChannelOutputs* channels = nullptr);
 
 // The distance (world units) from p (local) to triangle t, measured in double, negated where the
 // pseudonormal of its closest feature points away from p (the other way round when flipped), when
@@ -59,7 +73,8 @@ std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh
 std::uint32_t nearestTriangle(const WideBvh& tree, const glm::vec3& p, std::uint32_t& hint);
 
 // The reference: for every sample, the distance to every triangle and the winding number summed
-// over every triangle, all in double (inside where it exceeds 1/2). O(samples x triangles).
+// over every triangle, all in double (inside where its magnitude exceeds 1/2, as the winding sign
+// has it). O(samples x triangles).
 Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& control);
 
 } // namespace sdfgen

@@ -6,6 +6,7 @@
 #include <glm/common.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <unistd.h>
 
 namespace sdfgen {
@@ -32,13 +33,19 @@ Grid makeGrid(const WorldBounds& bounds, int res, double padding) {
     }
     const glm::dvec3 extent = bounds.extent();
     const double longest = std::max(extent.x, std::max(extent.y, extent.z));
-    if (!(longest > 0.0) || !std::isfinite(longest)) throw Error("the mesh has no extent: all vertices coincide");
+    if (!(longest > 0.0)) throw Error("the mesh has no extent: all vertices coincide");
     const glm::dvec3 pad(padding * longest);
     const glm::dvec3 paddedExtent = extent + 2.0 * pad;
     const double paddedLongest = std::max(paddedExtent.x, std::max(paddedExtent.y, paddedExtent.z));
     // Distances are stored as float: a grid beyond float range cannot hold them.
-    if (!std::isfinite(paddedLongest) || paddedLongest > 1e37) {
-        throw Error("padding " + std::to_string(padding) + " makes the grid too large");
+    constexpr double kLargestGrid = 1e37;
+    if (!std::isfinite(paddedLongest) || paddedLongest > kLargestGrid) {
+        char message[256];
+        std::snprintf(message, sizeof(message),
+                      "the mesh is %.3g across; with padding %g its grid would be %.3g across, beyond the %.0e that "
+                      "single-precision distances can hold: scale the mesh nearer to unit size",
+                      longest, padding, paddedLongest, kLargestGrid);
+        throw Error(message);
     }
 
     Grid grid;

@@ -28,7 +28,8 @@ namespace kernel {
 struct Table {
     SimdPath path;
     NearestField (*computeNearest)(const Mesh&, const WideBvh&, const Grid&, const RunControl&);
-    void (*computeExactField)(const Mesh&, const WideBvh&, const Grid&, const MeshTopology*, bool, float*, const RunControl&);
+    void (*computeExactField)(const Mesh&, const WideBvh&, const Grid&, const MeshTopology*, bool, float*, const RunControl&,
+                              const ChannelOutputs*);
     std::vector<std::uint8_t> (*insideByClosestFeature)(const Mesh&, const WideBvh&, const Grid&, const MeshTopology&, bool,
                                                         const RunControl&);
     std::uint32_t (*nearestTriangle)(const WideBvh&, const glm::vec3&, std::uint32_t&);

@@ -5,6 +5,11 @@
 
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -16,17 +21,72 @@ namespace sdfgen {
 
 namespace {
 
-// A whole number read from the start of a file (e.g. a cgroup limit), or -1.
-double readNumber(const char* path) {
+// A whole number of bytes at the start of a cgroup file, or nothing (missing, unreadable, or
+// "max": no limit).
+std::optional<std::uint64_t> readBytes(const std::filesystem::path& path) {
     std::ifstream in(path);
-    double value = -1;
-    if (!(in >> value)) return -1; // also "max": no limit
-    return value;
+    std::string text;
+    if (!(in >> text) || !std::isdigit(static_cast<unsigned char>(text[0]))) return std::nullopt;
+    errno = 0;
+    char* end = nullptr;
+    const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+    if (errno != 0 || *end != '\0') return std::nullopt;
+    return std::uint64_t(value);
 }
 
 std::string mebibytes(double bytes) { return std::to_string(std::llround(std::min(bytes / (1 << 20), 9e18))) + " MiB"; }
 
 } // namespace
+
+CgroupMemory cgroupMemory(const std::string& cgroupFile, const std::string& root) {
+    namespace fs = std::filesystem;
+    CgroupMemory memory;
+    // From the process's own group up to the hierarchy's root: a parent's limit binds its children.
+    // Inside a container the listed path may not exist below the mount; its root still does.
+    auto walk = [&memory](const fs::path& hierarchy, fs::path group, const char* limitName, const char* usageName) {
+        for (;; group = group.parent_path()) {
+            const fs::path folder = hierarchy / group.relative_path();
+            if (const std::optional<std::uint64_t> limit = readBytes(folder / limitName)) {
+                const std::uint64_t used = readBytes(folder / usageName).value_or(0);
+                memory.limit = std::min(memory.limit, *limit);
+                memory.room = std::min(memory.room, *limit > used ? *limit - used : 0);
+            }
+            if (group == group.root_path()) break;
+        }
+    };
+    // Each line is ID:CONTROLLERS:PATH: v2's is 0::PATH, v1's memory controller's N:memory:PATH
+    // (the list may name several controllers).
+    std::ifstream in(cgroupFile);
+    std::string line;
+    while (std::getline(in, line)) {
+        const std::size_t first = line.find(':');
+        const std::size_t second = first == std::string::npos ? first : line.find(':', first + 1);
+        if (second == std::string::npos) continue;
+        const std::string controllers = line.substr(first + 1, second - first - 1);
+        const fs::path group = line.substr(second + 1);
+        if (!group.is_absolute()) continue;
+        if (line.compare(0, first, "0") == 0 && controllers.empty()) {
+            const fs::path v2 = fs::exists(fs::path(root) / "cgroup.controllers") ? fs::path(root) : fs::path(root) / "unified";
+            walk(v2, group, "memory.max", "memory.current");
+            continue;
+        }
+        for (std::size_t at = 0; at <= controllers.size();) {
+            const std::size_t comma = std::min(controllers.find(',', at), controllers.size());
+            if (controllers.compare(at, comma - at, "memory") == 0) {
+                walk(fs::path(root) / "memory", group, "memory.limit_in_bytes", "memory.usage_in_bytes");
+            }
+            at = comma + 1;
+        }
+    }
+    return memory;
+}
+
+std::uint64_t usableMemoryBytes() {
+    const std::uint64_t physical = physicalMemoryBytes();
+    const std::uint64_t limit = cgroupMemory().limit;
+    if (physical == 0) return limit == UINT64_MAX ? 0 : limit;
+    return std::min(physical, limit);
+}
 
 std::uint64_t availableMemoryBytes() {
     double available = -1;
@@ -40,12 +100,8 @@ std::uint64_t availableMemoryBytes() {
         }
         meminfo.ignore(1 << 10, '\n');
     }
-    const double limit = readNumber("/sys/fs/cgroup/memory.max");
-    const double used = readNumber("/sys/fs/cgroup/memory.current");
-    if (limit >= 0 && used >= 0) {
-        const double room = std::max(0.0, limit - used);
-        available = available < 0 ? room : std::min(available, room);
-    }
+    const std::uint64_t room = cgroupMemory().room;
+    if (room != UINT64_MAX) available = available < 0 ? double(room) : std::min(available, double(room));
     if (available < 0) return physicalMemoryBytes();
     return std::uint64_t(available);
 }
@@ -55,7 +111,10 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double triangles = double(mesh.triangleCount()), vertices = double(mesh.positions.size());
     constexpr double kFloat = 4, kFlag = 1;
-    const double result = samples * kFloat; // the field's values
+    // The field's values and the channels asked for (gradient and closest point: three floats each).
+    const Channels& channels = settings.channels;
+    const double result = samples * (kFloat + (channels.gradient ? 3 * kFloat : 0) + (channels.closest ? 3 * kFloat : 0) +
+                                     (channels.triangle ? sizeof(std::int32_t) : 0));
 
     if (settings.method == DistanceMethod::Brute) return std::uint64_t(result + triangles * 3 * sizeof(glm::dvec3));
 

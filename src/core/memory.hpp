@@ -5,6 +5,7 @@
 #include "sdfgen/run_control.hpp"
 
 #include <cstdint>
+#include <string>
 
 namespace sdfgen {
 
@@ -13,9 +14,24 @@ class Bvh;
 // Bytes of physical memory on this machine (0 when unknown).
 std::uint64_t physicalMemoryBytes();
 
+// The memory limits on a process's control groups (Slurm's task/cgroup, container runtimes): the
+// lowest limit on its cgroup or any parent, and the least room left under any of them (limit minus
+// usage). cgroup v2 (memory.max, memory.current; mounted at `root`, or at root/unified beside v1)
+// and v1 (root/memory: memory.limit_in_bytes, memory.usage_in_bytes). `cgroupFile` is the
+// process's /proc/self/cgroup. Each is UINT64_MAX when no limit is found.
+struct CgroupMemory {
+    std::uint64_t limit = UINT64_MAX;
+    std::uint64_t room = UINT64_MAX;
+};
+CgroupMemory cgroupMemory(const std::string& cgroupFile = "/proc/self/cgroup", const std::string& root = "/sys/fs/cgroup");
+
+// Bytes this process may use at most: the physical memory, or less under a cgroup limit (0 when
+// nothing is known).
+std::uint64_t usableMemoryBytes();
+
 // Bytes this process can still take: MemAvailable from /proc/meminfo, lowered to the room left
-// under a cgroup v2 memory limit when there is one; the physical memory when neither is readable
-// (0 when nothing is known).
+// under its cgroups' memory limits; the physical memory when neither is readable (0 when nothing
+// is known).
 std::uint64_t availableMemoryBytes();
 
 // The peak bytes bake() allocates for this mesh, grid and settings, counting every buffer the

@@ -28,7 +28,15 @@ Mesh mergeMeshes(const std::vector<MeshInstance>& parts, std::string source) {
             triangles.push_back(mirrored ? glm::uvec3(shifted.x, shifted.z, shifted.y) : shifted);
         }
     }
-    return buildMesh(std::move(source), std::move(positions), std::move(triangles));
+    Mesh merged = buildMesh(std::move(source), std::move(positions), std::move(triangles));
+    // What the parts' loads dropped or warned about still holds for the scene.
+    std::vector<std::string> warnings;
+    for (const MeshInstance& part : parts) {
+        merged.droppedDegenerate += part.mesh->droppedDegenerate;
+        warnings.insert(warnings.end(), part.mesh->warnings.begin(), part.mesh->warnings.end());
+    }
+    merged.warnings.insert(merged.warnings.begin(), warnings.begin(), warnings.end());
+    return merged;
 }
 
 } // namespace sdfgen

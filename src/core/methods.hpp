@@ -28,7 +28,7 @@ struct BakeContext {
     const BakeSettings& settings;
     std::function<const MeshTopology&()> topology;
     std::function<const MeshCheck&()> check;
-    bool flipped = false; // the mesh is inside out: sign methods swap inside and outside
+    bool flipped = false; // the mesh is inside out: the pseudonormal sign swaps inside and outside
     // The sign bake() settled on before the distance pass (never Auto there), Default when the
     // method signs by itself.
     SignMethod sign = SignMethod::Default;
@@ -45,6 +45,10 @@ struct DistancePass {
     std::vector<float> distance;
     bool signedAsAsked = false;
     std::optional<std::vector<std::uint8_t>> inside;
+    // The channels the settings ask for (exact method), in Field's layout; the gradient points away
+    // from the surface until bake() signs it (see ChannelOutputs).
+    std::vector<float> gradient, closest;
+    std::vector<std::int32_t> triangle;
 };
 
 struct DistanceMethodInfo {

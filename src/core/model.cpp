@@ -11,9 +11,11 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/grid.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -56,9 +58,36 @@ private:
     mutable std::optional<WindingCaps> caps_;
 };
 
-Model Model::load(const std::string& path, const RunControl& control) { return Model(loadMesh(path), control); }
+namespace {
 
-Model::Model(Mesh mesh, const RunControl& control) : impl_(std::make_unique<Impl>(std::move(mesh), control)) {}
+// Mesh::warnings and the zero-area triangles buildMesh dropped, through control.warn.
+void warnAboutMesh(const Mesh& mesh, const RunControl& control) {
+    if (!control.warn) return;
+    if (mesh.droppedDegenerate > 0) {
+        control.warn(mesh.source + ": dropped " + std::to_string(mesh.droppedDegenerate) + " zero-area triangles");
+    }
+    for (const std::string& warning : mesh.warnings) control.warn(warning);
+}
+
+// The thread count is checked and the cancel flag read before the long work starts, so that a bad
+// count or an early Cancel is answered at once, not after the load.
+const RunControl& checkedControl(const RunControl& control) {
+    arenaSize(control);
+    throwIfCancelled(control);
+    return control;
+}
+
+} // namespace
+
+Model Model::load(const std::string& path, const RunControl& control) {
+    checkedControl(control);
+    return Model(loadMesh(path), control);
+}
+
+Model::Model(Mesh mesh, const RunControl& control) {
+    warnAboutMesh(mesh, checkedControl(control));
+    impl_ = std::make_unique<Impl>(std::move(mesh), control);
+}
 Model::~Model() = default;
 Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
@@ -69,14 +98,24 @@ const MeshCheck& Model::check(const RunControl& control) const { return impl_->c
 
 BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) const {
     const Impl& m = *impl_;
-    const Grid grid = makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
+    checkedControl(control);
+    Grid grid;
+    try {
+        grid = makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
+    } catch (const Error& e) {
+        throw Error(m.mesh.source + ": " + e.what());
+    }
     // Topology and check, when a method needs them, are built inside the bake's phases: they honour
     // its cancel flag and threads, and report no progress of their own (it would run backwards).
     const RunControl lazy = quiet(control);
     const BakeContext context{m.mesh, m.tree, [&m, &lazy]() -> const WideBvh& { return m.wide(lazy); }, grid, settings,
                               [&m, &lazy]() -> const MeshTopology& { return m.topology(lazy); },
                               [&m, &lazy]() -> const MeshCheck& { return m.check(lazy); }};
-    return sdfgen::bake(context, control);
+    BakeResult result = sdfgen::bake(context, control);
+    if (control.warn) {
+        for (const std::string& warning : result.warnings) control.warn(m.mesh.source + ": " + warning);
+    }
+    return result;
 }
 
 void Model::query(const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
@@ -84,28 +123,55 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     const Impl& m = *impl_;
     const Mesh& mesh = m.mesh;
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
-    const bool needNearest = out.signedDistance || out.unsignedDistance || out.closestPoint || out.triangle;
+    const bool needSign = out.signedDistance || out.gradient;
+    const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle;
     // Every sign a query takes reads the topology: built beside the wide tree (as in bake), each
     // alone leaving a core idle.
-    if (out.signedDistance && (sign == SignMethod::Auto || sign == SignMethod::Winding || sign == SignMethod::Pseudonormal)) {
+    if (needSign && (sign == SignMethod::Auto || sign == SignMethod::Winding || sign == SignMethod::Pseudonormal)) {
         parallelInvoke(
             quiet(control), [&] { if (needNearest) m.wide(quiet(control)); }, [&] { m.topology(quiet(control)); });
     }
-    bool flipped = false; // as bake: auto swaps inside and outside of an inside-out mesh
-    if (out.signedDistance && sign == SignMethod::Auto) {
+    // As bake: auto swaps the pseudonormal's inside and outside on an inside-out mesh (the winding
+    // sign, |w| > 1/2, needs no swap).
+    bool flipped = false;
+    if (needSign && sign == SignMethod::Auto) {
         const MeshCheck& edges = m.topology(quiet(control)).edgeCheck(); // as bake: no search when the edges decide
         const MeshCheck& check = edges.closedAndClean() ? m.check(quiet(control)) : edges;
         flipped = check.insideOut;
         sign = resolveAutoSign(check);
     }
-    if (out.signedDistance && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
+    if (needSign && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
         throw Error(std::string("point queries sign by auto, winding or pseudonormal, not ") + toString(sign));
     }
     if (count > std::numeric_limits<std::uint32_t>::max()) throw Error("more than 4294967295 query points in one call");
     for (std::size_t i = 0; i < 3 * count; ++i) {
         if (!std::isfinite(points[i])) throw Error("query point " + std::to_string(i / 3) + " has a non-finite coordinate");
     }
-    const bool needWinding = out.windingNumber || (out.signedDistance && sign == SignMethod::Winding);
+    // The closest-point search runs in single precision in the mesh's local frame: exact near the
+    // mesh, but about a million mesh sizes away a point is rounded by more than the differences
+    // that decide its nearest triangle and sign (measured on the bundled bunny: wrong signs from
+    // 1e6 sizes on, none up to 1e5). Farther points are refused, not answered wrongly.
+    constexpr double kFarthestQuery = 1e4; // in mesh sizes (the bounding box's longest side)
+    {
+        const WorldBounds box = mesh.worldBounds();
+        const glm::dvec3 extent = box.extent();
+        const double size = std::max({extent.x, extent.y, extent.z});
+        for (std::size_t i = 0; i < count; ++i) {
+            const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+            const glm::dvec3 outside = glm::max(glm::max(box.min - p, p - box.max), glm::dvec3(0.0));
+            const double away = std::max({outside.x, outside.y, outside.z});
+            if (away > kFarthestQuery * size) {
+                char message[320];
+                std::snprintf(message, sizeof(message),
+                              ": query point %zu (%.6g, %.6g, %.6g) is %.3g mesh sizes from the mesh's bounding box; points "
+                              "are answered up to %.0f mesh sizes away (farther, single-precision searches cannot tell its "
+                              "nearest triangle and sign)",
+                              i, p.x, p.y, p.z, away / size, kFarthestQuery);
+                throw Error(mesh.source + message);
+            }
+        }
+    }
+    const bool needWinding = out.windingNumber || (needSign && sign == SignMethod::Winding);
     // Build what the workers share before they start.
     const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
     if (needWinding) m.caps(quiet(control));
@@ -157,14 +223,20 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     const glm::dvec3 world = mesh.toWorld(closest.point);
                     for (int a = 0; a < 3; ++a) out.closestPoint[3 * index + std::size_t(a)] = world[a];
                 }
-                if (out.signedDistance) {
+                if (needSign) {
                     bool inside;
                     if (sign == SignMethod::Pseudonormal) {
                         inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                     } else {
-                        inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p), flipped ? -1 : 1);
+                        inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p));
                     }
-                    out.signedDistance[index] = inside ? -distance : distance;
+                    if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
+                    if (out.gradient) {
+                        // As the bake's gradient channel (exact_kernel.inc's writeChannels, then signed by the value).
+                        const glm::dvec3 g = distance == 0.0f ? glm::dvec3(mesh.faceNormals[t]) * (flipped ? -1.0 : 1.0)
+                                                              : (p - closest.point) / std::sqrt(closest.distanceSquared) * (inside ? -1.0 : 1.0);
+                        for (int a = 0; a < 3; ++a) out.gradient[3 * index + std::size_t(a)] = g[a];
+                    }
                 }
             }
             if (out.windingNumber) {
@@ -172,6 +244,12 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             }
         }
     });
+    // Never an infinity handed back as a distance: as bake, a mesh far beyond unit scale overflows float.
+    for (float* distances : {out.signedDistance, out.unsignedDistance}) {
+        if (distances && !std::all_of(distances, distances + count, [](float v) { return std::isfinite(v); })) {
+            throw Error(mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");
+        }
+    }
 }
 
 namespace {

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <mutex>
+#include <string>
 
 namespace sdfgen {
 
@@ -15,6 +16,17 @@ RunControl RunControl::phase(double from, double to) const {
     RunControl part = *this;
     if (progress) part.progress = [report = progress, from, to](double f) { report(from + (to - from) * f); };
     return part;
+}
+
+int arenaSize(const RunControl& control) {
+    if (control.threads < 0 || control.threads > kMaxThreads) {
+        throw Error("threads must be from 0 (all cores) to " + std::to_string(kMaxThreads) + ", not " + std::to_string(control.threads));
+    }
+    return control.threads > 0 ? control.threads : tbb::task_arena::automatic;
+}
+
+void throwIfCancelled(const RunControl& control) {
+    if (control.cancel && control.cancel->load(std::memory_order_relaxed)) throw Cancelled();
 }
 
 ProgressCounter::ProgressCounter(const RunControl& control, std::size_t total)
@@ -45,7 +57,6 @@ RunControl quiet(const RunControl& control) {
 }
 
 void parallelFor(std::size_t count, const RunControl& control, const std::function<void(std::size_t)>& body) {
-    const int threads = control.threads > 0 ? control.threads : tbb::this_task_arena::max_concurrency();
     std::atomic<std::size_t> finished{0};
     std::atomic<bool> stopped{false};
     std::mutex progressMutex;
@@ -54,7 +65,7 @@ void parallelFor(std::size_t count, const RunControl& control, const std::functi
     const std::size_t reportEvery = std::max<std::size_t>(1, count / 200);
     auto cancelled = [&] { return control.cancel && control.cancel->load(std::memory_order_relaxed); };
 
-    tbb::task_arena arena(threads);
+    tbb::task_arena arena(arenaSize(control));
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -80,12 +91,13 @@ void parallelFor(std::size_t count, const RunControl& control, const std::functi
 }
 
 void parallelInvoke(const RunControl& control, const std::function<void()>& first, const std::function<void()>& second) {
-    if (control.threads == 1) {
+    const int size = arenaSize(control);
+    if (size == 1) {
         first();
         second();
         return;
     }
-    tbb::task_arena arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena(size);
     arena.execute([&] { tbb::parallel_invoke(first, second); });
 }
 

@@ -8,6 +8,13 @@
 
 namespace sdfgen {
 
+// The size of the TBB arena control.threads asks for (tbb::task_arena::automatic for 0). Throws
+// Error for a count below 0 or above kMaxThreads: every arena is made through it.
+int arenaSize(const RunControl& control);
+
+// Throws Cancelled when control.cancel is raised: for the start of work that checks no flag of its own.
+void throwIfCancelled(const RunControl& control);
+
 // Runs body(i) for i in [0, count) on control.threads threads (TBB), reporting progress as items
 // finish and checking the cancel flag between items; throws Cancelled if it was raised. Items must
 // be independent so that the result never depends on the thread count or the schedule.

@@ -1,10 +1,14 @@
 #include "sdfgen/sample.hpp"
+#include "core/memory.hpp"
 #include "core/parallel.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
 
 namespace sdfgen {
 
@@ -64,6 +68,17 @@ SampleCounts sampleCounts(std::size_t n, const SampleSettings& settings) {
 Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& settings, const RunControl& control) {
     checkSettings(settings);
     const Mesh& mesh = model.mesh();
+    // Checked before anything is allocated. Per sample at the peak: the float points and distances
+    // kept (12 + 4 bytes), the double points queried (24) and the query's Morton keys and order (8 + 4).
+    constexpr double kBytesPerSample = 12 + 4 + 24 + 8 + 4;
+    const double needed = double(n) * kBytesPerSample;
+    if (const std::uint64_t available = availableMemoryBytes(); available > 0 && needed > double(available)) {
+        throw Error(mesh.source + ": " + std::to_string(n) + " samples need about " + std::to_string(std::llround(needed / (1 << 20))) +
+                    " MiB but only " + std::to_string(available >> 20) + " MiB of memory is available");
+    }
+    if (n > std::numeric_limits<std::uint32_t>::max()) {
+        throw Error(mesh.source + ": " + std::to_string(n) + " samples in one call; at most 4294967295");
+    }
     const SampleCounts counts = sampleCounts(n, settings);
 
     // Triangles in world coordinates and their cumulative areas, for area-weighted picks.
@@ -122,10 +137,33 @@ Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& setti
             }
         }
     });
+    // Never a file of infinities: a mesh far beyond single precision has no float samples.
+    const auto finite = [](float v) { return std::isfinite(v); };
+    if (!std::all_of(samples.points.begin(), samples.points.end(), finite)) {
+        throw Error(mesh.source + ": the samples' coordinates are beyond single precision at this mesh's scale and position; "
+                                  "scale or move the mesh nearer to unit size at the origin");
+    }
     samples.sdf.resize(n);
     PointQueryOutputs outputs;
     outputs.signedDistance = samples.sdf.data();
+    // The channels from the same query, in double, then stored as float32 and int32.
+    const Channels& channels = settings.channels;
+    if (channels.triangle && mesh.triangleCount() > std::size_t(INT32_MAX)) {
+        throw Error(mesh.source + ": more than 2147483647 triangles for the triangle channel's int32 indices");
+    }
+    std::vector<double> gradient(channels.gradient ? 3 * n : 0), closest(channels.closest ? 3 * n : 0);
+    std::vector<std::int64_t> triangle(channels.triangle ? n : 0);
+    if (channels.gradient) outputs.gradient = gradient.data();
+    if (channels.closest) outputs.closestPoint = closest.data();
+    if (channels.triangle) outputs.triangle = triangle.data();
     model.query(points.data(), n, outputs, settings.sign, control.phase(0.2, 1.0));
+    if (!std::all_of(samples.sdf.begin(), samples.sdf.end(), finite)) {
+        throw Error(mesh.source + ": the samples' distances are beyond single precision at this mesh's scale; scale the mesh "
+                                  "nearer to unit size");
+    }
+    samples.gradient.assign(gradient.begin(), gradient.end());
+    samples.closest.assign(closest.begin(), closest.end());
+    samples.triangle.assign(triangle.begin(), triangle.end());
     return samples;
 }
 

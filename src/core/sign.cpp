@@ -210,13 +210,13 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
 
 
 // The lazy walk for one point p: w = ahead minus the fans measured so far; every node not yet
-// opened waits in `pending` with its bound, and while their sum leaves orientation * w within
-// `margin` of 1/2 plus that sum, the loosest is opened. The same steps for the same p, ahead and
-// start, wherever the call comes from: the bake's samples and point queries agree to the bit.
+// opened waits in `pending` with its bound, and while their sum leaves |w| within `margin` of 1/2
+// plus that sum (w that near 1/2 or -1/2), the loosest is opened. The same steps for the same p,
+// ahead and start, wherever the call comes from: the bake's samples and point queries agree to
+// the bit.
 struct WindingCaps::Search {
     const WindingCaps& caps;
     const glm::dvec3& p;
-    int orientation;
     double margin;
     double w;
     std::vector<Pending>& pending;
@@ -249,7 +249,7 @@ struct WindingCaps::Search {
         }
     }
     // The margin's factor covers the rounding of the running sums.
-    bool doubtful() const { return std::fabs(orientation * w - 0.5) <= farSum * (1.0 + 1e-12) + margin; }
+    bool doubtful() const { return std::fabs(std::fabs(w) - 0.5) <= farSum * (1.0 + 1e-12) + margin; }
     // Nodes bounded over a ball that holds p (a cut's far nodes, loosest first): each is opened
     // when it is the loosest, without being bounded again at p (that would shave little off a
     // ball's bound and cost a trip through the heap).
@@ -286,15 +286,15 @@ struct WindingCaps::Search {
     }
 };
 
-bool WindingCaps::inside(const glm::dvec3& p, int ahead, int orientation, std::size_t* evaluations) const {
-    if (nodes_.empty()) return orientation * ahead >= 1; // a closed surface: w is the integer count
+bool WindingCaps::inside(const glm::dvec3& p, int ahead, std::size_t* evaluations) const {
+    if (nodes_.empty()) return ahead != 0; // a closed surface: w is the integer count
     thread_local std::vector<Pending> pending;
     pending.clear();
-    Search search{*this, p, orientation, 1e-15, double(ahead), pending};
+    Search search{*this, p, 1e-15, double(ahead), pending};
     search.add(0);
     if (search.doubtful()) search.refine(); // most samples are decided at once; the others refine, loosest node first
     if (evaluations) *evaluations += search.measured;
-    return orientation * search.w > 0.5;
+    return std::fabs(search.w) > 0.5;
 }
 
 void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
@@ -401,10 +401,10 @@ double WindingCaps::exactWinding(const glm::dvec3& p, const Cut& cut) const {
     return w;
 }
 
-bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
+bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
-    Search search{*this, p, orientation, kDecisionMargin, double(ahead), pending};
+    Search search{*this, p, kDecisionMargin, double(ahead), pending};
     for (std::uint32_t node : cut.nearNodes) search.measure(nodes_[node].first);
     search.farSum = cut.farSum;
     bool decided = !search.doubtful();
@@ -419,15 +419,14 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, int orientation, Cu
         decided = !search.doubtful();
     }
     if (evaluations) *evaluations += search.measured;
-    if (!decided) return inside(p, ahead, orientation, evaluations); // within the margin of 1/2: inside()'s own steps
-    return orientation * search.w > 0.5;
+    if (!decided) return inside(p, ahead, evaluations); // |w| within the margin of 1/2: inside()'s own steps
+    return std::fabs(search.w) > 0.5;
 }
 
 bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
     // Nodes bounded below kFarBound, and leaves, are summed, not opened; a fan the ball may touch
     // (an infinite bound) ends the search, as does a sum reaching 0.45. Below that, every point of the ball
-    // has orientation * w within 0.45 of the integer orientation * ahead, so inside() can only
-    // answer orientation * ahead >= 1 there.
+    // has w within 0.45 of the integer ahead, so inside() can only answer ahead != 0 there.
     constexpr double kFarBound = 0.01, kMaxSum = 0.45;
     if (nodes_.empty()) return true;
     double sum = 0.0;
@@ -447,9 +446,8 @@ bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
     return true;
 }
 
-WindingFans WindingCaps::flattened(int orientation) const {
+WindingFans WindingCaps::flattened() const {
     WindingFans out;
-    out.orientation = orientation;
     for (const Cap& cap : caps_) {
         out.fans.push_back({std::uint32_t(out.points.size()), std::uint32_t(cap.loop.size()), cap.weight});
         out.points.push_back(cap.centre);
@@ -523,7 +521,7 @@ struct SampleAxes {
 // ahead, coarse to fine (8³, 4³): in a block, the near fans that its ball misses have their
 // winding number expanded to first order at its centre, the few it may meet (a big fan across a
 // sheet) are measured at each sample, and every sample whose w the bounds (the far nodes' over
-// the ball, the expansion's rest) keep off 1/2 is decided; the rest are split into octants, and
+// the ball, the expansion's rest) keep off ±1/2 is decided; the rest are split into octants, and
 // the samples of 2³ blocks are decided by WindingCaps::insideNear.
 struct BrickSigns {
     static constexpr int kEdge = 8;
@@ -536,7 +534,6 @@ struct BrickSigns {
     const SampleAxes& axes;
     const WindingCaps& caps;
     const SignOutput& output;
-    int orientation;
     std::size_t evaluations = 0, exactDecided = 0;
     WindingCaps::Cut cuts[4]; // per level: 8³, 4³, 2³ (measured); scratch
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
@@ -587,7 +584,7 @@ struct BrickSigns {
                     const int* rowCounts = &count(i0, j, k);
                     const std::size_t rowStart = grid.index(i0, j, k);
                     for (int i = ia - i0; i < ie - i0; ++i) {
-                        if (rowOpen >> i & 1u) out.set(rowStart + std::size_t(i), orientation * rowCounts[i] >= 1);
+                        if (rowOpen >> i & 1u) out.set(rowStart + std::size_t(i), rowCounts[i] != 0);
                     }
                 }
                 row(k) &= ~mine;
@@ -602,7 +599,7 @@ struct BrickSigns {
                     for (int i = ia; i < ie; ++i) {
                         const std::uint64_t b = bit(i - i0, j - j0);
                         if (!(row(k) & b)) continue;
-                        output.set(grid.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), orientation, cut, cuts[3], &evaluations));
+                        output.set(grid.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), cut, cuts[3], &evaluations));
                         row(k) &= ~b;
                     }
             return;
@@ -623,7 +620,8 @@ struct BrickSigns {
                             fans += caps.exactWinding(p, cut);
                             evaluations += cut.exactNodes.size();
                         }
-                        const double x = orientation * (double(count(i, j, k)) - fans) - 0.5;
+                        // |w| - 1/2: its distance from 0 bounds w's from both 1/2 and -1/2.
+                        const double x = std::fabs(double(count(i, j, k)) - fans) - 0.5;
                         const double distance = glm::length(offset);
                         const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
                         if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
@@ -642,8 +640,7 @@ struct BrickSigns {
 };
 
 void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, const SignOutput& output,
-                  const RunControl& control, bool flipped, WindingStats* stats) {
-    const int orientation = flipped ? -1 : 1;
+                  const RunControl& control, WindingStats* stats) {
     const WindingCaps caps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
     const SampleAxes axes(mesh, grid);
@@ -763,7 +760,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 std::vector<Crossing>().swap(crossings); // done with this row
             }
         }
-        BrickSigns brick{grid, axes, caps, output, orientation, 0, 0, {}};
+        BrickSigns brick{grid, axes, caps, output, 0, 0, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
@@ -781,15 +778,15 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
 } // namespace
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control, bool flipped, WindingStats* stats) {
+                                          const RunControl& control, WindingStats* stats) {
     std::vector<std::uint8_t> inside(grid.sampleCount());
-    windingSigns(mesh, topology, grid, {inside.data(), nullptr}, control, flipped, stats);
+    windingSigns(mesh, topology, grid, {inside.data(), nullptr}, control, stats);
     return inside;
 }
 
 void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
-                   bool flipped, WindingStats* stats) {
-    windingSigns(mesh, topology, grid, {nullptr, field}, control, flipped, stats);
+                   WindingStats* stats) {
+    windingSigns(mesh, topology, grid, {nullptr, field}, control, stats);
 }
 
 } // namespace sdfgen

@@ -42,14 +42,14 @@ public:
     bool empty() const { return caps_.empty(); }
 
     // Inside flag at p, given `ahead`, the signed count of crossings of the mesh and the fans along
-    // +x from p (the closed surface's winding number): inside where orientation * w > 1/2, w the
-    // exact winding number (ahead minus the fans'). Lazy: fans are measured only while the bounds of
-    // the rest leave doubt, loosest node first, down to every fan exactly; so the answer is that of
-    // w in double and p pays only for the fans that can move w across 1/2. Orientation -1 is for a
-    // mesh that is inside out. `evaluations` (when given) counts the fans measured.
-    bool inside(const glm::dvec3& p, int ahead, int orientation, std::size_t* evaluations = nullptr) const;
+    // +x from p (the closed surface's winding number): inside where |w| > 1/2, w the exact winding
+    // number (ahead minus the fans'), so that a part is solid whichever way its faces point. Lazy:
+    // fans are measured only while the bounds of the rest leave doubt, loosest node first, down to
+    // every fan exactly; so the answer is that of w in double and p pays only for the fans that can
+    // move w across 1/2 or -1/2. `evaluations` (when given) counts the fans measured.
+    bool inside(const glm::dvec3& p, int ahead, std::size_t* evaluations = nullptr) const;
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
-    // to move the winding number by 0.45 (then inside() returns orientation * ahead >= 1 there).
+    // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
     // A node waiting in a walk, with its bound.
     struct Pending {
@@ -90,15 +90,15 @@ public:
     // inside() for a point of the ball that `cut` was made for: the near fans measured, then the
     // far nodes bounded (the ball's bounds; then, loosest first, each far node bounded at the point
     // and opened as inside() opens nodes) while
-    // orientation * w is within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside()
+    // |w| is within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside()
     // decides. Deciding only outside that margin, it answers as inside() does (their doubles of
     // w differ by rounding, far below the margin), with the tree's top walked once per block.
     static constexpr double kDecisionMargin = 1e-7;
     // `scratch` is any Cut's: its heap is borrowed. Most points are decided by the ball's bounds
     // alone; the first that is not sorts the cut's far nodes (loosest first), for every later one.
-    bool insideNear(const glm::dvec3& p, int ahead, int orientation, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
-    // The caps and their tree for a compute device (WindingFans), with `orientation` as for inside().
-    WindingFans flattened(int orientation) const;
+    bool insideNear(const glm::dvec3& p, int ahead, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
+    // The caps and their tree for a compute device (WindingFans).
+    WindingFans flattened() const;
     // The exact winding number at p given `ahead`: every fan measured.
     double winding(const glm::dvec3& p, int ahead) const;
 
@@ -133,23 +133,25 @@ struct WindingStats {
     std::size_t exactFanSamples = 0; // samples decided by a block's expansion with its exact fans measured at each
 };
 
-// The generalized winding number w (Jacobson et al. 2013), inside where w > 1/2, computed exactly.
+// The generalized winding number w (Jacobson et al. 2013), inside where |w| > 1/2, computed exactly.
 // The mesh is closed with small fans over its boundary loops; the closed surface's winding number
 // is an integer, counted for whole rows at once from the signed crossings of each row's line
 // (robust 2D point-in-triangle tests in double with symbolic tie-breaking, so shared edges count
 // once; copies of a triangle count once with their number as weight), scanned in parallel by bands
-// of z planes. The fans' own winding number is subtracted wherever it could move w across 1/2,
+// of z planes. The fans' own winding number is subtracted wherever it could move w across ±1/2,
 // by bricks of 8³ samples, coarse to fine: a block that no fan can reach is decided by the counts
 // alone, a block clear of its near fans by their first-order expansion at its centre (within
 // bounds), the samples left by WindingCaps::insideNear. So signs are those of the exact w (those
-// of WindingCaps::inside, bit for bit), and a sample pays only for the fans near it. Robust to holes, self-intersections, overlapping shells
-// and flipped parts. With `flipped`, inside is where -w > 1/2: the signs of the mesh with every
-// face flipped.
+// of WindingCaps::inside, bit for bit), and a sample pays only for the fans near it. Robust to
+// holes, self-intersections, overlapping shells and flipped parts: by |w|, a closed part is solid
+// whichever way its faces point (w = -1 inside a part modelled inside out), a cavity bounded by a
+// reversed inner shell stays empty (w = 0 there), and the mesh with every face flipped has the
+// same signs.
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
-                                          const RunControl& control, bool flipped = false, WindingStats* stats = nullptr);
+                                          const RunControl& control, WindingStats* stats = nullptr);
 // The same signs applied in place: negates field[index] of every inside sample (no side array).
 void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
-                   bool flipped = false, WindingStats* stats = nullptr);
+                   WindingStats* stats = nullptr);
 
 // The generalized winding number at p, summed over every triangle in double (the reference).
 double windingNumber(const Mesh& mesh, const glm::dvec3& p);

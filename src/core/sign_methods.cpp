@@ -14,7 +14,7 @@ namespace {
 // The winding sign with the compute device counting the closed surface's crossings (the mesh, each
 // set of copies of a triangle once with its number, and the fans over the holes with their
 // weights, as insideByWinding closes it) and subtracting the fans' own part where their bounds
-// leave doubt; the samples whose w its float cannot tell from 1/2 as the CPU's double would are
+// leave doubt; the samples whose |w| its float cannot tell from 1/2 as the CPU's double would are
 // decided here, by WindingCaps::inside (so the signs are the CPU's). Negates `distance` in place
 // where inside.
 void windingSignOnDevice(const BakeContext& context, std::vector<float>& distance, const RunControl& control) {
@@ -37,8 +37,7 @@ void windingSignOnDevice(const BakeContext& context, std::vector<float>& distanc
             weights.push_back(cap.weight);
         }
     }
-    const int orientation = context.flipped ? -1 : 1;
-    const WindingFans fans = caps.flattened(orientation);
+    const WindingFans fans = caps.flattened();
     std::vector<std::uint8_t> sides;
     const std::vector<std::int32_t> ahead =
         context.device->windingNumbers(mesh, closed, weights, caps.empty() ? nullptr : &fans, grid, control.phase(0.0, 0.9), sides);
@@ -48,9 +47,9 @@ void windingSignOnDevice(const BakeContext& context, std::vector<float>& distanc
         for (int i = 0; i < grid.dims.x; ++i) {
             const std::size_t index = grid.index(i, j, k);
             bool inside;
-            if (caps.empty()) inside = orientation * ahead[index] >= 1;
+            if (caps.empty()) inside = ahead[index] != 0;
             else if (sides[index] != 2) inside = sides[index];
-            else inside = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index], orientation);
+            else inside = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index]);
             if (inside) distance[index] = -distance[index];
         }
     });
@@ -58,7 +57,7 @@ void windingSignOnDevice(const BakeContext& context, std::vector<float>& distanc
 
 void windingSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
     if (context.device) return windingSignOnDevice(context, pass.distance, control);
-    signByWinding(context.mesh, context.topology(), context.grid, pass.distance.data(), control, context.flipped);
+    signByWinding(context.mesh, context.topology(), context.grid, pass.distance.data(), control);
 }
 
 // For passes that did not sign as they measured (rays): one more closest-feature search.
@@ -78,7 +77,7 @@ void raySign(const BakeContext& context, DistancePass& pass, const RunControl& c
 
 const std::vector<SignMethodInfo>& signMethods() {
     static const std::vector<SignMethodInfo> methods = {
-        {SignMethod::Winding, "winding", "generalized winding number > 1/2, computed exactly", windingSign},
+        {SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly", windingSign},
         {SignMethod::Pseudonormal, "pseudonormal", "angle-weighted pseudonormal of the closest feature", pseudonormalSign},
         {SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays", raySign},
     };

@@ -9,6 +9,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 namespace sdfgen {
@@ -101,6 +102,18 @@ SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
         }
     }
     if (mesh.triangles.empty()) throw Error("the field has no surface at iso " + std::to_string(iso));
+    // Never a file of "v inf inf inf": a grid far beyond single precision (a voxel of 1e300, an
+    // origin near the double limit) has no float positions.
+    const auto bad = std::find_if(mesh.positions.begin(), mesh.positions.end(),
+                                  [](const glm::vec3& p) { return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z); });
+    if (bad != mesh.positions.end()) {
+        char message[256];
+        std::snprintf(message, sizeof(message),
+                      "the surface's vertices are beyond single precision (grid origin %.3g %.3g %.3g, voxel size %.3g): "
+                      "no mesh file can hold them",
+                      field.grid.origin.x, field.grid.origin.y, field.grid.origin.z, field.grid.voxel);
+        throw Error(message);
+    }
     return mesh;
 }
 

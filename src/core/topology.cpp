@@ -86,6 +86,7 @@ std::string MeshCheck::describe() const {
            " non-manifold vertices, " +
            (selfIntersectionsSearched ? std::to_string(selfIntersections) + " self-intersecting triangle pairs"
                                       : std::string("self-intersections not searched")) +
+           (misorientedShells ? ", " + std::to_string(misorientedShells) + " closed shells facing against their nesting" : "") +
            (insideOut ? ", inside out (negative volume)" : "");
 }
 
@@ -115,7 +116,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
     constexpr std::size_t kStages = 5;
     ProgressCounter progress(control, kStages);
-    tbb::task_arena arena(control.threads > 0 ? control.threads : tbb::task_arena::automatic);
+    tbb::task_arena arena(arenaSize(control));
     // Merge vertices with identical coordinates (-0 and +0 alike; coordinates are finite, so equal
     // floats have equal bits): sorted by (bits, index) in parallel, a total order, each vertex
     // goes to the first of its group, and merged vertices are numbered in order of first use.
@@ -425,7 +426,61 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunContro
         crossings[job] = found;
     });
     for (std::size_t count : crossings) result.selfIntersections += count;
+    if (result.closedAndClean()) result.misorientedShells = countMisorientedShells(mesh, tree, result.signedVolume < 0.0 ? -1 : 1, control);
     return result;
+}
+
+std::size_t MeshTopology::countMisorientedShells(const Mesh& mesh, const Bvh& tree, int outward, const RunControl& control) const {
+    // Shells: the triangles' connected parts over merged vertices, numbered by their first triangle.
+    std::vector<std::uint32_t> parent(positions_.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (const glm::uvec3& t : corners_) {
+        for (int c = 1; c < 3; ++c) {
+            const std::uint32_t a = findRoot(parent, t[0]), b = findRoot(parent, t[c]);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
+    }
+    std::vector<std::uint32_t> shellOfRoot(positions_.size(), UINT32_MAX), shellOf(corners_.size());
+    std::vector<std::uint32_t> anchor; // per shell: a vertex of it
+    for (std::size_t t = 0; t < corners_.size(); ++t) {
+        std::uint32_t& shell = shellOfRoot[findRoot(parent, corners_[t][0])];
+        if (shell == UINT32_MAX) {
+            shell = std::uint32_t(anchor.size());
+            anchor.push_back(corners_[t][0]);
+        }
+        shellOf[t] = shell;
+    }
+    if (anchor.size() < 2) return 0; // one closed shell faces as its volume says
+    std::vector<double> volume(anchor.size(), 0.0); // six times each shell's, about its anchor
+    for (std::size_t t = 0; t < corners_.size(); ++t) {
+        const glm::uvec3& c = corners_[t];
+        const glm::dvec3& o = positions_[anchor[shellOf[t]]];
+        volume[shellOf[t]] += glm::dot(positions_[c[0]] - o, glm::cross(positions_[c[1]] - o, positions_[c[2]] - o));
+    }
+    // At a vertex of each shell, the other shells' winding number: their signed crossings along +x,
+    // counted as the winding sign counts a row's (no other shell meets the vertex: the mesh has no
+    // self-intersections). Just outside the shell w is that count, just inside the count plus the
+    // shell's facing; the pseudonormal's inside (flipped as a whole when `outward` is -1) is |w| > 1/2
+    // only where w is 0 or `outward` on both sides.
+    std::vector<std::uint8_t> misoriented(anchor.size(), 0);
+    parallelFor(anchor.size(), quiet(control), [&](std::size_t shell) {
+        const glm::dvec3 p = positions_[anchor[shell]];
+        int around = 0;
+        Bounds ray;
+        ray.min = glm::vec3(std::nextafter(float(p.x), -FLT_MAX), float(p.y), float(p.z));
+        ray.max = glm::vec3(FLT_MAX, float(p.y), float(p.z));
+        tree.forEachOverlap(ray, [&](std::uint32_t t) {
+            if (shellOf[t] == shell) return;
+            const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+            int orientation;
+            glm::dvec3 w;
+            if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
+            if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) around += orientation * int(tree.copies(t));
+        });
+        const int facing = volume[shell] > 0.0 ? 1 : volume[shell] < 0.0 ? -1 : 0;
+        misoriented[shell] = !((around == 0 && facing == outward) || (around == outward && facing == -outward));
+    });
+    return std::size_t(std::count(misoriented.begin(), misoriented.end(), std::uint8_t(1)));
 }
 
 glm::dvec3 MeshTopology::pseudonormal(std::uint32_t triangle, TriangleFeature feature) const {

@@ -53,6 +53,9 @@ private:
     const glm::dvec3& vertexNormal(std::uint32_t vertex) const;
     // Whether triangles t and u have a point in common other than the vertices they share (exact).
     bool trianglesCross(std::uint32_t t, std::uint32_t u) const;
+    // MeshCheck::misorientedShells of a mesh whose other counts are all zero; `outward` is -1 for
+    // a mesh inside out as a whole, else 1.
+    std::size_t countMisorientedShells(const Mesh& mesh, const Bvh& tree, int outward, const RunControl& control) const;
 
     std::vector<glm::dvec3> positions_;  // merged vertices
     std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices

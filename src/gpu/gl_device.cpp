@@ -278,10 +278,7 @@ public:
         const render::Program& rowsProgram = compiled(windingRows_, "winding_rows.comp");
         const render::Program& prefixProgram = compiled(windingPrefix_, "winding_prefix.comp");
         const render::Program* capsProgram = fans ? &compiled(windingCaps_, "winding_caps.comp") : nullptr;
-        if (capsProgram) {
-            glProgramUniform3i(capsProgram->id(), glGetUniformLocation(capsProgram->id(), "dims"), dims.x, dims.y, dims.z);
-            glProgramUniform1i(capsProgram->id(), glGetUniformLocation(capsProgram->id(), "orientation"), fans->orientation);
-        }
+        if (capsProgram) glProgramUniform3i(capsProgram->id(), glGetUniformLocation(capsProgram->id(), "dims"), dims.x, dims.y, dims.z);
         times.mark("upload+rows+compile");
         for (const render::Program* p : {&rowsProgram, &prefixProgram}) {
             glProgramUniform3i(p->id(), glGetUniformLocation(p->id(), "dims"), dims.x, dims.y, dims.z);

@@ -2,7 +2,9 @@
 // set, with a transform that puts index (i, j, k) at sample (i, j, k): voxel size h, translation
 // origin + h/2. Dense by default; with a band of V voxels only samples with |d| < V h stay active
 // and the rest are inactive +-V h, as OpenVDB level sets are. The grid's sdfgen_* metadata keep
-// the exact grid, method and source. Also the iso-surfaces of `sdfgen surface`.
+// the exact grid, method and source. A field's channels (sdfgen::Channels) follow as grids of their
+// names with the surface grid's transform and active voxels: "gradient" and "closest" Vec3SGrids,
+// "triangle" an Int32Grid. Also the iso-surfaces of `sdfgen surface`.
 //
 // The library the core opens on first use (core/openvdb_plugin.hpp), so that only runs that read
 // or write OpenVDB load it.
@@ -16,6 +18,7 @@
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/VolumeToMesh.h>
+#include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -23,6 +26,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <tuple>
 #include <sys/stat.h>
 
 namespace sdfgen::formats {
@@ -96,6 +100,48 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field, double band) {
     return grid;
 }
 
+// A channel as a grid named `name` whose active voxels are the surface grid's (every sample when
+// dense, the band's otherwise; the rest hold the background), valued at each voxel (i, j, k) by
+// value(grid.index(i, j, k)).
+template <class ChannelGrid, class Value>
+typename ChannelGrid::Ptr channelGrid(const Field& field, const openvdb::FloatGrid& surface, const char* name,
+                                      const typename ChannelGrid::ValueType& background, const Value& value) {
+    const typename ChannelGrid::Ptr grid = ChannelGrid::create(background);
+    grid->tree().topologyUnion(surface.tree());
+    grid->tree().voxelizeActiveTiles();
+    openvdb::tree::LeafManager<typename ChannelGrid::TreeType> leaves(grid->tree());
+    leaves.foreach([&](typename ChannelGrid::TreeType::LeafNodeType& leaf, std::size_t) {
+        for (auto voxel = leaf.beginValueOn(); voxel; ++voxel) {
+            const openvdb::Coord c = voxel.getCoord();
+            voxel.setValue(value(field.grid.index(c.x(), c.y(), c.z())));
+        }
+    });
+    grid->setName(name);
+    grid->setTransform(surface.transform().copy());
+    return grid;
+}
+
+// The field's channels (sdfgen::Channels) beside the surface grid: "gradient" and "closest" as
+// Vec3SGrids, "triangle" as an Int32Grid (background -1: no triangle).
+openvdb::GridCPtrVec channelGrids(const Field& field, const openvdb::FloatGrid& surface) {
+    openvdb::GridCPtrVec grids;
+    const std::size_t n = field.grid.sampleCount();
+    for (const auto& [name, planes, type] : {std::tuple{"gradient", &field.gradient, openvdb::VEC_COVARIANT_NORMALIZE},
+                                             {"closest", &field.closest, openvdb::VEC_CONTRAVARIANT_ABSOLUTE}}) {
+        if (planes->empty()) continue;
+        const float* v = planes->data();
+        const openvdb::Vec3SGrid::Ptr grid = channelGrid<openvdb::Vec3SGrid>(
+            field, surface, name, openvdb::Vec3s(0.0f), [v, n](std::size_t i) { return openvdb::Vec3s(v[i], v[n + i], v[2 * n + i]); });
+        grid->setVectorType(type);
+        grids.push_back(grid);
+    }
+    if (!field.triangle.empty()) {
+        const std::int32_t* t = field.triangle.data();
+        grids.push_back(channelGrid<openvdb::Int32Grid>(field, surface, "triangle", -1, [t](std::size_t i) { return t[i]; }));
+    }
+    return grids;
+}
+
 void saveVdbFile(const Field& field, const std::string& path, const SaveOptions& options) {
     checkField(field, path);
     if (!(options.band == 0 || options.band >= 1) || !std::isfinite(options.band)) {
@@ -111,13 +157,15 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
     grid->insertMeta("sdfgen_method", openvdb::StringMetadata(methodLine(field)));
     grid->insertMeta("sdfgen_source", openvdb::StringMetadata(field.source));
 
+    openvdb::GridCPtrVec grids{grid};
+    for (const openvdb::GridBase::ConstPtr& channel : channelGrids(field, *grid)) grids.push_back(channel);
     writeFileAtomically(path, [&](std::ostream& out) {
         try {
             openvdb::io::Stream stream(out);
             // Blosc pays off on a narrow band's few leaves; a dense grid of distances hardly
             // compresses (about 20%) and saves three times faster without it.
             stream.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK | (options.band > 0 ? openvdb::io::COMPRESS_BLOSC : 0));
-            stream.write(openvdb::GridCPtrVec{grid});
+            stream.write(grids);
         } catch (const openvdb::Exception& e) {
             throw Error(path + ": " + e.what());
         }

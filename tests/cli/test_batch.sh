@@ -130,4 +130,33 @@ check "sample without -n is an error" bash -c "! '$sdfgen' sample '$work/meshes/
 
 check "bad arguments are one-line errors" bash -c "'$sdfgen' batch '$work/nothing' --out '$work/x' 2>&1 | grep -q 'nothing: no such file or folder'"
 
+# Outputs named in a list stay inside --out: '..' and absolute paths are refused with the line.
+printf '# two\nmeshes/tet.obj\t../x.npz\n' >"$work/up.txt"
+printf 'meshes/tet.obj\t/abs/x.npz\n' >"$work/abs.txt"
+check "a list output with '..' is refused with its line" bash -c "'$sdfgen' batch '$work/up.txt' --out '$work/inside' 2>&1 |
+  grep -q 'up.txt:2: output name ../x.npz has a .... part' && test ! -e '$work/x.npz'"
+check "an absolute list output is refused with its line" bash -c "'$sdfgen' batch '$work/abs.txt' --out '$work/inside' 2>&1 |
+  grep -q 'abs.txt:1: output name /abs/x.npz is an absolute path'"
+
+# Symbolic links in a folder: a loop (and a second one) ends, each mesh is baked once.
+mkdir -p "$work/loops/a/b"
+cp "$work/meshes/tet.obj" "$work/loops/a/b/tet.obj"
+cp "$work/meshes/octahedron.obj" "$work/loops/octahedron.obj"
+ln -s .. "$work/loops/a/b/up"
+ln -s ../.. "$work/loops/a/b/top"
+timeout 60 "$sdfgen" batch "$work/loops" --out "$work/loops-out" --format sdf --res 8 --status "$work/loops.jsonl" >/dev/null 2>&1
+rc=$?
+check "a folder with link loops finishes (got $rc)" test $rc -eq 0
+check "each mesh of a folder with link loops is baked once" json_check "$work/loops.jsonl" '
+sorted(l["output"].split("/loops-out/")[1] for l in lines) == ["a/b/tet.sdf", "octahedron.sdf"] and all(l["status"] == "done" for l in lines)'
+
+# Warnings reach the status lines and the JSON: two zero-area triangles are dropped.
+mkdir -p "$work/warned"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 1 2\nf 2 3 3\n' >"$work/warned/degenerate.obj"
+"$sdfgen" batch "$work/warned" --out "$work/warned-out" --format sdf --res 8 --status "$work/warned.jsonl" >"$work/warned.txt" 2>&1
+check "batch prints a mesh's warnings under its status line" grep -qE '^  warning: .*degenerate.obj: dropped 2 zero-area triangles$' "$work/warned.txt"
+check "batch records a mesh's warnings in its JSON line" json_check "$work/warned.jsonl" '
+len(lines) == 1 and lines[0]["status"] == "done" and len(lines[0]["warnings"]) == 1 and lines[0]["warnings"][0].endswith("degenerate.obj: dropped 2 zero-area triangles")'
+check "every status line has a warnings list" json_check "$work/status.jsonl" 'all(l["warnings"] == [] for l in lines)'
+
 check_summary batch

@@ -93,6 +93,30 @@ expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.vdb" --res 
 expect 1 '^sdfgen: --band applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
 expect 1 "x.xyz: unknown field format '.xyz'; known: .sdf, .npy, .npz, .vdb, .nrrd" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.xyz" --res 4
 expect fail '' -- test -e "$work/x.xyz"
+# Channels beside the distance: into .npz and .vdb; refused up front, in one line naming the way
+# out, for formats that hold the distance only, for methods that find no nearest triangle, and
+# for unknown names.
+expect 0 '^channels: sdf,gradient,closest,triangle$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/ch.npz" --res 8 --channels sdf,gradient,closest,triangle
+expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/ch.npz"
+expect 0 '^channels: sdf,triangle$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/ch.vdb" --res 8 --channels triangle --band 2
+for ext in sdf npy nrrd; do
+  expect 1 "^sdfgen: $work/ch.$ext: .$ext holds the distance \(sdf\) only; for channels gradient write .npz or .vdb$" -- \
+    "$sdfgen" bake "$work/tet.obj" -o "$work/ch.$ext" --res 8 --channels gradient
+  expect fail '' -- test -e "$work/ch.$ext"
+done
+expect 1 '^sdfgen: channels closest: only the exact method finds the nearest triangle they come from; --method rays gives the distance \(sdf\) only$' -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels closest --method rays
+expect 1 "^sdfgen: unknown channel 'normals' \(expected a comma-separated list of sdf, gradient, closest, triangle\)$" -- \
+  "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels sdf,normals
+# A target that is not a regular file (a pipe) gets the archive written through.
+mkfifo "$work/pipe.npz"
+timeout 20 cat "$work/pipe.npz" >"$work/piped.npz" &
+reader=$!
+expect 0 'voxels/s' -- timeout 20 "$sdfgen" bake "$work/tet.obj" -o "$work/pipe.npz" --res 8 --channels gradient
+wait $reader
+expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/piped.npz"
+expect 0 '10 samples' -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/ch-samples.npz" --channels gradient,triangle
+expect 1 "^sdfgen: unknown channel 'normals'" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/x.npz" --channels normals
 printf 'not numpy' >"$work/bad.npy"
 expect 1 "^sdfgen: $work/bad.npy: not a NumPy .npy file" -- "$sdfgen" compare "$work/bad.npy" "$work/tet.npy"
 # Meshes in other formats (assimp-utils writes them when installed).
@@ -252,14 +276,99 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
 else
   echo "cli: skipped the full-disk test (cannot mount a tmpfs here)"
 fi
-# Inside out: every face of the tetrahedron flipped. Auto finds it and fixes the signs; an
-# explicit sign follows the faces, with a warning.
+# Inside out: every face of the tetrahedron flipped. Auto finds it and fixes the signs; the
+# winding sign (|w| > 1/2) needs no fix; an explicit pseudonormal follows the faces, with a warning.
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' >"$work/inside-out.obj"
 expect 0 'inside out \(negative volume\)' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'auto chose pseudonormal: .*; the mesh is inside out' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/inside-out.sdf"
-expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign winding follows the faces' -- \
-  "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign winding
+expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign pseudonormal follows the faces' -- \
+  "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign pseudonormal
+check 'the winding sign warns of no inside-out mesh' sh -c '! "$1" bake "$2" -o "$3" --res 8 --sign winding 2>&1 | grep warning' \
+  sh "$sdfgen" "$work/inside-out.obj" "$work/x.sdf"
+expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/x.sdf"
+
+# Every command refuses an output that is one of its inputs, directly or through a link, before any work.
+for link in keep.obj keep-link.obj keep-hard.obj; do
+  expect 1 "$link: is the input file .*keep.obj; refusing to overwrite it" -- "$sdfgen" surface "$work/keep.obj" -o "$work/$link" --res 8
+  expect 1 "$link: is the input file .*keep.obj; refusing to overwrite it" -- "$sdfgen" sample "$work/keep.obj" -n 10 -o "$work/$link"
+done
+"$sdfgen" bake "$work/tet.obj" -o "$work/field.sdf" --res 8 >/dev/null
+ln -s field.sdf "$work/field-link.obj"
+expect 1 "field-link.obj: is the input file .*field.sdf; refusing" -- "$sdfgen" surface "$work/field.sdf" -o "$work/field-link.obj"
+expect 1 "refusing to overwrite it" -- "$sdfgen" query "$work/keep.obj" "$work/keep.obj" -o "$work/keep-link.obj"
+expect 0 '' -- cmp "$work/tet.obj" "$work/keep.obj"
+expect 0 '^dims 8 8 8$' -- sed -n 3p "$work/field.sdf"
+# A not-yet-existing output that names an input by another path (dir/../name) is refused too.
+expect 1 "refusing to overwrite it" -- "$sdfgen" sample "$work/keep.obj" -n 10 -o "$work/sub/../keep.obj"
+# A surface that cannot be a valid mesh (a voxel of 1e300: float positions overflow) is refused
+# before the old output is touched.
+sed 's/^voxel .*/voxel 1e300/' "$work/field.sdf" >"$work/huge-voxel.sdf"
+echo old >"$work/surface-old.obj"
+expect 1 "^sdfgen: .*huge-voxel.sdf: " -- "$sdfgen" surface "$work/huge-voxel.sdf" -o "$work/surface-old.obj"
+expect 0 '^old$' -- cat "$work/surface-old.obj"
+expect 0 'mesh check of the output' -- "$sdfgen" surface "$work/field.sdf" -o "$work/surface-new.obj"
+# A mesh far beyond float range: the error names the file and its extent.
+printf 'v -1e38 0 0\nv 1e38 0 0\nv 0 1e38 0\nv 0 0 1e38\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/huge.obj"
+expect 1 "^sdfgen: .*huge.obj: the mesh is 2e\+38 across; with padding 0.1 its grid would be 2.4e\+38 across" -- \
+  "$sdfgen" bake "$work/huge.obj" -o "$work/x.sdf" --res 8
+
+# Numeric options: NaN, infinities and values out of range are refused by every option of every
+# command, at parsing (the numeric options are read from each command's --help).
+printf 'tet.obj\n' >"$work/list.txt"
+declare -A base=(
+  [bake]="$work/tet.obj -o $work/never.sdf"
+  [render]="$work/tet.obj -o $work/never.png"
+  [surface]="$work/tet.obj -o $work/never.obj"
+  [query]="$work/tet.obj $work/points.npy -o $work/never.npy"
+  [sample]="$work/tet.obj -n 10 -o $work/never.npz"
+  [batch]="$work/list.txt --out $work/never"
+  [bench]="$work/tet.obj"
+  [compare]="$work/field.sdf $work/field.sdf"
+)
+numeric_options=0
+for command in "${!base[@]}"; do
+  "$sdfgen" "$command" --help >"$work/help.txt" 2>&1 || continue
+  for option in $(grep -oE -- '--[a-z-]+ (INT|UINT|FLOAT)' "$work/help.txt" | cut -d' ' -f1 | sort -u); do
+    numeric_options=$((numeric_options + 1))
+    for value in nan inf -inf 1e999; do
+      # shellcheck disable=SC2086 # the base arguments are words
+      expect fail "$option" -- "$sdfgen" "$command" ${base[$command]} "$option=$value"
+    done
+  done
+done
+expect 0 '' -- test "$numeric_options" -ge 30
+expect 1 '' -- test -e "$work/never.sdf" -o -e "$work/never.npz" -o -e "$work/never.obj" -o -e "$work/never"
+for command in bake surface query sample batch bench; do
+  expect fail "^--threads: Value 1025 not in range 0 to 1024" -- "$sdfgen" "$command" ${base[$command]} --threads 1025
+done
+# Seeds are whole numbers in 0..2^64-1: negative and too large ones are refused, not saturated.
+expect fail "^--seed: '-1' is not a whole number from 0 to 18446744073709551615" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed -1
+expect fail "^--seed: '18446744073709551616' is not a whole number" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed 18446744073709551616
+expect fail "^--seed: '1e3' is not a whole number" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed 1e3
+expect 0 'seed 18446744073709551615' -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/s.npz" --seed 18446744073709551615
+expect fail "^--count: '0' is not a whole number from 1" -- "$sdfgen" sample "$work/tet.obj" -n 0 -o "$work/s.npz"
+# 2^34 samples (about 832 GiB at the peak) are refused by the memory check before anything is allocated.
+expect 1 "^sdfgen: .*tet.obj: 17179869184 samples need about 851968 MiB but only [0-9]+ MiB of memory is available" -- \
+  timeout 20 "$sdfgen" sample "$work/tet.obj" -n 17179869184 -o "$work/s.npz"
+
+# Warnings reach the user from every command: two zero-area triangles are dropped, and said so.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 1 2\nf 2 3 3\n' >"$work/degenerate.obj"
+warned='^sdfgen: warning: .*degenerate.obj: dropped 2 zero-area triangles$'
+expect 0 "$warned" -- "$sdfgen" bake "$work/degenerate.obj" -o "$work/d.sdf" --res 8
+expect 0 "$warned" -- "$sdfgen" surface "$work/degenerate.obj" -o "$work/d.obj" --res 8
+expect 0 "$warned" -- "$sdfgen" sample "$work/degenerate.obj" -n 10 -o "$work/d.npz"
+expect 0 "$warned" -- "$sdfgen" bench "$work/degenerate.obj" --res 8
+vexpect 0 "$warned" -- env ASAN_OPTIONS=detect_leaks=0 "$sdfgen" render "$work/degenerate.obj" --view mesh --size 16x16 -o "$work/d.png"
+# (N, 3) float64 points in .npy: one point at the origin.
+{ printf '\x93NUMPY\x01\x00\x76\x00'; printf '%-117s\n' "{'descr': '<f8', 'fortran_order': False, 'shape': (1, 3), }"; head -c 24 /dev/zero; } >"$work/origin.npy"
+expect 0 "$warned" -- "$sdfgen" query "$work/degenerate.obj" "$work/origin.npy" -o "$work/d.npy"
+# A point 1e300 away: refused with the reason (the search cannot answer it exactly), never an inf.
+{ printf '\x93NUMPY\x01\x00\x76\x00'; printf '%-117s\n' "{'descr': '<f8', 'fortran_order': False, 'shape': (1, 3), }"
+  printf '\x9c\x75\x00\x88\x3c\xe4\x37\x7e'; head -c 16 /dev/zero; } >"$work/far.npy"
+expect 1 "^sdfgen: .*tet.obj: query point 0 \(1e\+300, 0, 0\) is 1e\+300 mesh sizes from the mesh's bounding box; points are answered up to 10000 mesh sizes away" -- \
+  "$sdfgen" query "$work/tet.obj" "$work/far.npy" -o "$work/far-out.npy"
+expect 1 '' -- test -e "$work/far-out.npy"
 
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

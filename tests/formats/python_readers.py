@@ -80,6 +80,51 @@ with tempfile.TemporaryDirectory() as folder:
         i, j, k = 3, 5, 7
         check(np.allclose(positions[i, j, k], ref["origin"] + (np.array([i, j, k]) + 0.5) * h, rtol=0, atol=tolerance), "position of sample (3, 5, 7)")
         print(f"numpy reads .npy and .npz: {nx}x{ny}x{nz} samples equal the text file's")
+
+        # Channels: the same distances, and arrays that agree with them and with the mesh.
+        c = np.load(bake("channels.npz", "--channels", "sdf,gradient,closest,triangle"))
+        check(set(c.files) == set(z.files) | {"gradient", "closest", "triangle"}, f"channel members {c.files}")
+        check(np.array_equal(c["sdf"], ref["field"]), "the sdf with channels equals the text file's values")
+        gradient, closest, triangle = c["gradient"], c["closest"], c["triangle"]
+        check(gradient.dtype == np.float32 and gradient.shape == (nx, ny, nz, 3), f"gradient {gradient.dtype} {gradient.shape}")
+        check(closest.dtype == np.float32 and closest.shape == (nx, ny, nz, 3), f"closest {closest.dtype} {closest.shape}")
+        check(triangle.dtype == np.int32 and triangle.shape == (nx, ny, nz), f"triangle {triangle.dtype} {triangle.shape}")
+        away = positions - closest
+        distance = np.linalg.norm(away, axis=-1)
+        check(np.allclose(distance, np.abs(c["sdf"]), rtol=1e-5, atol=1e-5 * h), "|position - closest| is the distance")
+        expected = away / distance[..., None] * np.sign(c["sdf"])[..., None]
+        far = distance > 0.1 * h  # where the float closest point still gives the direction to 1e-5
+        check(np.allclose(gradient[far], expected[far], atol=1e-5), "gradient = sign * (position - closest) / distance")
+        check(np.allclose(np.linalg.norm(gradient, axis=-1), 1, atol=1e-6), "gradient is a unit vector")
+        vertices, faces = [], []
+        with open(MESH) as f:
+            for line in f:
+                if line.startswith("v "):
+                    vertices.append([float(x) for x in line.split()[1:4]])
+                elif line.startswith("f "):
+                    faces.append([int(x.split("/")[0]) - 1 for x in line.split()[1:4]])
+        vertices, faces = np.array(vertices), np.array(faces)
+        check(triangle.min() >= 0 and triangle.max() < len(faces), "triangle indices index the mesh's faces")
+        # The closest point lies on its triangle: barycentric weights >= 0 that rebuild it.
+        a, b, t = (vertices[faces[triangle, corner]] for corner in range(3))
+        e1, e2, q = b - a, t - a, closest - a
+        d11, d12, d22 = (e1 * e1).sum(-1), (e1 * e2).sum(-1), (e2 * e2).sum(-1)
+        q1, q2 = (q * e1).sum(-1), (q * e2).sum(-1)
+        det = d11 * d22 - d12 * d12
+        u, v = (d22 * q1 - d12 * q2) / det, (d11 * q2 - d12 * q1) / det
+        rebuilt = a + u[..., None] * e1 + v[..., None] * e2
+        check(np.abs(rebuilt - closest).max() < 1e-5 and min(u.min(), v.min(), (1 - u - v).min()) > -1e-4, "closest lies on its triangle")
+
+        s = os.path.join(folder, "samples.npz")
+        subprocess.run([sdfgen, "sample", MESH, "-n", "500", "-o", s, "--channels", "gradient,closest,triangle"], check=True,
+                       stdout=subprocess.DEVNULL)
+        samples = np.load(s)
+        check(set(samples.files) == {"points", "sdf", "gradient", "closest", "triangle"}, f"sample members {samples.files}")
+        check(samples["gradient"].shape == (500, 3) and samples["gradient"].dtype == np.float32, "samples' gradient (n, 3) float32")
+        check(samples["triangle"].shape == (500,) and samples["triangle"].dtype == np.int32, "samples' triangle (n,) int32")
+        check(np.allclose(np.linalg.norm(samples["points"] - samples["closest"], axis=-1), np.abs(samples["sdf"]), rtol=1e-4, atol=1e-5),
+              "samples' |point - closest| is the distance")
+        print("numpy reads the channels of .npz fields and samples: they agree with the distances and the mesh")
     elif mode == "teem":
         nrrd = bake("f.nrrd")
         header = subprocess.run(["teem-unu", "head", nrrd], check=True, capture_output=True, text=True).stdout
@@ -108,3 +153,22 @@ with tempfile.TemporaryDirectory() as folder:
         near = int(np.count_nonzero(np.abs(ref["field"]) < np.float32(2 * h)))
         check(band.activeVoxelCount() == near, f"band: {band.activeVoxelCount()} active voxels, {near} within 2 voxels")
         print(f"pyopenvdb reads .vdb: {nx}x{ny}x{nz} samples equal the text file's; --band 2 keeps {near}")
+
+        # Channels: grids of their names beside "surface", at the same voxels, holding the .npz's arrays.
+        channels = np.load(bake("channels.npz", "--channels", "gradient,closest,triangle"))
+        for band in ("0", "2"):
+            path = bake(f"channels{band}.vdb", "--channels", "gradient,closest,triangle", "--band", band)
+            # (Debian's pyopenvdb reads float, bool and Vec3S grids only, not the Int32Grid "triangle".)
+            surface = vdb.read(path, "surface")
+            for name in ("gradient", "closest"):
+                grid = vdb.read(path, name)
+                check(isinstance(grid, vdb.Vec3SGrid), f"{name} is a Vec3SGrid")
+                check(grid.activeVoxelCount() == surface.activeVoxelCount(), f"{name}: the surface grid's active voxels")
+                accessor, active = grid.getConstAccessor(), surface.getConstAccessor()
+                for i in range(nx):
+                    for j in range(ny):
+                        for k in range(nz):
+                            if active.isValueOn((i, j, k)):
+                                check(np.array_equal(np.array(accessor.getValue((i, j, k)), dtype=np.float32), channels[name][i, j, k]),
+                                      f"{name} at ({i}, {j}, {k})")
+        print("pyopenvdb reads the gradient and closest grids of .vdb fields: they equal the .npz's arrays")

@@ -81,7 +81,7 @@ struct Shape {
 };
 
 std::vector<Shape> shapes() {
-    const Mesh sphere = test::icosphere(1.0f, 2);
+    const Mesh sphere = test::icosphere(1.0f, 2), small = test::icosphere(0.6f, 2);
     return {
         {"icosphere (closed)", sphere, 16},
         {"box (closed, faces on grid planes)", test::box({1.0f, 0.5f, 0.25f}), 16},
@@ -98,6 +98,14 @@ std::vector<Shape> shapes() {
         {"holed torus, every triangle three times", repeated(cutOpen(test::torus(1.0f, 0.3f, 16, 8), {0, 0, 1}, 0.1f), 3), 14},
         {"closed sphere, every triangle twice", repeated(sphere, 2), 12},
         {"inside-out torus (auto flips the pseudonormal sign)", moved(test::torus(1.0f, 0.3f, 24, 12), {0, 0, 0}, true), 14},
+        // The inside rule |w| > 1/2: parts inside out are solid (w = -1), a reversed inner shell's cavity
+        // is empty, opposite copies cancel where they overlap.
+        {"sphere beside a smaller one inside out", combined("beside", {moved(sphere, {-1.2f, 0, 0}, false), moved(small, {1.0f, 0, 0}, true)}), 16},
+        {"hollow sphere (inner shell reversed)", combined("hollow", {sphere, moved(small, {0, 0, 0}, true)}), 16},
+        {"sphere overlapped by a smaller one inside out", combined("overlapped", {sphere, moved(small, {0.8f, 0, 0}, true)}), 16},
+        {"sphere and its reversed copy", combined("opposite copies", {sphere, moved(sphere, {0, 0, 0}, true)}), 12},
+        {"inside-out sphere with a hole", moved(cutOpen(sphere, {0, 1, 0}, 0.8f), {0, 0, 0}, true), 16},
+        {"inside-out sheet beside a closed sphere", combined("sheet", {moved(small, {0, 0, -1.0f}, false), moved(cutOpen(sphere, {0, 1, 0}, 0.0f), {0, 0, 1.0f}, true)}), 16},
     };
 }
 
@@ -259,7 +267,7 @@ TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
             weights.push_back(cap.weight);
         }
     }
-    const WindingFans fans = caps.flattened(1);
+    const WindingFans fans = caps.flattened();
     ComputeDevice* device = selectComputeDevice(Device::Gpu);
     ASSERT_NE(device, nullptr);
     // Two samples 2.5e-7 and 1.5e-7 below the centre of the missing face, and one far outside.
@@ -281,6 +289,53 @@ TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
     far.origin = glm::dvec3(3.0, 3.0, 3.0);
     device->windingNumbers(open, corners, weights, &fans, far, {}, farSides);
     EXPECT_EQ(farSides, std::vector<std::uint8_t>(2, 0));
+}
+
+// The device decides |w| > 1/2 itself, on either side of zero: inside an inside-out sphere with a
+// hole (w near -1) its sides say inside, outside (w near 0) outside, each the CPU's answer, and
+// few samples are left to the CPU.
+TEST_F(Gpu, DecidesInsideOutPartsByTheMagnitudeOfW) {
+    const Mesh open = moved(cutOpen(test::icosphere(1.0f, 2), {0, 1, 0}, 0.8f), {0, 0, 0}, true);
+    const MeshTopology topology(open);
+    const WindingCaps caps(topology);
+    ASSERT_FALSE(caps.empty());
+    std::vector<glm::dvec3> corners;
+    std::vector<std::int32_t> weights;
+    for (std::uint32_t t = 0; t < open.triangleCount(); ++t) {
+        corners.insert(corners.end(), {glm::dvec3(open.vertex(t, 0)), glm::dvec3(open.vertex(t, 1)), glm::dvec3(open.vertex(t, 2))});
+        weights.push_back(1);
+    }
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            corners.insert(corners.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+            weights.push_back(cap.weight);
+        }
+    }
+    const WindingFans fans = caps.flattened();
+    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ASSERT_NE(device, nullptr);
+    const Grid grid = makeGrid(open.worldBounds(), 16, 0.1);
+    std::vector<std::uint8_t> sides;
+    const std::vector<std::int32_t> ahead = device->windingNumbers(open, corners, weights, &fans, grid, {}, sides);
+    std::size_t inside = 0, outside = 0, undecided = 0;
+    for (int k = 0; k < grid.dims.z; ++k)
+        for (int j = 0; j < grid.dims.y; ++j)
+            for (int i = 0; i < grid.dims.x; ++i) {
+                const std::size_t index = grid.index(i, j, k);
+                if (sides[index] == 2) {
+                    ++undecided;
+                    continue;
+                }
+                const glm::dvec3 p = localPosition(open, grid, i, j, k);
+                ASSERT_EQ(bool(sides[index]), caps.inside(p, ahead[index])) << i << "," << j << "," << k << ": w = " << caps.winding(p, ahead[index]);
+                (sides[index] ? inside : outside) += 1;
+                if (sides[index]) {
+                    EXPECT_LT(caps.winding(p, ahead[index]), -0.5);
+                }
+            }
+    EXPECT_GT(inside, grid.sampleCount() / 10);
+    EXPECT_GT(outside, grid.sampleCount() / 10);
+    EXPECT_LT(undecided, grid.sampleCount() / 100);
 }
 
 TEST_F(Gpu, IsDeterministic) {

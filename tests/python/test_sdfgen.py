@@ -207,6 +207,58 @@ def test_errors_carry_the_one_line_message(tmp_path):
         sdfgen.load_field(str(bad))
 
 
+def test_threads_are_limited_like_the_command_line(bunny):
+    # --threads takes 0..1024; so does every call here (TBB cannot set up an arena of 100000).
+    for threads in (100000, 1025, -1):
+        with pytest.raises(sdfgen.Error, match="threads must be from 0 \\(all cores\\) to 1024, not " + str(threads)):
+            sdfgen.Mesh(TET_VERTICES, TET_FACES, threads=threads)
+        with pytest.raises(sdfgen.Error, match="threads must be"):
+            sdfgen.bake(bunny, res=8, threads=threads)
+        with pytest.raises(sdfgen.Error, match="threads must be"):
+            bunny.signed_distance(np.zeros((1, 3)), threads=threads)
+        with pytest.raises(sdfgen.Error, match="threads must be"):
+            sdfgen.sample(bunny, 10, threads=threads)
+    assert bunny.signed_distance(np.zeros((1, 3)), threads=1024).shape == (1,)
+
+
+def test_far_points_are_refused_not_answered_wrongly(bunny):
+    lo, hi = (np.array(b) for b in bunny.bounds)
+    size = np.max(hi - lo)
+    near = np.array([[hi[0] + 9000 * size, 0.0, 0.0]])
+    assert bunny.signed_distance(near)[0] > 0
+    with pytest.raises(sdfgen.Error, match=r"bunny.obj: query point 0 \(1e\+300, 0, 0\) is .* mesh sizes from the mesh's bounding box"):
+        bunny.signed_distance(np.array([[1e300, 0.0, 0.0]]))
+
+
+def test_unsigned_face_indices_are_shown_as_they_are():
+    faces = TET_FACES.astype(np.uint64)
+    faces[1, 2] = np.uint64(2**64 - 1)
+    with pytest.raises(sdfgen.Error, match="face 1 has vertex index 18446744073709551615, outside 0..3"):
+        sdfgen.Mesh(TET_VERTICES, faces, name="unsigned")
+
+
+def test_warnings_are_issued_as_sdfgen_warnings(tmp_path):
+    assert issubclass(sdfgen.Warning, UserWarning)
+    # Two zero-area triangles: dropped, with a warning at the load.
+    degenerate = tmp_path / "degenerate.obj"
+    degenerate.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 1 2\nf 2 3 3\n")
+    with pytest.warns(sdfgen.Warning, match="degenerate.obj: dropped 2 zero-area triangles"):
+        mesh = sdfgen.Mesh.load(str(degenerate))
+    assert mesh.dropped_degenerate == 2
+    # A bake's warnings, also kept on the field: a pseudonormal sign asked for on a mesh inside out.
+    inverted = sdfgen.Mesh(TET_VERTICES, TET_FACES[:, ::-1].copy(), name="inverted")
+    with pytest.warns(sdfgen.Warning, match="inverted: the mesh is inside out") as record:
+        field = sdfgen.bake(inverted, res=8, sign="pseudonormal")
+    assert field.warnings and all("inverted: " + w in [str(r.message) for r in record] for w in field.warnings)
+    assert sdfgen.bake(sdfgen.Mesh(TET_VERTICES, TET_FACES), res=8).warnings == []
+    # A filter can make them errors.
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", sdfgen.Warning)
+        with pytest.raises(sdfgen.Warning):
+            sdfgen.Mesh.load(str(degenerate))
+
+
 @pytest.mark.parametrize("extension", [".sdf", ".npz"])
 def test_save_and_load_round_trip(tmp_path, extension):
     mesh = sdfgen.Mesh(TET_VERTICES, TET_FACES)

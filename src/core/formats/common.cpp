@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <tuple>
 
 namespace sdfgen::formats {
 
@@ -31,6 +32,13 @@ void checkValuesAndNames(const Field& field, const std::string& path) {
     }
     for (std::size_t i = 0; i < field.values.size(); ++i) {
         if (!std::isfinite(field.values[i])) throw Error(path + ": value " + std::to_string(i) + " is not finite");
+    }
+    const std::size_t n = field.grid.sampleCount();
+    for (const auto& [name, size, per] : {std::tuple{"gradient", field.gradient.size(), 3}, {"closest", field.closest.size(), 3},
+                                          {"triangle", field.triangle.size(), 1}}) {
+        if (size != 0 && size != std::size_t(per) * n) {
+            throw Error(path + ": the " + name + " channel has " + std::to_string(size) + " values for a grid of " + std::to_string(n));
+        }
     }
     if (field.source.find_first_of("\r\n") != std::string::npos) throw Error(path + ": source name has a line break");
     if (!isToken(field.method)) throw Error(path + ": method name '" + field.method + "' is not a single word");

@@ -1,6 +1,7 @@
 // NumPy .npz: a zip archive (stored, uncompressed, as numpy.savez writes it) of .npy members:
 // sdf (the values, as in .npy), origin (3, float64), voxel_size (float64 scalar), dims (3, int64),
-// method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k).
+// method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k). A field
+// with channels adds gradient and closest ((nx, ny, nz, 3) float32) and triangle ((nx, ny, nz) int32).
 #include "core/formats/format.hpp"
 #include "core/atomic_file.hpp"
 #include "core/formats/npy.hpp"
@@ -10,9 +11,11 @@
 
 #include <cerrno>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <cstring>
 #include <memory>
+#include <utility>
 
 namespace sdfgen::formats {
 
@@ -36,15 +39,9 @@ std::string zipProblem(zip_error_t* error) {
     return text;
 }
 
-// The archive in memory, as numpy.savez lays it out.
-std::string buildArchive(const std::vector<NpzMember>& members, const std::string& path) {
-    zip_error_t error;
-    zip_error_init(&error);
-    std::unique_ptr<zip_source_t, ZipSourceFree> buffer(zip_source_buffer_create(nullptr, 0, 0, &error));
-    if (!buffer) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
-    zip_t* archive = zip_open_from_source(buffer.get(), ZIP_CREATE | ZIP_TRUNCATE, &error);
-    if (!archive) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
-    zip_source_keep(buffer.get()); // the archive releases its reference on close; the bytes stay here
+// Adds the members to `archive` as numpy.savez lays them out (stored, uncompressed) and closes it,
+// which writes it out. The members' data is read where it lies, not copied first.
+void addMembersAndClose(zip_t* archive, const std::vector<NpzMember>& members, const std::string& path) {
     for (const NpzMember& m : members) {
         // The field's values go in as they are, behind their header (libzip only reads fragments).
         const zip_buffer_fragment_t fragments[2] = {
@@ -65,6 +62,19 @@ std::string buildArchive(const std::vector<NpzMember>& members, const std::strin
         zip_discard(archive);
         throw Error(path + ": cannot write the archive (" + problem + ")");
     }
+}
+
+// The archive in memory, for a target that is not a regular file (a pipe, /dev/stdout), which
+// libzip cannot write in place.
+std::string buildArchive(const std::vector<NpzMember>& members, const std::string& path) {
+    zip_error_t error;
+    zip_error_init(&error);
+    std::unique_ptr<zip_source_t, ZipSourceFree> buffer(zip_source_buffer_create(nullptr, 0, 0, &error));
+    if (!buffer) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
+    zip_t* archive = zip_open_from_source(buffer.get(), ZIP_CREATE | ZIP_TRUNCATE, &error);
+    if (!archive) throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
+    zip_source_keep(buffer.get()); // the archive releases its reference on close; the bytes stay here
+    addMembersAndClose(archive, members, path);
     zip_stat_t stat;
     if (zip_source_stat(buffer.get(), &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE) || zip_source_open(buffer.get()) != 0) {
         throw Error(path + ": cannot read back the archive built in memory");
@@ -145,14 +155,33 @@ private:
 } // namespace
 
 void writeNpz(const std::string& path, const std::vector<NpzMember>& members) {
-    const std::string archive = buildArchive(members, path);
-    writeFileAtomically(path, [&](std::ostream& out) { out.write(archive.data(), std::streamsize(archive.size())); });
+    // Written by libzip straight into the temporary file: an archive built in memory first would
+    // hold a copy of every member (the channels of a res-256 field: 400 MB more, and seconds).
+    writeFileAtomicallyAt(path, [&](const std::string& target) {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(target, ec)) {
+            const std::string archive = buildArchive(members, path);
+            std::ofstream out(target, std::ios::binary);
+            out.write(archive.data(), std::streamsize(archive.size()));
+            out.flush();
+            if (!out) throw Error(path + ": cannot write (" + std::strerror(errno) + ")");
+            return;
+        }
+        int code = 0;
+        zip_t* archive = zip_open(target.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &code);
+        if (!archive) {
+            zip_error_t error;
+            zip_error_init_with_code(&error, code);
+            throw Error(path + ": cannot create the archive (" + zipProblem(&error) + ")");
+        }
+        addMembersAndClose(archive, members, path);
+    });
 }
 
 void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const Grid& g = field.grid;
-    const std::vector<NpzMember> members = {
+    std::vector<NpzMember> members = {
         {"sdf.npy", npyFieldHeader(field), field.values.data(), field.values.size() * sizeof(float)},
         {"origin.npy", npyFloat64Array({double(g.origin.x), double(g.origin.y), double(g.origin.z)}, false)},
         {"voxel_size.npy", npyFloat64Array({double(g.voxel)}, true)},
@@ -160,6 +189,14 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
         {"method.npy", npyUnicodeScalar(methodLine(field))},
         {"source.npy", npyUnicodeScalar(field.source)},
     };
+    // The channels in Fortran order, as sdf: the planar buffers as they are (component last).
+    const std::uint64_t nx = std::uint64_t(g.dims.x), ny = std::uint64_t(g.dims.y), nz = std::uint64_t(g.dims.z);
+    for (const auto& [name, vector] : {std::pair{"gradient.npy", &field.gradient}, {"closest.npy", &field.closest}}) {
+        if (!vector->empty()) members.push_back({name, npyHeader("<f4", true, {nx, ny, nz, 3}), vector->data(), vector->size() * sizeof(float)});
+    }
+    if (!field.triangle.empty()) {
+        members.push_back({"triangle.npy", npyHeader("<i4", true, {nx, ny, nz}), field.triangle.data(), field.triangle.size() * sizeof(std::int32_t)});
+    }
     writeNpz(path, members);
 }
 

@@ -13,11 +13,12 @@ namespace formats {
 
 const std::vector<FieldFormat>& fieldFormats() {
     static const std::vector<FieldFormat> table = {
-        {".sdf", "sdfgen text (docs/field-format.md)", saveText, loadText},
-        {".npy", "NumPy float32 array (nx, ny, nz), values only", saveNpy, loadNpy},
-        {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source", saveNpz, loadNpz},
-        {".vdb", "OpenVDB FloatGrid 'surface', level set class", saveVdb, loadVdb},
-        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", saveNrrd, loadNrrd},
+        {".sdf", "sdfgen text (docs/field-format.md)", false, saveText, loadText},
+        {".npy", "NumPy float32 array (nx, ny, nz), values only", false, saveNpy, loadNpy},
+        {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source, and any channels", true, saveNpz,
+         loadNpz},
+        {".vdb", "OpenVDB FloatGrid 'surface', level set class, and any channels as grids of their names", true, saveVdb, loadVdb},
+        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadNrrd},
     };
     return table;
 }
@@ -39,7 +40,20 @@ const FieldFormat& formatOf(const std::string& path) {
 } // namespace
 } // namespace formats
 
+void checkFormatHoldsChannels(const std::string& path, const Channels& channels) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    if (channels.any() && !format.holdsChannels) {
+        throw Error(path + ": " + format.extension + " holds the distance (sdf) only; for channels " + toString(channels).substr(4) +
+                    " write .npz or .vdb");
+    }
+}
+
 void saveField(const Field& field, const std::string& path, const SaveOptions& options) {
+    Channels channels;
+    channels.gradient = !field.gradient.empty();
+    channels.closest = !field.closest.empty();
+    channels.triangle = !field.triangle.empty();
+    checkFormatHoldsChannels(path, channels);
     formats::formatOf(path).save(field, path, options);
 }
 
