@@ -263,10 +263,11 @@ group "bench"
    end
 group ""
 
--- The Python module `sdfgen` (pybind11 + numpy) for Debian's /usr/bin/python3, built into
--- bin/CONFIG/python/ (PYTHONPATH=that folder). The interpreter names its header folder and the
--- module's file suffix (sdfgen.cpython-311-x86_64-linux-gnu.so); not with the sanitizers, whose
--- runtime the interpreter would need preloaded.
+-- The Python package `sdfgen` (pybind11 + numpy) for Debian's /usr/bin/python3: the compiled
+-- sdfgen._sdfgen with the package's Python files beside it in bin/CONFIG/python/sdfgen/
+-- (PYTHONPATH=bin/CONFIG/python). The interpreter names its header folder and the module's file
+-- suffix (_sdfgen.cpython-311-x86_64-linux-gnu.so); not with the sanitizers, whose runtime the
+-- interpreter would need preloaded.
 local python = "/usr/bin/python3"
 if not _OPTIONS["no-python"] and not _OPTIONS["sanitize"] and os.isfile(python) then
    local function python_value(expression)
@@ -280,13 +281,14 @@ if not _OPTIONS["no-python"] and not _OPTIONS["sanitize"] and os.isfile(python) 
    end
    project "sdfgen_python"
       kind "SharedLib"
-      targetdir (SDFGEN_BUILD_DIR .. "/bin/%{cfg.buildcfg}/python")
-      targetname "sdfgen"
+      targetdir (SDFGEN_BUILD_DIR .. "/bin/%{cfg.buildcfg}/python/sdfgen")
+      targetname "_sdfgen"
       targetprefix ""
       targetextension (suffix)
       visibility "Hidden"
       inlinesvisibility "Hidden"
-      files { "python/module.cpp" }
+      files { "python/module.cpp", "python/nearest.cpp" }
+      postbuildcommands { "{COPYFILE} " .. SDFGEN_ROOT .. "/python/sdfgen/*.py %{cfg.targetdir}" }
       externalincludedirs { include_dir }
       sdfgen_needs_plugins()
       if SDFGEN_VIEWER then
@@ -317,6 +319,7 @@ if not _OPTIONS["no-tests"] then
       if SDFGEN_OPENVDB then
          sdfgen_use_openvdb()   -- the format tests read VDB files themselves
       end
+      links { "zip" }   -- the field reader tests write hostile .npz archives themselves
       links { "gmpxx", "gmp" }   -- GMP's rationals, the exact reference of the predicate tests
 
    if SDFGEN_VIEWER then

@@ -11,10 +11,10 @@ ctest --test-dir build --output-on-failure -j "$jobs"
 # viewer, and Mesa's llvmpipe is not built with the sanitizers anyway; the install test links a
 # consumer without them. It is clang's, with the libFuzzer harnesses (-DSDFGEN_FUZZ=ON), so that
 # the unit tests and the fuzzers share one instrumented build of the core.
-scripts/build-sanitize.sh -- sdfgen sdfgen_tests fuzz_obj fuzz_field fuzz_bake
+scripts/build-sanitize.sh -- sdfgen sdfgen_tests fuzz_obj fuzz_field fuzz_npy fuzz_npz fuzz_nrrd fuzz_vdb fuzz_bake
 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -LE "render|gui|gpu|install"
-# libFuzzer harnesses (OBJ loader, field reader, load -> tree -> bake), about 15 s of CPU each, from
-# the seed corpus in tests/fuzz/corpus: side by side on up to three cores, so each runs 45 s / cores
-# (23 s on 2 cores rather than 15 s each one after another). tests/fuzz/run.sh 2h runs them for hours.
-fuzz_cores=$(( jobs < 3 ? jobs : 3 ))
-tests/fuzz/run.sh --parallel "$(( (45 + fuzz_cores - 1) / fuzz_cores ))s"
+# libFuzzer harnesses (each mesh and field reader, load -> tree -> bake), about 15 s of CPU each,
+# from the seed corpus in tests/fuzz/corpus, side by side on every core. tests/fuzz/run.sh 2h runs
+# them for hours.
+fuzz_count=$(tests/fuzz/run.sh --count)
+tests/fuzz/run.sh --parallel "$(( (15 * fuzz_count + jobs - 1) / jobs ))s"

@@ -1,7 +1,11 @@
 #!/usr/bin/python3
 """Python point queries and sampling throughput:
     PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py [MESH] [--points 1000000] [--samples 500000] [--threads 0]
-Prints the settings and, for each call, seconds and points (or samples) per second."""
+        [--torch-repeats 5]
+Prints the settings and, for each call, seconds and points (or samples) per second. Then, when torch
+is installed, sdfgen.torch.signed_distance on the same points (forward with gradients kept, and the
+backward pass) against the numpy call and Open3D's RaycastingScene.compute_signed_distance (when
+python3-open3d is installed): the calls alternate, repeated, and the medians are compared."""
 import argparse
 import os
 import time
@@ -16,6 +20,7 @@ parser.add_argument("mesh", nargs="?", default=os.path.join(here, "..", "..", "s
 parser.add_argument("--points", type=int, default=1_000_000)
 parser.add_argument("--samples", type=int, default=500_000)
 parser.add_argument("--threads", type=int, default=0)
+parser.add_argument("--torch-repeats", type=int, default=5, help="rounds of the alternating torch comparison (0: skip it)")
 args = parser.parse_args()
 
 start = time.perf_counter()
@@ -40,3 +45,53 @@ timed("unsigned_distance", lambda: mesh.unsigned_distance(points, threads=args.t
 timed("closest_points", lambda: mesh.closest_points(points, threads=args.threads), args.points)
 timed("winding_number", lambda: mesh.winding_number(points, threads=args.threads), args.points)
 timed(f"sample (n={args.samples})", lambda: sdfgen.sample(mesh, args.samples, threads=args.threads), args.samples)
+
+try:
+    import torch
+    import sdfgen.torch
+except ImportError:
+    torch = None
+if torch is None or args.torch_repeats <= 0:
+    raise SystemExit(0)
+try:
+    import open3d as o3d
+    scene = o3d.t.geometry.RaycastingScene()
+    scene.add_triangles(o3d.core.Tensor(mesh.vertices.astype(np.float32)), o3d.core.Tensor(mesh.faces.astype(np.uint32)))
+    open3d_points = o3d.core.Tensor(points.astype(np.float32))
+except ImportError:
+    o3d = None
+
+print(f"sdfgen.torch against numpy{' and Open3D ' + o3d.__version__ if o3d else ''}: medians of {args.torch_repeats} alternating rounds,"
+      " wall-clock and CPU seconds (all threads; steadier on a busy machine)")
+wall, cpu = {}, {}
+def record(name, call):
+    start, start_cpu = time.perf_counter(), time.process_time()
+    result = call()
+    wall.setdefault(name, []).append(time.perf_counter() - start)
+    cpu.setdefault(name, []).append(time.process_time() - start_cpu)
+    return result
+
+tensor = torch.from_numpy(points)
+for _ in range(args.torch_repeats):
+    reference = record("numpy signed_distance", lambda: mesh.signed_distance(points, threads=args.threads))
+    queried = tensor.clone().requires_grad_(True)
+    distance = record("torch forward", lambda: sdfgen.torch.signed_distance(queried, mesh, threads=args.threads))
+    record("torch backward", lambda: distance.sum().backward())
+    record("torch forward, no grad", lambda: sdfgen.torch.signed_distance(tensor, mesh, threads=args.threads))
+    if o3d:
+        theirs = record("Open3D signed distance", lambda: scene.compute_signed_distance(open3d_points).numpy())
+assert np.array_equal(distance.detach().numpy().astype(np.float32), reference)
+median_wall = {name: float(np.median(times)) for name, times in wall.items()}
+median_cpu = {name: float(np.median(times)) for name, times in cpu.items()}
+for name in median_wall:
+    print(f"  {name:<24} {median_wall[name]:7.3f} s  {args.points / median_wall[name] / 1e6:6.3f} M/s   CPU {median_cpu[name]:7.3f} s")
+for label, median in (("wall", median_wall), ("CPU", median_cpu)):
+    line = (f"  {label}: torch forward / numpy {median['torch forward'] / median['numpy signed_distance']:.2f}x"
+            f" (no grad {median['torch forward, no grad'] / median['numpy signed_distance']:.2f}x),"
+            f" backward / forward {median['torch backward'] / median['torch forward']:.3f}x")
+    if o3d:
+        line += f", Open3D / torch forward {median['Open3D signed distance'] / median['torch forward']:.2f}x"
+    print(line)
+if o3d:
+    wrong = int(np.count_nonzero(np.signbit(theirs) != np.signbit(reference)))
+    print(f"  Open3D signs that differ from sdfgen's: {wrong} of {args.points} ({100 * wrong / args.points:.1f}%)")

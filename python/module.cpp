@@ -3,6 +3,7 @@
 // wakes every 50 ms to pass progress to Python and to check for Ctrl+C, which cancels the work.
 #include "sdfgen/sdfgen.hpp"
 #include "sdfgen/sample.hpp"
+#include "nearest.hpp"
 #if SDFGEN_PYTHON_GPU
 #include "gpu/gl_device.hpp"
 #endif
@@ -256,7 +257,8 @@ py::object channelView(const py::object& self, const std::vector<T>& planes, boo
 using namespace sdfgen;
 using namespace sdfgen::python;
 
-PYBIND11_MODULE(sdfgen, m) {
+// The compiled part of the package sdfgen (python/sdfgen/__init__.py re-exports it).
+PYBIND11_MODULE(_sdfgen, m) {
     m.doc() = "sdfgen: exact signed distance fields, point queries and DeepSDF-style samples from triangle meshes";
     m.attr("__version__") = "0.1.0";
 #if SDFGEN_PYTHON_GPU
@@ -364,6 +366,56 @@ PYBIND11_MODULE(sdfgen, m) {
         .def("__repr__", [](const PyMesh& m) {
             return "<sdfgen.Mesh " + m.model->mesh().source + ": " + std::to_string(m.model->mesh().triangleCount()) + " triangles>";
         });
+
+    // For sdfgen.torch (python/sdfgen/torch.py): the nearest-point terms of its values and gradients,
+    // flat per point (python/nearest.hpp); None for those not asked for. `vertices` (V, 3): the
+    // full-precision coordinates the mesh was built from; no sign gives unsigned distances.
+    m.def(
+        "_nearest_terms",
+        [](const PyMesh& mesh, const py::array& points, const std::optional<py::array>& vertices, const std::optional<std::string>& sign,
+           bool gradient, bool closest, bool features, int threads) {
+            std::vector<py::ssize_t> shape;
+            const auto p = pointsFrom(points, shape);
+            const std::size_t count = std::size_t(p.size() / 3);
+            std::optional<py::array_t<double, py::array::c_style>> v;
+            if (vertices) {
+                v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(*vertices);
+                if (!*v || v->ndim() != 2 || v->shape(1) != 3 || std::size_t(v->shape(0)) != mesh.model->mesh().positions.size()) {
+                    throw py::value_error("vertices must be the mesh's " + std::to_string(mesh.model->mesh().positions.size()) +
+                                          " vertices, of shape (V, 3)");
+                }
+            }
+            auto wanted = [count](bool want, std::size_t per) { return std::vector<double>(want ? per * count : 0); };
+            std::vector<double> distance(count), gradients = wanted(gradient, 3), closests = wanted(closest, 3),
+                                weights = wanted(features, 3);
+            std::vector<std::int64_t> corners(features ? 3 * count : 0);
+            std::vector<std::int8_t> featureSize(features ? count : 0);
+            NearestTerms out;
+            out.distance = distance.data();
+            if (gradient) out.gradient = gradients.data();
+            if (closest) out.closest = closests.data();
+            if (features) {
+                out.corners = corners.data();
+                out.weights = weights.data();
+                out.featureSize = featureSize.data();
+            }
+            const std::optional<SignMethod> method = sign ? std::optional<SignMethod>(signFrom(*sign)) : std::nullopt;
+            const double* data = p.data();
+            const double* coordinates = v ? v->data() : nullptr;
+            runReleased([&](const RunControl& control) {
+                measureNearest(*mesh.model, data, count, coordinates, method, out, control);
+                return 0;
+            }, threads);
+            const py::ssize_t n = py::ssize_t(count);
+            auto optional = [n](auto&& values, py::ssize_t per) -> py::object {
+                if (values.empty() && n > 0) return py::none();
+                return per == 1 ? py::object(toNumpy(std::move(values), {n})) : py::object(toNumpy(std::move(values), {n, per}));
+            };
+            return py::make_tuple(toNumpy(std::move(distance), {n}), optional(std::move(gradients), 3), optional(std::move(closests), 3),
+                                  optional(std::move(corners), 3), optional(std::move(weights), 3), optional(std::move(featureSize), 1));
+        },
+        py::arg("mesh"), py::arg("points"), py::arg("vertices") = py::none(), py::arg("sign") = py::none(), py::arg("gradient") = false,
+        py::arg("closest") = false, py::arg("features") = false, py::arg("threads") = 0);
 
     py::class_<PyField>(m, "Field", "A signed distance field on a grid of cubic voxels (samples at voxel centres)")
         .def_property_readonly(

@@ -185,8 +185,8 @@ TEST_F(FieldText, RandomBitPatternsRoundTripBitForBit) {
     field.source = "";
     field.method = "m";
     field.grid.dims = {17, 13, 11};
-    field.grid.origin = {fromBits(0x80000001u), 1e30f, -7.0f};
-    field.grid.voxel = std::numeric_limits<float>::denorm_min();
+    field.grid.origin = {fromBits(0x80000001u), 1e-30f, -7.0f};
+    field.grid.voxel = fromBits(0x30000001u); // about 4.7e-10
     std::mt19937 rng(7u);
     while (field.values.size() < field.grid.sampleCount()) {
         const float v = fromBits(std::uint32_t(rng()));

@@ -449,9 +449,9 @@ TEST_F(Formats, NrrdHeaderIsValidated) {
     };
     expectLoadError(write("double.nrrd", replaced("type: float", "type: double")), "type");
     expectLoadError(write("gzip.nrrd", replaced("encoding: raw", "encoding: gzip")), "encoding");
-    expectLoadError(write("big.nrrd", replaced("endian: little", "endian: big")), "endian");
     expectLoadError(write("2d.nrrd", replaced("dimension: 3\n", "dimension: 2\n")), "dimension");
-    expectLoadError(write("noorigin.nrrd", replaced("space origin:", "space orrigin:")), "space origin");
+    expectLoadError(write("noorigin.nrrd", replaced("space origin:", "space orrigin:")), "'space orrigin' is not an NRRD field");
+    expectLoadError(write("noorigin2.nrrd", replaced("space origin: ", "content: ")), "no 'space origin'");
     expectLoadError(write("skew.nrrd", replaced("space directions: (", "space directions: (1,")), "space directions");
     expectLoadError(write("magic.nrrd", replaced("NRRD0004", "NRRD0009")), "not an NRRD file");
     expectLoadError(write("line.nrrd", replaced("kinds: domain domain domain", "this is not a header line")), "header line");

@@ -1,6 +1,7 @@
 // `sdfgen query`: exact point queries from the command line, NumPy arrays in and out.
 #include "cli/commands.hpp"
 #include "core/atomic_file.hpp"
+#include "core/formats/format.hpp"
 #include "core/formats/npy.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
@@ -35,14 +36,15 @@ std::vector<double> readPoints(const std::string& path) {
     };
     const formats::NpyHeader header = formats::readNpyHeader(read, path);
     if (header.descr != "<f4" && header.descr != "<f8") {
-        throw Error(path + ": points must be float32 or float64 (dtype '" + header.descr + "')");
+        throw Error(path + ": points must be float32 or float64 (dtype '" + formats::printable(header.descr) + "')");
     }
     if (header.shape.size() != 2 || header.shape[1] != 3) throw Error(path + ": points must be an (N, 3) array");
     const std::uint64_t n = header.shape[0];
     const std::size_t item = header.itemSize();
-    if (n > (fileBytes - header.headerBytes) / (3 * item) || fileBytes - header.headerBytes != n * 3 * item) {
+    const std::uint64_t declared = header.dataBytes(path); // Error when it overflows
+    if (fileBytes - header.headerBytes != declared) {
         throw Error(path + ": the file holds " + std::to_string(fileBytes - header.headerBytes) + " bytes of data, not the " +
-                    std::to_string(n * 3 * item) + " its header declares");
+                    std::to_string(declared) + " its header declares");
     }
     std::vector<char> raw(n * 3 * item);
     if (read(raw.data(), raw.size()) != raw.size()) throw Error(path + ": read error");

@@ -370,5 +370,70 @@ expect 1 "^sdfgen: .*tet.obj: query point 0 \(1e\+300, 0, 0\) is 1e\+300 mesh si
   "$sdfgen" query "$work/tet.obj" "$work/far.npy" -o "$work/far-out.npy"
 expect 1 '' -- test -e "$work/far-out.npy"
 
+# ---- Hostile field files: sizes checked before allocating (under a 1 GB address-space cap, so
+# that a reader that allocates what a file claims fails the test), one line naming the file --------
+cap() { prlimit --as=1000000000 "$@"; }
+# patch FILE OFFSET HEX...: overwrites bytes in place.
+patch() { local file=$1 at=$2; shift 2; printf "$(printf '\\x%s' "$@")" | dd of="$file" bs=1 seek="$at" conv=notrunc status=none; }
+offset() { grep -boa -- "$2" "$1" | head -1 | cut -d: -f1; } # offset FILE TEXT: where TEXT first is
+"$sdfgen" bake "$work/tet.obj" -o "$work/h.vdb" --res 8 >/dev/null
+head -c 200 "$work/h.vdb" >"$work/cut.vdb"
+expect 1 "^sdfgen: $work/cut.vdb: not a readable OpenVDB file: .*$" -- cap "$sdfgen" surface "$work/cut.vdb" -o "$work/x.obj"
+for keep in 1000 4000 8000 12000; do
+  head -c $keep "$work/h.vdb" >"$work/cut.vdb"
+  expect 1 "^sdfgen: $work/cut.vdb: not a readable OpenVDB file" -- cap "$sdfgen" compare "$work/cut.vdb" "$work/h.vdb"
+done
+cp "$work/h.vdb" "$work/dims.vdb" # sdfgen_dims 1000^3 on a grid of 8^3 samples
+patch "$work/dims.vdb" $(($(offset "$work/dims.vdb" sdfgen_dims) + 24)) e8 03 00 00 e8 03 00 00 e8 03 00 00
+expect 1 "^sdfgen: $work/dims.vdb: sdfgen_dims 1000x1000x1000 says 1000000000 samples, the dense grid holds 512$" -- \
+  cap "$sdfgen" surface "$work/dims.vdb" -o "$work/x.obj"
+cp "$work/h.vdb" "$work/nan.vdb" # the transform's scale NaN
+patch "$work/nan.vdb" $(($(offset "$work/nan.vdb" UniformScaleTranslateMap) + 24)) 00 00 00 00 00 00 f8 7f
+expect 1 "^sdfgen: $work/nan.vdb: " -- "$sdfgen" surface "$work/nan.vdb" -o "$work/x.obj"
+"$sdfgen" bake "$work/tet.obj" -o "$work/h.npz" --res 8 >/dev/null
+cp "$work/h.npz" "$work/claims.npz" # sdf.npy (the first member) claims 4 GB in its local header
+patch "$work/claims.npz" 22 80 28 6b ee
+expect 1 "^sdfgen: $work/claims.npz: " -- cap "$sdfgen" surface "$work/claims.npz" -o "$work/x.obj"
+# A 3.9 MB zip bomb: sdf.npy declares 1000^3 float32 (4 GB) and deflates to 3.9 MB (each MiB of
+# zeros after a full flush compresses to the same bytes); within deflate's ratio, refused by memory.
+if command -v python3 >/dev/null; then
+  python3 - "$work/bomb.npz" <<'PY'
+import struct, sys, zlib
+head = b"{'descr': '<f4', 'fortran_order': True, 'shape': (1000, 1000, 1000), }"
+head = b"\x93NUMPY\x01\x00" + struct.pack("<H", 118) + head.ljust(117) + b"\n"
+z = zlib.compressobj(9, zlib.DEFLATED, -15)
+data = [z.compress(head) + z.flush(zlib.Z_FULL_FLUSH)]
+mib = z.compress(bytes(1 << 20)) + z.flush(zlib.Z_FULL_FLUSH)
+data += [mib] * 3814 + [z.compress(bytes(4000000000 - 3814 * (1 << 20))) + z.flush()]
+data = b"".join(data)
+size, name = len(head) + 4000000000, b"sdf.npy"
+local = struct.pack("<4sHHHHHIIIHH", b"PK\x03\x04", 20, 0, 8, 0, 0, 0, len(data), size, len(name), 0) + name
+central = struct.pack("<4sHHHHHHIIIHHHHHII", b"PK\x01\x02", 20, 20, 0, 8, 0, 0, 0, len(data), size, len(name), 0, 0, 0, 0, 0, 0) + name
+end = struct.pack("<4sHHHHIIH", b"PK\x05\x06", 0, 0, 1, 1, len(central), len(local) + len(data), 0)
+open(sys.argv[1], "wb").write(local + data + central + end)
+PY
+  expect 0 '' -- test "$(stat -c %s "$work/bomb.npz")" -lt 4200000
+  expect 1 "^sdfgen: $work/bomb.npz: sdf.npy: (not enough memory|dimensions 1000x1000x1000 too large)" -- cap "$sdfgen" surface "$work/bomb.npz" -o "$work/x.obj"
+fi
+printf 'sdfgen-text 1\nsource s\ndims 2 2 2\norigin 0 0 0\nvoxel 1e-320\nmethod m\nvalues\n' >"$work/denormal.sdf"
+for _ in 1 2 3 4 5 6 7 8; do echo 1 >>"$work/denormal.sdf"; done
+expect 1 "^sdfgen: $work/denormal.sdf: voxel size [0-9.e-]+ is not a positive normal float32" -- "$sdfgen" surface "$work/denormal.sdf" -o "$work/x.obj"
+sed 's/^voxel .*/voxel 1e300/' "$work/denormal.sdf" >"$work/huge.sdf"
+expect 1 "^sdfgen: $work/huge.sdf: voxel size 1e\+300 is not a positive normal float32" -- "$sdfgen" surface "$work/huge.sdf" -o "$work/x.obj"
+sed 's/^origin .*/origin 1.7e308 0 0/' "$work/denormal.sdf" | sed 's/^voxel .*/voxel 1/' >"$work/far.sdf"
+expect 1 "^sdfgen: $work/far.sdf: grid .* reaches beyond float32's range" -- "$sdfgen" surface "$work/far.sdf" -o "$work/x.obj"
+expect fail '' -- test -e "$work/x.obj"
+"$sdfgen" bake "$work/tet.obj" -o "$work/h.nrrd" --res 8 >/dev/null
+sed '0,/^type: float$/s//type: float\ntype: double/' "$work/h.nrrd" >"$work/twice.nrrd"
+expect 1 "^sdfgen: $work/twice.nrrd:4: field 'type' appears twice in the NRRD header$" -- "$sdfgen" surface "$work/twice.nrrd" -o "$work/x.obj"
+sed 's/^kinds: domain domain domain$/kinds: RGB-color domain domain/' "$work/h.nrrd" >"$work/rgb.nrrd"
+expect 1 "^sdfgen: $work/rgb.nrrd: NRRD kind 'RGB-color' on axis 0 is not a spatial axis" -- "$sdfgen" surface "$work/rgb.nrrd" -o "$work/x.obj"
+sed 's/^type: float$/type: fl\x01oa\tt/' "$work/h.nrrd" >"$work/ctl.nrrd"
+expect 1 "^sdfgen: $work/ctl.nrrd: NRRD type 'fl\\\\x01oa\\\\tt' is not supported" -- "$sdfgen" surface "$work/ctl.nrrd" -o "$work/x.obj"
+# Points whose byte count overflows 64 bits: (2^62, 3) float64.
+{ printf '\x93NUMPY\x01\x00\x76\x00'; printf "%-117s\n" "{'descr': '<f8', 'fortran_order': False, 'shape': (4611686018427387904, 3), }"; } >"$work/overflow.npy"
+expect 1 "^sdfgen: $work/overflow.npy: shape \(4611686018427387904, 3\) of 8-byte items is more than 2\^64 bytes$" -- \
+  "$sdfgen" query "$work/tet.obj" "$work/overflow.npy" -o "$work/x.npy"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

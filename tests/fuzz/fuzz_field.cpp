@@ -1,34 +1,55 @@
-// Fuzzes the field reader: any input either loads into a consistent field or is an Error; what it
-// accepts, the writer saves and the reader reads back identically (reader and writer agree).
-// When loadField/fieldFormatExtensions() (include/sdfgen/formats.hpp) are implemented, the input
-// should be loaded under every registered extension here.
+// Fuzzes one field reader (the format of FUZZ_FIELD_EXTENSION, one harness per format): any input
+// either loads into a consistent field or is an Error whose message is one line naming the file;
+// what it accepts, the writer saves and the reader reads back identically (reader and writer agree).
 #include "fuzz_input.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
-#include "core/formats/format.hpp"
+#include "sdfgen/formats.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+
+#ifndef FUZZ_FIELD_EXTENSION
+#error "FUZZ_FIELD_EXTENSION names the format, e.g. \".sdf\""
+#endif
+
+namespace {
+
+bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+void checkMessage(const sdfgen::Error& e, const std::string& path) {
+    const std::string message = e.what();
+    if (message.rfind(path, 0) != 0 || message.find('\n') != std::string::npos) {
+        std::fprintf(stderr, "error message is not one line naming the file: %s\n", e.what());
+        std::abort();
+    }
+}
+
+} // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string& path = sdfgen::fuzz::writeInput(data, size, ".sdf");
+    const std::string& path = sdfgen::fuzz::writeInput(data, size, FUZZ_FIELD_EXTENSION);
     sdfgen::Field field;
     try {
-        field = sdfgen::loadFieldText(path);
-    } catch (const sdfgen::Error&) {
+        field = sdfgen::loadField(path);
+    } catch (const sdfgen::Error& e) {
+        checkMessage(e, path);
         return 0;
     }
     if (field.values.size() != field.grid.sampleCount()) std::abort();
-    if (!(field.grid.voxel > 0.0f) || !std::isfinite(field.grid.voxel)) std::abort();
+    if (!(field.grid.voxel > 0.0) || !std::isfinite(field.grid.voxel)) std::abort();
     for (float v : field.values) {
         if (!std::isfinite(v)) std::abort();
     }
-    const std::string copy = path + ".copy.sdf";
+    const std::string copy = path + ".copy" FUZZ_FIELD_EXTENSION;
     try {
-        sdfgen::saveFieldText(field, copy);
-        const sdfgen::Field again = sdfgen::loadFieldText(copy);
-        if (again.values != field.values || again.parameters != field.parameters || again.source != field.source ||
+        sdfgen::saveField(field, copy);
+        const sdfgen::Field again = sdfgen::loadField(copy);
+        if (!sameBits(again.values, field.values) || again.parameters != field.parameters || again.source != field.source ||
             again.method != field.method || again.grid.dims != field.grid.dims || again.grid.origin != field.grid.origin ||
             again.grid.voxel != field.grid.voxel) {
             std::fprintf(stderr, "round trip changed the field\n");

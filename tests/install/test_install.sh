@@ -64,6 +64,18 @@ endsolid tetra
 STL
 "$scratch/moved/bin/sdfgen" bake "$scratch/tetra.stl" -o "$scratch/moved.vdb" --res 12 >/dev/null \
   || fail "installed sdfgen bake of an STL to .vdb failed"
+# The Python package, when this build has it: imported from the moved prefix, it finds the
+# installed libsdfgen (and through it the plugins) relative to itself.
+package=$(find "$scratch/moved" -path '*/sdfgen/__init__.py' -print -quit)
+if [ -n "$package" ]; then
+  (cd "$scratch" && PYTHONPATH=$(dirname "$(dirname "$package")") /usr/bin/python3 -c "
+import numpy as np, sdfgen
+assert sdfgen.__file__ == '$package', sdfgen.__file__
+mesh = sdfgen.Mesh.load('$scratch/tetra.stl')
+sdfgen.bake(mesh, res=8).save('$scratch/python.vdb')
+print('installed Python package: signed distance at the centre', mesh.signed_distance(np.array([[0.2, 0.2, 0.2]]))[0])
+") || fail "the installed Python package does not work from the moved prefix"
+fi
 if ! "$scratch/moved/bin/sdfgen" --help | grep -q "built without the viewer"; then
   [ -e "$scratch/moved/share/sdfgen/shaders/fullscreen.vert" ] || fail "shaders not installed"
   SDFGEN_SHADER_DIR= "$scratch/moved/bin/sdfgen" render "$scratch/moved/share/sdfgen/assets/bunny.obj" -o "$scratch/moved.png" --size 64x48 >/dev/null \

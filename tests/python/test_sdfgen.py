@@ -259,6 +259,25 @@ def test_warnings_are_issued_as_sdfgen_warnings(tmp_path):
             sdfgen.Mesh.load(str(degenerate))
 
 
+def test_hostile_field_files_raise_sdfgen_error(tmp_path):
+    # A voxel size below float32's normal range, and a .vdb whose transform is NaN (OpenVDB's own
+    # exceptions must not leak as a plain RuntimeError): sdfgen.Error naming the file, one line.
+    denormal = tmp_path / "denormal.sdf"
+    denormal.write_text("sdfgen-text 1\nsource s\ndims 1 1 1\norigin 0 0 0\nvoxel 1e-320\nmethod m\nvalues\n0\n")
+    with pytest.raises(sdfgen.Error, match=r"denormal.sdf: voxel size 1e-320 is not a positive normal float32"):
+        sdfgen.load_field(str(denormal))
+    mesh = sdfgen.Mesh(TET_VERTICES, TET_FACES)
+    path = tmp_path / "tet.vdb"
+    sdfgen.bake(mesh, res=6).save(str(path))
+    data = bytearray(path.read_bytes())
+    at = data.find(b"UniformScaleTranslateMap") + len("UniformScaleTranslateMap")
+    data[at : at + 8] = np.array([np.nan]).tobytes()
+    path.write_bytes(bytes(data))
+    with pytest.raises(sdfgen.Error, match="tet.vdb: ") as error:
+        sdfgen.load_field(str(path))
+    assert type(error.value) is sdfgen.Error and "\n" not in str(error.value)
+
+
 @pytest.mark.parametrize("extension", [".sdf", ".npz"])
 def test_save_and_load_round_trip(tmp_path, extension):
     mesh = sdfgen.Mesh(TET_VERTICES, TET_FACES)

@@ -8,6 +8,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -40,9 +41,21 @@ const std::vector<FieldFormat>& fieldFormats();
 // (the text format's rules). Throws Error naming `path`.
 void checkField(const Field& field, const std::string& path);
 
-// Throws Error naming `path` when a grid of these dimensions cannot be held in memory, before
-// anything is allocated for it. Every dimension must be at least 1 and fit in an int.
+// Throws Error naming `path` when the grid is not one a field can be: no samples, an origin or
+// voxel size that is not finite, a voxel size that is not a positive normal float32, samples whose
+// coordinates leave float32's range (meshes and distances are float32) or coincide (a voxel size
+// lost in the origin's rounding).
+void checkGrid(const Grid& grid, const std::string& path);
+
+// Throws Error naming `path` when a grid of these dimensions cannot be held in memory (the memory
+// available now), before anything is allocated for it. Every dimension must be at least 1 and fit
+// in an int.
 void checkDimsFit(const std::uint64_t dims[3], const std::string& path);
+
+// Text taken from a file, as it may appear in a one-line error message: control bytes and DEL
+// escaped (\n, \r, \t, \xNN), and cut to `limit` bytes with "..." after. Every reader quotes
+// header text through this.
+std::string printable(std::string_view text, std::size_t limit = 60);
 
 // The method line of the text format without the keyword: "exact sign=auto/winding res=64 ...".
 std::string methodLine(const Field& field);

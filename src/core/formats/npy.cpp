@@ -44,7 +44,7 @@ public:
                 header.shape = tuple();
                 haveShape = true;
             } else {
-                fail("unexpected key '" + key + "' in the header");
+                fail("unexpected key '" + printable(key) + "' in the header");
             }
             if (!peek('}')) expect(',');
         }
@@ -195,6 +195,14 @@ std::uint64_t NpyHeader::count(const std::string& where) const {
     return n;
 }
 
+std::uint64_t NpyHeader::dataBytes(const std::string& where) const {
+    std::uint64_t bytes = 0;
+    if (__builtin_mul_overflow(count(where), std::uint64_t(itemSize()), &bytes)) {
+        throw Error(where + ": shape " + shapeText(shape) + " of " + std::to_string(itemSize()) + "-byte items is more than 2^64 bytes");
+    }
+    return bytes;
+}
+
 std::size_t NpyHeader::itemSize() const {
     if (descr.size() < 3) return 0;
     const char kind = descr[1];
@@ -248,14 +256,14 @@ NpyHeader readNpyHeader(const ReadBytes& read, const std::string& where) {
 void readNpyFieldValues(const NpyHeader& header, const ReadBytes& read, std::uint64_t dataBytes, Field& field,
                         const std::string& where) {
     if (header.descr != "<f4") {
-        throw Error(where + ": dtype '" + header.descr + "' is not supported (a field is little-endian float32, '<f4')");
+        throw Error(where + ": dtype '" + printable(header.descr) + "' is not supported (a field is little-endian float32, '<f4')");
     }
     if (header.shape.size() != 3) {
         throw Error(where + ": shape " + shapeText(header.shape) + " is not 3-dimensional (nx, ny, nz)");
     }
     const std::uint64_t dims[3] = {header.shape[0], header.shape[1], header.shape[2]};
     checkDimsFit(dims, where);
-    const std::uint64_t expected = header.count(where) * sizeof(float);
+    const std::uint64_t expected = header.dataBytes(where);
     if (dataBytes < expected) {
         throw Error(where + ": file is truncated: shape " + shapeText(header.shape) + " needs " + std::to_string(expected) +
                     " bytes of data, it has " + std::to_string(dataBytes));
@@ -264,8 +272,23 @@ void readNpyFieldValues(const NpyHeader& header, const ReadBytes& read, std::uin
         throw Error(where + ": " + std::to_string(dataBytes - expected) + " unexpected bytes after the data");
     }
     for (int a = 0; a < 3; ++a) field.grid.dims[a] = int(dims[a]);
-    std::vector<float> data(field.grid.sampleCount());
-    if (read(data.data(), expected) != expected) throw Error(where + ": read error or file truncated while reading the data");
+    // Read a block at a time into reserved (untouched) memory, so that data that ends before its
+    // declared size (a compressed member that lies about it) fails having taken only what it held.
+    std::vector<float> data;
+    try {
+        data.reserve(field.grid.sampleCount());
+    } catch (const std::bad_alloc&) {
+        throw Error(where + ": not enough memory for the " + std::to_string(expected >> 20) + " MiB of data its header declares");
+    }
+    constexpr std::size_t kBlock = std::size_t(1) << 20; // values
+    while (data.size() < field.grid.sampleCount()) {
+        const std::size_t start = data.size();
+        const std::size_t n = std::min(kBlock, field.grid.sampleCount() - start);
+        data.resize(start + n);
+        if (read(data.data() + start, n * sizeof(float)) != n * sizeof(float)) {
+            throw Error(where + ": data ends before the " + std::to_string(expected) + " bytes its header declares (truncated or corrupt)");
+        }
+    }
     if (header.fortranOrder) {
         field.values = std::move(data);
     } else {
@@ -317,11 +340,12 @@ std::vector<double> parseNpyNumbers(const std::string& bytes, const std::string&
     const std::size_t item = header.itemSize();
     const bool isFloat = header.descr == "<f8" || header.descr == "<f4";
     const bool isInt = header.descr == "<i8" || header.descr == "<i4";
-    if (!isFloat && !isInt) throw Error(where + ": dtype '" + header.descr + "' is not a little-endian number");
+    if (!isFloat && !isInt) throw Error(where + ": dtype '" + printable(header.descr) + "' is not a little-endian number");
     if (header.shape.size() > 1) throw Error(where + ": shape " + shapeText(header.shape) + " is not a scalar or a vector");
-    if (bytes.size() - pos != count * item) {
+    const std::uint64_t expected = header.dataBytes(where);
+    if (bytes.size() - pos != expected) {
         throw Error(where + ": holds " + std::to_string(bytes.size() - pos) + " bytes of data for shape " +
-                    shapeText(header.shape) + " (" + std::to_string(count * item) + " expected)");
+                    shapeText(header.shape) + " (" + std::to_string(expected) + " expected)");
     }
     std::vector<double> values(count);
     for (std::size_t i = 0; i < count; ++i) {
@@ -350,7 +374,7 @@ std::string parseNpyString(const std::string& bytes, const std::string& where) {
     std::size_t pos = 0;
     const NpyHeader header = readNpyHeader(memoryReader(bytes, pos), where);
     if (header.descr.compare(0, 2, "<U") != 0 || header.itemSize() == 0) {
-        throw Error(where + ": dtype '" + header.descr + "' is not a string ('<U')");
+        throw Error(where + ": dtype '" + printable(header.descr) + "' is not a string ('<U')");
     }
     if (!header.shape.empty()) throw Error(where + ": shape " + shapeText(header.shape) + " is not a scalar string");
     if (bytes.size() - pos != header.itemSize()) throw Error(where + ": string data has the wrong length");

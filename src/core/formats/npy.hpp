@@ -23,6 +23,8 @@ struct NpyHeader {
 
     // Elements in the array; Error naming `where` when the product overflows.
     std::uint64_t count(const std::string& where) const;
+    // Bytes of data: count() * itemSize(); Error naming `where` when that overflows.
+    std::uint64_t dataBytes(const std::string& where) const;
     // Bytes per element of descr ("<f4" -> 4); 0 when descr is not a fixed-size number or string.
     std::size_t itemSize() const;
 };

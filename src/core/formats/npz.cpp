@@ -16,6 +16,7 @@
 #include <cstring>
 #include <memory>
 #include <utility>
+#include <sys/stat.h>
 
 namespace sdfgen::formats {
 
@@ -90,6 +91,9 @@ class ArchiveReader {
 public:
     explicit ArchiveReader(const std::string& path) : path_(path) {
         if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+        struct stat info;
+        if (stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
+        fileBytes_ = std::uint64_t(info.st_size);
         int code = 0;
         archive_.reset(zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code));
         if (!archive_) {
@@ -106,8 +110,30 @@ public:
         const zip_int64_t index = zip_name_locate(archive_.get(), name.c_str(), 0);
         if (index < 0) throw Error(path_ + ": the archive has no '" + name + "'");
         zip_stat_t stat;
-        if (zip_stat_index(archive_.get(), zip_uint64_t(index), 0, &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE)) {
+        const zip_uint64_t needed = ZIP_STAT_SIZE | ZIP_STAT_COMP_SIZE | ZIP_STAT_COMP_METHOD;
+        if (zip_stat_index(archive_.get(), zip_uint64_t(index), 0, &stat) != 0 || (stat.valid & needed) != needed) {
             throw Error(path_ + ": cannot read the size of '" + name + "'");
+        }
+        // The sizes the archive claims, checked against what its bytes can hold before anything
+        // is allocated for them: stored data is as long as it is in the file; deflate expands
+        // at most 1032:1 (a 258-byte match per two bits, plus the block headers' bytes).
+        if (stat.comp_size > fileBytes_) {
+            throw Error(path_ + ": '" + name + "' claims " + std::to_string(stat.comp_size) + " compressed bytes in a file of " +
+                        std::to_string(fileBytes_));
+        }
+        if (stat.comp_method == ZIP_CM_STORE) {
+            if (stat.size != stat.comp_size) {
+                throw Error(path_ + ": stored '" + name + "' claims " + std::to_string(stat.size) + " bytes but holds " +
+                            std::to_string(stat.comp_size));
+            }
+        } else if (stat.comp_method == ZIP_CM_DEFLATE) {
+            if (stat.size / 1032 > stat.comp_size + 1) {
+                throw Error(path_ + ": '" + name + "' claims " + std::to_string(stat.size) + " bytes from " + std::to_string(stat.comp_size) +
+                            " compressed, more than deflate can expand to");
+            }
+        } else {
+            throw Error(path_ + ": '" + name + "' uses compression method " + std::to_string(stat.comp_method) +
+                        " (numpy writes stored or deflated members)");
         }
         size = stat.size;
         std::unique_ptr<zip_file_t, ZipFileCloser> file(zip_fopen_index(archive_.get(), zip_uint64_t(index), 0));
@@ -149,6 +175,7 @@ public:
 
 private:
     std::string path_;
+    std::uint64_t fileBytes_ = 0;
     std::unique_ptr<zip_t, ZipCloser> archive_;
 };
 

@@ -5,6 +5,7 @@
 #include "core/atomic_file.hpp"
 #include "sdfgen/error.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -26,6 +27,22 @@ namespace {
 
 constexpr std::size_t kMaxHeaderBytes = 1 << 20;
 
+// The fields of NRRD's specification (format version 5), by the name used here and the other
+// spelling the specification allows.
+struct FieldName {
+    const char* name;
+    const char* alias;
+};
+constexpr FieldName kFields[] = {
+    {"dimension", nullptr}, {"type", nullptr}, {"encoding", nullptr}, {"sizes", nullptr}, {"endian", nullptr},
+    {"content", nullptr}, {"min", nullptr}, {"max", nullptr}, {"old min", "oldmin"}, {"old max", "oldmax"},
+    {"data file", "datafile"}, {"line skip", "lineskip"}, {"byte skip", "byteskip"}, {"number", nullptr},
+    {"sample units", "sampleunits"}, {"space", nullptr}, {"space dimension", nullptr}, {"space units", nullptr},
+    {"space origin", nullptr}, {"space directions", nullptr}, {"measurement frame", nullptr}, {"spacings", nullptr},
+    {"thicknesses", nullptr}, {"axis mins", "axismins"}, {"axis maxs", "axismaxs"}, {"centers", "centerings"},
+    {"labels", nullptr}, {"units", nullptr}, {"kinds", nullptr}, {"block size", "blocksize"},
+};
+
 std::string number(double v) {
     char text[32];
     const auto result = std::to_chars(text, text + sizeof text, v); // shortest exact round trip
@@ -44,7 +61,7 @@ std::vector<double> numbers(const std::string& text, const std::string& path, co
         }
         double v = 0;
         const auto result = std::from_chars(p, end, v);
-        if (result.ec != std::errc() || !std::isfinite(v)) throw Error(path + ": '" + field + "' holds a value that is not a finite number: '" + text + "'");
+        if (result.ec != std::errc() || !std::isfinite(v)) throw Error(path + ": '" + field + "' holds a value that is not a finite number: '" + printable(text) + "'");
         values.push_back(v);
         p = result.ptr;
     }
@@ -88,8 +105,9 @@ Field loadNrrd(const std::string& path) {
     struct stat info;
     if (fstat(fileno(file.get()), &info) != 0 || !S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
 
-    // The header: lines up to the first empty one.
-    std::map<std::string, std::string> fields;    // "field: value"
+    // The header: lines up to the first empty one. Each field and key may appear once (NRRD's
+    // rule); a field's other spelling counts as the same field.
+    std::map<std::string, std::string> fields;    // "field: value", by canonical name
     std::map<std::string, std::string> keyValues; // "key:=value"
     std::string line;
     std::size_t headerBytes = 0;
@@ -107,7 +125,7 @@ Field loadNrrd(const std::string& path) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (lineNumber == 1) {
             if (line.size() != 8 || line.compare(0, 7, "NRRD000") != 0 || line[7] < '1' || line[7] > '5') {
-                throw Error(path + ": not an NRRD file (first line '" + line.substr(0, 40) + "')");
+                throw Error(path + ": not an NRRD file (first line '" + printable(line, 40) + "')");
             }
             continue;
         }
@@ -117,34 +135,80 @@ Field loadNrrd(const std::string& path) {
         const std::size_t keyValue = line.find(":=");
         const std::size_t colon = line.find(": ");
         if (keyValue != std::string::npos && (colon == std::string::npos || keyValue < colon)) {
-            keyValues[line.substr(0, keyValue)] = line.substr(keyValue + 2);
+            const std::string key = line.substr(0, keyValue);
+            if (!keyValues.emplace(key, line.substr(keyValue + 2)).second) {
+                throw Error(where + ": key '" + printable(key) + "' appears twice in the NRRD header");
+            }
         } else if (colon != std::string::npos) {
-            fields[line.substr(0, colon)] = line.substr(colon + 2);
+            const std::string name = line.substr(0, colon);
+            const auto known = std::find_if(std::begin(kFields), std::end(kFields), [&](const FieldName& f) {
+                return name == f.name || (f.alias && name == f.alias);
+            });
+            if (known == std::end(kFields)) throw Error(where + ": '" + printable(name) + "' is not an NRRD field");
+            if (!fields.emplace(known->name, line.substr(colon + 2)).second) {
+                throw Error(where + ": field '" + known->name + "' appears twice in the NRRD header");
+            }
         } else {
-            throw Error(where + ": not an NRRD header line: '" + line.substr(0, 40) + "'");
+            throw Error(where + ": not an NRRD header line: '" + printable(line, 40) + "'");
         }
     }
 
     auto require = [&](const char* name) -> const std::string& {
         const auto it = fields.find(name);
-        if (it == fields.end()) throw Error(path + ": the NRRD header has no '" + name + "' (sdfgen reads the NRRD files it writes)");
+        if (it == fields.end()) throw Error(path + ": the NRRD header has no '" + name + "' (sdfgen reads 3D grids with 'space directions')");
         return it->second;
     };
-    auto requireValue = [&](const char* name, std::initializer_list<const char*> accepted) {
+    auto requireValue = [&](const char* name, std::initializer_list<const char*> accepted) -> const std::string& {
         const std::string& value = require(name);
         for (const char* ok : accepted) {
-            if (value == ok) return;
+            if (value == ok) return value;
         }
-        throw Error(path + ": NRRD " + name + " '" + value + "' is not supported (sdfgen reads " + *accepted.begin() + ")");
+        throw Error(path + ": NRRD " + name + " '" + printable(value) + "' is not supported (sdfgen reads " + *accepted.begin() + ")");
     };
-    requireValue("type", {"float", "float32"});
+    requireValue("type", {"float"});
     requireValue("dimension", {"3"});
     requireValue("encoding", {"raw"});
-    requireValue("endian", {"little"});
-    if (fields.count("data file") || fields.count("datafile")) throw Error(path + ": detached NRRD data files are not supported");
-    if (fields.count("space") == 0) requireValue("space dimension", {"3"});
-    for (const char* unsupported : {"line skip", "lineskip", "byte skip", "byteskip"}) {
-        if (fields.count(unsupported)) throw Error(path + ": NRRD '" + unsupported + "' is not supported");
+    const bool bigEndian = requireValue("endian", {"little", "big"}) == "big";
+    if (fields.count("data file")) throw Error(path + ": detached NRRD data files are not supported");
+    for (const char* unsupported : {"line skip", "byte skip"}) {
+        const auto it = fields.find(unsupported);
+        if (it != fields.end() && it->second != "0") throw Error(path + ": NRRD '" + unsupported + "' is not supported");
+    }
+    // The grid is placed by 'space directions' and 'space origin'; the per-axis alternatives
+    // would contradict them.
+    for (const char* conflicting : {"spacings", "axis mins", "axis maxs"}) {
+        if (fields.count(conflicting)) {
+            throw Error(path + ": NRRD '" + conflicting + "' is not supported (sdfgen places the grid by 'space directions')");
+        }
+    }
+    if (fields.count("block size")) throw Error(path + ": NRRD 'block size' applies to type block, not float");
+    if (fields.count("space") && fields.count("space dimension")) {
+        throw Error(path + ": the NRRD header gives both 'space' and 'space dimension' (NRRD allows one)");
+    }
+    if (const auto space = fields.find("space"); space != fields.end()) {
+        static const char* const kSpaces3D[] = {"right-anterior-superior", "RAS", "left-anterior-superior", "LAS",
+                                                "left-posterior-superior", "LPS", "scanner-xyz", "3D-right-handed",
+                                                "3D-left-handed"};
+        if (std::find(std::begin(kSpaces3D), std::end(kSpaces3D), space->second) == std::end(kSpaces3D)) {
+            throw Error(path + ": NRRD space '" + printable(space->second) + "' is not a 3D space (sdfgen reads 3D grids)");
+        }
+    } else {
+        requireValue("space dimension", {"3"});
+    }
+    // A field is one scalar per sample: every axis is a domain axis (NRRD's kinds domain and space,
+    // or none given). A range kind (RGB-color, vector, list, ...) would make an axis components.
+    if (const auto kinds = fields.find("kinds"); kinds != fields.end()) {
+        std::istringstream words(kinds->second);
+        std::string kind;
+        int axes = 0;
+        while (words >> kind) {
+            if (kind != "domain" && kind != "space" && kind != "???" && kind != "none") {
+                throw Error(path + ": NRRD kind '" + printable(kind) + "' on axis " + std::to_string(axes) +
+                            " is not a spatial axis (sdfgen reads a scalar per sample: kinds domain or space)");
+            }
+            ++axes;
+        }
+        if (axes != 3) throw Error(path + ": NRRD 'kinds' has " + std::to_string(axes) + " entries for 3 axes");
     }
 
     const std::vector<double> sizes = numbers(require("sizes"), path, "sizes");
@@ -193,6 +257,7 @@ Field loadNrrd(const std::string& path) {
         field.grid.voxel = voxel[0];
     }
     for (int a = 0; a < 3; ++a) field.grid.origin[a] = origin[std::size_t(a)];
+    checkGrid(field.grid, path);
     field.method = "unknown";
     if (const auto it = keyValues.find("sdfgen_method"); it != keyValues.end()) parseMethodLine(it->second, field, path);
     if (const auto it = keyValues.find("sdfgen_source"); it != keyValues.end()) field.source = it->second;
@@ -205,6 +270,14 @@ Field loadNrrd(const std::string& path) {
     if (available > expected) throw Error(path + ": " + std::to_string(available - expected) + " unexpected bytes after the data");
     field.values.resize(field.grid.sampleCount());
     if (std::fread(field.values.data(), 1, expected, file.get()) != expected) throw Error(path + ": read error");
+    if (bigEndian) {
+        for (float& v : field.values) {
+            std::uint32_t bits;
+            std::memcpy(&bits, &v, 4);
+            bits = __builtin_bswap32(bits);
+            std::memcpy(&v, &bits, 4);
+        }
+    }
     checkField(field, path);
     return field;
 }

@@ -54,7 +54,7 @@ public:
         std::string_view line = next(("'" + std::string(keyword) + "'").c_str());
         const std::size_t n = std::strlen(keyword);
         if (line.substr(0, n) != keyword || line.size() <= n || line[n] != ' ') {
-            fail("expected a '" + std::string(keyword) + " ...' line, found '" + std::string(line.substr(0, 40)) + "'");
+            fail("expected a '" + std::string(keyword) + " ...' line, found '" + formats::printable(line) + "'");
         }
         return line.substr(n + 1);
     }
@@ -65,7 +65,7 @@ public:
         Number value{};
         const auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), value);
         if (ec != std::errc() || end == rest.data() || (end != rest.data() + rest.size() && *end != ' ')) {
-            fail(std::string(what) + " is not a valid number: '" + std::string(rest.substr(0, rest.find(' '))) + "'");
+            fail(std::string(what) + " is not a valid number: '" + formats::printable(rest.substr(0, rest.find(' '))) + "'");
         }
         if constexpr (std::is_floating_point_v<Number>) {
             if (!std::isfinite(value)) fail(std::string(what) + " is not finite");
@@ -76,7 +76,7 @@ public:
 
     void endOfLine(std::string_view rest) {
         if (rest.find_first_not_of(' ') != std::string_view::npos) {
-            fail("unexpected text at end of line: '" + std::string(rest) + "'");
+            fail("unexpected text at end of line: '" + formats::printable(rest) + "'");
         }
     }
 
@@ -101,25 +101,7 @@ std::string Field::parameter(const std::string& key) const {
 }
 
 void saveFieldText(const Field& field, const std::string& path) {
-    if (field.values.size() != field.grid.sampleCount()) {
-        throw Error(path + ": field has " + std::to_string(field.values.size()) + " values for a grid of " +
-                    std::to_string(field.grid.sampleCount()));
-    }
-    if (field.grid.dims.x < 1 || field.grid.dims.y < 1 || field.grid.dims.z < 1) throw Error(path + ": grid has no samples");
-    if (!(field.grid.voxel > 0.0) || !std::isfinite(field.grid.voxel) || !std::isfinite(field.grid.origin.x) ||
-        !std::isfinite(field.grid.origin.y) || !std::isfinite(field.grid.origin.z)) {
-        throw Error(path + ": grid origin or voxel size is not a finite (positive) number");
-    }
-    for (std::size_t i = 0; i < field.values.size(); ++i) {
-        if (!std::isfinite(field.values[i])) throw Error(path + ": value " + std::to_string(i) + " is not finite");
-    }
-    if (field.source.find_first_of(std::string_view("\r\n\0", 3)) != std::string::npos) {
-        throw Error(path + ": source name has a line break or NUL byte");
-    }
-    if (!isToken(field.method)) throw Error(path + ": method name '" + field.method + "' is not a single word");
-    for (const auto& [key, value] : field.parameters) {
-        if (!isToken(key) || !isToken(value)) throw Error(path + ": bad method parameter '" + key + "=" + value + "'");
-    }
+    formats::checkField(field, path);
 
     char number[64];
     auto format = [&](auto v) {
@@ -187,8 +169,11 @@ Field loadFieldText(const std::string& path) {
             samples *= field.grid.dims[a];
         }
         reader.endOfLine(rest);
-        const std::uint64_t memory = physicalMemoryBytes();
-        if (memory > 0 && samples * sizeof(float) > double(memory)) reader.fail("dimensions too large for this machine");
+        const std::uint64_t memory = availableMemoryBytes();
+        if (memory > 0 && samples * sizeof(float) > double(memory)) {
+            reader.fail("dimensions too large: they need " + std::to_string(std::llround(samples * sizeof(float) / 0x1p20)) + " MiB, more than the " +
+                        std::to_string(memory >> 20) + " MiB of memory available");
+        }
     }
     {
         std::string_view rest = reader.keyed("origin");
@@ -200,13 +185,14 @@ Field loadFieldText(const std::string& path) {
         field.grid.voxel = reader.number<double>(rest, "voxel size");
         reader.endOfLine(rest);
         if (!(field.grid.voxel > 0.0)) reader.fail("voxel size must be positive");
+        formats::checkGrid(field.grid, path);
     }
     {
         std::string_view rest = reader.keyed("method");
         std::size_t space = rest.find(' ');
         field.method = std::string(rest.substr(0, space));
         if (field.method.empty()) reader.fail("missing method name");
-        if (!isToken(field.method)) reader.fail("method name '" + field.method + "' is not a single word");
+        if (!isToken(field.method)) reader.fail("method name '" + formats::printable(field.method) + "' is not a single word");
         while (space != std::string_view::npos) {
             rest.remove_prefix(space + 1);
             space = rest.find(' ');
@@ -214,11 +200,11 @@ Field loadFieldText(const std::string& path) {
             if (item.empty()) continue;
             const std::size_t eq = item.find('=');
             if (eq == std::string_view::npos || eq == 0 || eq + 1 == item.size()) {
-                reader.fail("method parameter '" + std::string(item) + "' is not key=value");
+                reader.fail("method parameter '" + formats::printable(item) + "' is not key=value");
             }
             const std::string_view key = item.substr(0, eq), value = item.substr(eq + 1);
             if (!isToken(key) || !isToken(value)) {
-                reader.fail("method parameter '" + std::string(item) + "' is not key=value with single words");
+                reader.fail("method parameter '" + formats::printable(item) + "' is not key=value with single words");
             }
             field.parameters.emplace_back(std::string(key), std::string(value));
         }

@@ -1,0 +1,32 @@
+#pragma once
+// The nearest-point terms behind sdfgen.torch's values and gradients. The nearest triangle comes
+// from the model's tree; its closest point is then measured again in double from the caller's own
+// vertex coordinates, so that the values (and finite differences of them) carry no rounding of the
+// mesh's float copy.
+#include "sdfgen/model.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+
+namespace sdfgen::python {
+
+// Per point, each output optional (nullptr = not wanted).
+struct NearestTerms {
+    double* distance = nullptr;       // signed by the sign method when one is given, else unsigned
+    double* gradient = nullptr;       // (3) the distance's gradient at the point: sign * (p - c) / |p - c|; zero on the surface
+    double* closest = nullptr;        // (3) the closest surface point c, world coordinates
+    std::int64_t* corners = nullptr;  // (3) vertex indices of the nearest triangle, those spanning c's feature first
+    double* weights = nullptr;        // (3) barycentric weights of c on those corners
+    std::int8_t* featureSize = nullptr; // corners spanning c's feature: 3 face, 2 edge, 1 vertex
+};
+
+// `points` are count world positions (xyz). `vertices` (world xyz, one per mesh vertex, nullptr for
+// the mesh's own) are the coordinates the closest points are measured from: the vertices the
+// model's mesh was built from, at full precision. Without them the mesh's own positions are used,
+// in its local frame, so distances round to float exactly as Model::query's do. `sign` as for
+// Model::query; none gives unsigned distances. Throws Error as Model::query does.
+void measureNearest(const Model& model, const double* points, std::size_t count, const double* vertices,
+                    std::optional<SignMethod> sign, const NearestTerms& out, const RunControl& control);
+
+} // namespace sdfgen::python

@@ -1,0 +1,214 @@
+"""sdfgen's point queries on torch tensors, differentiable with respect to the points and the mesh's
+vertices.
+
+Each function takes the mesh in one of two forms:
+
+- ``f(points, mesh)``: ``mesh`` an :class:`sdfgen.Mesh` (built once, reused by every call);
+  differentiable with respect to ``points``.
+- ``f(points, vertices, faces)``: ``vertices`` a (V, 3) float tensor (it may require grad),
+  ``faces`` an (F, 3) integer tensor (counter-clockwise seen from outside); the mesh and its tree
+  are built from them on each call. Differentiable with respect to ``points`` and ``vertices``.
+
+``points`` is a float32 or float64 tensor of shape (..., 3); results come in its dtype, on its
+device (the work runs on the CPU: tensors on another device are copied there and the results
+back). ``vertices`` must have the points' dtype and device. Wrong shapes, dtypes or devices raise
+ValueError; bad meshes and non-finite points raise :class:`sdfgen.Error`, as the numpy queries do.
+
+Values and gradients are exact: the nearest triangle comes from sdfgen's tree, and the closest
+point on it is then measured in double precision from the given coordinates (float64 inputs are
+never rounded through float32), so a distance is the one of ``Mesh.signed_distance`` (the same
+float32 value, for a Mesh) and finite differences of it match the gradients:
+
+- distance with respect to the point p: ``s * (p - c) / |p - c|``, with c the closest point and s
+  the sign (1 for unsigned distances);
+- distance with respect to a vertex: ``-w * s * (p - c) / |p - c|``, with w the closest point's
+  barycentric weight on that vertex (a vertex not on the nearest triangle gets nothing);
+- closest point: the derivative of the projection onto the closest point's feature (the face's
+  plane, the edge's line, or the vertex itself) with respect to the point and its corners.
+
+Where the distance has no derivative these are one-sided or conventional: on the surface (the
+unsigned distance has a kink there and the sign flips; sdfgen gives a zero gradient with respect to
+the points), at points with two or more nearest triangles or features (the medial axis: the
+gradient of the triangle sdfgen's tree picked), and across a change of the closest point's feature.
+The sign is piecewise constant and contributes no gradient. Backward passes are first order only:
+one with ``create_graph=True`` (for a gradient of a gradient) raises RuntimeError.
+"""
+import torch
+
+from . import Mesh
+from ._sdfgen import _nearest_terms
+
+__all__ = ["signed_distance", "unsigned_distance", "closest_points"]
+
+
+def signed_distance(points, mesh, faces=None, *, sign="auto", threads=0):
+    """Signed distances (negative inside) at ``points`` (..., 3): a tensor of shape (...).
+
+    ``sign`` as for :meth:`sdfgen.Mesh.signed_distance` (auto, winding or pseudonormal);
+    ``threads`` 0 for all cores. Differentiable (see the module's notes)."""
+    if not isinstance(sign, str):
+        raise ValueError(f"sign must be a string (auto, winding or pseudonormal), not {type(sign).__name__}")
+    mesh, vertices = _mesh_of(points, mesh, faces, threads)
+    return _Distance.apply(points, vertices, mesh, sign, threads)
+
+
+def unsigned_distance(points, mesh, faces=None, *, threads=0):
+    """Distances to the nearest triangle at ``points`` (..., 3): a tensor of shape (...)."""
+    mesh, vertices = _mesh_of(points, mesh, faces, threads)
+    return _Distance.apply(points, vertices, mesh, None, threads)
+
+
+def closest_points(points, mesh, faces=None, *, threads=0):
+    """The nearest surface point to each of ``points`` (..., 3): a tensor of shape (..., 3)."""
+    mesh, vertices = _mesh_of(points, mesh, faces, threads)
+    return _ClosestPoints.apply(points, vertices, mesh, threads)
+
+
+def _mesh_of(points, mesh, faces, threads):
+    """Checks the arguments; returns the sdfgen.Mesh and the vertices tensor (None for a Mesh)."""
+    if not isinstance(points, torch.Tensor):
+        raise ValueError(f"points must be a torch.Tensor of shape (..., 3), not {type(points).__name__}")
+    if points.dtype not in (torch.float32, torch.float64):
+        raise ValueError(f"points must be float32 or float64, not {points.dtype}")
+    if points.dim() < 1 or points.shape[-1] != 3:
+        raise ValueError(f"points must have shape (..., 3), not {tuple(points.shape)}")
+    if points.device.type == "meta":
+        raise ValueError("points are on the meta device: they hold no values")
+    if isinstance(mesh, Mesh):
+        if faces is not None:
+            raise ValueError("give either an sdfgen.Mesh or vertices and faces, not both")
+        return mesh, None
+    vertices = mesh
+    if not isinstance(vertices, torch.Tensor) or not isinstance(faces, torch.Tensor):
+        raise ValueError("the mesh must be an sdfgen.Mesh, or vertices and faces as torch tensors")
+    if vertices.dim() != 2 or vertices.shape[1] != 3:
+        raise ValueError(f"vertices must have shape (V, 3), not {tuple(vertices.shape)}")
+    if vertices.dtype != points.dtype:
+        raise ValueError(f"vertices must have the points' dtype ({points.dtype}), not {vertices.dtype}")
+    if vertices.device != points.device:
+        raise ValueError(f"vertices must be on the points' device ({points.device}), not {vertices.device}")
+    if faces.dim() != 2 or faces.shape[1] != 3:
+        raise ValueError(f"faces must have shape (F, 3), not {tuple(faces.shape)}")
+    if faces.dtype.is_floating_point or faces.dtype.is_complex or faces.dtype == torch.bool:
+        raise ValueError(f"faces must be an integer tensor, not {faces.dtype}")
+    return Mesh(_cpu(vertices), _cpu(faces), name="<tensors>", threads=threads), vertices
+
+
+def _cpu(tensor):
+    """The tensor's values as a numpy array (a view when the tensor is on the CPU and contiguous)."""
+    return tensor.detach().to("cpu").contiguous().numpy()
+
+
+def _flat_points(points):
+    return _cpu(points).reshape(-1, 3)
+
+
+def _vertex_coordinates(vertices):
+    """float64 (V, 3) numpy coordinates of a vertices tensor, or None (the Mesh's own)."""
+    return None if vertices is None else _cpu(vertices.detach().to(torch.float64))
+
+
+def _like(values, shape, reference):
+    """A numpy result as a tensor of `shape` in the dtype and on the device of `reference`."""
+    return torch.from_numpy(values).reshape(shape).to(dtype=reference.dtype, device=reference.device)
+
+
+def _first_order_only():
+    """Backward passes give first derivatives as constants: with create_graph=True (grad mode on
+    in backward) a gradient of them would silently miss the second derivatives, so refuse."""
+    if torch.is_grad_enabled():
+        raise RuntimeError("sdfgen.torch gives first derivatives only: backward with create_graph=True "
+                           "(a gradient of a gradient) is not supported")
+
+
+class _Distance(torch.autograd.Function):
+    """Signed (a sign method given) or unsigned distances, with gradients from the exact terms."""
+
+    @staticmethod
+    def forward(ctx, points, vertices, mesh, sign, threads):
+        wants_points, wants_vertices = ctx.needs_input_grad[0], ctx.needs_input_grad[1]
+        distance, gradient, _, corners, weights, _ = _nearest_terms(
+            mesh, _flat_points(points), _vertex_coordinates(vertices), sign,
+            gradient=wants_points or wants_vertices, features=wants_vertices, threads=threads)
+        if wants_points or wants_vertices:
+            ctx.points_like = (points.shape, points.dtype, points.device)
+            ctx.vertices_like = None if vertices is None else (vertices.shape, vertices.dtype, vertices.device)
+            saved = [torch.from_numpy(gradient)]
+            if wants_vertices:
+                saved += [torch.from_numpy(corners), torch.from_numpy(weights)]
+            ctx.save_for_backward(*saved)
+        return _like(distance, points.shape[:-1], points)
+
+    @staticmethod
+    def backward(ctx, grad):
+        _first_order_only()
+        gradient, *features = ctx.saved_tensors
+        g = grad.detach().to(device="cpu", dtype=torch.float64).reshape(-1, 1)
+        grad_points = grad_vertices = None
+        if ctx.needs_input_grad[0]:
+            shape, dtype, device = ctx.points_like
+            grad_points = (gradient * g).reshape(shape).to(dtype=dtype, device=device)
+        if ctx.needs_input_grad[1]:
+            corners, weights = features
+            shape, dtype, device = ctx.vertices_like
+            # The closest point moves with its triangle's corners by its weights: d(distance)/dv = -w * gradient.
+            per_corner = (weights * g).unsqueeze(-1) * gradient.neg().unsqueeze(1)
+            grad_vertices = torch.zeros(shape, dtype=torch.float64).index_add_(0, corners.reshape(-1), per_corner.reshape(-1, 3))
+            grad_vertices = grad_vertices.to(dtype=dtype, device=device)
+        return grad_points, grad_vertices, None, None, None
+
+
+class _ClosestPoints(torch.autograd.Function):
+    """Closest surface points; backward differentiates the projection onto each point's feature."""
+
+    @staticmethod
+    def forward(ctx, points, vertices, mesh, threads):
+        wants_gradient = ctx.needs_input_grad[0] or ctx.needs_input_grad[1]
+        _, _, closest, corners, _, feature_size = _nearest_terms(
+            mesh, _flat_points(points), _vertex_coordinates(vertices), None, closest=True, features=wants_gradient,
+            threads=threads)
+        if wants_gradient:
+            ctx.mesh = mesh
+            ctx.save_for_backward(points, vertices, torch.from_numpy(corners), torch.from_numpy(feature_size))
+        return _like(closest, points.shape, points)
+
+    @staticmethod
+    def backward(ctx, grad):
+        _first_order_only()
+        points, vertices, corners, feature_size = ctx.saved_tensors
+        wants_points, wants_vertices = ctx.needs_input_grad[0], ctx.needs_input_grad[1]
+        with torch.enable_grad():
+            p = points.detach().to(device="cpu", dtype=torch.float64).reshape(-1, 3).requires_grad_(wants_points)
+            if vertices is None:
+                v = torch.from_numpy(ctx.mesh.vertices)
+            else:
+                v = vertices.detach().to(device="cpu", dtype=torch.float64).requires_grad_(wants_vertices)
+            closest = _project_onto_features(p, v, corners, feature_size)
+            inputs = [x for x, wanted in ((p, wants_points), (v, wants_vertices)) if wanted]
+            if closest.requires_grad:  # else every closest point is a vertex of a fixed mesh
+                upstream = grad.detach().to(device="cpu", dtype=torch.float64).reshape(-1, 3)
+                found = torch.autograd.grad(closest, inputs, upstream, allow_unused=True)
+            else:
+                found = [None] * len(inputs)
+            grads = iter(torch.zeros_like(x) if g is None else g for x, g in zip(inputs, found))
+        grad_points = next(grads).reshape(points.shape).to(dtype=points.dtype, device=points.device) if wants_points else None
+        grad_vertices = next(grads).to(dtype=vertices.dtype, device=vertices.device) if wants_vertices else None
+        return grad_points, grad_vertices, None, None
+
+
+def _project_onto_features(p, v, corners, feature_size):
+    """The closest points again, as differentiable functions of p and v: each point projected onto
+    its closest feature (corners spanning it first: 1 vertex, 2 edge, 3 face)."""
+    a, b, c = (v[corners[:, k]] for k in range(3))
+    closest = a  # on a vertex
+    edge = torch.nonzero(feature_size == 2).reshape(-1)
+    if len(edge):
+        ea, d = a[edge], b[edge] - a[edge]
+        t = ((p[edge] - ea) * d).sum(-1, keepdim=True) / (d * d).sum(-1, keepdim=True)
+        closest = closest.index_put((edge,), ea + t * d)
+    face = torch.nonzero(feature_size == 3).reshape(-1)
+    if len(face):
+        fa, fp = a[face], p[face]
+        n = torch.cross(b[face] - fa, c[face] - fa, dim=-1)
+        closest = closest.index_put((face,), fp - ((fp - fa) * n).sum(-1, keepdim=True) / (n * n).sum(-1, keepdim=True) * n)
+    return closest
