@@ -12,7 +12,8 @@
 --   build-premake/bin/Release/sdfgen render assets/bunny.obj -o bunny.png
 --
 -- Options mirror CMake's: --native (SDFGEN_NATIVE), --sanitize (SDFGEN_SANITIZE), --no-tests
--- (SDFGEN_BUILD_TESTS=OFF), --no-viewer (SDFGEN_VIEWER=OFF), --no-python (SDFGEN_PYTHON=OFF);
+-- (SDFGEN_BUILD_TESTS=OFF), --no-viewer (SDFGEN_VIEWER=OFF), --no-python (SDFGEN_PYTHON=OFF),
+-- --no-openvdb (SDFGEN_OPENVDB=OFF), --no-assimp (SDFGEN_ASSIMP=OFF);
 -- --build-dir=DIR puts the generated makefiles and all build output in DIR instead of
 -- build-premake/ (ignored by git). CMake's "built on request" programs (bench/) are ordinary
 -- projects here: `make` builds them too, `make sdfgen` only what sdfgen needs.
@@ -26,6 +27,8 @@ newoption { trigger = "sanitize", description = "Build with AddressSanitizer and
 newoption { trigger = "no-tests", description = "Leave out the GoogleTest programs (CMake: -DSDFGEN_BUILD_TESTS=OFF)" }
 newoption { trigger = "no-viewer", description = "Build the core and the command line only, without OpenGL, GLFW, ImGui, OSMesa or glad (CMake: -DSDFGEN_VIEWER=OFF)" }
 newoption { trigger = "no-python", description = "Leave out the Python module (CMake: -DSDFGEN_PYTHON=OFF)" }
+newoption { trigger = "no-openvdb", description = "Leave out the OpenVDB plug-in: no .vdb files, no sdfgen surface (CMake: -DSDFGEN_OPENVDB=OFF)" }
+newoption { trigger = "no-assimp", description = "Leave out the Assimp plug-in: OBJ meshes only (CMake: -DSDFGEN_ASSIMP=OFF)" }
 newoption { trigger = "build-dir", value = "DIR", description = "Where the generated files and all build output go (default: build-premake/ in the source folder)" }
 
 -- premake's gcc strips every binary built without debug symbols (-s); CMake's Release keeps the
@@ -36,6 +39,10 @@ SDFGEN_ROOT = _MAIN_SCRIPT_DIR or os.getcwd()
 SDFGEN_BUILD_DIR = _OPTIONS["build-dir"] and path.getabsolute(_OPTIONS["build-dir"]) or (SDFGEN_ROOT .. "/build-premake")
 SDFGEN_OBJ_DIR = SDFGEN_BUILD_DIR .. "/obj"
 SDFGEN_VIEWER = not _OPTIONS["no-viewer"]
+SDFGEN_OPENVDB = not _OPTIONS["no-openvdb"]
+SDFGEN_ASSIMP = not _OPTIONS["no-assimp"]
+-- Which plug-ins this build has, for the core (its "built without" errors) and the unit tests.
+SDFGEN_PLUGIN_DEFINES = { "SDFGEN_HAS_OPENVDB=" .. (SDFGEN_OPENVDB and "1" or "0"), "SDFGEN_HAS_ASSIMP=" .. (SDFGEN_ASSIMP and "1" or "0") }
 SDFGEN_SOURCE_DIR_DEFINE = 'SDFGEN_SOURCE_DIR="' .. SDFGEN_ROOT .. '"'
 
 -- Usage requirements. CMake hands a target's PUBLIC/INTERFACE include directories, definitions
@@ -77,7 +84,8 @@ end
 -- The OpenVDB and Assimp parts, opened by the core on first use from beside libsdfgen.so: a
 -- program that may need them has them built first (CMake: add_dependencies).
 function sdfgen_needs_plugins()
-   dependson { "sdfgen_openvdb", "sdfgen_assimp" }
+   if SDFGEN_OPENVDB then dependson { "sdfgen_openvdb" } end
+   if SDFGEN_ASSIMP then dependson { "sdfgen_assimp" } end
 end
 
 -- CMake's sdfgen::openvdb (OpenVDB::openvdb): Imath's headers, OpenVDB's definitions, and the
@@ -131,6 +139,7 @@ project "sdfgen_core"
    targetname "sdfgen"
    files { "src/core/*.cpp", "src/core/formats/*.cpp" }
    includedirs { "include", "src" }
+   defines(SDFGEN_PLUGIN_DEFINES)
    links { "dl" }
    sdfgen_use_tbb()
    links { "tinyobjloader", "zip" }
@@ -143,18 +152,23 @@ project "sdfgen_core"
 
 -- OpenVDB (.vdb files, iso-surfaces) and Assimp (mesh formats other than OBJ) in libraries of
 -- their own beside libsdfgen.so, which opens them on first use (src/core/plugin.hpp).
-project "sdfgen_openvdb"
-   kind "SharedLib"
-   files { "src/vdb/vdb.cpp" }
-   sdfgen_use_core()
-   sdfgen_use_openvdb()
+-- Each is optional (--no-openvdb, --no-assimp).
+if SDFGEN_OPENVDB then
+   project "sdfgen_openvdb"
+      kind "SharedLib"
+      files { "src/vdb/vdb.cpp" }
+      sdfgen_use_core()
+      sdfgen_use_openvdb()
+end
 
-project "sdfgen_assimp"
-   kind "SharedLib"
-   files { "src/assimp/assimp_mesh.cpp", "src/assimp/gltf_guard.cpp" }
-   sdfgen_use_core()
-   -- assimp and what Assimp's CMake package links with it.
-   links { "assimp", "z", "draco", "minizip", "rt" }
+if SDFGEN_ASSIMP then
+   project "sdfgen_assimp"
+      kind "SharedLib"
+      files { "src/assimp/assimp_mesh.cpp", "src/assimp/gltf_guard.cpp" }
+      sdfgen_use_core()
+      -- assimp and what Assimp's CMake package links with it.
+      links { "assimp", "z", "draco", "minizip", "rt" }
+end
 
 if SDFGEN_VIEWER then
    -- What linking sdfgen_render brings (CMake: its PUBLIC sdfgen::glad, and the private EGL,
@@ -230,13 +244,15 @@ group "bench"
          sdfgen_use_core()
    end
 
-   -- Peer drivers (bench/peers.sh): OpenVDB always, Embree 3 when libembree-dev is installed.
-   project "peer_openvdb"
-      sdfgen_program()
-      files { "bench/openvdb_sdf.cpp" }
-      includedirs { "bench" }
-      sdfgen_use_core()
-      sdfgen_use_openvdb()
+   -- Peer drivers (bench/peers.sh): OpenVDB in builds with it, Embree 3 when libembree-dev is installed.
+   if SDFGEN_OPENVDB then
+      project "peer_openvdb"
+         sdfgen_program()
+         files { "bench/openvdb_sdf.cpp" }
+         includedirs { "bench" }
+         sdfgen_use_core()
+         sdfgen_use_openvdb()
+   end
    if os.findlib("embree3") then
       project "peer_embree"
          sdfgen_program()
@@ -299,7 +315,10 @@ if not _OPTIONS["no-tests"] then
       sdfgen_needs_plugins()
       sdfgen_use_gtest()
       sdfgen_use_core()
-      sdfgen_use_openvdb()   -- the format tests read VDB files themselves
+      defines(SDFGEN_PLUGIN_DEFINES)
+      if SDFGEN_OPENVDB then
+         sdfgen_use_openvdb()   -- the format tests read VDB files themselves
+      end
       links { "zip" }   -- the field reader tests write hostile .npz archives themselves
       links { "gmpxx", "gmp" }   -- GMP's rationals, the exact reference of the predicate tests
 

@@ -27,6 +27,7 @@
 #include "peer_common.hpp"
 
 #include "core/directions.hpp"
+#include "core/sample_positions.hpp"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>

@@ -2,9 +2,9 @@
 // coordinates (samples at localPosition), scaled to world units at the end.
 //
 // The mesh is a binary BVH flattened into SSBOs (src/gpu/flat_bvh.hpp): nodes (box, children
-// adjacent or a leaf's triangle range) and triangles in leaf order, each set up as src/core/bvh.cpp
-// sets up its distance triangles, and the float distance is its Bvh::distanceSquared, operation
-// for operation (`precise`; bvh.cpp is compiled with -ffp-contract=off). Each invocation walks the tree nearest child first with a short
+// adjacent or a leaf's triangle range) and triangles in leaf order, each set up by FlatBvh for this
+// search's own float distance (`precise`: no fused multiply-adds, the order of operations as
+// written). Each invocation walks the tree nearest child first with a short
 // stack, pruned by its best squared distance so far; as on the CPU, ties are explored and go to the
 // lower triangle index, so the answer does not depend on the seeds or the order. Pass `seedPass` =
 // 1 finds the nearest triangle of one sample per 4x4x4 brick (its first corner); the main pass
@@ -29,7 +29,7 @@ struct Node {
     vec4 lo; // box minimum; w: first child (interior) or first triangle (leaf), as uint bits
     vec4 hi; // box maximum; w: triangle count (0 for interior nodes), as uint bits
 };
-// src/core/bvh.cpp's DistanceTriangle, plus the corners for the double re-measure.
+// A triangle set up for the float distance (FlatBvh::Triangle), plus the corners for the double re-measure.
 struct Triangle {
     vec4 a;      // corner a; w: 1 / |ab|² (0 for a zero-length edge)
     vec4 ab;     // b - a; w: 1 / |bc|²
@@ -82,8 +82,8 @@ float segmentDistance2(vec3 q, vec3 e, float invLength2) {
     return d2;
 }
 
-// The squared distance in float, as src/core/bvh.cpp's Bvh::distanceSquared computes it: the
-// height above the plane inside the prism over the face, else the nearest of the three edges.
+// The squared distance in float: the height above the plane inside the prism over the face, else
+// the nearest of the three edges.
 float triangleDistance2(vec3 p, uint t) {
     const Triangle tri = triangles[t];
     precise vec3 pa = p - tri.a.xyz;

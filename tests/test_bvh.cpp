@@ -1,6 +1,7 @@
 // The BVH's nearest hit equals brute force over every triangle.
 #include "core/bvh.hpp"
 #include "support/shapes.hpp"
+#include "support/binary_rays.hpp"
 
 #include "support/checks.hpp"
 #include <gtest/gtest.h>
@@ -14,7 +15,7 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-bool bruteForce(const Mesh& mesh, const glm::vec3& o, const glm::vec3& d, RayHit& best) {
+bool bruteForce(const Mesh& mesh, const glm::vec3& o, const glm::vec3& d, test::RayHit& best) {
     bool found = false;
     for (std::size_t i = 0; i < mesh.triangleCount(); ++i) {
         const PreparedTriangle tri = prepareTriangle(mesh.vertex(i, 0), mesh.vertex(i, 1), mesh.vertex(i, 2));
@@ -47,9 +48,9 @@ void expectTreeMatchesBruteForce(const Mesh& mesh, int rays, unsigned seed) {
     for (int r = 0; r < rays; ++r) {
         const glm::vec3 o = lo + glm::vec3(unit(rng), unit(rng), unit(rng)) * (hi - lo);
         const glm::vec3 d = glm::normalize(glm::vec3(gauss(rng), gauss(rng), gauss(rng)));
-        RayHit expected, actual;
+        test::RayHit expected, actual;
         const bool bruteHit = bruteForce(mesh, o, d, expected);
-        const bool treeHit = tree.intersect(o, d, kInf, actual);
+        const bool treeHit = test::intersect(mesh, tree, o, d, kInf, actual);
         ASSERT_EQ(treeHit, bruteHit) << "ray " << r;
         if (!bruteHit) continue;
         ++hits;
@@ -82,14 +83,14 @@ TEST(Bvh, AxisAlignedRaysAndRaysFromInside) {
     const Bvh tree(mesh);
     const glm::vec3 axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (const glm::vec3& d : axes) {
-        RayHit hit;
-        ASSERT_TRUE(tree.intersect({0.1f, 0.2f, 0.3f}, d, kInf, hit));
+        test::RayHit hit;
+        ASSERT_TRUE(test::intersect(mesh, tree, {0.1f, 0.2f, 0.3f}, d, kInf, hit));
         EXPECT_TRUE(hit.backFace);
         EXPECT_NEAR(hit.t, 1.0f - glm::dot(glm::vec3(0.1f, 0.2f, 0.3f), d), 1e-6f);
-        ASSERT_TRUE(tree.intersect(-3.0f * d, d, kInf, hit));
+        ASSERT_TRUE(test::intersect(mesh, tree, -3.0f * d, d, kInf, hit));
         EXPECT_FALSE(hit.backFace);
         EXPECT_FLOAT_EQ(hit.t, 2.0f);
-        EXPECT_FALSE(tree.intersect(-3.0f * d, d, 1.5f, hit)); // tMax stops short of the box
+        EXPECT_FALSE(test::intersect(mesh, tree, -3.0f * d, d, 1.5f, hit)); // tMax stops short of the box
     }
 }
 
@@ -97,7 +98,7 @@ TEST(Bvh, BoundedLeavesAndDepth) {
     const Mesh mesh = loadMesh(test::bundledBunnyPath());
     const Bvh tree(mesh);
     // Well short of the build's hard limit (kMaxDepth), which a balanced SAH tree never reaches.
-    EXPECT_LE(tree.depth(), 32) << "limit " << Bvh::kMaxDepth;
+    EXPECT_LE(test::treeDepth(tree), 32) << "limit " << Bvh::kMaxDepth;
     EXPECT_LT(tree.nodeCount(), 2 * mesh.triangleCount());
     EXPECT_EQ(tree.bounds().min, mesh.bounds.min);
     EXPECT_EQ(tree.bounds().max, mesh.bounds.max);
@@ -110,9 +111,9 @@ TEST(Bvh, CoincidentTrianglesStillSplit) {
     const Mesh mesh = buildMesh("stack", positions, triangles);
     const Bvh tree(mesh);
     // Halving 1000 copies down to leaves of at most kMaxLeafSize takes about log2(1000 / 8) levels.
-    EXPECT_LE(tree.depth(), 10);
-    RayHit hit;
-    ASSERT_TRUE(tree.intersect(glm::vec3(mesh.toLocal({0.2, 0.2, 1.0})), {0, 0, -1}, kInf, hit));
+    EXPECT_LE(test::treeDepth(tree), 10);
+    test::RayHit hit;
+    ASSERT_TRUE(test::intersect(mesh, tree, glm::vec3(mesh.toLocal({0.2, 0.2, 1.0})), {0, 0, -1}, kInf, hit));
     EXPECT_FLOAT_EQ(float(hit.t * mesh.unit), 1.0f);
 }
 

@@ -4,6 +4,7 @@
 #include "core/geometry.hpp"
 #include "core/kernel.hpp"
 #include "core/memory.hpp"
+#include "core/sample_positions.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/model.hpp"
@@ -12,8 +13,10 @@
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#if SDFGEN_HAS_OPENVDB
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#endif
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -319,6 +322,7 @@ TEST(Channels, CountedByTheMemoryEstimate) {
     EXPECT_EQ(double(estimateBakeBytes(mesh, grid, settings)) - plain, double(grid.sampleCount()) * (12 + 12 + 4));
 }
 
+#if SDFGEN_HAS_OPENVDB
 // The channel grids of a .vdb: the surface grid's active voxels, each with its sample's channel.
 TEST(Channels, VdbGridsHoldThem) {
     const Mesh mesh = test::torus(1.0f, 0.3f, 16, 8);
@@ -363,6 +367,7 @@ TEST(Channels, VdbGridsHoldThem) {
         EXPECT_EQ(checked, std::size_t(surface->activeVoxelCount()));
     }
 }
+#endif
 
 } // namespace
 } // namespace sdfgen

@@ -4,6 +4,7 @@
 // force for the winding numbers; the real GPU device is tested in tests/gpu.
 #include "core/exact.hpp"
 #include "core/geometry.hpp"
+#include "core/sample_positions.hpp"
 #include "sdfgen/device.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"

@@ -5,10 +5,12 @@
 #include "core/duplicates.hpp"
 #include "core/exact.hpp"
 #include "core/memory.hpp"
+#include "core/sample_positions.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
 #include "sdfgen/model.hpp"
 #include "support/checks.hpp"
+#include "support/binary_rays.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -71,8 +73,8 @@ TEST(Bvh, CopiesOfTrianglesAreHeldOnce) {
     const NearestField actual = computeNearest(copies, tree, grid, RunControl{});
     EXPECT_EQ(actual.distance, expected.distance);
     EXPECT_EQ(actual.triangle, expected.triangle); // the first copies carry the single mesh's indices
-    RayHit hit;
-    ASSERT_TRUE(tree.intersect(glm::vec3(copies.toLocal({0.2, 0.2, 2.0})), {0, 0, -1}, kInf, hit));
+    test::RayHit hit;
+    ASSERT_TRUE(test::intersect(copies, tree, glm::vec3(copies.toLocal({0.2, 0.2, 2.0})), {0, 0, -1}, kInf, hit));
     EXPECT_FLOAT_EQ(float(hit.t * copies.unit), 1.75f);
     EXPECT_LT(hit.triangle, one.triangleCount());
 }
@@ -92,12 +94,12 @@ TEST(Bvh, ExponentiallySpacedTrianglesKeepDepthAndLeavesBounded) {
     }
     const Mesh mesh = buildMesh("exponential", positions, triangles);
     const Bvh tree(mesh);
-    EXPECT_LT(tree.depth(), Bvh::kMaxDepth);
+    EXPECT_LT(test::treeDepth(tree), Bvh::kMaxDepth);
     EXPECT_EQ(trianglesReached(tree), mesh.triangleCount());
-    RayHit hit;
+    test::RayHit hit;
     for (int i : {1, 61, 119}) { // a ray along +x from just before triangle i (x > 0) hits it
         const double x = xOf(i);
-        ASSERT_TRUE(tree.intersect(glm::vec3(mesh.toLocal({x * 0.75, 0.2, 0.2})), {1, 0, 0}, kInf, hit)) << i;
+        ASSERT_TRUE(test::intersect(mesh, tree, glm::vec3(mesh.toLocal({x * 0.75, 0.2, 0.2})), {1, 0, 0}, kInf, hit)) << i;
         EXPECT_EQ(hit.triangle, std::uint32_t(i));
     }
 }

@@ -4,6 +4,7 @@
 #include "sdfgen/field.hpp"
 
 #include "support/checks.hpp"
+#include "core/formats/format.hpp"
 
 #include <gtest/gtest.h>
 

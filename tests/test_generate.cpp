@@ -4,7 +4,9 @@
 #include "sdfgen/error.hpp"
 #include "core/bake.hpp"
 #include "core/ray_generator.hpp"
+#include "core/sample_positions.hpp"
 #include "support/checks.hpp"
+#include "support/binary_rays.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -168,9 +170,9 @@ TEST(RayGenerator, EqualsTheNaiveDefinition) {
                 float nearest = std::numeric_limits<float>::infinity();
                 int hits = 0, backs = 0;
                 for (const glm::vec3& d : dirs) {
-                    RayHit hit;
+                    test::RayHit hit;
                     const glm::vec3 origin(localPosition(mesh, grid, i, j, k));
-                    if (!tree.intersect(origin, d, std::numeric_limits<float>::infinity(), hit)) continue;
+                    if (!test::intersect(mesh, tree, origin, d, std::numeric_limits<float>::infinity(), hit)) continue;
                     ++hits;
                     backs += hit.backFace;
                     nearest = std::min(nearest, hit.t);
@@ -183,7 +185,8 @@ TEST(RayGenerator, EqualsTheNaiveDefinition) {
 }
 
 // The generator as it was before the ray tree: the same 2x2x2 blocks and early vote, each direction
-// traced by Bvh::intersect's packet traversal. The wide traversal must give these bits exactly.
+// traced by the binary tree's packet traversal (test::intersect). The wide traversal must give these
+// bits exactly.
 std::vector<float> binaryTreeRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int rays) {
     using namespace simd;
     const std::vector<glm::vec3> directions = sphereDirections(rays);
@@ -192,7 +195,7 @@ std::vector<float> binaryTreeRayField(const Mesh& mesh, const Bvh& tree, const G
     for (int k0 = 0; k0 < grid.dims.z; k0 += 2)
         for (int j0 = 0; j0 < grid.dims.y; j0 += 2)
             for (int i0 = 0; i0 < grid.dims.x; i0 += 2) {
-                RayPacket packet;
+                test::RayPacket packet;
                 i8 active = splat(0);
                 glm::ivec3 sample[8];
                 for (int lane = 0; lane < 8; ++lane) {
@@ -208,7 +211,7 @@ std::vector<float> binaryTreeRayField(const Mesh& mesh, const Bvh& tree, const G
                 for (int r = 0; r < rays; ++r) {
                     packet.direction = directions[std::size_t(r)];
                     packet.tMax = select(active, select(decided, nearest, splat(infinity)), splat(-1.0f));
-                    tree.intersect(packet);
+                    test::intersect(mesh, tree, packet);
                     nearest = select(packet.hit, min(nearest, packet.tMax), nearest);
                     const i8 voting = packet.hit & ~decided;
                     hits -= voting;

@@ -2,6 +2,7 @@
 // size at the origin (issue: a cube at 1e7 baked to all zeros, one scaled by 1e20 had wrong signs).
 #include "core/bake.hpp"
 #include "core/bvh.hpp"
+#include "core/formats/format.hpp"
 #include "sdfgen/field.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"

@@ -2,6 +2,7 @@
 // input (pipes, size limit, NULs), the OBJ pre-scan, the text format's reader and writer agreeing,
 // the bake's memory estimate, and inside-out meshes against their analytic SDF.
 #include "core/atomic_file.hpp"
+#include "core/formats/format.hpp"
 #include "core/input_file.hpp"
 #include "core/memory.hpp"
 #include "core/obj_scan.hpp"

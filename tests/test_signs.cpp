@@ -1,6 +1,7 @@
 // The sign methods against the brute-force reference and the reference winding number.
 #include "sdfgen/compare.hpp"
 #include "core/exact.hpp"
+#include "core/sample_positions.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
 #include "support/broken_meshes.hpp"

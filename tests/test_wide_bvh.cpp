@@ -5,6 +5,7 @@
 #include "core/exact.hpp"
 #include "core/geometry.hpp"
 #include "core/kernel.hpp"
+#include "core/sample_positions.hpp"
 #include "core/topology.hpp"
 #include "core/wide_bvh.hpp"
 #include "sdfgen/grid.hpp"

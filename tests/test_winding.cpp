@@ -2,6 +2,7 @@
 // coplanar overlaps. Signs must equal those of the reference winding number, sample by sample,
 // work must stay bounded by what is near, and point queries must agree with the bake.
 #include "core/bvh.hpp"
+#include "core/sample_positions.hpp"
 #include "core/sign.hpp"
 #include "sdfgen/model.hpp"
 #include "core/topology.hpp"

@@ -1,5 +1,4 @@
 #pragma once
-#include "sdfgen/device.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh_check.hpp"
 
@@ -28,6 +27,15 @@ const char* toString(SignMethod sign);
 DistanceMethod parseDistanceMethod(const std::string& name);
 SignMethod parseSignMethod(const std::string& name);
 
+// Where a bake runs: exact distances and winding signs on the CPU, or on a compute device that a
+// program registers (the viewer and the command line register the GPU; see sdfgen/device.hpp).
+enum class Device {
+    Cpu,  // the core library's generators
+    Gpu,  // the registered compute device; an error when there is none or it cannot start
+    Auto, // the compute device when it runs on real GPU hardware, the CPU otherwise
+};
+const char* toString(Device device);
+
 // What a bake or a set of samples gives per point besides the signed distance ("sdf", always
 // there), each from the same nearest-triangle search as the distance (exact method only):
 // - gradient: the unit gradient of the signed distance, sign * (p - c) / |p - c| with c the closest
@@ -55,7 +63,7 @@ struct BakeSettings {
     DistanceMethod method = DistanceMethod::Exact;
     SignMethod sign = SignMethod::Default;
     int rays = 64; // for the rays method and the rays sign
-    // Where exact distances and winding signs run (see device.hpp); other methods run on the CPU.
+    // Where exact distances and winding signs run; other methods run on the CPU.
     Device device = Device::Auto;
     // Per-sample channels besides the distance, into Field::gradient, closest and triangle (exact
     // method, on the CPU). The distances are the same, bit for bit, with or without them.

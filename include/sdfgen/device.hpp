@@ -1,7 +1,9 @@
 #pragma once
-// Where a bake runs: on the CPU (the core library) or on a compute device that another library
-// registers at run time (src/gpu: OpenGL 4.5 compute shaders). The core never links OpenGL; it
-// only calls this interface.
+// The compute device plug-in interface: how a library that can run the heavy parts of an exact
+// bake on other hardware (src/gpu: OpenGL 4.5 compute shaders) registers with the core at run
+// time. The core never links OpenGL; it only calls this interface. Programs that only bake and
+// query need not include it: BakeSettings::device picks where a bake runs.
+#include "sdfgen/bake.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/run_control.hpp"
@@ -14,13 +16,6 @@
 #include <vector>
 
 namespace sdfgen {
-
-enum class Device {
-    Cpu,  // the core library's generators
-    Gpu,  // the registered compute device; an error when there is none or it cannot start
-    Auto, // the compute device when it runs on real GPU hardware, the CPU otherwise
-};
-const char* toString(Device device);
 
 // What ComputeDevice::nearest signs by: inside where (p - q)·n < 0 (the other way round when
 // `flipped`), q the closest point of the nearest triangle to the sample p and n the angle-weighted
@@ -70,7 +65,7 @@ public:
     virtual bool hardware() const = 0;
 
     // For every sample of `grid`: the exact distance to the nearest triangle of `mesh` (world
-    // units: measured in the mesh's local units at localPosition, times mesh.unit), the CPU's
+    // units: measured in the mesh's local units at mesh.toLocal(grid.position(i, j, k)), times mesh.unit), the CPU's
     // computeExactField's to 1e-4 voxel. With `sign`, negative inside by the pseudonormal of the
     // nearest triangle's closest feature, as the CPU signs; a sample the device cannot sign as the
     // CPU would (see PseudonormalSign) is NaN, for the caller to decide.
@@ -80,7 +75,7 @@ public:
     // corners each in `mesh`'s local coordinates, counter-clockwise seen from outside), triangle t
     // counted weights[t] times (copies of a triangle, caps shared by equal loops; negative: the
     // other way round), an integer, counted as the CPU's insideByWinding counts it (signed
-    // crossings ahead along +x of the sample's localPosition, robust tie-breaking).
+    // crossings ahead along +x of the sample's local position, robust tie-breaking).
     // With `fans` (not empty), also `sides` for every sample: 1 inside, 0 outside by the sign of
     // |w| - 1/2 (w as in WindingFans, the fans' part measured where their bounds leave
     // doubt), 2 where the device's float cannot tell it from the CPU's double: the caller decides.

@@ -26,11 +26,4 @@ struct Field {
     std::string parameter(const std::string& key) const;
 };
 
-// Writes the sdfgen-text format (docs/field-format.md) atomically: a temporary file in the same
-// folder is renamed over `path` only once complete. Throws Error naming `path` on failure.
-void saveFieldText(const Field& field, const std::string& path);
-
-// Reads and validates an sdfgen-text file; errors name the file and the line of the first problem.
-Field loadFieldText(const std::string& path);
-
 } // namespace sdfgen

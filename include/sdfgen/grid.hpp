@@ -3,8 +3,6 @@
 
 #include <glm/vec3.hpp>
 #include <cstddef>
-#include <cstdint>
-#include <vector>
 
 namespace sdfgen {
 
@@ -26,23 +24,9 @@ struct Grid {
     }
 };
 
-// Sample (i, j, k) of `grid` in `mesh`'s local coordinates: the one expression every generator and
-// point query uses, so that they agree to the last bit.
-inline glm::dvec3 localPosition(const Mesh& mesh, const Grid& grid, int i, int j, int k) {
-    return mesh.toLocal(grid.position(i, j, k));
-}
-
-// The samples' local coordinates per axis: x per i, then y per j, then z per k (dims.x + dims.y +
-// dims.z values). localPosition is componentwise, so sample (i, j, k) is (axes[i], axes[dims.x + j],
-// axes[dims.x + dims.y + k]) to the bit, without its three divisions per use.
-std::vector<double> sampleAxes(const Mesh& mesh, const Grid& grid);
-
 // The grid around `bounds` padded on every side by padding * longest extent, with `res` voxels
 // along the longest padded axis. Throws Error for res < 1, negative or non-finite padding, a
 // mesh with no extent, or a grid that would not fit in this machine's memory.
 Grid makeGrid(const WorldBounds& bounds, int res, double padding);
-
-// Bytes of physical memory on this machine (0 when unknown).
-std::uint64_t physicalMemoryBytes();
 
 } // namespace sdfgen

@@ -1,4 +1,39 @@
 #pragma once
+// sdfgen::Model: signed distance fields and point queries for a triangle mesh.
+//
+// What is computed. The `exact` method's distance of a sample is the distance to the nearest
+// triangle: the triangle is found by a float search (ties going to the lower triangle index,
+// whatever the traversal order), then its closest point is measured again in double in the mesh's
+// local coordinates (centred and scaled by a power of two, see Mesh::toLocal) and the result,
+// scaled to world units, is rounded once to float. Fields are stored as float. `brute` measures
+// every triangle in double (the reference); `rays` is an upper bound from ray hits.
+//
+// Which meshes. Any triangle soup: open, with holes, non-manifold, self-intersecting, with
+// overlapping shells, copies of triangles, inverted (inside-out) parts. Zero-area triangles are
+// dropped (Mesh::droppedDegenerate). Distances are defined for all of them; only signs depend on
+// the shape.
+//
+// Signs. Negative inside. The winding sign takes the generalized winding number w (Jacobson et
+// al. 2013), computed exactly (robust crossing counts, the holes closed by small fans): inside
+// where |w| > 1/2, so a closed part is solid whichever way its faces point, and a cavity bounded
+// by a reversed inner shell is empty. The pseudonormal sign (the angle-weighted pseudonormal of the
+// closest feature, Baerentzen and Aanaes 2005) is right on closed, consistently oriented,
+// non-self-intersecting meshes; auto takes it only where the mesh check proves it so, the winding
+// sign otherwise (BakeResult::signReason says why).
+//
+// Threads. RunControl::threads sets the threads of every phase; fields and query answers are
+// bit-identical whatever the count (fixed work partitions, no order-dependent reductions), and
+// whether the AVX2 or the baseline kernel runs. Point queries at a grid's sample positions
+// (Grid::position) return exactly the baked values.
+//
+// What is refused, and how. Every failure is an Error (sdfgen/error.hpp) whose message is one
+// line naming the file, when there is one, and the problem; nothing is written or left half done.
+// Refused: unreadable or malformed mesh files, faces that refer to missing vertices, non-finite
+// coordinates, meshes without a triangle of non-zero area or without extent, a resolution below 1,
+// negative or non-finite padding, grids (and bakes: BakeSettings' memory estimate) that do not fit
+// in the memory available, distances beyond float range, non-finite query points, and settings
+// that do not go together (e.g. a sign the method does not support). A raised
+// RunControl::cancel ends any long call with Cancelled (an Error) soon after.
 #include "sdfgen/bake.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/mesh_check.hpp"
@@ -70,9 +105,8 @@ public:
     std::vector<float> signedDistance(const std::vector<glm::dvec3>& points, const RunControl& control = {}) const;
     std::vector<float> unsignedDistance(const std::vector<glm::dvec3>& points, const RunControl& control = {}) const;
 
-    struct Impl;
-
 private:
+    struct Impl;
     std::unique_ptr<Impl> impl_;
 };
 

@@ -204,7 +204,6 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     progress.finish();
     nodes_ = std::move(tree.nodes);
     triangleIds_ = std::move(tree.ids);
-    depth_ = tree.depth;
     bounds_ = {glm::vec3(nodes_[0].min[0], nodes_[0].min[1], nodes_[0].min[2]),
                glm::vec3(nodes_[0].max[0], nodes_[0].max[1], nodes_[0].max[2])};
     triangles_.resize(n);
@@ -227,7 +226,6 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     input.progress.checkCancel();
     std::vector<Node>& nodes = out.nodes;
     std::vector<std::uint32_t>& ids = out.ids;
-    out.depth = std::max(out.depth, depth);
     const NodeBounds nodeBounds = reduceRange<NodeBounds>(begin, end, [&](NodeBounds& b, std::size_t i) {
         b.add(boxes[order[i]], centroids[order[i]]);
     });
@@ -260,7 +258,6 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
             nodes.push_back(node);
         }
         ids.insert(ids.end(), second.ids.begin(), second.ids.end());
-        out.depth = std::max(out.depth, second.depth);
         nodes[nodeIndex].index = nodeBase;
         return nodeIndex;
     };
@@ -347,84 +344,6 @@ std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::s
     if (count >= kParallelNode) return children(partitionStable(order, begin, end, left), bestAxis);
     auto* split = std::partition(order.data() + begin, order.data() + end, left);
     return children(std::size_t(split - order.data()), bestAxis);
-}
-
-// The binary tree's packet traversal: the order and the tests that the ray method's wide tree
-// (core/ray_tree.hpp) reproduces bit for bit; the tests compare the two.
-void Bvh::intersect(RayPacket& packet) const {
-    using namespace simd;
-    const glm::vec3 d = packet.direction;
-    // A zero component becomes a tiny one so slab distances stay finite (no 0 * inf).
-    auto inverse = [](float x) { return 1.0f / (x != 0.0f ? x : std::copysign(1e-20f, x)); };
-    const glm::vec3 invD(inverse(d.x), inverse(d.y), inverse(d.z));
-    const bool negative[3] = {d.x < 0.0f, d.y < 0.0f, d.z < 0.0f};
-    // Slab distances are rounded; widening the far one by 2 gamma(3) keeps boxes that the ray
-    // grazes exactly (Ize 2013), so the tree never misses a hit brute force would find.
-    constexpr float kFarScale = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
-    const f8 ox = packet.ox, oy = packet.oy, oz = packet.oz;
-    f8 tMax = packet.tMax;
-    i8 hit = splat(0), triangle = splat(0), backFace = splat(0);
-
-    std::uint32_t stack[kMaxDepth + 2];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        const float* nearX = negative[0] ? node.max : node.min;
-        const float* farX = negative[0] ? node.min : node.max;
-        const float* nearY = negative[1] ? node.max : node.min;
-        const float* farY = negative[1] ? node.min : node.max;
-        const float* nearZ = negative[2] ? node.max : node.min;
-        const float* farZ = negative[2] ? node.min : node.max;
-        const f8 tNear = max(max((nearX[0] - ox) * invD.x, (nearY[1] - oy) * invD.y),
-                             max((nearZ[2] - oz) * invD.z, splat(0.0f)));
-        const f8 tFar = min(min((farX[0] - ox) * invD.x, (farY[1] - oy) * invD.y), (farZ[2] - oz) * invD.z);
-        if (!any(tNear <= min(tFar * kFarScale, tMax))) continue;
-
-        if (node.count > 0) {
-            for (std::uint32_t i = node.index, last = node.index + node.count; i < last; ++i) {
-                f8 t;
-                bool back;
-                const i8 mask = intersectTriangle(ox, oy, oz, d, triangles_[i], tMax, t, back);
-                if (!any(mask)) continue;
-                tMax = select(mask, t, tMax);
-                triangle = select(mask, splat(std::int32_t(triangleIds_[i])), triangle);
-                backFace = select(mask, splat(back ? -1 : 0), backFace);
-                hit |= mask;
-            }
-            continue;
-        }
-        const std::uint32_t first = std::uint32_t(&node - nodes_.data()) + 1;
-        const std::uint32_t second = node.index;
-        // Visit the child on the ray's side of the split first so that early hits shrink tMax.
-        if (negative[node.axis]) {
-            stack[top++] = first;
-            stack[top++] = second;
-        } else {
-            stack[top++] = second;
-            stack[top++] = first;
-        }
-    }
-    packet.tMax = select(hit, tMax, packet.tMax);
-    packet.hit = hit;
-    packet.triangle = triangle;
-    packet.backFace = backFace;
-}
-
-bool Bvh::intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const {
-    RayPacket packet;
-    packet.ox = simd::splat(origin.x);
-    packet.oy = simd::splat(origin.y);
-    packet.oz = simd::splat(origin.z);
-    packet.direction = direction;
-    packet.tMax = simd::splat(-1.0f); // only lane 0 is active
-    packet.tMax[0] = tMax;
-    intersect(packet);
-    if (!packet.hit[0]) return false;
-    hit.t = packet.tMax[0];
-    hit.triangle = std::uint32_t(packet.triangle[0]);
-    hit.backFace = packet.backFace[0] != 0;
-    return true;
 }
 
 } // namespace sdfgen

@@ -2,7 +2,6 @@
 #include "sdfgen/mesh.hpp"
 #include "core/parallel.hpp"
 #include "core/ray.hpp"
-#include "core/simd.hpp"
 #include "sdfgen/run_control.hpp"
 
 #include <glm/common.hpp>
@@ -11,23 +10,6 @@
 #include <vector>
 
 namespace sdfgen {
-
-struct RayHit {
-    float t = 0.0f;
-    std::uint32_t triangle = 0; // index into Mesh::triangles
-    bool backFace = false;
-};
-
-// Eight rays that share one direction (the generator traces each sample direction for eight
-// neighbouring samples at once). Lanes with tMax < 0 are inactive.
-struct RayPacket {
-    simd::f8 ox, oy, oz;
-    glm::vec3 direction;
-    simd::f8 tMax;         // in: farthest distance of interest; out: nearest hit where hit
-    simd::i8 hit;          // out: all ones where the lane hit something closer than tMax
-    simd::i8 triangle;     // out: triangle index where hit
-    simd::i8 backFace;     // out: all ones where the nearest hit is a back face
-};
 
 // Half the surface area of a box, in double: float extents overflow for coordinates beyond
 // ±1.7e38 and products underflow below 1e-19, and the surface area heuristic must still compare
@@ -56,12 +38,6 @@ public:
     // Cancelled soon after control.cancel is raised.
     explicit Bvh(const Mesh& mesh, const RunControl& control = {});
 
-    // Nearest hit with 0 <= t < tMax along origin + t * direction; false when there is none.
-    bool intersect(const glm::vec3& origin, const glm::vec3& direction, float tMax, RayHit& hit) const;
-    // The same for a packet of eight rays with a common direction.
-    void intersect(RayPacket& packet) const;
-
-
     // Calls visit(triangle) for every triangle whose bounding box overlaps `box`.
     template <class Visit>
     void forEachOverlap(const Bounds& box, Visit&& visit) const;
@@ -73,7 +49,7 @@ public:
         std::uint32_t first, second;
         const std::uint32_t* triangles;
         std::uint32_t count; // 0 for an inner node
-        int axis;            // an inner node's split axis: intersect() visits `first` first where the ray runs up it
+        int axis;            // an inner node's split axis: a ray traversal visits `first` first where the ray runs up it
         std::uint32_t slot;  // a leaf's first position in leaf order (0 ... triangleCount() - 1)
     };
     NodeView node(std::uint32_t index) const {
@@ -98,7 +74,6 @@ public:
     // How often a triangle the tree reports (a first copy) occurs in the mesh: what a visit
     // stands for. 0 for the later copies, which the tree never reports.
     std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }
-    int depth() const { return depth_; }
     const Bounds& bounds() const { return bounds_; }
 
 private:
@@ -116,7 +91,6 @@ private:
     struct Subtree {
         std::vector<Node> nodes;
         std::vector<std::uint32_t> ids;
-        int depth = 0;
     };
     struct BuildInput {
         const BvhBuildRecords& records;
@@ -131,7 +105,6 @@ private:
     std::vector<std::uint32_t> triangleIds_;  // leaf order -> Mesh triangle index
     std::vector<std::uint32_t> copies_;       // Mesh triangle index -> its count if a first copy, else 0
     Bounds bounds_;
-    int depth_ = 0;
 };
 
 template <class MayOpen>

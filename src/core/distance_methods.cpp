@@ -3,6 +3,7 @@
 #include "core/methods.hpp"
 #include "core/parallel.hpp"
 #include "core/ray_generator.hpp"
+#include "core/sample_positions.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 

@@ -4,6 +4,7 @@
 #include "core/geometry.hpp"
 #include "core/kernel.hpp"
 #include "core/parallel.hpp"
+#include "core/sample_positions.hpp"
 #include "core/topology.hpp"
 #include "sdfgen/error.hpp"
 

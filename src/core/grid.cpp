@@ -1,5 +1,7 @@
 #include "sdfgen/grid.hpp"
 #include "sdfgen/error.hpp"
+#include "core/memory.hpp"
+#include "core/sample_positions.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>

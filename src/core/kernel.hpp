@@ -1,11 +1,13 @@
 #pragma once
 // The exact distance kernel (core/exact_kernel.inc: the wide tree's searches and the brick
-// candidate lists) is compiled twice, for AVX2 (exact_avx2.cpp) and for baseline x86-64 (SSE2,
-// exact_baseline.cpp), both without fused multiply-adds, so that the two give bit-identical
+// candidate lists) and the ray kernel (core/ray_kernel.inc) are compiled twice, for AVX2
+// (exact_avx2.cpp, ray_avx2.cpp) and for baseline x86-64 (SSE2, exact_baseline.cpp,
+// ray_baseline.cpp), both without fused multiply-adds, so that the two give bit-identical
 // answers; the copy to run is chosen once per process from the CPU (AVX2 where it has it). The
 // environment variable SDFGEN_SIMD=baseline (or avx2) forces a path; setSimdPath does the same
 // from code (tests, benchmarks).
 #include "core/exact.hpp"
+#include "core/ray_tree.hpp"
 
 namespace sdfgen {
 
@@ -22,7 +24,7 @@ void setSimdPath(SimdPath path);
 
 namespace kernel {
 
-// One compiled copy of the kernel.
+// One compiled copy of the kernels.
 struct Table {
     SimdPath path;
     NearestField (*computeNearest)(const Mesh&, const WideBvh&, const Grid&, const RunControl&);
@@ -32,6 +34,8 @@ struct Table {
                                                         const RunControl&);
     std::uint32_t (*nearestTriangle)(const WideBvh&, const glm::vec3&, std::uint32_t&);
     std::uint32_t (*nearest)(const WideBvh&, float, float, float, NearestSoFar&);
+    // The ray kernel's copy for the same path (core/ray_kernel.inc).
+    void (*traceBlock)(const RayTree&, const glm::vec3*, int, RayBlock&);
 };
 
 namespace baseline {

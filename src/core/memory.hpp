@@ -11,6 +11,9 @@ namespace sdfgen {
 
 class Bvh;
 
+// Bytes of physical memory on this machine (0 when unknown).
+std::uint64_t physicalMemoryBytes();
+
 // The memory limits on a process's control groups (Slurm's task/cgroup, container runtimes): the
 // lowest limit on its cgroup or any parent, and the least room left under any of them (limit minus
 // usage). cgroup v2 (memory.max, memory.current; mounted at `root`, or at root/unified beside v1)

@@ -6,6 +6,7 @@
 #include "core/topology.hpp"
 #include "core/wide_bvh.hpp"
 #include "sdfgen/bake.hpp"
+#include "sdfgen/device.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/run_control.hpp"

@@ -1,12 +1,19 @@
 #include "core/openvdb_plugin.hpp"
 #include "core/formats/format.hpp"
 #include "core/plugin.hpp"
+#include "sdfgen/error.hpp"
 
 #include <mutex>
 
 namespace sdfgen {
 
+namespace {
+// A build configured with SDFGEN_OPENVDB=OFF has no libsdfgen_openvdb.so to open.
+const std::string kBuiltWithout = "this sdfgen was built without OpenVDB (configure with -DSDFGEN_OPENVDB=ON)";
+} // namespace
+
 const OpenVdbPlugin& openVdbPlugin() {
+    if (!SDFGEN_HAS_OPENVDB) throw Error("iso-surfaces need OpenVDB, and " + kBuiltWithout);
     // Kept once opened; a failure is reported again by the next call, which tries again.
     static std::mutex mutex;
     static const OpenVdbPlugin* plugin = nullptr;
@@ -19,9 +26,15 @@ const OpenVdbPlugin& openVdbPlugin() {
 
 namespace formats {
 
-void saveVdb(const Field& field, const std::string& path, const SaveOptions& options) { openVdbPlugin().save(field, path, options); }
+void saveVdb(const Field& field, const std::string& path, const SaveOptions& options) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    openVdbPlugin().save(field, path, options);
+}
 
-Field loadVdb(const std::string& path) { return openVdbPlugin().load(path); }
+Field loadVdb(const std::string& path) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    return openVdbPlugin().load(path);
+}
 
 } // namespace formats
 

@@ -1,8 +1,10 @@
 #include "core/ray_generator.hpp"
 #include "core/directions.hpp"
+#include "core/kernel.hpp"
 #include "core/ray_tree.hpp"
 #include "sdfgen/error.hpp"
 #include "core/parallel.hpp"
+#include "core/sample_positions.hpp"
 
 #include <glm/geometric.hpp>
 #include <chrono>
@@ -35,10 +37,10 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
 
     // Eight neighbouring samples, a 2x2x2 block, trace each direction together as a packet:
     // parallel rays less than two voxels apart take nearly the same path through the tree. The
-    // blocks are the same whatever the thread count (and each lane's hits are those of
-    // Bvh::intersect for the block, see core/ray_kernel.inc). One work item is a row of blocks.
+    // blocks are the same whatever the thread count (and each lane's hits are those of the binary
+    // tree's traversal for the block, see core/ray_kernel.inc). One work item is a row of blocks.
     const RayTree rayTree(mesh, tree);
-    const rays::Table& kernel = rays::active();
+    const kernel::Table& kernels = kernel::active();
     const int blocksX = (nx + 1) / 2, blocksY = (grid.dims.y + 1) / 2, blocksZ = (grid.dims.z + 1) / 2;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control, [&](std::size_t blockRow) {
         const int j0 = 2 * int(blockRow % std::size_t(blocksY));
@@ -57,7 +59,7 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
                 block.oz[lane] = p.z;
                 block.active[lane] = inGrid ? -1 : 0;
             }
-            kernel.traceBlock(rayTree, directions.data(), rays, block);
+            kernels.traceBlock(rayTree, directions.data(), rays, block);
             for (int lane = 0; lane < 8; ++lane) {
                 if (!block.active[lane]) continue;
                 const std::size_t index = grid.index(sample[lane].x, sample[lane].y, sample[lane].z);

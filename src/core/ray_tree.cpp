@@ -1,14 +1,11 @@
 #include "core/ray_tree.hpp"
-#include "core/kernel.hpp"
 #include "sdfgen/error.hpp"
 
 #include <cstring>
-#include <limits>
 
 namespace sdfgen {
 
 RayTree::RayTree(const Mesh& mesh, const Bvh& tree) {
-    const float inf = std::numeric_limits<float>::infinity();
     const std::size_t leafCount = (tree.nodeCount() + 1) / 2;
     if (tree.triangleCount() + leafCount >= kLeaf) throw Error("too many triangles for the ray method's tree");
     records_.reserve(tree.triangleCount() + leafCount);
@@ -33,21 +30,14 @@ RayTree::RayTree(const Mesh& mesh, const Bvh& tree) {
         const std::vector<std::uint32_t> open = root.count > 0 ? std::vector<std::uint32_t>{binary} // a tree that is one leaf
                                                                : tree.widestDescendants(binary, kWidth, [](std::uint32_t) { return true; });
         std::uint32_t child[kWidth];
-        for (int slot = 0; slot < kWidth; ++slot) child[slot] = kEmpty;
         for (std::size_t c = 0; c < open.size(); ++c) {
             const Bvh::NodeView n = tree.node(open[c]);
             child[c] = n.count > 0 ? makeLeaf(n) : self(self, open[c]);
         }
         Node& node = nodes_[index]; // after the recursion, which grows nodes_
-        node.minX = node.minY = node.minZ = simd::splat(inf);
-        node.maxX = node.maxY = node.maxZ = simd::splat(-inf);
-        for (std::size_t c = 0; c < open.size(); ++c) {
-            const Bounds b = tree.node(open[c]).box;
-            node.minX[c] = b.min.x, node.minY[c] = b.min.y, node.minZ[c] = b.min.z;
-            node.maxX[c] = b.max.x, node.maxY[c] = b.max.y, node.maxZ[c] = b.max.z;
-        }
-        for (int slot = 0; slot < kWidth; ++slot) node.child[slot] = child[slot];
-        // The binary traversal's order of the open children for each octant: Bvh::intersect visits
+        node.clear();
+        for (std::size_t c = 0; c < open.size(); ++c) node.set(int(c), tree.node(open[c]).box, child[c]);
+        // The binary traversal's order of the open children for each octant: it visits
         // `first` first unless the direction runs down the node's split axis. Empty slots go last.
         for (int octant = 0; octant < kWidth; ++octant) {
             std::uint32_t order = 0;
@@ -76,14 +66,4 @@ RayTree::RayTree(const Mesh& mesh, const Bvh& tree) {
     build(build, 0);
 }
 
-namespace rays {
-
-const Table& active() {
-#if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx2) return avx2::table;
-#endif
-    return baseline::table;
-}
-
-} // namespace rays
 } // namespace sdfgen

@@ -1,14 +1,16 @@
 #pragma once
-// The ray method's tree: the binary Bvh collapsed into 8-wide nodes whose leaves are the binary
-// tree's own leaves (same boxes, same triangles in the same order). Each node stores, for each of
-// the eight direction octants, the order in which Bvh::intersect's depth-first traversal reaches
-// its children, so a traversal over this tree meets the binary leaves in exactly the binary order
-// and, testing each leaf's box as Bvh::intersect does, finds bit for bit the same hits (see
+// The ray method's tree: the binary Bvh collapsed into 8-wide nodes (core/wide_node.hpp) whose
+// leaves are the binary tree's own leaves (same boxes, same triangles in the same order). Each node
+// also stores, for each of the eight direction octants, the order in which the binary tree's
+// depth-first ray traversal (the child on the ray's side of each split first) reaches its
+// children, so a traversal over this tree meets the binary leaves in exactly the binary order and,
+// testing each leaf's box as that traversal does, finds bit for bit the same hits (see
 // core/ray_kernel.inc for why). The kernel is compiled twice, for AVX2 (ray_avx2.cpp) and baseline
-// x86-64 (ray_baseline.cpp), and follows the exact kernel's choice (simdPath(), SDFGEN_SIMD).
+// x86-64 (ray_baseline.cpp), in the exact kernel's dispatch table (core/kernel.hpp).
 #include "core/bvh.hpp"
 #include "core/ray.hpp"
 #include "core/simd.hpp"
+#include "core/wide_node.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <cstdint>
@@ -18,15 +20,13 @@ namespace sdfgen {
 
 class RayTree {
 public:
-    static constexpr int kWidth = 8;
+    static constexpr int kWidth = WideNode::kWidth;
     // A child slot: an inner node's index, or kLeaf | the index of a leaf's record; empty slots
-    // have empty boxes (min +inf, max -inf), which no ray's slab test passes.
-    static constexpr std::uint32_t kLeaf = 0x80000000u;
-    static constexpr std::uint32_t kEmpty = 0xffffffffu;
+    // have empty boxes, which no ray's slab test passes.
+    static constexpr std::uint32_t kLeaf = WideNode::kLeaf;
+    static constexpr std::uint32_t kEmpty = WideNode::kEmpty;
 
-    struct alignas(32) Node {
-        simd::f8 minX, minY, minZ, maxX, maxY, maxZ; // children's boxes
-        std::uint32_t child[kWidth];
+    struct alignas(32) Node : WideNode {
         // order[octant] holds the eight slots, four bits each, first visited in the lowest bits;
         // octant bit a is set where the direction's component a is negative.
         std::uint32_t order[kWidth];
@@ -65,24 +65,16 @@ struct RayBlock {
     simd::i8 backs;      // out: of those, the ones whose nearest hit was a back face
 };
 
+// The ray kernel's compiled copies (core/ray_kernel.inc), reached through the SIMD dispatch
+// table of core/kernel.hpp: the block's rays traced in every direction.
 namespace rays {
-
-// One compiled copy of the ray kernel.
-struct Table {
-    void (*traceBlock)(const RayTree& tree, const glm::vec3* directions, int rays, RayBlock& block);
-};
-
 namespace baseline {
-extern const Table table;
+void traceBlock(const RayTree& tree, const glm::vec3* directions, int rays, RayBlock& block);
 }
 #if defined(__x86_64__) || defined(__i386__)
 namespace avx2 {
-extern const Table table;
+void traceBlock(const RayTree& tree, const glm::vec3* directions, int rays, RayBlock& block);
 }
 #endif
-
-// The copy for simdPath().
-const Table& active();
-
 } // namespace rays
 } // namespace sdfgen

@@ -1,6 +1,7 @@
 #include "core/sign.hpp"
 #include "core/geometry.hpp"
 #include "core/parallel.hpp"
+#include "core/sample_positions.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>

@@ -51,16 +51,16 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
-    // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
-    // whose leaves (near fans) are measured and whose other nodes are bounded over the whole ball,
-    // opened loosest first until the bounds sum to at most `target`, with at most `maxNear` fans
-    // measured (beyond those whose boxes the ball touches, which are always measured).
     // A node waiting in a walk, with its bound.
     struct Pending {
         double bound;
         std::uint32_t node;
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
+    // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
+    // whose leaves (near fans) are measured and whose other nodes are bounded over the whole ball,
+    // opened loosest first until the bounds sum to at most `target`, with at most `maxNear` fans
+    // measured (beyond those whose boxes the ball touches, which are always measured).
     struct Cut {
         std::vector<std::uint32_t> nearNodes; // leaves
         // With `expand`: leaves whose fan the ball may meet, measured at every point of the ball.
@@ -132,8 +132,6 @@ struct WindingStats {
     std::size_t fanEvaluations = 0; // fan solid angles measured, over all samples
     std::size_t exactFanSamples = 0; // samples decided by a block's expansion with its exact fans measured at each
 };
-
-// Inside flags (1 = inside) for every sample of a grid, by one of the sign methods.
 
 // The generalized winding number w (Jacobson et al. 2013), inside where |w| > 1/2, computed exactly.
 // The mesh is closed with small fans over its boundary loops; the closed surface's winding number

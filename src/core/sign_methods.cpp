@@ -3,6 +3,7 @@
 #include "core/methods.hpp"
 #include "core/parallel.hpp"
 #include "core/ray_generator.hpp"
+#include "core/sample_positions.hpp"
 #include "core/sign.hpp"
 #include "sdfgen/error.hpp"
 

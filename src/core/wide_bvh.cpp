@@ -79,16 +79,11 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     };
     auto makeNode = [&](const std::vector<Child>& children) {
         Node node;
-        node.minX = node.minY = node.minZ = simd::splat(inf);
-        node.maxX = node.maxY = node.maxZ = simd::splat(-inf);
+        node.clear();
         Bounds box{glm::vec3(inf), glm::vec3(-inf)};
-        for (int slot = 0; slot < kWidth; ++slot) node.child[slot] = kEmpty;
         for (std::size_t c = 0; c < children.size(); ++c) {
             const Bounds& b = children[c].box;
-            const int slot = int(c);
-            node.minX[slot] = b.min.x, node.minY[slot] = b.min.y, node.minZ[slot] = b.min.z;
-            node.maxX[slot] = b.max.x, node.maxY[slot] = b.max.y, node.maxZ[slot] = b.max.z;
-            node.child[slot] = children[c].slot;
+            node.set(int(c), b, children[c].slot);
             box.min = glm::min(box.min, b.min);
             box.max = glm::max(box.max, b.max);
         }

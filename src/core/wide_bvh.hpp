@@ -1,7 +1,6 @@
 #pragma once
 // The closest-point structure of the exact distance: the binary Bvh collapsed into 8-wide nodes
-// whose children's boxes are stored as structure-of-arrays (one AVX2 instruction tests all eight),
-// with every subtree of at most eight triangles flattened into one leaf packet of eight triangles
+// (core/wide_node.hpp), with every subtree of at most eight triangles flattened into one leaf packet of eight triangles
 // in structure-of-arrays form (one point against eight triangles at once).
 //
 // Every search returns the nearest triangle by the float distance of `packetDistanceSquared`,
@@ -10,6 +9,7 @@
 // baked sample at the same position therefore always find the same triangle.
 #include "core/bvh.hpp"
 #include "core/simd.hpp"
+#include "core/wide_node.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/run_control.hpp"
 
@@ -48,15 +48,11 @@ using namespace packet;
 
 class WideBvh {
 public:
-    static constexpr int kWidth = 8;
+    static constexpr int kWidth = WideNode::kWidth;
     // A child slot: an inner node's index, or kLeaf | packet index; empty slots have empty boxes.
-    static constexpr std::uint32_t kLeaf = 0x80000000u;
-    static constexpr std::uint32_t kEmpty = 0xffffffffu;
-
-    struct alignas(32) Node {
-        simd::f8 minX, minY, minZ, maxX, maxY, maxZ; // children's boxes (empty: min +inf, max -inf)
-        std::uint32_t child[kWidth];
-    };
+    static constexpr std::uint32_t kLeaf = WideNode::kLeaf;
+    static constexpr std::uint32_t kEmpty = WideNode::kEmpty;
+    using Node = WideNode;
 
     // The SoA packets are filled on control.threads threads; the tree is the same for any count.
     WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control = {});

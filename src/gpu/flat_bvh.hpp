@@ -15,9 +15,8 @@ struct FlatBvh {
         glm::vec4 lo; // box minimum; w: first child (interior: children are adjacent) or first triangle (leaf), as uint bits
         glm::vec4 hi; // box maximum; w: triangle count, 0 for interior nodes, as uint bits
     };
-    // Set up for the float distance as src/core/bvh.cpp sets up its distance triangles (the same
-    // expressions, so the GPU's float search measures what the CPU's does), with the corners for
-    // the double re-measure.
+    // Set up for the shader's float distance (shaders/nearest.glsl, triangleDistance2), with the
+    // corners for the double re-measure.
     struct Triangle {
         glm::vec4 a;      // w: 1 / |b - a|²
         glm::vec4 ab;     // b - a; w: 1 / |c - b|²

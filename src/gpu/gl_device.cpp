@@ -4,6 +4,7 @@
 #include "render/gl.hpp"
 #include "render/shader.hpp"
 #include "sdfgen/error.hpp"
+#include "core/sample_positions.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>

@@ -5,6 +5,7 @@
 // MESA_GL_VERSION_OVERRIDE=3.3 (tests/CMakeLists.txt), since Mesa reads that once per process.
 #include "core/bake.hpp"
 #include "core/exact.hpp"
+#include "core/sample_positions.hpp"
 #include "core/sign.hpp"
 #include "core/topology.hpp"
 #include "gpu/gl_device.hpp"
