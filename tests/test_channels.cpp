@@ -9,6 +9,7 @@
 #include "sdfgen/formats.hpp"
 #include "sdfgen/model.hpp"
 #include "sdfgen/sample.hpp"
+#include "support/checks.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -188,15 +189,7 @@ TEST(Channels, PointQueriesGiveTheBakedGradientAtSamplePositions) {
     const Field field = model.bake(settings).field;
     const Grid& grid = field.grid;
     const std::size_t n = grid.sampleCount();
-    std::vector<double> points;
-    for (int k = 0; k < grid.dims.z; ++k) {
-        for (int j = 0; j < grid.dims.y; ++j) {
-            for (int i = 0; i < grid.dims.x; ++i) {
-                const glm::dvec3 p = grid.position(i, j, k);
-                points.insert(points.end(), {p.x, p.y, p.z});
-            }
-        }
-    }
+    const std::vector<double> points = test::samplePositions(grid);
     std::vector<double> gradient(3 * n), closest(3 * n);
     std::vector<std::int64_t> triangle(n);
     PointQueryOutputs out;

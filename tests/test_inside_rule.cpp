@@ -172,13 +172,7 @@ TEST(InsideRule, PointQueriesEqualTheGrid) {
             settings.sign = sign;
             const Field field = model.bake(settings).field;
             const Grid& grid = field.grid;
-            std::vector<double> xyz;
-            for (int k = 0; k < grid.dims.z; ++k)
-                for (int j = 0; j < grid.dims.y; ++j)
-                    for (int i = 0; i < grid.dims.x; ++i) {
-                        const glm::dvec3 p = grid.position(i, j, k);
-                        xyz.insert(xyz.end(), {p.x, p.y, p.z});
-                    }
+            const std::vector<double> xyz = test::samplePositions(grid);
             std::vector<float> values(grid.sampleCount());
             PointQueryOutputs out;
             out.signedDistance = values.data();

@@ -6,6 +6,7 @@
 #include "core/sign.hpp"
 #include "sdfgen/model.hpp"
 #include "core/topology.hpp"
+#include "support/checks.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -257,13 +258,7 @@ TEST(WindingSign, PointQueriesEqualTheBakedField) {
         settings.sign = SignMethod::Winding;
         const Field field = model.bake(settings).field;
         const Grid& grid = field.grid;
-        std::vector<double> xyz;
-        for (int k = 0; k < grid.dims.z; ++k)
-            for (int j = 0; j < grid.dims.y; ++j)
-                for (int i = 0; i < grid.dims.x; ++i) {
-                    const glm::dvec3 p = grid.position(i, j, k);
-                    xyz.insert(xyz.end(), {p.x, p.y, p.z});
-                }
+        const std::vector<double> xyz = test::samplePositions(grid);
         std::vector<float> values(grid.sampleCount());
         PointQueryOutputs out;
         out.signedDistance = values.data();

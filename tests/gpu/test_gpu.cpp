@@ -138,6 +138,20 @@ BakeResult bakeOn(const Mesh& mesh, int res, Device device, SignMethod sign, con
     return bake(mesh, tree, settings, control);
 }
 
+// The triangles the device's winding pass sums over: the mesh's (weight 1), then each cap's fan.
+void windingTriangles(const Mesh& mesh, const WindingCaps& caps, std::vector<glm::dvec3>& corners, std::vector<std::int32_t>& weights) {
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        corners.insert(corners.end(), {glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2))});
+        weights.push_back(1);
+    }
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            corners.insert(corners.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+            weights.push_back(cap.weight);
+        }
+    }
+}
+
 class Gpu : public ::testing::Test {
 protected:
     static void SetUpTestSuite() { gpu::registerGlDevice(); }
@@ -257,16 +271,7 @@ TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
     ASSERT_FALSE(caps.empty());
     std::vector<glm::dvec3> corners;
     std::vector<std::int32_t> weights;
-    for (std::uint32_t t = 0; t < open.triangleCount(); ++t) {
-        corners.insert(corners.end(), {glm::dvec3(open.vertex(t, 0)), glm::dvec3(open.vertex(t, 1)), glm::dvec3(open.vertex(t, 2))});
-        weights.push_back(1);
-    }
-    for (const Cap& cap : caps.caps()) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
-            corners.insert(corners.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
-            weights.push_back(cap.weight);
-        }
-    }
+    windingTriangles(open, caps, corners, weights);
     const WindingFans fans = caps.flattened();
     ComputeDevice* device = selectComputeDevice(Device::Gpu);
     ASSERT_NE(device, nullptr);
@@ -301,16 +306,7 @@ TEST_F(Gpu, DecidesInsideOutPartsByTheMagnitudeOfW) {
     ASSERT_FALSE(caps.empty());
     std::vector<glm::dvec3> corners;
     std::vector<std::int32_t> weights;
-    for (std::uint32_t t = 0; t < open.triangleCount(); ++t) {
-        corners.insert(corners.end(), {glm::dvec3(open.vertex(t, 0)), glm::dvec3(open.vertex(t, 1)), glm::dvec3(open.vertex(t, 2))});
-        weights.push_back(1);
-    }
-    for (const Cap& cap : caps.caps()) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
-            corners.insert(corners.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
-            weights.push_back(cap.weight);
-        }
-    }
+    windingTriangles(open, caps, corners, weights);
     const WindingFans fans = caps.flattened();
     ComputeDevice* device = selectComputeDevice(Device::Gpu);
     ASSERT_NE(device, nullptr);

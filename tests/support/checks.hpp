@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 #define EXPECT_CONTAINS(text, part)                                                                  \
     EXPECT_NE(std::string(text).find(part), std::string::npos)                                       \
@@ -38,6 +39,22 @@ inline BakeResult bakeMesh(const Mesh& mesh, const BakeSettings& settings, int t
     RunControl control;
     control.threads = threads;
     return bake(mesh, tree, settings, control);
+}
+
+// Every sample position of `grid` in index order (x fastest), x y z interleaved: point queries at
+// these give the baked values.
+inline std::vector<double> samplePositions(const Grid& grid) {
+    std::vector<double> xyz;
+    xyz.reserve(3 * grid.sampleCount());
+    for (int k = 0; k < grid.dims.z; ++k) {
+        for (int j = 0; j < grid.dims.y; ++j) {
+            for (int i = 0; i < grid.dims.x; ++i) {
+                const glm::dvec3 p = grid.position(i, j, k);
+                xyz.insert(xyz.end(), {p.x, p.y, p.z});
+            }
+        }
+    }
+    return xyz;
 }
 
 // A fixture with a fresh folder under the system temp folder for each test, removed afterwards.
