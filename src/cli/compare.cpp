@@ -29,6 +29,12 @@ void runCompare(const CompareArgs& args) {
     const double h = d.voxel;
     std::printf("%s vs %s: %zu of %zu samples compared (band %g voxels)\n", args.first.c_str(), args.second.c_str(),
                 d.compared, a.values.size(), args.band);
+    for (const auto& [name, field] : {std::pair{&args.first, &a}, {&args.second, &b}}) {
+        if (field->background > 0) {
+            std::printf("%s is a band field: values compared where its |d| < %g (%.4g voxels), %zu samples outside by sign only\n",
+                        name->c_str(), double(field->background), double(field->background) / h, d.signOnly);
+        }
+    }
     std::printf("abs difference: max %.6g (%.4g voxels), mean %.6g (%.4g voxels), rms %.6g (%.4g voxels)\n", d.maxAbs,
                 d.maxAbs / h, d.meanAbs, d.meanAbs / h, d.rmsAbs, d.rmsAbs / h);
     std::printf("signs differ: %zu samples (%.4f%%)\n", d.signDifferences, 100.0 * d.signFraction());

@@ -125,6 +125,43 @@ with tempfile.TemporaryDirectory() as folder:
         check(np.allclose(np.linalg.norm(samples["points"] - samples["closest"], axis=-1), np.abs(samples["sdf"]), rtol=1e-4, atol=1e-5),
               "samples' |point - closest| is the distance")
         print("numpy reads the channels of .npz fields and samples: they agree with the distances and the mesh")
+
+        # A band field's sparse .npz, rebuilt and looked up by the very lines docs/field-format.md
+        # gives, equals the dense bake in the band and has its sign everywhere else.
+        with open(os.path.join(root, "docs", "field-format.md")) as f:
+            doc = f.read()
+        marker = "<!-- sparse-npz-snippet"
+        check(marker in doc, "the documented sparse .npz snippet")
+        snippet = doc[doc.index("```python\n", doc.index(marker)) + len("```python\n"):]
+        snippet = snippet[:snippet.index("```")]
+        res = ["--res", "40"]
+        band_npz = os.path.join(folder, "bunny-band.npz")
+        subprocess.run([sdfgen, "bake", MESH, *res, "--band", "3", "-o", band_npz], check=True, stdout=subprocess.DEVNULL)
+        dense_npy = os.path.join(folder, "bunny-dense.npy")
+        subprocess.run([sdfgen, "bake", MESH, *res, "-o", dense_npy], check=True, stdout=subprocess.DEVNULL)
+        reference = np.load(dense_npy)
+        space = {"np": np}
+        cwd = os.getcwd()
+        os.chdir(folder)
+        try:
+            exec(snippet, space)
+        finally:
+            os.chdir(cwd)
+        dense, bg, o = space["dense"], float(space["bg"]), space["o"]
+        check(dense.shape == reference.shape, f"rebuilt shape {dense.shape} vs {reference.shape}")
+        check(abs(bg - 3 * float(np.load(band_npz)["voxel_size"])) < 1e-6 * bg, f"background {bg} is 3 voxels")
+        in_band = np.abs(reference) < np.float32(bg)
+        check(in_band.any() and not in_band.all(), "the band holds some samples and not all")
+        check(np.array_equal(dense[in_band], reference[in_band]), "in the band: the dense bake's values, bit for bit")
+        check(np.array_equal(np.sign(dense[~in_band]), np.sign(reference[~in_band])) and np.all(np.abs(dense[~in_band]) == np.float32(bg)),
+              "outside the band: +-background with the dense bake's sign")
+        check(len(o) * 512 < reference.size / 2, f"{len(o)} bricks: sparse")
+        nx, ny, nz = reference.shape
+        for i, j, k in [(0, 0, 0), (nx // 2, ny // 2, nz // 2), (nx - 1, ny - 1, nz - 1), (nx // 3, ny // 2, nz // 4)]:
+            check(space["sample"](i, j, k) == dense[i, j, k], f"sample({i}, {j}, {k}) equals the rebuilt array")
+        for i, j, k in np.argwhere(in_band)[::97]:
+            check(space["sample"](i, j, k) == reference[i, j, k], f"sample({i}, {j}, {k}) in the band")
+        print(f"numpy reads a band field's .npz as documented: {len(o)} bricks, equal to the dense bake in the band and by sign outside")
     elif mode == "teem":
         nrrd = bake("f.nrrd")
         header = subprocess.run(["teem-unu", "head", nrrd], check=True, capture_output=True, text=True).stdout

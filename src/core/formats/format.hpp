@@ -31,6 +31,12 @@ struct FieldFormat {
     bool holdsChannels;      // writes Field::gradient, closest and triangle (see sdfgen::Channels)
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
     Field (*load)(const std::string& path);
+    // The narrow-band side, null for the dense-only formats (saveSparseField writes those the
+    // field's dense form; loadSparseField reads their samples). loadSparse reads any file of the
+    // format, dense ones through sparseFromDense; isSparse reads only what tells the two apart.
+    void (*saveSparse)(const SparseField& field, const std::string& path);
+    SparseField (*loadSparse)(const std::string& path);
+    bool (*isSparse)(const std::string& path);
 };
 
 // Every registered format, in the order the help texts list them.
@@ -47,6 +53,16 @@ void checkField(const Field& field, const std::string& path);
 // lost in the origin's rounding).
 void checkGrid(const Grid& grid, const std::string& path);
 
+// checkField for a narrow-band field: the grid, SparseField::check, and the names.
+void checkSparseField(const SparseField& field, const std::string& path);
+
+// The background of a dense field read as a band field: Field::background when set, else the
+// `band` parameter (voxels) times the voxel size, else 3 voxels.
+float bandBackground(const Field& field);
+// The band field of a dense one: bricks where a sample lies within `background` of the surface or
+// the side changes, values clamped to +-background; inside boxes where whole bricks are inside.
+SparseField sparseFromDense(const Field& field, float background);
+
 // Throws Error naming `path` when a grid of these dimensions cannot be held in memory (the memory
 // available now), before anything is allocated for it. Every dimension must be at least 1 and fit
 // in an int.
@@ -59,6 +75,7 @@ std::string printable(std::string_view text, std::size_t limit = 60);
 
 // The method line of the text format without the keyword: "exact sign=auto/winding res=64 ...".
 std::string methodLine(const Field& field);
+std::string methodLine(const SparseField& field);
 // Splits a method line into the field's method and parameters; Error naming `path` when malformed.
 void parseMethodLine(const std::string& line, Field& field, const std::string& path);
 
@@ -80,8 +97,14 @@ void writeNpz(const std::string& path, const std::vector<NpzMember>& members);
 
 void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadNpz(const std::string& path);
+void saveSparseNpz(const SparseField& field, const std::string& path);
+SparseField loadSparseNpz(const std::string& path);
+bool isSparseNpz(const std::string& path);
 void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadVdb(const std::string& path);
+void saveSparseVdb(const SparseField& field, const std::string& path);
+SparseField loadSparseVdb(const std::string& path);
+bool isSparseVdb(const std::string& path);
 void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadNrrd(const std::string& path);
 
