@@ -356,39 +356,18 @@ void nameLevelSet(openvdb::FloatGrid& grid, const Grid& g) {
 }
 
 // A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
-// h, translation origin + h/2). band 0: every sample active; band >= 1: only samples with
-// |d| < band * h, the rest inactive +-band * h. Initializes OpenVDB.
-openvdb::FloatGrid::Ptr fieldToGrid(const Field& field, double band) {
+// h, translation origin + h/2), every sample an active voxel. Initializes OpenVDB.
+openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
     openvdb::initialize();
-    const Grid& g = field.grid;
-    const double h = g.voxel;
-    const openvdb::CoordBBox box = indexBox(g);
-    openvdb::FloatGrid::Ptr grid;
-    if (band == 0) {
-        // Every sample active: the background is just beyond the largest distance, so that no
-        // sample equals it (copyFromDense makes samples equal to the background inactive).
-        float largest = 0.0f;
-        for (const float v : field.values) largest = std::max(largest, std::fabs(v));
-        grid = openvdb::FloatGrid::create(std::nextafter(largest, std::numeric_limits<float>::infinity()));
-        // copyFromDense only reads the dense array; Dense has no const view.
-        const DenseField dense(box, const_cast<float*>(field.values.data()));
-        openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-    } else {
-        const float width = float(band * h);
-        std::vector<float> clamped(field.values.size());
-        std::transform(field.values.begin(), field.values.end(), clamped.begin(),
-                       [width](float v) { return std::clamp(v, -width, width); });
-        // Samples at +width become inactive background here, those at -width just below, then
-        // whole inactive nodes become +-width tiles: the layout of an OpenVDB narrow-band level set.
-        grid = openvdb::FloatGrid::create(width);
-        const DenseField dense(box, clamped.data());
-        openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-        for (auto it = grid->beginValueOn(); it; ++it) {
-            if (*it <= -width) it.setValueOff();
-        }
-        openvdb::tools::pruneLevelSet(grid->tree());
-    }
-    nameLevelSet(*grid, g);
+    // The background is just beyond the largest distance, so that no sample equals it
+    // (copyFromDense makes samples equal to the background inactive).
+    float largest = 0.0f;
+    for (const float v : field.values) largest = std::max(largest, std::fabs(v));
+    const openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(std::nextafter(largest, std::numeric_limits<float>::infinity()));
+    // copyFromDense only reads the dense array; Dense has no const view.
+    const DenseField dense(indexBox(field.grid), const_cast<float*>(field.values.data()));
+    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+    nameLevelSet(*grid, field.grid);
     return grid;
 }
 
@@ -510,7 +489,8 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
     }
     openvdb::FloatGrid::Ptr grid;
     try {
-        grid = fieldToGrid(field, options.band);
+        // A band: the level set of the field's band (sparseToGrid), as a band bake writes it.
+        grid = options.band > 0 ? sparseToGrid(sparseFromDense(field, float(options.band * h)), 0) : fieldToGrid(field);
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": OpenVDB cannot hold this grid (" + e.what() + ")");
     }
@@ -886,13 +866,13 @@ void surfacePolygons(const Field& field, double iso, double adaptivity, std::vec
     const int exponent = meshingExponent(field.grid.voxel);
     openvdb::FloatGrid::Ptr grid;
     if (exponent == 0) {
-        grid = fieldToGrid(field, 0.0);
+        grid = fieldToGrid(field);
     } else {
         Field scaled = field;
         scaled.grid.voxel = std::ldexp(field.grid.voxel, exponent);
         for (int a = 0; a < 3; ++a) scaled.grid.origin[a] = std::ldexp(field.grid.origin[a], exponent);
         for (float& v : scaled.values) v = std::ldexp(v, exponent);
-        grid = fieldToGrid(scaled, 0.0);
+        grid = fieldToGrid(scaled);
     }
     meshGrid(*grid, iso, adaptivity, exponent, points, triangles, quads);
 }
