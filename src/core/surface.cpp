@@ -165,8 +165,10 @@ SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
 
 SurfaceMesh extractSurface(const SparseField& field, double iso, double adaptivity) {
     if (std::isfinite(iso) && !(std::fabs(iso) < double(field.background))) {
-        throw Error("--iso " + std::to_string(iso) + " lies outside the band field's band (|d| < " + std::to_string(field.background) +
-                    "), where it holds only the side of the surface");
+        char message[160];
+        std::snprintf(message, sizeof message, "--iso %g lies outside the band field's band (|d| < %g), where it holds only the side of the surface",
+                      iso, double(field.background));
+        throw Error(message);
     }
     checkSurfaceCanClose(field, iso, adaptivity);
     std::vector<glm::vec3> positions;
