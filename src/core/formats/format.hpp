@@ -34,9 +34,9 @@ struct FieldFormat {
     // The narrow-band side, null for the dense-only formats (saveSparseField writes those the
     // field's dense form; loadSparseField reads their samples). loadSparse reads any file of the
     // format, dense ones through sparseFromDense; isSparse reads only what tells the two apart.
-    void (*saveSparse)(const SparseField& field, const std::string& path);
-    SparseField (*loadSparse)(const std::string& path);
-    bool (*isSparse)(const std::string& path);
+    void (*saveSparse)(const SparseField& field, const std::string& path) = nullptr;
+    SparseField (*loadSparse)(const std::string& path) = nullptr;
+    bool (*isSparse)(const std::string& path) = nullptr;
 };
 
 // Every registered format, in the order the help texts list them.
