@@ -4,10 +4,10 @@
 // vertices, so no geometry is "repaired" or dropped behind the user's back (buildMesh drops and
 // counts zero-area triangles, as for OBJ; points and lines are counted in a warning).
 //
-// The library the core opens on first use (core/assimp_plugin.hpp), so that only runs that read
+// The library the core opens on first use (core/mesh/assimp_reader.hpp), so that only runs that read
 // such files load Assimp.
 #include "gltf_guard.hpp"
-#include "core/assimp_plugin.hpp"
+#include "core/mesh/assimp_reader.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
 

@@ -1,7 +1,7 @@
 #include "gltf_guard.hpp"
-#include "core/input_file.hpp"
-#include "core/memory.hpp"
-#include "core/mesh_readers.hpp"
+#include "core/mesh/input_file.hpp"
+#include "core/runtime/memory.hpp"
+#include "core/mesh/mesh_readers.hpp"
 #include "sdfgen/error.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,8 +1,8 @@
 // `sdfgen query`: exact point queries from the command line, NumPy arrays in and out.
 #include "cli/commands.hpp"
-#include "core/atomic_file.hpp"
-#include "core/formats/format.hpp"
-#include "core/formats/npy.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/io/formats/npy.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
 

@@ -2,8 +2,8 @@
 // the automatic sign, so holes and self-intersections do not leak) or from a saved field.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
-#include "core/surface.hpp"
-#include "core/topology.hpp"
+#include "core/bake/surface.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"

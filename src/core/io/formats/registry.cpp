@@ -1,0 +1,72 @@
+// The table of field formats behind saveField and loadField. A new format is one file in this
+// folder plus one line here.
+#include "core/io/formats/format.hpp"
+#include "sdfgen/error.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace sdfgen {
+
+namespace formats {
+
+const std::vector<FieldFormat>& fieldFormats() {
+    static const std::vector<FieldFormat> table = {
+        {".sdf", "sdfgen text (docs/field-format.md)", false, saveText, loadText},
+        {".npy", "NumPy float32 array (nx, ny, nz), values only", false, saveNpy, loadNpy},
+        {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source, and any channels", true, saveNpz,
+         loadNpz},
+        {".vdb", "OpenVDB FloatGrid 'surface', level set class, and any channels as grids of their names", true, saveVdb, loadVdb},
+        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadNrrd},
+    };
+    return table;
+}
+
+namespace {
+
+const FieldFormat& formatOf(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const FieldFormat& format : fieldFormats()) {
+        if (extension == format.extension) return format;
+    }
+    std::string known;
+    for (const FieldFormat& format : fieldFormats()) known += (known.empty() ? "" : ", ") + std::string(format.extension);
+    throw Error(path + ": unknown field format " + (extension.empty() ? "(no extension)" : "'" + extension + "'") +
+                "; known: " + known);
+}
+
+} // namespace
+} // namespace formats
+
+void checkFormatHoldsChannels(const std::string& path, const Channels& channels) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    if (channels.any() && !format.holdsChannels) {
+        throw Error(path + ": " + format.extension + " holds the distance (sdf) only; for channels " + toString(channels).substr(4) +
+                    " write .npz or .vdb");
+    }
+}
+
+void saveField(const Field& field, const std::string& path, const SaveOptions& options) {
+    Channels channels;
+    channels.gradient = !field.gradient.empty();
+    channels.closest = !field.closest.empty();
+    channels.triangle = !field.triangle.empty();
+    checkFormatHoldsChannels(path, channels);
+    formats::formatOf(path).save(field, path, options);
+}
+
+Field loadField(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a field file");
+    return formats::formatOf(path).load(path);
+}
+
+std::vector<std::string> fieldFormatExtensions() {
+    std::vector<std::string> extensions;
+    for (const formats::FieldFormat& format : formats::fieldFormats()) extensions.emplace_back(format.extension);
+    return extensions;
+}
+
+} // namespace sdfgen
