@@ -6,6 +6,7 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <tbb/task_arena.h>
 #include <cctype>
@@ -29,8 +30,7 @@ struct BakeArgs {
 void runBake(BakeArgs args) {
     Stopwatch total;
     args.settings.channels = parseChannels(args.channels);
-    std::string extension = std::filesystem::path(args.output).extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    const std::string extension = lowerExtension(args.output);
     if (args.save.band > 0 && extension != ".vdb") {
         throw Error("--band applies to .vdb output only (" + args.output + ")");
     }

@@ -1,5 +1,6 @@
 #include "cli/batch_plan.hpp"
 #include "sdfgen/error.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -19,12 +20,6 @@ namespace sdfgen::batch {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lowerExtension(const fs::path& path) {
-    std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
 
 bool endsWith(const std::string& text, const std::string& suffix) {
     return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;

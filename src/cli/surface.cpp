@@ -7,6 +7,7 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -28,8 +29,7 @@ struct SurfaceArgs {
 };
 
 bool isFieldFile(const std::string& path) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string extension = lowerExtension(path);
     const std::vector<std::string> fields = fieldFormatExtensions();
     return std::find(fields.begin(), fields.end(), extension) != fields.end();
 }

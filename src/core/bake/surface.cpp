@@ -3,6 +3,7 @@
 #include "core/io/formats/format.hpp"
 #include "core/io/openvdb_plugin.hpp"
 #include "sdfgen/error.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -118,8 +119,7 @@ SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
 }
 
 void saveSurface(const SurfaceMesh& mesh, const std::string& path) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string extension = lowerExtension(path);
     std::string bytes;
     if (extension == ".obj") {
         bytes = objText(mesh);

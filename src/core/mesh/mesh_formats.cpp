@@ -3,6 +3,7 @@
 #include "core/mesh/assimp_reader.hpp"
 #include "core/mesh/mesh_readers.hpp"
 #include "sdfgen/error.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -90,8 +91,7 @@ std::vector<std::string> meshFormatExtensions() {
 Mesh loadMesh(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a mesh file");
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::string extension = lowerExtension(path);
     // Pipes and /dev/stdin have no extension: OBJ text. The readers report unreadable files
     // themselves, each reading the file once (opening a FIFO here first would swallow it).
     if (extension.empty()) extension = ".obj";

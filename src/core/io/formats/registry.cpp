@@ -2,6 +2,7 @@
 // folder plus one line here.
 #include "core/io/formats/format.hpp"
 #include "sdfgen/error.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -26,8 +27,7 @@ const std::vector<FieldFormat>& fieldFormats() {
 namespace {
 
 const FieldFormat& formatOf(const std::string& path) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string extension = lowerExtension(path);
     for (const FieldFormat& format : fieldFormats()) {
         if (extension == format.extension) return format;
     }
