@@ -44,22 +44,6 @@ void warnAboutUnusedVertices(Mesh& mesh) {
 
 } // namespace
 
-std::string printable(std::string_view text, std::size_t limit) {
-    std::string out;
-    for (std::size_t i = 0; i < text.size() && i < limit; ++i) {
-        const auto c = static_cast<unsigned char>(text[i]);
-        if (c >= 0x20 && c < 0x7f) {
-            out += char(c);
-        } else {
-            char escaped[8];
-            std::snprintf(escaped, sizeof escaped, "\\x%02x", unsigned(c));
-            out += escaped;
-        }
-    }
-    if (text.size() > limit) out += "...";
-    return out;
-}
-
 void checkDeclaredCount(const std::string& path, std::uint64_t count, const char* what, std::uint64_t bytesEach,
                         std::uint64_t available) {
     if (bytesEach == 0 || count <= available / bytesEach) return;
@@ -110,7 +94,7 @@ Mesh loadMesh(const std::string& path) {
         if (!assimp.supports(extension)) {
             std::string known;
             for (const std::string& e : meshFormatExtensions()) known += e + ", ";
-            throw Error(path + ": unknown mesh format '" + printable(extension) + "'; known: " + known + "and the other formats Assimp reads");
+            throw Error(path + ": unknown mesh format '" + printable(extension, 40) + "'; known: " + known + "and the other formats Assimp reads");
         }
         mesh = assimp.load(path);
     }

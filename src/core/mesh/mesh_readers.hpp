@@ -6,6 +6,7 @@
 // Each reader checks what a file declares (counts, sizes) against the file's size before it
 // allocates anything, refuses indices out of range, and reports in Mesh::warnings what it read
 // but could not use (faces of fewer than 3 vertices, data after the declared elements).
+#include "core/io/printable.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <cstdint>
@@ -18,9 +19,6 @@ namespace sdfgen {
 Mesh loadPly(const std::string& path);
 Mesh loadOff(const std::string& path);
 Mesh loadStl(const std::string& path);
-
-// `text` fit for a one-line message: control and non-ASCII bytes as \xHH, cut after `limit` bytes.
-std::string printable(std::string_view text, std::size_t limit = 40);
 
 // Throws Error when `count` items of at least `bytesEach` bytes do not fit into `available` bytes:
 // "PATH: the header declares COUNT WHAT (at least N bytes) but only AVAILABLE bytes follow it".

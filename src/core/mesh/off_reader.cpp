@@ -57,7 +57,7 @@ public:
         std::uint64_t value = 0;
         const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
         if (t.empty() || ec != std::errc() || end != t.data() + t.size()) {
-            fail(std::string("expected the ") + what + ", a whole number, not '" + printable(t) + "'");
+            fail(std::string("expected the ") + what + ", a whole number, not '" + printable(t, 40) + "'");
         }
         return value;
     }
@@ -73,7 +73,7 @@ public:
         if (ec == std::errc::result_out_of_range && end == last) {
             value = std::strtod(std::string(t).c_str(), nullptr); // underflow to (nearly) zero; overflow caught later
         } else if (ec != std::errc() || end != last) {
-            fail("vertex coordinate '" + printable(t) + "' is not a number");
+            fail("vertex coordinate '" + printable(t, 40) + "' is not a number");
         }
         return value;
     }
@@ -84,9 +84,9 @@ public:
         std::int64_t value = 0;
         const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
         if (ec == std::errc::result_out_of_range && end == t.data() + t.size()) {
-            fail("face refers to vertex " + printable(t) + ", beyond any vertex count");
+            fail("face refers to vertex " + printable(t, 40) + ", beyond any vertex count");
         }
-        if (ec != std::errc() || end != t.data() + t.size()) fail("vertex index '" + printable(t) + "' is not a whole number");
+        if (ec != std::errc() || end != t.data() + t.size()) fail("vertex index '" + printable(t, 40) + "' is not a whole number");
         return value;
     }
 
@@ -115,7 +115,7 @@ Mesh loadOff(const std::string& path) {
     const std::string prefix = keyword.substr(0, off);
     if (prefix != "" && prefix != "C" && prefix != "N" && prefix != "NC" && prefix != "CN" && prefix != "ST" &&
         prefix != "STC" && prefix != "STN" && prefix != "STCN" && prefix != "STNC") {
-        lines.fail("'" + printable(keyword) + "' files (other than 3 coordinates per vertex) are not supported");
+        lines.fail("'" + printable(keyword, 40) + "' files (other than 3 coordinates per vertex) are not supported");
     }
     std::string_view word = lines.token();
     if (word == "BINARY") lines.fail("binary OFF files are not supported");

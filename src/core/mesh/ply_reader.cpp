@@ -102,14 +102,14 @@ Header readHeader(const std::string& path, std::string_view text) {
             for (const TypeName& t : kTypeNames) {
                 if (name == t.name) return t.type;
             }
-            throw Error(path + ":" + std::to_string(lineNumber) + ": unknown property type '" + printable(name) + "'");
+            throw Error(path + ":" + std::to_string(lineNumber) + ": unknown property type '" + printable(name, 40) + "'");
         };
         if (words[0] == "format") {
             if (words.size() != 3 || words[2] != "1.0") fail("expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
             if (words[1] == "ascii") header.encoding = Encoding::Ascii;
             else if (words[1] == "binary_little_endian") header.encoding = Encoding::LittleEndian;
             else if (words[1] == "binary_big_endian") header.encoding = Encoding::BigEndian;
-            else fail("unknown format '" + printable(words[1]) + "'");
+            else fail("unknown format '" + printable(words[1], 40) + "'");
             format = true;
         } else if (words[0] == "element") {
             if (words.size() != 3) fail("expected 'element NAME COUNT'");
@@ -117,7 +117,7 @@ Header readHeader(const std::string& path, std::string_view text) {
             element.name = std::string(words[1]);
             const auto [end, ec] = std::from_chars(words[2].data(), words[2].data() + words[2].size(), element.count);
             if (ec != std::errc() || end != words[2].data() + words[2].size()) {
-                fail("element count '" + printable(words[2]) + "' is not a whole number below 2^64");
+                fail("element count '" + printable(words[2], 40) + "' is not a whole number below 2^64");
             }
             header.elements.push_back(std::move(element));
         } else if (words[0] == "property") {
@@ -139,7 +139,7 @@ Header readHeader(const std::string& path, std::string_view text) {
         } else if (words[0] == "end_header" && words.size() == 1) {
             break;
         } else {
-            fail("unknown header line '" + printable(line) + "'");
+            fail("unknown header line '" + printable(line, 40) + "'");
         }
     }
     if (!format) throw Error(path + ": the header has no format line");
@@ -239,7 +239,7 @@ private:
             const double low = isSigned(type) ? -std::ldexp(1.0, int(8 * sizeOf(type)) - 1) : 0.0;
             const double high = std::ldexp(1.0, int(8 * sizeOf(type)) - (isSigned(type) ? 1 : 0)) - 1.0;
             if (ec != std::errc() || end != last || double(v) < low || double(v) > high) {
-                fail("'" + printable(token) + "' in " + where() + " is not a whole number of its type's range");
+                fail("'" + printable(token, 40) + "' in " + where() + " is not a whole number of its type's range");
             }
             return double(v);
         }
@@ -248,7 +248,7 @@ private:
         if (ec == std::errc::result_out_of_range && end == last) {
             v = std::strtod(std::string(token).c_str(), nullptr); // underflow to (nearly) zero; overflow is caught later
         } else if (ec != std::errc() || end != last) {
-            fail("'" + printable(token) + "' in " + where() + " is not a number");
+            fail("'" + printable(token, 40) + "' in " + where() + " is not a number");
         }
         return v;
     }
@@ -309,7 +309,7 @@ Mesh loadPly(const std::string& path) {
     std::uint64_t declared = 0;
     for (const Element& e : header.elements) {
         const std::uint64_t each = minimumBytes(e, data);
-        const std::string what = e.name == "vertex" ? "vertices" : e.name == "face" ? "faces" : "'" + printable(e.name) + "' elements";
+        const std::string what = e.name == "vertex" ? "vertices" : e.name == "face" ? "faces" : "'" + printable(e.name, 40) + "' elements";
         checkDeclaredCount(path, e.count, what.c_str(), each, data.remaining() + data.slack() - declared);
         declared += e.count * each;
     }

@@ -88,7 +88,7 @@ public:
     void expect(const char* keyword) {
         const std::string_view word = next();
         if (word.empty()) fail("the file ends where '" + std::string(keyword) + "' was expected");
-        if (!is(word, keyword)) fail("expected '" + std::string(keyword) + "', not '" + printable(word) + "'");
+        if (!is(word, keyword)) fail("expected '" + std::string(keyword) + "', not '" + printable(word, 40) + "'");
     }
 
     double number() {
@@ -101,7 +101,7 @@ public:
         if (ec == std::errc::result_out_of_range && end == last && first != last) {
             value = std::strtod(std::string(word).c_str(), nullptr); // underflow to (nearly) zero; overflow caught later
         } else if (word.empty() || ec != std::errc() || end != last) {
-            fail(word.empty() ? std::string("the file ends where a number was expected") : "expected a number, not '" + printable(word) + "'");
+            fail(word.empty() ? std::string("the file ends where a number was expected") : "expected a number, not '" + printable(word, 40) + "'");
         }
         return value;
     }
@@ -140,13 +140,13 @@ Mesh loadAscii(const std::string& path, std::string_view text) {
             words.skipLine();
             word = words.next();
             if (word.empty()) break;
-            if (!StlWords::is(word, "solid")) words.fail("expected 'solid' or the end of the file, not '" + printable(word) + "'");
+            if (!StlWords::is(word, "solid")) words.fail("expected 'solid' or the end of the file, not '" + printable(word, 40) + "'");
             words.skipLine();
             continue;
         }
         if (!StlWords::is(word, "facet")) {
             words.fail(word.empty() ? std::string("the file ends without 'endsolid'")
-                                    : "expected 'facet' or 'endsolid', not '" + printable(word) + "'");
+                                    : "expected 'facet' or 'endsolid', not '" + printable(word, 40) + "'");
         }
         words.expect("normal");
         for (int i = 0; i < 3; ++i) words.number();
@@ -161,7 +161,7 @@ Mesh loadAscii(const std::string& path, std::string_view text) {
             triangle[corners] = welder.add(p);
         }
         if (corners != 3) words.fail("a facet has " + std::to_string(corners) + " vertices (an STL facet has 3)");
-        if (!StlWords::is(word, "endloop")) words.fail("expected 'vertex' or 'endloop', not '" + printable(word) + "'");
+        if (!StlWords::is(word, "endloop")) words.fail("expected 'vertex' or 'endloop', not '" + printable(word, 40) + "'");
         words.expect("endfacet");
         triangles.push_back(triangle);
     }

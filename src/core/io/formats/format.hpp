@@ -1,6 +1,7 @@
 #pragma once
 // Field file formats as plug-ins: each format is one file in src/core/io/formats/ that defines its
 // save and load functions, plus one line in the table in registry.cpp.
+#include "core/io/printable.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 
@@ -51,11 +52,6 @@ void checkGrid(const Grid& grid, const std::string& path);
 // available now), before anything is allocated for it. Every dimension must be at least 1 and fit
 // in an int.
 void checkDimsFit(const std::uint64_t dims[3], const std::string& path);
-
-// Text taken from a file, as it may appear in a one-line error message: control bytes and DEL
-// escaped (\n, \r, \t, \xNN), and cut to `limit` bytes with "..." after. Every reader quotes
-// header text through this.
-std::string printable(std::string_view text, std::size_t limit = 60);
 
 // The method line of the text format without the keyword: "exact sign=auto/winding res=64 ...".
 std::string methodLine(const Field& field);

@@ -54,7 +54,7 @@ public:
         std::string_view line = next(("'" + std::string(keyword) + "'").c_str());
         const std::size_t n = std::strlen(keyword);
         if (line.substr(0, n) != keyword || line.size() <= n || line[n] != ' ') {
-            fail("expected a '" + std::string(keyword) + " ...' line, found '" + formats::printable(line) + "'");
+            fail("expected a '" + std::string(keyword) + " ...' line, found '" + printable(line) + "'");
         }
         return line.substr(n + 1);
     }
@@ -65,7 +65,7 @@ public:
         Number value{};
         const auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), value);
         if (ec != std::errc() || end == rest.data() || (end != rest.data() + rest.size() && *end != ' ')) {
-            fail(std::string(what) + " is not a valid number: '" + formats::printable(rest.substr(0, rest.find(' '))) + "'");
+            fail(std::string(what) + " is not a valid number: '" + printable(rest.substr(0, rest.find(' '))) + "'");
         }
         if constexpr (std::is_floating_point_v<Number>) {
             if (!std::isfinite(value)) fail(std::string(what) + " is not finite");
@@ -76,7 +76,7 @@ public:
 
     void endOfLine(std::string_view rest) {
         if (rest.find_first_not_of(' ') != std::string_view::npos) {
-            fail("unexpected text at end of line: '" + formats::printable(rest) + "'");
+            fail("unexpected text at end of line: '" + printable(rest) + "'");
         }
     }
 
@@ -192,7 +192,7 @@ Field loadFieldText(const std::string& path) {
         std::size_t space = rest.find(' ');
         field.method = std::string(rest.substr(0, space));
         if (field.method.empty()) reader.fail("missing method name");
-        if (!isToken(field.method)) reader.fail("method name '" + formats::printable(field.method) + "' is not a single word");
+        if (!isToken(field.method)) reader.fail("method name '" + printable(field.method) + "' is not a single word");
         while (space != std::string_view::npos) {
             rest.remove_prefix(space + 1);
             space = rest.find(' ');
@@ -200,11 +200,11 @@ Field loadFieldText(const std::string& path) {
             if (item.empty()) continue;
             const std::size_t eq = item.find('=');
             if (eq == std::string_view::npos || eq == 0 || eq + 1 == item.size()) {
-                reader.fail("method parameter '" + formats::printable(item) + "' is not key=value");
+                reader.fail("method parameter '" + printable(item) + "' is not key=value");
             }
             const std::string_view key = item.substr(0, eq), value = item.substr(eq + 1);
             if (!isToken(key) || !isToken(value)) {
-                reader.fail("method parameter '" + formats::printable(item) + "' is not key=value with single words");
+                reader.fail("method parameter '" + printable(item) + "' is not key=value with single words");
             }
             field.parameters.emplace_back(std::string(key), std::string(value));
         }
