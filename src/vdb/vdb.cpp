@@ -1,17 +1,18 @@
 // OpenVDB: a FloatGrid named "surface" (the name Houdini's VDB from Polygons gives) of class level
 // set, with a transform that puts index (i, j, k) at sample (i, j, k): voxel size h, translation
 // origin + h/2. Dense by default; with a band of V voxels only samples with |d| < V h stay active
-// and the rest are inactive +-V h, as OpenVDB level sets are. The grid's sdfgen_* metadata keep
+// and the rest are inactive +-V h, as OpenVDB level sets are: a band field (SparseField) is written
+// straight from its bricks (each a leaf, the inside boxes -V h tiles) and read back as bricks. The grid's sdfgen_* metadata keep
 // the exact grid, method and source. A field's channels (sdfgen::Channels) follow as grids of their
 // names with the surface grid's transform and active voxels: "gradient" and "closest" Vec3SGrids,
 // "triangle" an Int32Grid. Also the iso-surfaces of `sdfgen surface`.
 //
-// The library the core opens on first use (core/openvdb_plugin.hpp), so that only runs that read
+// The library the core opens on first use (core/io/openvdb_plugin.hpp), so that only runs that read
 // or write OpenVDB load it.
-#include "core/atomic_file.hpp"
-#include "core/formats/format.hpp"
-#include "core/memory.hpp"
-#include "core/openvdb_plugin.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/io/openvdb_plugin.hpp"
+#include "core/runtime/memory.hpp"
 #include "sdfgen/error.hpp"
 
 #include <openvdb/io/DelayedLoadMetadata.h>

@@ -1,0 +1,106 @@
+// The table of field formats behind saveField and loadField. A new format is one file in this
+// folder plus one line here.
+#include "core/io/formats/format.hpp"
+#include "sdfgen/error.hpp"
+#include "core/io/file_extension.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace sdfgen {
+
+namespace formats {
+
+const std::vector<FieldFormat>& fieldFormats() {
+    static const std::vector<FieldFormat> table = {
+        {".sdf", "sdfgen text (docs/field-format.md)", false, saveText, loadText, nullptr, nullptr, nullptr},
+        {".npy", "NumPy float32 array (nx, ny, nz), values only", false, saveNpy, loadNpy, nullptr, nullptr, nullptr},
+        {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source, and any channels; a band field as bricks",
+         true, saveNpz, loadNpz, saveSparseNpz, loadSparseNpz, isSparseNpz},
+        {".vdb", "OpenVDB FloatGrid 'surface', level set class, and any channels as grids of their names", true, saveVdb, loadVdb,
+         saveSparseVdb, loadSparseVdb, isSparseVdb},
+        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadNrrd, nullptr, nullptr, nullptr},
+    };
+    return table;
+}
+
+namespace {
+
+const FieldFormat& formatOf(const std::string& path) {
+    const std::string extension = lowerExtension(path);
+    for (const FieldFormat& format : fieldFormats()) {
+        if (extension == format.extension) return format;
+    }
+    std::string known;
+    for (const FieldFormat& format : fieldFormats()) known += (known.empty() ? "" : ", ") + std::string(format.extension);
+    throw Error(path + ": unknown field format " + (extension.empty() ? "(no extension)" : "'" + extension + "'") +
+                "; known: " + known);
+}
+
+} // namespace
+} // namespace formats
+
+void checkFormatHoldsChannels(const std::string& path, const Channels& channels) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    if (channels.any() && !format.holdsChannels) {
+        throw Error(path + ": " + format.extension + " holds the distance (sdf) only; for channels " + toString(channels).substr(4) +
+                    " write .npz or .vdb");
+    }
+}
+
+void saveField(const Field& field, const std::string& path, const SaveOptions& options) {
+    Channels channels;
+    channels.gradient = !field.gradient.empty();
+    channels.closest = !field.closest.empty();
+    channels.triangle = !field.triangle.empty();
+    checkFormatHoldsChannels(path, channels);
+    formats::formatOf(path).save(field, path, options);
+}
+
+Field loadField(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a field file");
+    Field field = formats::formatOf(path).load(path);
+    // A band field's dense form saved in a dense format keeps only its `band` parameter.
+    if (field.background == 0 && !field.parameter("band").empty()) field.background = formats::bandBackground(field);
+    return field;
+}
+
+void saveSparseField(const SparseField& field, const std::string& path) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    if (format.saveSparse) return format.saveSparse(field, path);
+    formats::checkSparseField(field, path);
+    Field dense;
+    try {
+        dense = field.toDense();
+    } catch (const Error& e) {
+        throw Error(path + ": " + format.extension + " holds every sample, and " + e.what());
+    }
+    format.save(dense, path, {});
+}
+
+SparseField loadSparseField(const std::string& path) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    if (format.loadSparse) return format.loadSparse(path);
+    const Field dense = loadField(path);
+    return formats::sparseFromDense(dense, formats::bandBackground(dense));
+}
+
+bool isSparseFieldFile(const std::string& path) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    if (format.isSparse) return format.isSparse(path);
+    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+    return false;
+}
+
+std::vector<std::string> fieldFormatExtensions() {
+    std::vector<std::string> extensions;
+    for (const formats::FieldFormat& format : formats::fieldFormats()) extensions.emplace_back(format.extension);
+    return extensions;
+}
+
+} // namespace sdfgen
