@@ -3,7 +3,7 @@
 pyopenvdb (.vdb) or teem's unu (.nrrd), compared with the sdfgen-text file of the same bake.
 
 Usage: python_readers.py numpy|band|openvdb|teem SDFGEN_BINARY SOURCE_DIR
-band: a band field's sparse .npz read by the lines docs/field-format.md gives.
+band: a band field's sparse .npz read by the lines docs/field-format.md gives (numpy).
 Exits 77 (ctest's skip code) when numpy, pyopenvdb or teem-unu is not installed.
 """
 import os
@@ -139,11 +139,7 @@ with tempfile.TemporaryDirectory() as folder:
     elif mode == "band":
         res = ["--res", "64"]
         band_npz = os.path.join(folder, "bunny-band.npz")
-        made = subprocess.run([sdfgen, "bake", MESH, *res, "--band", "3", "-o", band_npz], capture_output=True, text=True)
-        if made.returncode != 0 and "--band applies to .vdb output only" in made.stderr:
-            print("skipped: this sdfgen's bake writes no band field to .npz")
-            sys.exit(77)
-        check(made.returncode == 0, f"bake --band 3 to .npz: {made.stderr}")
+        subprocess.run([sdfgen, "bake", MESH, *res, "--band", "3", "-o", band_npz], check=True, stdout=subprocess.DEVNULL)
         # A band field's sparse .npz, rebuilt and looked up by the very lines docs/field-format.md
         # gives, equals the dense bake in the band and has its sign everywhere else.
         with open(os.path.join(root, "docs", "field-format.md")) as f:
