@@ -784,7 +784,7 @@ SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& pa
     return sparseFromDense(dense, bandBackground(dense));
 }
 
-// Runs `read` on the file's surface grid, with OpenVDB's failures as Errors naming `path`.
+// Runs `read` on the file's size, with OpenVDB's failures as Errors naming `path`.
 template <class Read>
 auto readVdb(const std::string& path, const Read& read) {
     struct stat info;
@@ -792,7 +792,7 @@ auto readVdb(const std::string& path, const Read& read) {
     if (!S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
     openvdb::initialize();
     try {
-        return read(*readFloatGrid(path, std::uint64_t(info.st_size)));
+        return read(std::uint64_t(info.st_size));
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": not a readable OpenVDB file (" + printable(e.what(), 200) + ")");
     } catch (const std::bad_alloc&) {
@@ -807,35 +807,29 @@ auto readVdb(const std::string& path, const Read& read) {
 }
 
 Field loadVdbFile(const std::string& path) {
-    return readVdb(path, [&](const openvdb::FloatGrid& grid) { return loadGrid(grid, path); });
+    return readVdb(path, [&](std::uint64_t bytes) { return loadGrid(*readFloatGrid(path, bytes), path); });
 }
 
 SparseField loadSparseVdbFile(const std::string& path) {
-    return readVdb(path, [&](const openvdb::FloatGrid& grid) { return loadSparseGrid(grid, path); });
+    return readVdb(path, [&](std::uint64_t bytes) { return loadSparseGrid(*readFloatGrid(path, bytes), path); });
 }
 
 // Whether the grid loadField reads (named "surface", else the first float grid) is a band
 // field's: from the layout walk alone, without reading the trees.
 bool isSparseVdbFile(const std::string& path) {
-    struct stat info;
-    if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    if (!S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    openvdb::initialize();
-    VdbLayout layout(in, std::uint64_t(info.st_size), path);
-    try {
+    return readVdb(path, [&](std::uint64_t bytes) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+        VdbLayout layout(in, bytes, path);
         layout.check();
-    } catch (const openvdb::Exception& e) {
-        throw Error(path + ": not a readable OpenVDB file (" + printable(e.what(), 200) + ")");
-    }
-    auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
-    for (const bool byName : {true, false}) {
-        for (const VdbLayout::GridSummary& grid : layout.grids()) {
-            if (isFloat(grid.type) && (!byName || grid.name == kGridName)) return grid.band > 0;
+        auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
+        for (const bool byName : {true, false}) {
+            for (const VdbLayout::GridSummary& grid : layout.grids()) {
+                if (isFloat(grid.type) && (!byName || grid.name == kGridName)) return grid.band > 0;
+            }
         }
-    }
-    throw Error(path + ": the file holds no float grid");
+        throw Error(path + ": the file holds no float grid");
+    });
 }
 
 // The exponent that scales a voxel too small for OpenVDB's transforms into one it holds (powers
