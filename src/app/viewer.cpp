@@ -298,6 +298,12 @@ void Viewer::sceneInput(const FrameInput& input) {
     // The panel's width for this frame (the camera frames the part of the window it leaves free).
     const float scale = std::max(ImGui::GetFontSize() / 13.0f, 1.0f);
     panelWidth_ = std::min(std::clamp(std::round(io.DisplaySize.x * 0.3f), 290.0f * scale, 520.0f * scale), io.DisplaySize.x);
+    // A resized window keeps the framing the user left (the scene area's aspect changed).
+    if (io.DisplaySize.x > 0.0f && io.DisplaySize.y > 0.0f) {
+        const float aspect = std::max(io.DisplaySize.x - panelWidth_, 1.0f) / io.DisplaySize.y;
+        if (sceneAspect_ > 0.0f && aspect != sceneAspect_) camera_.keepFraming(sceneAspect_, aspect);
+        sceneAspect_ = aspect;
+    }
     // A frame's moves all come before its one button event: they drag with the buttons as
     // they were, then the press or release applies.
     const float dx = float(input.x - input.startX), dy = float(input.y - input.startY);

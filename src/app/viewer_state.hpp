@@ -182,6 +182,7 @@ private:
     RangeChoice sliceColours_, volumeColours_;
     int screenshotSize_[2] = {0, 0}; // 0 0: the scene area's size
     float panelWidth_ = 300.0f;
+    float sceneAspect_ = 0.0f; // of the scene area (beside the panel) in the last frame; 0 before the first
     int meshVersion_ = 0, fieldVersion_ = 0;
     std::string lastSceneState_;
     long sceneDraws_ = 0;
