@@ -24,8 +24,6 @@ std::string formatBytes(double bytes) {
     std::snprintf(text, sizeof(text), "%.3g %s", bytes, units[u]);
     return text;
 }
-
-std::string signSummaryOf(const Field& field) { return "sign: " + field.parameter("sign"); }
 } // namespace
 
 // The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they describe.

@@ -80,6 +80,7 @@ void Viewer::rebuildScene(bool reframe) {
         sceneMesh_ = std::make_shared<Mesh>(mergeMeshes(parts, name));
     }
     probeModel_.reset();
+    probeKept_ = false; // a reading of the last scene
     if (models_.size() == 1 && models_[0].identity()) scene_.setMesh(*sceneMesh_);
     else if (!models_.empty()) scene_.setMeshes(parts);
     for (std::size_t i = 0; i < models_.size() && i < scene_.meshStyles.size(); ++i) scene_.meshStyles[i] = {models_[i].colour, models_[i].visible};

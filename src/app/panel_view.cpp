@@ -45,10 +45,19 @@ void Viewer::rangeControls(const char* label, const char* name, RangeChoice& cho
         choice.fixed.y = std::max(choice.fixed.y, 1e-9f);
     }
     ImGui::PopID();
-    if (!field_ || choice.mode == 0) sceneRange = glm::vec2(0.0f);
-    else if (choice.mode == 2) sceneRange = choice.fixed;
-    else if (slice) sceneRange = render::sliceValueRange(*field_, glm::normalize(scene_.sliceNormal), scene_.slicePosition);
-    else sceneRange = render::fieldValueRange(*field_);
+    if (!field_ || choice.mode == 0) {
+        sceneRange = glm::vec2(0.0f);
+    } else if (choice.mode == 2) {
+        sceneRange = choice.fixed;
+    } else {
+        const glm::vec4 plane = slice ? glm::vec4(glm::normalize(scene_.sliceNormal), scene_.slicePosition) : glm::vec4(0.0f);
+        if (choice.valuesVersion != fieldVersion_ || choice.valuesPlane != plane) {
+            choice.fromValues = slice ? render::sliceValueRange(*field_, glm::vec3(plane), plane.w) : render::fieldValueRange(*field_);
+            choice.valuesVersion = fieldVersion_;
+            choice.valuesPlane = plane;
+        }
+        sceneRange = choice.fromValues;
+    }
     // A range with nothing on one side still needs a scale there (the bar shows 0 at that end).
     if (sceneRange != glm::vec2(0.0f)) sceneRange = glm::vec2(std::min(sceneRange.x, 0.0f), std::max(sceneRange.y, 1e-9f));
 }
@@ -145,11 +154,13 @@ void Viewer::probeSection() {
     if (!ImGui::CollapsingHeader("Probe", ImGuiTreeNodeFlags_DefaultOpen)) return;
     ImGui::Checkbox("Probe under the cursor", &probeOn_);
     track("probe");
+    if (!probeOn_) return;
     if (!probeValid_) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("move the pointer over the model, the slice or the ray-marched surface");
+        ImGui::TextWrapped(probeKept_ ? "the last reading; move the pointer over the model, the slice or the ray-marched surface for another"
+                                      : "move the pointer over the model, the slice or the ray-marched surface");
         ImGui::PopStyleColor();
-        return;
+        if (!probeKept_) return;
     }
     const ProbeResult& p = probe_;
     ImGui::TextWrapped("at (%.4g %.4g %.4g)", p.point.x, p.point.y, p.point.z);

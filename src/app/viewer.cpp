@@ -375,7 +375,7 @@ void Viewer::probeAt(const FrameInput& input) {
     // Pixels of the grid (the plane under the model, within depth precision) are not probed.
     if (scene_.views["grid"] && std::abs(point.y - scene_.gridHeight()) < 1e-4f * camera_.distance) return;
     probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get());
-    probeValid_ = true;
+    probeValid_ = probeKept_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
     const float r = camera_.sceneRadius * 0.02f;
     scene_.markers = {point - glm::vec3(r, 0, 0), point + glm::vec3(r, 0, 0), point - glm::vec3(0, r, 0), point + glm::vec3(0, r, 0),
@@ -420,9 +420,12 @@ void Viewer::panel() {
     const float labels = ImGui::CalcTextSize("Threads (0 = all)").x + ImGui::GetStyle().ItemInnerSpacing.x +
                          ImGui::GetStyle().ScrollbarSize + ImGui::GetStyle().WindowPadding.x;
 
-    // The probe's reading, pinned above the scrolling sections.
-    if (probeValid_) {
+    // The probe's reading, pinned above the scrolling sections (the last one, greyed, while the
+    // pointer is elsewhere).
+    if (probeOn_ && probeKept_) {
+        if (!probeValid_) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         ImGui::TextWrapped("probe: %s", probeText(", ").c_str());
+        if (!probeValid_) ImGui::PopStyleColor();
         track("probe_pinned");
         ImGui::Separator();
     }

@@ -85,11 +85,17 @@ struct FieldInfo {
 struct RangeChoice {
     int mode = 0; // 0 symmetric, 1 from the values, 2 fixed
     glm::vec2 fixed{-1.0f, 1.0f};
+    // The range from the values, for the field version and slice plane it was taken from (a pass
+    // over the field, not repeated every frame).
+    glm::vec2 fromValues{0.0f};
+    int valuesVersion = -1;
+    glm::vec4 valuesPlane{0.0f};
 };
 
 std::string lowerExtension(const std::string& path);
 bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
 std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
+std::string signSummaryOf(const Field& field);    // "sign: " and how the field's signs were decided
 
 class Viewer {
 public:
@@ -177,6 +183,9 @@ private:
     bool sceneDrag_[3] = {false, false, false};
     bool sliceTilt_ = false;
     bool probeOn_ = true, probeValid_ = false;
+    // probe_ holds a reading of the scene shown (the last one, once the pointer left the scene):
+    // the panel keeps it, so that its top line does not come and go under the pointer.
+    bool probeKept_ = false;
     ProbeResult probe_;
     glm::ivec2 probePointer_{0, 0};
     RangeChoice sliceColours_, volumeColours_;
