@@ -174,7 +174,7 @@ void Viewer::modelSection() {
         // In the models' own units (the world coordinates the files use).
         const WorldBounds b = sceneMesh_->worldBounds();
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("scene: %zu triangles, (%.4g %.4g %.4g) to (%.4g %.4g %.4g)", sceneMesh_->triangleCount(), b.min.x, b.min.y,
+        wrappedText("scene: %zu triangles, (%.4g %.4g %.4g) to (%.4g %.4g %.4g)", sceneMesh_->triangleCount(), b.min.x, b.min.y,
                            b.min.z, b.max.x, b.max.y, b.max.z);
         ImGui::PopStyleColor();
         track("scene_bounds");
@@ -185,7 +185,7 @@ void Viewer::modelSection() {
         }
     } else {
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("no model: type a path, Browse, or drop mesh files on the window");
+        wrappedText("no model: type a path, Browse, or drop mesh files on the window");
         ImGui::PopStyleColor();
     }
 }

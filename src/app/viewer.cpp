@@ -256,7 +256,7 @@ void Viewer::messageLine(const char* id, Message& m) {
         ImGui::SameLine();
     }
     ImGui::PushStyleColor(ImGuiCol_Text, colours[int(m.level)]);
-    ImGui::TextWrapped("%s", m.text.c_str());
+    wrappedText("%s", m.text.c_str());
     ImGui::PopStyleColor();
     ImGui::EndGroup();
     ImGui::PopID();
@@ -424,7 +424,7 @@ void Viewer::panel() {
     // pointer is elsewhere).
     if (probeOn_ && probeKept_) {
         if (!probeValid_) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("probe: %s", probeText(", ").c_str());
+        wrappedText("probe: %s", probeText(", ").c_str());
         if (!probeValid_) ImGui::PopStyleColor();
         track("probe_pinned");
         ImGui::Separator();

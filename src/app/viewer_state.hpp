@@ -8,6 +8,7 @@
 #include "app/input_queue.hpp"
 #include "app/probe.hpp"
 #include "app/recent_files.hpp"
+#include "app/wrapped_text.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/model.hpp"
