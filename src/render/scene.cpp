@@ -124,8 +124,12 @@ glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position) 
 void Scene::clearMesh() {
     mesh_.clear();
     meshStyles.clear();
+    gridHeight_ = field_.empty() ? 0.0f : field_.boxMin().y;
 }
-void Scene::setField(const Field& field) { field_.upload(field); }
+void Scene::setField(const Field& field) {
+    field_.upload(field);
+    if (mesh_.empty()) gridHeight_ = field_.boxMin().y; // a field alone stands on the grid too
+}
 void Scene::clearField() { field_.clear(); }
 
 void Scene::resizeTargets(glm::ivec2 size) {
