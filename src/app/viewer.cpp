@@ -498,7 +498,8 @@ void Viewer::saveScreenshot() {
             if (!fs::exists(path, ec)) break;
         }
         render::OrbitCamera camera = camera_;
-        camera.offsetX = 0.0f; // the scene area's own centre
+        camera.offsetX = 0.0f;                                          // the scene area's own centre
+        camera.keepFraming(sceneAspect_, float(size.x) / float(size.y)); // framed as in the window, at the chosen size too
         scene_.draw(camera, size, 0);
         render::savePng(scene_.image(), path.string());
         lastSceneState_.clear();
