@@ -437,11 +437,12 @@ void Viewer::panel() {
     viewSection();
     cameraSection();
     probeSection();
-    // Where the pointer is over the panel, for the GUI test's scrolling.
+    // Where the pointer is over the panel and where its scrolling part begins (below the pinned
+    // probe line), for the GUI test's scrolling.
     if (!debugDir_.empty()) {
-        char line[96];
-        std::snprintf(line, sizeof(line), "panel 0 0 %d %d 1\nscroll %d %d\n", int(panelWidth_), int(io.DisplaySize.y),
-                      int(ImGui::GetScrollY()), int(ImGui::GetScrollMaxY()));
+        char line[128];
+        std::snprintf(line, sizeof(line), "panel 0 0 %d %d 1\nsections %d\nscroll %d %d\n", int(panelWidth_), int(io.DisplaySize.y),
+                      int(ImGui::GetWindowPos().y), int(ImGui::GetScrollY()), int(ImGui::GetScrollMaxY()));
         layout_ += line;
     }
     ImGui::PopItemWidth();

@@ -96,7 +96,8 @@ reach() {
     y0=$(echo "$rect" | cut -d' ' -f2)
     before=$(scroll_state)
     xdotool mousemove --window "$window" 150 250
-    if [ "$y0" -lt 0 ]; then xdotool click 4; else xdotool click 5; fi
+    # Above the scrolling part's top (below the probe's pinned line, when shown): scroll up.
+    if [ "$y0" -lt "$(grep '^sections ' "$work/shots/widgets.txt" | cut -d' ' -f2)" ]; then xdotool click 4; else xdotool click 5; fi
     until_ok scrolled_from "$before" || fail "the panel did not scroll towards '$1' ($before)"
   done
 }
@@ -137,7 +138,7 @@ awk -v c="$cpu" 'BEGIN { exit !(c < 5) }' || fail "an idle viewer used $cpu% of 
 echo "idle viewer: $cpu% of a core over 5 s"
 
 # --- every control of the panel can be scrolled into view at 800x500.
-names=$(grep -vE '^(text|panel|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
+names=$(grep -vE '^(text|panel|sections|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
 count=0
 for name in $names; do
   reach "$name"
