@@ -93,7 +93,6 @@ struct RangeChoice {
     glm::vec4 valuesPlane{0.0f};
 };
 
-std::string lowerExtension(const std::string& path);
 bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
 std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
 std::string signSummaryOf(const Field& field);    // "sign: " and how the field's signs were decided
