@@ -24,8 +24,6 @@ std::string formatBytes(double bytes) {
     std::snprintf(text, sizeof(text), "%.3g %s", bytes, units[u]);
     return text;
 }
-
-std::string signSummaryOf(const Field& field) { return "sign: " + field.parameter("sign"); }
 } // namespace
 
 // The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they describe.
@@ -79,7 +77,7 @@ void Viewer::generationSection() {
     // The grid the settings make, or why they cannot be used (only once there is a model to bake).
     if (!problem.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.35f, 1.0f));
-        ImGui::TextWrapped("%s", problem.c_str());
+        wrappedText("%s", problem.c_str());
         ImGui::PopStyleColor();
         track("validation");
         if (!debugDir_.empty()) layout_ += "text validation " + problem + "\n";
@@ -113,11 +111,11 @@ void Viewer::generationSection() {
         const Grid& g = field_->grid;
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         if (fieldInfo_.seconds >= 0) {
-            ImGui::TextWrapped("%dx%dx%d voxels, %.2f s, %.3g voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
+            wrappedText("%dx%dx%d voxels, %.2f s, %.3g voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
         } else {
-            ImGui::TextWrapped("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
+            wrappedText("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
         }
-        ImGui::TextWrapped("method: %s\n%s", fieldInfo_.method.c_str(), fieldInfo_.signSummary.c_str());
+        wrappedText("method: %s\n%s", fieldInfo_.method.c_str(), fieldInfo_.signSummary.c_str());
         ImGui::PopStyleColor();
         track("stats");
         if (!debugDir_.empty()) layout_ += "text stats method " + fieldInfo_.method + (fieldInfo_.seconds >= 0 ? " baked" : " loaded") + "\n";

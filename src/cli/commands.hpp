@@ -42,6 +42,8 @@ CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max);
 
 // One mesh, or several merged into one scene (mergeMeshes, in place, named "A.obj+B.obj").
 Mesh loadScene(const std::vector<std::string>& paths);
+// The meshes of `paths` merged as loadScene merges them (`meshes[i]` loaded from `paths[i]`).
+Mesh mergeScene(const std::vector<Mesh>& meshes, const std::vector<std::string>& paths);
 
 // The mesh the project ships, used when a command is given none.
 std::string defaultMeshPath();

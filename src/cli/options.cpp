@@ -98,13 +98,17 @@ CLI::Validator wholeNumber(std::uint64_t min, std::uint64_t max) {
 Mesh loadScene(const std::vector<std::string>& paths) {
     if (paths.size() == 1) return loadMesh(paths[0]);
     std::vector<Mesh> meshes;
+    for (const std::string& path : paths) meshes.push_back(loadMesh(path));
+    return mergeScene(meshes, paths);
+}
+
+Mesh mergeScene(const std::vector<Mesh>& meshes, const std::vector<std::string>& paths) {
     std::vector<MeshInstance> parts;
     std::string name;
-    for (const std::string& path : paths) {
-        meshes.push_back(loadMesh(path));
-        name += (name.empty() ? "" : "+") + std::filesystem::path(path).filename().string();
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        parts.push_back({&meshes[i], glm::dmat4(1.0)});
+        name += (name.empty() ? "" : "+") + std::filesystem::path(paths[i]).filename().string();
     }
-    for (const Mesh& mesh : meshes) parts.push_back({&mesh, glm::dmat4(1.0)});
     return mergeMeshes(parts, name);
 }
 
