@@ -547,11 +547,12 @@ PYBIND11_MODULE(_sdfgen, m) {
         .def_property_readonly(
             "band",
             [](const PySparseField& f) {
-                // The band as the bake was given it; background / voxel_size only approximates it (float).
+                // The band as the bake was given it, else from the float background (in float, where
+                // band * voxel was rounded: 3, not 3.0000001).
                 const std::string given = f.field.parameter("band");
                 char* end = nullptr;
                 const double band = std::strtod(given.c_str(), &end);
-                return !given.empty() && *end == '\0' && std::isfinite(band) ? band : double(f.field.background) / f.field.grid.voxel;
+                return !given.empty() && *end == '\0' && std::isfinite(band) ? band : double(f.field.background / float(f.field.grid.voxel));
             },
             "The band's half-width in voxels")
         .def_property_readonly(

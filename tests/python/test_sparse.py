@@ -12,7 +12,7 @@ ROOT = os.environ.get("SDFGEN_SOURCE_DIR", os.path.join(os.path.dirname(__file__
 BUNNY = os.path.join(ROOT, "assets", "bunny.obj")
 TET_VERTICES = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=np.float64)
 TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], dtype=np.int32)
-RES = 40  # several bricks along each axis, the last one cut at the grid's end
+RES = 64  # several bricks along each axis (the last cut at the grid's end), and whole bricks inside
 
 
 @pytest.fixture(scope="module")
@@ -26,10 +26,10 @@ def dense(bunny):
 
 
 def make_sparse(how, bunny, dense, folder):
-    """The same band field two ways: baked with band=3, or loaded as sparse from the dense bake's .npy."""
+    """The same band field two ways: baked with band=3, or loaded as sparse from the dense bake's file."""
     if how == "baked":
         return sdfgen.bake(bunny, res=RES, band=3)
-    path = str(folder / "bunny.npy")
+    path = str(folder / "bunny.npz")
     dense.save(path)
     return sdfgen.SparseField.load(path)
 
