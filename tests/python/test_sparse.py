@@ -182,3 +182,26 @@ def test_argument_errors_raise_sdfgen_error(sparse, bunny):
         sparse.sample(np.zeros((1, 3)), threads=-1)
     with pytest.raises(sdfgen.Error, match="band.xyz"):
         sparse.save("band.xyz")
+
+
+def test_a_field_too_large_for_its_dense_form_stays_sparse(tmp_path):
+    # A sparse .npz of 4096^3 samples (256 GiB dense) with one brick, written as documented.
+    path = str(tmp_path / "huge.npz")
+    background = np.float32(1.5)
+    values = np.full((8, 8, 8, 1), background, np.float32)
+    values[:, :, 4, 0] = np.array([-0.3, -0.2, -0.1, 0, 0.1, 0.2, 0.3, 0.4], np.float32)[:, None]  # a surface through the brick
+    np.savez(path, brick_origins=np.array([[8, 16, 24]], np.int32), brick_values=np.asfortranarray(values),
+             inside_boxes=np.zeros((0, 6), np.int32), background=background, dims=np.array([4096, 4096, 4096]),
+             origin=np.zeros(3), voxel_size=np.float64(0.5), method=np.array("exact"), source=np.array("huge"))
+    field = sdfgen.load_field(path)
+    assert isinstance(field, sdfgen.SparseField) and field.dims == (4096, 4096, 4096)
+    assert field.at(11, 20, 28) == np.float32(0.0) and field.at(0, 0, 0) == background
+    assert field.active_count == 8 * 8  # |value| < 1.5: the plane k = 28 of the brick; the rest is +background
+    assert field.sample(np.array([[11.5 * 0.5, 20.5 * 0.5, 28.5 * 0.5]]))[0] == np.float32(0.0)
+    with pytest.raises(sdfgen.Error, match="keep it sparse"):
+        field.to_dense()
+    with pytest.raises(sdfgen.Error, match="huge.npy"):
+        field.save(str(tmp_path / "huge.npy"))
+    assert not os.path.exists(tmp_path / "huge.npy")
+    field.save(str(tmp_path / "again.npz"))
+    assert np.array_equal(sdfgen.load_field(str(tmp_path / "again.npz")).brick_values, field.brick_values)
