@@ -170,6 +170,10 @@ len(lines) == 6 and all(l["band"] == 2 for l in lines) and sorted(l["status"] fo
     '$sdfgen' compare '$work/band-ref.$format' '$work/band-$format/sub/open.$format' | grep -q 'max 0 '"
   check "the summary of batch --band names the band" grep -qE '^batch summary: .*, band 2 voxels, ' "$work/band-$format.txt"
 done
+check "batch --band --format npz writes sparse archives" $python -c "
+import numpy as np, sys
+z = np.load(sys.argv[1])
+assert 'sdf' not in z.files and z['brick_origins'].shape[1] == 3 and z['brick_values'].shape[:3] == (8, 8, 8)" "$work/band-npz/octahedron.npz"
 check "a dense batch records no band" json_check "$work/status.jsonl" 'all(l["band"] is None for l in lines)'
 check "batch --band with --format samples is a one-line error" bash -c "
   ! '$sdfgen' batch '$work/meshes' --out '$work/band-samples' --format samples --band 2 2>'$work/band-samples.txt' &&
