@@ -657,7 +657,6 @@ PYBIND11_MODULE(_sdfgen, m) {
         "bake",
         [](const PyMesh& mesh, int res, double padding, const std::string& method, const std::string& sign, int threads,
            const py::object& progress, int rays, const std::string& device, const py::object& channels, double band) -> py::object {
-            if (!std::isfinite(band) || band < 0) throw Error("band must be 0 (a dense field) or a positive number of voxels, not " + std::to_string(band));
             BakeSettings settings;
             settings.band = band;
             settings.channels = channelsFrom(channels);

@@ -412,6 +412,12 @@ void printSummary(const std::vector<Outcome>& outcomes, std::size_t allTasks, co
 
 int runBatch(const BatchArgs& args) {
     Stopwatch clock;
+    if (args.settings.band > 0 && args.settings.band < 1) {
+        // Refused here, before any work, rather than by every mesh's bake.
+        char text[96];
+        std::snprintf(text, sizeof(text), "--band must be 0 (dense) or at least 1 voxel (got %g)", args.settings.band);
+        throw Error(text);
+    }
     if (args.settings.band > 0 && args.format == "samples") {
         throw Error("--band makes a field; --format samples makes samples without a grid (choose one)");
     }
