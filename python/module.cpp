@@ -4,7 +4,7 @@
 #include "sdfgen/sdfgen.hpp"
 #include "sdfgen/sample.hpp"
 #include "nearest.hpp"
-#include "core/parallel.hpp"
+#include "core/runtime/parallel.hpp"
 #if SDFGEN_PYTHON_GPU
 #include "gpu/gl_device.hpp"
 #endif
