@@ -58,8 +58,10 @@ void runBake(BakeArgs args) {
     if (args.settings.channels.any()) std::printf("channels: %s\n", toString(args.settings.channels).c_str());
     if (args.settings.band > 0) {
         const SparseField& sparse = result.sparse;
-        std::printf("band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes\n",
-                    args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size());
+        std::printf("band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes; "
+                    "tree and topology %.2f s, distances %.2f s, bricks and sides %.2f s\n",
+                    args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size(),
+                    result.setupSeconds, result.distanceSeconds, result.signSeconds);
     }
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
     if (!result.deviceReason.empty()) std::printf("device: %s\n", result.deviceReason.c_str());
