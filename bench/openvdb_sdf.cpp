@@ -2,6 +2,12 @@
 // tools::meshToSignedDistanceField, for side-by-side timing and comparison.
 //
 //   peer_openvdb MESH.obj --res N [--padding 0.1] -o OUT.sdf
+//   peer_openvdb MESH.obj --res N --band V -o OUT.vdb [--signs-against DENSE.npy]
+//
+// With --band: OpenVDB's own narrow-band path, tools::meshToLevelSet with V voxels each side,
+// written as a .vdb level set (what `sdfgen bake --band V -o F.vdb` is measured against); with
+// --signs-against, the count of the grid's samples whose side differs from a dense field's (an
+// sdfgen bake of the same mesh and grid; its .npy) is printed too.
 //
 // The OpenVDB grid's transform has voxel size grid.voxel and is shifted by half a voxel, so that
 // OpenVDB voxel (i, j, k) has its centre exactly at sdfgen's sample (i, j, k), origin + (i+1/2)h:
@@ -17,6 +23,7 @@
 #include "peer_common.hpp"
 
 #include <openvdb/openvdb.h>
+#include <openvdb/io/File.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -45,6 +52,51 @@ float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid, const glm::vec3& 
         farthest = std::max(farthest, nearest);
     }
     return farthest / voxel;
+}
+
+// The band mode: the level set alone, on sdfgen's grid (computed as makeGrid does, without its
+// check that a dense grid fits, since none is made).
+int runBand(const peer::Options& options, float band, const std::string& signsAgainst) {
+    peer::Stopwatch clock;
+    const Mesh mesh = loadMesh(options.mesh);
+    const WorldBounds bounds = mesh.worldBounds();
+    const glm::dvec3 extent = bounds.extent();
+    const double longest = std::max({extent.x, extent.y, extent.z});
+    const glm::dvec3 padded = extent + 2.0 * double(options.padding) * longest;
+    const double voxel = std::max({padded.x, padded.y, padded.z}) / options.res;
+    const glm::dvec3 gridOrigin = bounds.min - double(options.padding) * longest;
+
+    openvdb::initialize();
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(mesh.positions.size());
+    for (const glm::vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+    std::vector<openvdb::Vec3I> triangles;
+    triangles.reserve(mesh.triangles.size());
+    for (const glm::uvec3& t : mesh.triangles) triangles.emplace_back(t.x, t.y, t.z);
+    const double h = voxel / mesh.unit;
+    const glm::dvec3 origin = mesh.toLocal(gridOrigin);
+    openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(h);
+    transform->postTranslate(openvdb::Vec3d(origin.x + 0.5 * h, origin.y + 0.5 * h, origin.z + 0.5 * h));
+    clock.lap();
+    const openvdb::FloatGrid::Ptr levelSet = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, band);
+    const double convertSeconds = clock.lap();
+    levelSet->setName("sdf");
+    openvdb::io::File(options.output).write({levelSet});
+    std::printf("openvdb: %.3f s (meshToLevelSet %.3f), %zu active voxels\n", clock.seconds(), convertSeconds,
+                std::size_t(levelSet->activeVoxelCount()));
+    if (!signsAgainst.empty()) {
+        const Field dense = loadField(signsAgainst);
+        std::size_t wrong = 0;
+        openvdb::FloatGrid::ConstAccessor accessor = levelSet->getConstAccessor();
+        for (int k = 0; k < dense.grid.dims.z; ++k)
+            for (int j = 0; j < dense.grid.dims.y; ++j)
+                for (int i = 0; i < dense.grid.dims.x; ++i) {
+                    wrong += (accessor.getValue(openvdb::Coord(i, j, k)) < 0.0f) != (dense.at(i, j, k) < 0.0f);
+                }
+        std::printf("openvdb wrong signs: %zu of %zu samples (%.2f%%)\n", wrong, dense.grid.sampleCount(),
+                    100.0 * double(wrong) / double(dense.grid.sampleCount()));
+    }
+    return 0;
 }
 
 int run(const peer::Options& options) {
@@ -127,9 +179,14 @@ int run(const peer::Options& options) {
 int main(int argc, char** argv) {
     CLI::App app{"peer_openvdb: sdfgen's grid, filled by OpenVDB's meshToSignedDistanceField"};
     sdfgen::peer::Options options;
+    float band = 0.0f;
+    std::string signsAgainst;
+    app.add_option("--band", band, "OpenVDB's narrow band (meshToLevelSet) of this many voxels each side, written as .vdb")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--signs-against", signsAgainst, "with --band: count the samples whose side differs from this dense field's");
     if (const int code = sdfgen::peer::parseOptions(app, options, false, argc, argv); code >= 0) return code;
     try {
-        return run(options);
+        return band > 0.0f ? runBand(options, band, signsAgainst) : run(options);
     } catch (const sdfgen::Error& e) {
         std::fprintf(stderr, "peer_openvdb: %s\n", e.what());
     } catch (const std::exception& e) {

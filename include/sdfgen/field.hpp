@@ -15,6 +15,9 @@ struct Field {
     std::vector<std::pair<std::string, std::string>> parameters; // e.g. {"rays", "64"}
     Grid grid;
     std::vector<float> values; // grid.sampleCount() values, x fastest
+    // 0: every value is a distance. > 0: a narrow-band field made dense (SparseField::toDense): values
+    // with |value| < background are exact distances; the others are +-background and tell only the side.
+    float background = 0;
     // Channels a bake gives on request (BakeSettings::channels, see Channels), empty otherwise. The
     // vectors are planar, each plane laid out as values: every sample's x, then every y, then every z.
     std::vector<float> gradient;        // 3 * grid.sampleCount(): the unit gradient of the signed distance

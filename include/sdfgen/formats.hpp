@@ -1,6 +1,7 @@
 #pragma once
 #include "sdfgen/bake.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/sparse_field.hpp"
 
 #include <string>
 #include <vector>
@@ -23,8 +24,21 @@ void saveField(const Field& field, const std::string& path, const SaveOptions& o
 // format cannot hold (.npz and .vdb hold them; .sdf, .npy and .nrrd the distance only).
 void checkFormatHoldsChannels(const std::string& path, const Channels& channels);
 
-// Loads a field in any of those formats, validated as strictly as the text format.
+// Loads a field in any of those formats, validated as strictly as the text format. A sparse file
+// (saveSparseField) is made dense (SparseField::toDense), or refused when that does not fit in memory.
 Field loadField(const std::string& path);
+
+// Saves a narrow-band field: .vdb (a level set: the band's voxels active, ±background tiles for the
+// rest) and .npz (its bricks and boxes as arrays, docs/formats.md) keep it sparse; the dense formats
+// (.sdf, .npy, .nrrd) get SparseField::toDense, or an Error naming the reason and the sparse formats
+// when that would not fit in memory. Atomic, as saveField.
+void saveSparseField(const SparseField& field, const std::string& path);
+// Loads a field as sparse: a sparse .npz or a .vdb level set as it is, a dense file through its
+// samples (bricks where a sample lies within `band` voxels of the surface; 3 when the file names no band).
+SparseField loadSparseField(const std::string& path);
+// Whether the file at `path` holds a sparse field (a sparse .npz, or a .vdb whose grid is not dense);
+// reads the header only. Error for an unreadable file or an unknown extension.
+bool isSparseFieldFile(const std::string& path);
 
 // The extensions saveField and loadField accept, with the dot (".sdf", ...).
 std::vector<std::string> fieldFormatExtensions();

@@ -29,10 +29,13 @@ struct BakeArgs {
 void runBake(BakeArgs args) {
     Stopwatch total;
     args.settings.channels = parseChannels(args.channels);
-    std::string extension = std::filesystem::path(args.output).extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (args.save.band > 0 && extension != ".vdb") {
-        throw Error("--band applies to .vdb output only (" + args.output + ")");
+    if (args.settings.band > 0 && args.settings.channels.any()) {
+        // Channels come from the dense bake: its .vdb keeps the band's voxels (and theirs) only.
+        std::string extension = std::filesystem::path(args.output).extension().string();
+        for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (extension != ".vdb") throw Error("--band with --channels applies to .vdb output only (" + args.output + ")");
+        args.save.band = args.settings.band;
+        args.settings.band = 0;
     }
     refuseOverwritingInput(args.output, args.meshes);
     if (args.settings.channels.any()) checkFormatHoldsChannels(args.output, args.settings.channels); // before the bake, not after
@@ -45,7 +48,8 @@ void runBake(BakeArgs args) {
         control.progress = bar.callback();
         result = model.bake(args.settings, control);
     }
-    saveField(result.field, args.output, args.save);
+    if (args.settings.band > 0) saveSparseField(result.sparse, args.output);
+    else saveField(result.field, args.output, args.save);
     const double seconds = total.seconds();
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const Grid& g = result.field.grid;
@@ -54,6 +58,11 @@ void runBake(BakeArgs args) {
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
     if (args.settings.channels.any()) std::printf("channels: %s\n", toString(args.settings.channels).c_str());
+    if (args.settings.band > 0) {
+        const SparseField& sparse = result.sparse;
+        std::printf("band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes\n",
+                    args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size());
+    }
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
     if (!result.deviceReason.empty()) std::printf("device: %s\n", result.deviceReason.c_str());
 }
@@ -65,7 +74,10 @@ void addBakeCommand(CLI::App& app) {
     CLI::App* bake = app.add_subcommand("bake", "Generate a signed distance field from a mesh and save it (format from the extension)");
     bake->add_option("mesh", args->meshes, "Input mesh (" + meshFormatList() + ", ...); several give the field of their union")->required();
     bake->add_option("-o,--output", args->output, "Output field file: " + fieldFormatList() + " (docs/field-format.md)")->required();
-    bake->add_option("--band", args->save.band, "For .vdb: keep only voxels within this many voxels of the surface (0 = dense)")
+    bake->add_option("--band", args->settings.band,
+                     "Narrow band: exact distances only within this many voxels of the surface (at least 1), the rest only "
+                     "its side; sparse in .vdb and .npz, never a dense grid in memory (0 = the dense field). With --channels: "
+                     "the dense bake, of which the .vdb keeps the band")
         ->check(finiteRange(0.0, 1e9))
         ->capture_default_str();
     bake->add_option("--channels", args->channels,

@@ -1,4 +1,6 @@
 #include "core/bake.hpp"
+#include "core/sample_positions.hpp"
+#include "core/band_bake.hpp"
 #include "core/memory.hpp"
 #include "core/parallel.hpp"
 #include "sdfgen/error.hpp"
@@ -76,6 +78,20 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     if (settings.device == Device::Gpu && !method.deviceMemory) {
         throw Error(std::string("--device gpu computes exact distances; --method ") + method.name + " runs on the CPU");
     }
+    const bool banded = settings.band != 0;
+    if (banded) {
+        if (!(settings.band >= 1.0) || !std::isfinite(settings.band)) {
+            throw Error("the band must be a finite number of voxels, at least 1 (got " + std::to_string(settings.band) + ")");
+        }
+        if (!method.measuresBand) {
+            throw Error(std::string("the narrow-band bake measures exact distances; --method ") + method.name + " makes dense fields only");
+        }
+        if (settings.device == Device::Gpu) throw Error("the narrow-band bake runs on the CPU only; use --device cpu or auto");
+        if (settings.channels.any()) {
+            throw Error("channels " + toString(settings.channels).substr(4) + " come from the dense bake only; a band bake gives the distance (sdf)");
+        }
+        if (signMethod(sign).castsRays) throw Error("the narrow-band bake signs by the winding number (or auto); --sign rays votes per sample");
+    }
     const Channels& channels = settings.channels;
     if (channels.any()) {
         const std::string named = toString(channels).substr(4); // without "sdf,"
@@ -90,13 +106,26 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     }
     BakeResult result;
     BakeContext deviceContext = context;
-    if (channels.any()) {
+    if (banded) {
+        result.deviceReason = "cpu: the narrow-band bake runs on the CPU only";
+    } else if (channels.any()) {
         result.deviceReason = "cpu: asked for channels " + toString(channels).substr(4) + " (made on the CPU only)";
     } else if (method.deviceMemory) {
         deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
         result.onDevice = deviceContext.device != nullptr;
     }
-    checkBakeMemory(context.mesh, context.tree, context.grid, settings, result.onDevice, quiet(control));
+    if (banded) {
+        const double needed = double(estimateBandBakeBytes(context.mesh, context.grid, settings.band));
+        const std::uint64_t available = availableMemoryBytes();
+        if (available > 0 && needed > double(available)) {
+            const Grid& g = context.grid;
+            throw Error("a band of " + std::to_string(settings.band) + " voxels on grid " + std::to_string(g.dims.x) + "x" +
+                        std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) + " needs about " + mebibytes(needed) +
+                        " but only " + mebibytes(double(available)) + " of memory is available");
+        }
+    } else {
+        checkBakeMemory(context.mesh, context.tree, context.grid, settings, result.onDevice, quiet(control));
+    }
 
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
@@ -104,7 +133,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     // wide tree and the topology at once: each alone leaves a core idle for much of its build.
     const Clock::time_point setupStart = Clock::now();
     const bool readsWide = (method.readsWideTree && !result.onDevice) || (!method.fixedSign && signMethod(sign).readsWideTree);
-    const bool readsTopology = !method.fixedSign && signMethod(sign).readsTopology;
+    const bool readsTopology = (!method.fixedSign && signMethod(sign).readsTopology) || banded;
     if (readsWide && readsTopology) {
         parallelInvoke(quiet(control), [&] { context.wide(); }, [&] { context.topology(); });
     } else if (readsWide) {
@@ -127,8 +156,43 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         methodContext.flipped = decision.flipped;
         methodContext.sign = sign;
     }
+    if (banded && sign == SignMethod::Pseudonormal && !result.checked && !context.check().closedAndClean()) {
+        // Out of the band a sample has no distance pass to take a closest feature from: its side
+        // is the winding sign's, which is the pseudonormal's only where the check proves it right.
+        throw Error("the narrow-band bake takes --sign pseudonormal only for meshes it is proven right on (closed, manifold, "
+                    "consistently oriented, without self-intersections); use --sign winding or auto");
+    }
     const double checkSeconds = since(checkStart);
     releaseFreedMemory(); // the setup phases' scratch, before the field is allocated
+
+    // The field's method line, e.g. "exact sign=auto/winding res=128 padding=0.1".
+    auto parameters = [&](SignMethod used) {
+        std::vector<std::pair<std::string, std::string>> list;
+        if (method.castsRays || signMethod(used).castsRays) list.emplace_back("rays", std::to_string(settings.rays));
+        list.emplace_back("sign", std::string(result.checked ? "auto/" : "") + toString(used));
+        char number[32];
+        list.emplace_back("res", std::to_string(settings.res));
+        std::snprintf(number, sizeof(number), "%g", settings.padding);
+        list.emplace_back("padding", number);
+        if (banded) {
+            std::snprintf(number, sizeof(number), "%g", settings.band);
+            list.emplace_back("band", number);
+        }
+        return list;
+    };
+    if (banded) {
+        bakeBand(methodContext, sign == SignMethod::Winding, result, control);
+        result.sign = sign;
+        result.signSeconds += checkSeconds;
+        result.sparse.method = method.name;
+        result.sparse.parameters = parameters(sign);
+        result.field.source = result.sparse.source;
+        result.field.grid = result.sparse.grid;
+        result.field.method = result.sparse.method;
+        result.field.parameters = result.sparse.parameters;
+        result.field.background = result.sparse.background;
+        return result;
+    }
 
     const Clock::time_point start = Clock::now();
     const bool signsInline = !method.fixedSign && sign == method.signsInline;
@@ -161,19 +225,12 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         throw Error(context.mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");
     }
     field.method = method.name;
-    if (method.castsRays || signMethod(result.sign).castsRays) {
-        field.parameters.emplace_back("rays", std::to_string(settings.rays));
-    }
-    field.parameters.emplace_back("sign", std::string(result.checked ? "auto/" : "") + toString(result.sign));
-    char padding[32];
-    std::snprintf(padding, sizeof(padding), "%g", settings.padding);
-    field.parameters.emplace_back("res", std::to_string(settings.res));
-    field.parameters.emplace_back("padding", padding);
+    field.parameters = parameters(result.sign);
     return result;
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
-    const Grid grid = makeGrid(mesh.worldBounds(), settings.res, settings.padding);
+    const Grid grid = settings.band > 0 ? gridAround(mesh.worldBounds(), settings.res, settings.padding) : makeGrid(mesh.worldBounds(), settings.res, settings.padding);
     std::optional<WideBvh> wide;
     std::optional<MeshTopology> topology;
     std::optional<MeshCheck> check;

@@ -118,11 +118,11 @@ double bruteMemory(const MemoryTerms& terms) { return terms.triangles * 3 * size
 const std::vector<DistanceMethodInfo>& distanceMethods() {
     static const std::vector<DistanceMethodInfo> methods = {
         {DistanceMethod::Exact, "exact", "the true distance to the nearest triangle", exactDistance, SignMethod::Auto, false,
-         SignMethod::Pseudonormal, true, false, true, noMemory, exactDeviceMemory},
+         SignMethod::Pseudonormal, true, false, true, true, noMemory, exactDeviceMemory},
         {DistanceMethod::Rays, "rays", "the original report's ray sampling, an upper bound", rayDistance, SignMethod::Rays, false,
-         SignMethod::Rays, false, true, false, noMemory, nullptr},
+         SignMethod::Rays, false, true, false, false, noMemory, nullptr},
         {DistanceMethod::Brute, "brute", "every triangle for every sample in double, signed by the exact winding number: the reference",
-         bruteDistance, SignMethod::Winding, true, SignMethod::Default, false, false, false, bruteMemory, nullptr},
+         bruteDistance, SignMethod::Winding, true, SignMethod::Default, false, false, false, false, bruteMemory, nullptr},
     };
     return methods;
 }

@@ -84,6 +84,11 @@ void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, 
     kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control, channels);
 }
 
+void computeExactBricks(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const glm::ivec3* bricks, std::size_t count,
+                        double skipBeyond, const MeshTopology* pseudonormal, bool flipped, float* values, const RunControl& control) {
+    kernel::active().computeExactBricks(mesh, tree, grid, bricks, count, skipBeyond, pseudonormal, flipped, values, control);
+}
+
 float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipped, const glm::dvec3& p, std::uint32_t t) {
     const ClosestPoint closest =
         closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));

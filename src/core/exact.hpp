@@ -1,6 +1,7 @@
 #pragma once
 #include "sdfgen/field.hpp"
 #include "sdfgen/grid.hpp"
+#include "sdfgen/sparse_field.hpp"
 #include "core/parallel.hpp"
 #include "core/bvh.hpp"
 #include "core/wide_bvh.hpp"
@@ -51,6 +52,14 @@ struct ChannelOutputs {
 // for them; the distances are the same with or without.
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
                        float* values, const RunControl& control, const ChannelOutputs* channels = nullptr);
+
+// computeExactField for the samples of `count` bricks of 8³ (SparseField's): brick b's samples go to
+// values[512 b + ((k - 8 z) * 8 + (j - 8 y)) * 8 + (i - 8 x)], (x, y, z) = bricks[b]; samples past
+// the grid's end are not written. Each sample gets the value computeExactField gives it, bit for bit,
+// except in quarters of 4³ whose samples are all farther than `skipBeyond` (local units) from the
+// surface: those are not written (a band bake keeps only their side).
+void computeExactBricks(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const glm::ivec3* bricks, std::size_t count,
+                        double skipBeyond, const MeshTopology* pseudonormal, bool flipped, float* values, const RunControl& control);
 
 // The distance (world units) from p (local) to triangle t, measured in double, negated where the
 // pseudonormal of its closest feature points away from p (the other way round when flipped), when

@@ -26,7 +26,7 @@ std::vector<double> sampleAxes(const Mesh& mesh, const Grid& grid) {
     return axes;
 }
 
-Grid makeGrid(const WorldBounds& bounds, int res, double padding) {
+Grid gridAround(const WorldBounds& bounds, int res, double padding) {
     if (res < 1) throw Error("grid resolution must be at least 1 (got " + std::to_string(res) + ")");
     if (!(padding >= 0.0) || !std::isfinite(padding)) {
         throw Error("padding must be a finite number >= 0 (got " + std::to_string(padding) + ")");
@@ -52,13 +52,17 @@ Grid makeGrid(const WorldBounds& bounds, int res, double padding) {
     grid.origin = bounds.min - pad;
     const double voxel = paddedLongest / res;
     grid.voxel = voxel;
-    double samples = 1.0;
     for (int a = 0; a < 3; ++a) {
         // The longest axis gets exactly res voxels; the 1e-9 keeps exact multiples from rounding up.
         const double cells = std::ceil(double(paddedExtent[a]) / voxel - 1e-9);
         grid.dims[a] = int(std::clamp(cells, 1.0, double(res)));
-        samples *= grid.dims[a];
     }
+    return grid;
+}
+
+Grid makeGrid(const WorldBounds& bounds, int res, double padding) {
+    const Grid grid = gridAround(bounds, res, padding);
+    const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double bytes = samples * sizeof(float);
     const std::uint64_t memory = physicalMemoryBytes();
     if (memory > 0 && bytes > double(memory)) {

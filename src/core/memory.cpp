@@ -35,9 +35,9 @@ std::optional<std::uint64_t> readBytes(const std::filesystem::path& path) {
     return std::uint64_t(value);
 }
 
-std::string mebibytes(double bytes) { return std::to_string(std::llround(std::min(bytes / (1 << 20), 9e18))) + " MiB"; }
-
 } // namespace
+
+std::string mebibytes(double bytes) { return std::to_string(std::llround(std::min(bytes / (1 << 20), 9e18))) + " MiB"; }
 
 CgroupMemory cgroupMemory(const std::string& cgroupFile, const std::string& root) {
     namespace fs = std::filesystem;

@@ -55,6 +55,9 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
 void checkBakeMemory(const Mesh& mesh, const Bvh& tree, const Grid& grid, const BakeSettings& settings, bool onDevice,
                      const RunControl& control = {});
 
+// "123 MiB", rounded, for messages.
+std::string mebibytes(double bytes);
+
 // Hands the pages of freed heap memory back to the system (glibc keeps them resident for reuse):
 // called between phases, so that one phase's scratch does not add to the next one's peak.
 void releaseFreedMemory();

@@ -76,6 +76,7 @@ struct DistanceMethodInfo {
     bool readsWideTree; // on the CPU its pass searches the closest-point tree (core/wide_bvh.hpp)
     bool castsRays;     // casts BakeSettings::rays rays per sample (recorded in the field)
     bool makesChannels; // fills the gradient, closest and triangle channels
+    bool measuresBand;  // the narrow-band bake (BakeSettings::band, core/band_bake.hpp) measures by it
     // Bytes its pass holds besides the field and the shared trees; a fixed-sign method's whole
     // bake besides the field.
     double (*memory)(const MemoryTerms& terms);

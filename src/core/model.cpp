@@ -2,6 +2,7 @@
 // queries over them.
 #include "sdfgen/model.hpp"
 #include "core/bake.hpp"
+#include "core/sample_positions.hpp"
 #include "core/bvh.hpp"
 #include "core/exact.hpp"
 #include "core/geometry.hpp"
@@ -101,7 +102,7 @@ BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) 
     checkedControl(control);
     Grid grid;
     try {
-        grid = makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
+        grid = settings.band > 0 ? gridAround(m.mesh.worldBounds(), settings.res, settings.padding) : makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
     } catch (const Error& e) {
         throw Error(m.mesh.source + ": " + e.what());
     }

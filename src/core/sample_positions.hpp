@@ -15,6 +15,10 @@ inline glm::dvec3 localPosition(const Mesh& mesh, const Grid& grid, int i, int j
     return mesh.toLocal(grid.position(i, j, k));
 }
 
+// makeGrid without its check that the dense grid fits in memory: for the narrow-band bake, which
+// never allocates it.
+Grid gridAround(const WorldBounds& bounds, int res, double padding);
+
 // The samples' local coordinates per axis: x per i, then y per j, then z per k (dims.x + dims.y +
 // dims.z values). localPosition is componentwise, so sample (i, j, k) is (axes[i], axes[dims.x + j],
 // axes[dims.x + dims.y + k]) to the bit, without its three divisions per use.

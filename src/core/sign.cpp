@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <tuple>
 
 namespace sdfgen {
 
@@ -498,10 +499,13 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
 
 namespace {
 
-// Where the winding sign puts its answer: inside flags, or the field itself, negated where inside.
+// Where the winding sign puts its answer: inside flags, or the field itself, negated where inside;
+// sample (i, j, k) at base + i + rowStride * j + planeStride * k (the grid's layout, or a brick's).
 struct SignOutput {
     std::uint8_t* flags;
     float* field;
+    std::ptrdiff_t base = 0, rowStride = 0, planeStride = 0;
+    std::size_t index(int i, int j, int k) const { return std::size_t(base + i + rowStride * j + planeStride * k); }
     void set(std::size_t index, bool inside) const {
         if (flags) flags[index] = inside;
         else if (inside) field[index] = -field[index];
@@ -533,7 +537,7 @@ struct BrickSigns {
     const Grid& grid;
     const SampleAxes& axes;
     const WindingCaps& caps;
-    const SignOutput& output;
+    SignOutput output;
     std::size_t evaluations = 0, exactDecided = 0;
     WindingCaps::Cut cuts[4]; // per level: 8³, 4³, 2³ (measured); scratch
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
@@ -582,7 +586,7 @@ struct BrickSigns {
                 for (int j = ja; j < je; ++j) {
                     const unsigned rowOpen = unsigned(open >> (kEdge * (j - j0))) & 0xffu;
                     const int* rowCounts = &count(i0, j, k);
-                    const std::size_t rowStart = grid.index(i0, j, k);
+                    const std::size_t rowStart = out.index(i0, j, k);
                     for (int i = ia - i0; i < ie - i0; ++i) {
                         if (rowOpen >> i & 1u) out.set(rowStart + std::size_t(i), rowCounts[i] != 0);
                     }
@@ -599,7 +603,7 @@ struct BrickSigns {
                     for (int i = ia; i < ie; ++i) {
                         const std::uint64_t b = bit(i - i0, j - j0);
                         if (!(row(k) & b)) continue;
-                        output.set(grid.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), cut, cuts[3], &evaluations));
+                        output.set(output.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), cut, cuts[3], &evaluations));
                         row(k) &= ~b;
                     }
             return;
@@ -625,7 +629,7 @@ struct BrickSigns {
                         const double distance = glm::length(offset);
                         const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
                         if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
-                            output.set(grid.index(i, j, k), x > 0.0);
+                            output.set(output.index(i, j, k), x > 0.0);
                             row(k) &= ~b;
                             exactDecided += !cut.exactNodes.empty();
                         }
@@ -639,100 +643,123 @@ struct BrickSigns {
     }
 };
 
+// Signed crossings of rows' lines (parallel to x, through the samples' own (y, z) in double, as
+// crossingsAhead's and the GPU's shaders/winding_rows.comp are) with the closed surface: the mesh,
+// copies of a triangle counted once with their number as the weight, and the fans. The scan
+// triangles are bucketed to groups of `planes` z planes, in index order, so that each row's
+// crossings are the same for any thread count.
+struct Crossing {
+    double x;
+    int sign; // +weight where the surface faces +x: moving along +x leaves the solid there
+};
+class RowCrossings {
+public:
+    RowCrossings(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, const SampleAxes& axes,
+                 int planes, const RunControl& control)
+        : mesh_(mesh), topology_(topology), grid_(grid), axes_(axes), planes_(planes) {
+        for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+            if (topology.copies(t)) firstCopies_.push_back(t);
+        }
+        for (const Cap& cap : caps.caps()) {
+            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+                capTriangles_.push_back({cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight});
+            }
+        }
+        const std::size_t scanCount = firstCopies_.size() + capTriangles_.size();
+        const int nz = grid.dims.z, ny = grid.dims.y;
+        const glm::dvec3 first = localPosition(mesh, grid, 0, 0, 0);
+        const double h = grid.voxel / mesh.unit;
+        groups_ = (nz + planes - 1) / planes;
+        // Each scan triangle's candidate planes (k) and rows (j), in parallel by chunks of triangles.
+        candidates_.resize(scanCount);
+        constexpr std::size_t kChunk = 4096;
+        parallelFor((scanCount + kChunk - 1) / kChunk, control, [&](std::size_t chunk) {
+            for (std::size_t index = chunk * kChunk; index < std::min(scanCount, (chunk + 1) * kChunk); ++index) {
+                const ScanTriangle s = triangle(index);
+                const auto [k0, k1] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
+                const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
+                candidates_[index] = {k0, k1, j0, j1};
+            }
+        });
+        groupStart_.assign(std::size_t(groups_) + 1, 0);
+        for (std::size_t index = 0; index < scanCount; ++index) {
+            const Candidates& c = candidates_[index];
+            if (c.k0 > c.k1) continue;
+            for (int group = c.k0 / planes; group <= c.k1 / planes; ++group) ++groupStart_[std::size_t(group) + 1];
+        }
+        for (int group = 0; group < groups_; ++group) groupStart_[std::size_t(group) + 1] += groupStart_[std::size_t(group)];
+        groupTriangles_.resize(groupStart_.back());
+        std::vector<std::size_t> fill(groupStart_.begin(), groupStart_.end() - 1);
+        for (std::size_t index = 0; index < scanCount; ++index) {
+            const Candidates& c = candidates_[index];
+            if (c.k0 > c.k1) continue;
+            for (int group = c.k0 / planes; group <= c.k1 / planes; ++group) {
+                groupTriangles_[fill[std::size_t(group)]++] = std::uint32_t(index);
+            }
+        }
+    }
+    int groups() const { return groups_; }
+    // Appends the crossings of the rows of group g's planes k to rows[(k - g * planes) * ny + j].
+    void fill(int g, std::vector<Crossing>* rows) const {
+        const int ny = grid_.dims.y;
+        const int groupLo = g * planes_, groupHi = std::min(grid_.dims.z - 1, groupLo + planes_ - 1);
+        for (std::size_t n = groupStart_[std::size_t(g)]; n < groupStart_[std::size_t(g) + 1]; ++n) {
+            const ScanTriangle s = triangle(groupTriangles_[n]);
+            const Candidates& c = candidates_[groupTriangles_[n]];
+            const int k0 = std::max(groupLo, c.k0), k1 = std::min(groupHi, c.k1);
+            for (int k = k0; k <= k1; ++k) {
+                for (int j = c.j0; j <= c.j1; ++j) {
+                    int orientation2d;
+                    glm::dvec3 w;
+                    if (!pointInTriangle2d({axes_.y[j], axes_.z[k]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
+                    rows[std::size_t(k - groupLo) * std::size_t(ny) + std::size_t(j)].push_back(
+                        {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
+                }
+            }
+        }
+    }
+
+private:
+    struct ScanTriangle {
+        glm::dvec3 a, b, c;
+        int weight;
+    };
+    struct Candidates {
+        int k0, k1, j0, j1;
+    };
+    ScanTriangle triangle(std::size_t index) const {
+        if (index >= firstCopies_.size()) return capTriangles_[index - firstCopies_.size()];
+        const std::uint32_t t = firstCopies_[index];
+        return {glm::dvec3(mesh_.vertex(t, 0)), glm::dvec3(mesh_.vertex(t, 1)), glm::dvec3(mesh_.vertex(t, 2)), int(topology_.copies(t))};
+    }
+    const Mesh& mesh_;
+    const MeshTopology& topology_;
+    const Grid& grid_;
+    const SampleAxes& axes_;
+    int planes_, groups_ = 0;
+    std::vector<std::uint32_t> firstCopies_;
+    std::vector<ScanTriangle> capTriangles_;
+    std::vector<Candidates> candidates_;
+    std::vector<std::size_t> groupStart_;
+    std::vector<std::uint32_t> groupTriangles_;
+};
+
 void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, const SignOutput& output,
                   const RunControl& control, WindingStats* stats) {
     const WindingCaps caps(topology);
     const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
     const SampleAxes axes(mesh, grid);
 
-    // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans,
-    //    copies of a triangle counted once with their number as the weight.
-    struct ScanTriangle {
-        glm::dvec3 a, b, c;
-        int weight;
-    };
-    std::vector<std::uint32_t> firstCopies;
-    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
-        if (topology.copies(t)) firstCopies.push_back(t);
-    }
-    std::vector<ScanTriangle> capTriangles;
-    for (const Cap& cap : caps.caps()) {
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
-            capTriangles.push_back({cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight});
-        }
-    }
-    const std::size_t scanCount = firstCopies.size() + capTriangles.size();
-    auto scanTriangle = [&](std::size_t index) {
-        if (index >= firstCopies.size()) return capTriangles[index - firstCopies.size()];
-        const std::uint32_t t = firstCopies[index];
-        return ScanTriangle{glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)),
-                            int(topology.copies(t))};
-    };
-    struct Crossing {
-        double x;
-        int sign; // +weight where the surface faces +x: moving along +x leaves the solid there
-    };
-    std::vector<std::vector<Crossing>> rows(std::size_t(ny) * std::size_t(nz));
-    const glm::dvec3 first = localPosition(mesh, grid, 0, 0, 0);
-    const double h = grid.voxel / mesh.unit;
-    // Parallel over bands of z planes: each band's rows are written by its item alone, from the
-    // triangles bucketed to it in index order (so each row's crossings are the same for any
-    // thread count).
+    // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans.
     constexpr int kBandPlanes = 4;
-    const int bands = (nz + kBandPlanes - 1) / kBandPlanes;
-    // Each scan triangle's candidate planes (k) and rows (j), in parallel by chunks of triangles.
-    struct Candidates {
-        int k0, k1, j0, j1;
-    };
-    std::vector<Candidates> candidates(scanCount);
-    constexpr std::size_t kChunk = 4096;
-    parallelFor((scanCount + kChunk - 1) / kChunk, control.phase(0.0, 0.05), [&](std::size_t chunk) {
-        for (std::size_t index = chunk * kChunk; index < std::min(scanCount, (chunk + 1) * kChunk); ++index) {
-            const ScanTriangle s = scanTriangle(index);
-            const auto [k0, k1] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
-            const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
-            candidates[index] = {k0, k1, j0, j1};
-        }
-    });
-    std::vector<std::uint32_t> bandStart(std::size_t(bands) + 1, 0);
-    for (std::size_t index = 0; index < scanCount; ++index) {
-        const Candidates& c = candidates[index];
-        if (c.k0 > c.k1) continue;
-        for (int band = c.k0 / kBandPlanes; band <= c.k1 / kBandPlanes; ++band) ++bandStart[std::size_t(band) + 1];
-    }
-    for (int band = 0; band < bands; ++band) bandStart[std::size_t(band) + 1] += bandStart[std::size_t(band)];
-    std::vector<std::uint32_t> bandTriangles(bandStart.back());
+    std::vector<std::vector<Crossing>> rows(std::size_t(ny) * std::size_t(nz));
     {
-        std::vector<std::uint32_t> fill(bandStart.begin(), bandStart.end() - 1);
-        for (std::size_t index = 0; index < scanCount; ++index) {
-            const Candidates& c = candidates[index];
-            if (c.k0 > c.k1) continue;
-            for (int band = c.k0 / kBandPlanes; band <= c.k1 / kBandPlanes; ++band) {
-                bandTriangles[fill[std::size_t(band)]++] = std::uint32_t(index);
-            }
-        }
+        const RowCrossings scan(mesh, topology, caps, grid, axes, kBandPlanes, control.phase(0.0, 0.05));
+        // Parallel over bands of z planes: each band's rows are written by its item alone.
+        parallelFor(std::size_t(scan.groups()), control.phase(0.05, 0.3), [&](std::size_t band) {
+            scan.fill(int(band), &rows[std::size_t(band) * kBandPlanes * std::size_t(ny)]);
+        });
     }
-    // Rows pass through the samples' own (y, z), in double, as crossingsAhead's and the GPU's
-    // (shaders/winding_rows.comp) do, so that every side counts the same crossings.
-    parallelFor(std::size_t(bands), control.phase(0.05, 0.3), [&](std::size_t band) {
-        const int bandLo = int(band) * kBandPlanes, bandHi = std::min(nz - 1, bandLo + kBandPlanes - 1);
-        for (std::uint32_t n = bandStart[band]; n < bandStart[band + 1]; ++n) {
-            const ScanTriangle s = scanTriangle(bandTriangles[n]);
-            const Candidates& c = candidates[bandTriangles[n]];
-            const int k0 = std::max(bandLo, c.k0), k1 = std::min(bandHi, c.k1);
-            for (int k = k0; k <= k1; ++k) {
-                for (int j = c.j0; j <= c.j1; ++j) {
-                    int orientation2d;
-                    glm::dvec3 w;
-                    if (!pointInTriangle2d({axes.y[j], axes.z[k]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
-                    rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)].push_back(
-                        {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
-                }
-            }
-        }
-    });
-    candidates = {};
-    bandTriangles = {};
 
     // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
     //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
@@ -760,7 +787,9 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
                 std::vector<Crossing>().swap(crossings); // done with this row
             }
         }
-        BrickSigns brick{grid, axes, caps, output, 0, 0, {}};
+        SignOutput layout = output;
+        layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
+        BrickSigns brick{grid, axes, caps, layout, 0, 0, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
@@ -776,6 +805,156 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
 }
 
 } // namespace
+
+void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, BandSides& band,
+                      const RunControl& control) {
+    constexpr int kEdge = BrickSigns::kEdge;
+    static_assert(kEdge == SparseField::kBrick, "the sign's bricks are the sparse field's");
+    const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
+    const glm::ivec3 brickDims = (grid.dims + (kEdge - 1)) / kEdge;
+    const SampleAxes axes(mesh, grid);
+    const RowCrossings scan(mesh, topology, caps, grid, axes, kEdge, control.phase(0.0, 0.1));
+    // Where each layer's stored and fan bricks begin (both lists are ordered by z, y, x).
+    auto layerStarts = [&](const std::vector<glm::ivec3>& bricks) {
+        std::vector<std::size_t> starts(std::size_t(brickDims.z) + 1);
+        for (int z = 0; z <= brickDims.z; ++z) {
+            starts[std::size_t(z)] = std::size_t(std::lower_bound(bricks.begin(), bricks.end(), z,
+                                                                  [](const glm::ivec3& b, int layer) { return b.z < layer; }) -
+                                                 bricks.begin());
+        }
+        return starts;
+    };
+    const std::vector<std::size_t> storedStart = layerStarts(band.bricks), fanStart = layerStarts(band.fanBricks);
+    struct Layer {
+        std::vector<std::array<int, 6>> boxes;
+        std::vector<glm::ivec3> mixed; // fan bricks with both sides, and their values
+        std::vector<float> values;
+    };
+    std::vector<Layer> layers(std::size_t(brickDims.z));
+    const float background = band.background;
+    parallelFor(std::size_t(brickDims.z), control.phase(0.1, 1.0), [&](std::size_t layerIndex) {
+        const int bz = int(layerIndex), k0 = bz * kEdge, k1 = std::min(nz, k0 + kEdge);
+        Layer& layer = layers[layerIndex];
+        std::vector<std::vector<Crossing>> rows(std::size_t(kEdge) * std::size_t(ny));
+        scan.fill(bz, rows.data());
+        std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex];
+        BrickSigns signs{grid, axes, caps, {}, 0, 0, {}};
+        int counts[kEdge * kEdge * kEdge];
+        std::uint8_t flags[kEdge * kEdge * kEdge];
+        std::size_t cursor[kEdge * kEdge];
+        int behind[kEdge * kEdge], total[kEdge * kEdge];
+        for (int by = 0; by < brickDims.y; ++by) {
+            const int j0 = by * kEdge, j1 = std::min(ny, j0 + kEdge);
+            // The brick row's rows, crossings in ascending x: ahead of x is the total minus those at or behind x.
+            for (int r = 0; r < kEdge * kEdge; ++r) {
+                cursor[r] = 0, behind[r] = 0, total[r] = 0;
+                const int j = j0 + r % kEdge, k = k0 + r / kEdge;
+                if (j >= j1 || k >= k1) continue;
+                std::vector<Crossing>& row = rows[std::size_t(k - k0) * std::size_t(ny) + std::size_t(j)];
+                std::sort(row.begin(), row.end(), [](const Crossing& l, const Crossing& r) { return l.x < r.x; });
+                for (const Crossing& c : row) total[r] += c.sign;
+            }
+            auto aheadAt = [&](int r, int i) {
+                const std::vector<Crossing>& row = rows[std::size_t(r / kEdge) * std::size_t(ny) + std::size_t(j0 + r % kEdge)];
+                while (cursor[r] < row.size() && row[cursor[r]].x <= axes.x[i]) behind[r] += row[cursor[r]++].sign;
+                return total[r] - behind[r];
+            };
+            // Every sample's count of a brick, and its sides decided as the dense bake decides them.
+            auto decide = [&](int bx, const SignOutput& output) {
+                const int i0 = bx * kEdge, i1 = std::min(nx, i0 + kEdge);
+                for (int k = k0; k < k1; ++k)
+                    for (int j = j0; j < j1; ++j) {
+                        const int r = (j - j0) + kEdge * (k - k0);
+                        for (int i = i0; i < i1; ++i) counts[r * kEdge + (i - i0)] = aheadAt(r, i);
+                    }
+                signs.output = output;
+                signs.decide(i0, j0, k0, i1, j1, k1, counts, kEdge);
+            };
+            int runStart = -1; // the first brick of the open run of inside bricks
+            auto closeRun = [&](int end) {
+                if (runStart >= 0) layer.boxes.push_back({runStart * kEdge, j0, k0, std::min(nx, end * kEdge), j1, k1});
+                runStart = -1;
+            };
+            for (int bx = 0; bx < brickDims.x; ++bx) {
+                const glm::ivec3 brick(bx, by, bz);
+                const std::ptrdiff_t local = -(std::ptrdiff_t(bx) * kEdge + std::ptrdiff_t(j0) * kEdge + std::ptrdiff_t(k0) * kEdge * kEdge);
+                int side; // 1 inside, 0 outside, -1 both
+                if (stored < storedStart[layerIndex + 1] && band.bricks[stored] == brick) {
+                    float* values = &band.values[stored * std::size_t(SparseField::kBrickSamples)];
+                    if (band.signBricks) {
+                        decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge});
+                    } else {
+                        // Signed as measured, but for the samples the distance pass skipped (out of the
+                        // band, still +background): theirs are the winding sign's.
+                        std::fill(std::begin(flags), std::end(flags), std::uint8_t(0));
+                        decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+                        for (int n = 0; n < SparseField::kBrickSamples; ++n) {
+                            if (flags[n] == 1 && values[n] == background) values[n] = -background;
+                        }
+                    }
+                    ++stored;
+                    side = -1;
+                } else if (fan < fanStart[layerIndex + 1] && band.fanBricks[fan] == brick) {
+                    ++fan;
+                    std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side
+                    decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+                    bool in = false, out = false;
+                    for (const std::uint8_t f : flags) in |= f == 1, out |= f == 0;
+                    side = in && out ? -1 : in ? 1 : 0;
+                    if (side < 0) {
+                        layer.mixed.push_back(brick);
+                        for (const std::uint8_t f : flags) layer.values.push_back(f == 1 ? -background : background);
+                    }
+                } else {
+                    // Out of the band and clear of the fans: the surface is nowhere in the brick, so
+                    // every sample has its first sample's count and, the fans' winding number being
+                    // below 0.45 there, is inside when that count is not 0 (as the dense bake decides).
+                    side = aheadAt(0, bx * kEdge) != 0;
+                }
+                if (side == 1) {
+                    if (runStart < 0) runStart = bx;
+                } else {
+                    closeRun(bx);
+                }
+            }
+            closeRun(brickDims.x);
+        }
+    });
+    // The mixed fan bricks join the stored ones, in order (merged from the back, in place).
+    std::size_t added = 0;
+    for (const Layer& layer : layers) added += layer.mixed.size();
+    if (added) {
+        std::vector<glm::ivec3> mixed;
+        std::vector<float> mixedValues;
+        mixed.reserve(added), mixedValues.reserve(added * SparseField::kBrickSamples);
+        for (Layer& layer : layers) {
+            mixed.insert(mixed.end(), layer.mixed.begin(), layer.mixed.end());
+            mixedValues.insert(mixedValues.end(), layer.values.begin(), layer.values.end());
+            layer.mixed = {}, layer.values = {};
+        }
+        std::size_t a = band.bricks.size(), b = mixed.size(), out = a + b;
+        band.bricks.resize(out);
+        band.values.resize(out * SparseField::kBrickSamples);
+        constexpr std::size_t n = SparseField::kBrickSamples;
+        const auto before = [](const glm::ivec3& l, const glm::ivec3& r) { return std::tie(l.z, l.y, l.x) < std::tie(r.z, r.y, r.x); };
+        while (b > 0) {
+            --out;
+            if (a > 0 && before(mixed[b - 1], band.bricks[a - 1])) {
+                --a;
+                band.bricks[out] = band.bricks[a];
+                std::copy(band.values.begin() + std::ptrdiff_t(a * n), band.values.begin() + std::ptrdiff_t((a + 1) * n),
+                          band.values.begin() + std::ptrdiff_t(out * n));
+            } else {
+                --b;
+                band.bricks[out] = mixed[b];
+                std::copy(mixedValues.begin() + std::ptrdiff_t(b * n), mixedValues.begin() + std::ptrdiff_t((b + 1) * n),
+                          band.values.begin() + std::ptrdiff_t(out * n));
+            }
+        }
+    }
+    band.insideBoxes.clear();
+    for (const Layer& layer : layers) band.insideBoxes.insert(band.insideBoxes.end(), layer.boxes.begin(), layer.boxes.end());
+}
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
                                           const RunControl& control, WindingStats* stats) {

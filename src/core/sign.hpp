@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 #include <cmath>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -152,6 +153,27 @@ std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& 
 // The same signs applied in place: negates field[index] of every inside sample (no side array).
 void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
                    WindingStats* stats = nullptr);
+
+// A narrow-band bake's sides (band_bake.cpp), the same as the dense bake's winding sign gives.
+struct BandSides {
+    float background = 0;
+    // In: the bricks in the band (ordered by z, y, x) and their 512 samples each (unsigned
+    // distances, or signed already when signBricks is false); out: their samples negated where
+    // inside, and the fan bricks whose samples are on both sides added (±background).
+    std::vector<glm::ivec3> bricks;
+    std::vector<float> values;
+    bool signBricks = true;
+    // Bricks out of the band that a fan may reach (ordered by z, y, x): decided sample by sample.
+    std::vector<glm::ivec3> fanBricks;
+    // Out: SparseField::insideBoxes.
+    std::vector<std::array<int, 6>> insideBoxes;
+};
+// Every other brick must be out of the band (the surface nowhere in its samples' box) and clear of
+// the fans (WindingCaps::farFromEveryFan over a ball around its samples): its side is its first
+// sample's count of crossings ahead. The rows' crossings are counted by layers of 8 planes, in
+// parallel, each layer's once.
+void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, BandSides& band,
+                      const RunControl& control);
 
 // The generalized winding number at p, summed over every triangle in double (the reference).
 double windingNumber(const Mesh& mesh, const glm::dvec3& p);

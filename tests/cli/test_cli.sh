@@ -90,7 +90,10 @@ for ext in npz vdb nrrd; do
   expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/tet.$ext"
 done
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.vdb" --res 8 --band 2
-expect 1 '^sdfgen: --band applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
+expect 0 'band: 2 voxels each side' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
+expect 1 'the band must be a finite number of voxels, at least 1' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 0.5
+expect 1 'the narrow-band bake measures exact distances' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2 --method rays
+expect 1 '^sdfgen: --band with --channels applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npz" --res 8 --band 2 --channels gradient
 expect 1 "x.xyz: unknown field format '.xyz'; known: .sdf, .npy, .npz, .vdb, .nrrd" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.xyz" --res 4
 expect fail '' -- test -e "$work/x.xyz"
 # Channels beside the distance: into .npz and .vdb; refused up front, in one line naming the way

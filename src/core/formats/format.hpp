@@ -31,6 +31,11 @@ struct FieldFormat {
     bool holdsChannels;      // writes Field::gradient, closest and triangle (see sdfgen::Channels)
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
     Field (*load)(const std::string& path);
+    // Formats that keep a narrow-band field sparse (null for the dense ones, which get
+    // SparseField::toDense): its writer, its reader, and whether a file holds one (its header only).
+    void (*saveSparse)(const SparseField& field, const std::string& path) = nullptr;
+    SparseField (*loadSparse)(const std::string& path) = nullptr;
+    bool (*isSparse)(const std::string& path) = nullptr;
 };
 
 // Every registered format, in the order the help texts list them.

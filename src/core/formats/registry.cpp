@@ -3,8 +3,12 @@
 #include "core/formats/format.hpp"
 #include "sdfgen/error.hpp"
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 namespace sdfgen {
@@ -61,6 +65,82 @@ Field loadField(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a field file");
     return formats::formatOf(path).load(path);
+}
+
+void saveSparseField(const SparseField& field, const std::string& path) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    field.check(path);
+    if (format.saveSparse) return format.saveSparse(field, path);
+    Field dense;
+    try {
+        dense = field.toDense();
+    } catch (const Error& e) {
+        throw Error(path + ": " + format.extension + " holds dense fields only, and " + e.what());
+    }
+    format.save(dense, path, {});
+}
+
+bool isSparseFieldFile(const std::string& path) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    return format.isSparse && format.isSparse(path);
+}
+
+SparseField loadSparseField(const std::string& path) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    if (format.isSparse && format.isSparse(path)) return format.loadSparse(path);
+    // A dense field: bricks where a sample lies within the band, boxes of whole inside bricks.
+    const Field dense = loadField(path);
+    const std::string named = dense.parameter("band");
+    const double band = named.empty() ? 3.0 : std::strtod(named.c_str(), nullptr);
+    SparseField sparse;
+    sparse.source = dense.source;
+    sparse.method = dense.method;
+    sparse.parameters = dense.parameters;
+    sparse.grid = dense.grid;
+    sparse.background = dense.background > 0 ? dense.background : float(band * dense.grid.voxel);
+    if (!(sparse.background > 0.0f) || !std::isfinite(sparse.background)) throw Error(path + ": no band can be made at this grid's scale");
+    constexpr int kBrick = SparseField::kBrick;
+    const glm::ivec3 dims = dense.grid.dims, bricks = (dims + (kBrick - 1)) / kBrick;
+    for (int bz = 0; bz < bricks.z; ++bz)
+        for (int by = 0; by < bricks.y; ++by) {
+            int runStart = -1;
+            for (int bx = 0; bx <= bricks.x; ++bx) {
+                int side = -1; // 1 all inside, 0 all outside, -1 stored (or past the row's end)
+                if (bx < bricks.x) {
+                    const glm::ivec3 lo = glm::ivec3(bx, by, bz) * kBrick, hi = glm::min(lo + kBrick, dims);
+                    bool in = false, out = false, band = false;
+                    for (int k = lo.z; k < hi.z; ++k)
+                        for (int j = lo.y; j < hi.y; ++j)
+                            for (int i = lo.x; i < hi.x; ++i) {
+                                const float v = dense.at(i, j, k);
+                                band |= std::fabs(v) < sparse.background;
+                                (std::signbit(v) ? in : out) = true;
+                            }
+                    side = band || (in && out) ? -1 : in ? 1 : 0;
+                    if (side < 0) {
+                        sparse.bricks.emplace_back(bx, by, bz);
+                        for (int k = lo.z; k < lo.z + kBrick; ++k)
+                            for (int j = lo.y; j < lo.y + kBrick; ++j)
+                                for (int i = lo.x; i < lo.x + kBrick; ++i) {
+                                    float v = sparse.background;
+                                    if (i < dims.x && j < dims.y && k < dims.z) {
+                                        v = dense.at(i, j, k);
+                                        if (!(std::fabs(v) < sparse.background)) v = std::signbit(v) ? -sparse.background : sparse.background;
+                                    }
+                                    sparse.values.push_back(v);
+                                }
+                    }
+                }
+                if (side == 1 && runStart < 0) runStart = bx;
+                if (side != 1 && runStart >= 0) {
+                    sparse.insideBoxes.push_back({runStart * kBrick, by * kBrick, bz * kBrick, std::min(bx * kBrick, dims.x),
+                                                  std::min(by * kBrick + kBrick, dims.y), std::min(bz * kBrick + kBrick, dims.z)});
+                    runStart = -1;
+                }
+            }
+        }
+    sparse.check(path);
+    return sparse;
 }
 
 std::vector<std::string> fieldFormatExtensions() {

@@ -1,0 +1,148 @@
+// The narrow-band bake against the dense bake: every sample within the band has the dense value
+// bit for bit, every other sample the dense field's side and the background's magnitude; the same
+// on 1 and 2 threads.
+#include "support/broken_meshes.hpp"
+#include "support/checks.hpp"
+#include "support/shapes.hpp"
+#include "core/bake.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/model.hpp"
+
+#include <gtest/gtest.h>
+#include <cmath>
+#include <cstring>
+
+namespace sdfgen {
+namespace {
+
+std::uint32_t bits(float v) {
+    std::uint32_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+}
+
+// Checks the band bake of `mesh` against its dense bake; returns the count of samples in the band.
+std::size_t expectMatchesDense(const std::string& name, const Mesh& mesh, int res, double band, SignMethod sign, int threads) {
+    BakeSettings settings;
+    settings.res = res;
+    settings.sign = sign;
+    settings.device = Device::Cpu;
+    const BakeResult dense = test::bakeMesh(mesh, settings, threads);
+    settings.band = band;
+    const BakeResult sparse = test::bakeMesh(mesh, settings, threads);
+    const SparseField& s = sparse.sparse;
+    EXPECT_NO_THROW(s.check(name));
+    EXPECT_EQ(sparse.sign, dense.sign) << name;
+    EXPECT_EQ(s.grid.dims, dense.field.grid.dims) << name;
+    EXPECT_EQ(s.background, float(band * dense.field.grid.voxel)) << name;
+    const Grid& g = dense.field.grid;
+    std::size_t inBand = 0, wrong = 0;
+    for (int k = 0; k < g.dims.z; ++k)
+        for (int j = 0; j < g.dims.y; ++j)
+            for (int i = 0; i < g.dims.x; ++i) {
+                const float d = dense.field.at(i, j, k), v = s.at(i, j, k);
+                if (std::fabs(d) < s.background) {
+                    ++inBand;
+                    wrong += bits(v) != bits(d);
+                } else {
+                    wrong += v != (std::signbit(d) ? -s.background : s.background);
+                }
+            }
+    EXPECT_EQ(wrong, 0u) << name << " res " << res << " band " << band << " sign " << toString(sign) << " threads " << threads;
+    EXPECT_EQ(s.activeCount(), inBand) << name;
+    // The dense form is the dense field clamped to the band.
+    const Field made = s.toDense();
+    EXPECT_EQ(made.values.size(), dense.field.values.size());
+    return inBand;
+}
+
+struct Case {
+    std::string name;
+    Mesh mesh;
+};
+
+std::vector<Case> hardMeshes() {
+    std::vector<Case> cases;
+    for (test::Shape& shape : test::closedShapes()) cases.push_back({shape.name, std::move(shape.mesh)});
+    for (test::Shape& shape : test::openShapes()) cases.push_back({shape.name, std::move(shape.mesh)});
+    const Mesh box = test::box({0.5f, 0.4f, 0.3f});
+    cases.push_back({"box inside out", test::translated(box, {0, 0, 0}, true)});
+    cases.push_back({"overlapping boxes", test::combined("overlapping boxes", box, test::translated(box, {0.3f, 0.2f, 0.1f}, false))});
+    cases.push_back({"duplicated box", test::combined("duplicated box", box, box)});
+    cases.push_back({"box and an inverted copy", test::combined("cancelling", box, test::translated(box, {0.2f, 0, 0}, true))});
+    cases.push_back({"unshared torus", test::unshared(test::torus(1.0f, 0.3f, 16, 8))});
+    return cases;
+}
+
+TEST(BandBake, EqualsTheDenseBakeInTheBandAndItsSidesOutside) {
+    for (const Case& c : hardMeshes()) {
+        for (const int threads : {1, 2}) {
+            EXPECT_GT(expectMatchesDense(c.name, c.mesh, 37, 2.0, SignMethod::Auto, threads), 0u) << c.name;
+        }
+        expectMatchesDense(c.name, c.mesh, 50, 1.0, SignMethod::Winding, 2);
+        expectMatchesDense(c.name, c.mesh, 29, 3.5, SignMethod::Auto, 2);
+    }
+}
+
+TEST(BandBake, HugeAndTinyScales) {
+    const Mesh sphere = test::icosphere(1.0f, 2);
+    for (const float scale : {1e-6f, 1e6f}) {
+        std::vector<glm::dvec3> positions = sphere.worldPositions();
+        for (glm::dvec3& p : positions) p = p * double(scale) + glm::dvec3(3.0 * scale);
+        const Mesh scaled = buildMesh("scaled sphere", positions, sphere.triangles);
+        expectMatchesDense("sphere scaled by " + std::to_string(scale), scaled, 40, 3.0, SignMethod::Auto, 2);
+    }
+}
+
+TEST(BandBake, SameOnAnyThreadCount) {
+    const Mesh cup = test::cup(false);
+    BakeSettings settings;
+    settings.res = 64;
+    settings.band = 3;
+    settings.device = Device::Cpu;
+    const SparseField one = test::bakeMesh(cup, settings, 1).sparse, two = test::bakeMesh(cup, settings, 2).sparse;
+    EXPECT_EQ(one.bricks, two.bricks);
+    EXPECT_EQ(std::memcmp(one.values.data(), two.values.data(), one.values.size() * sizeof(float)), 0);
+    EXPECT_EQ(one.insideBoxes, two.insideBoxes);
+}
+
+TEST(BandBake, StoresOnlyBricksNearTheSurface) {
+    // A sphere at res 128: the band's bricks are a shell, far fewer than the grid's 16³.
+    BakeSettings settings;
+    settings.res = 128;
+    settings.band = 2;
+    settings.device = Device::Cpu;
+    const SparseField s = test::bakeMesh(test::icosphere(1.0f, 3), settings).sparse;
+    EXPECT_LT(s.bricks.size(), std::size_t(16 * 16 * 16) / 3);
+    EXPECT_FALSE(s.insideBoxes.empty());
+    EXPECT_LT(s.at(64, 64, 64), 0.0f); // the centre is inside
+    EXPECT_GT(s.at(0, 0, 0), 0.0f);
+}
+
+TEST(BandBake, RefusesWhatItCannotDo) {
+    const Mesh sphere = test::icosphere(1.0f, 1);
+    BakeSettings settings;
+    settings.res = 16;
+    settings.band = 0.5;
+    EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("at least 1"), std::string::npos);
+    settings.band = 3;
+    settings.method = DistanceMethod::Rays;
+    EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("exact"), std::string::npos);
+    settings.method = DistanceMethod::Exact;
+    settings.device = Device::Gpu;
+    EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("CPU"), std::string::npos);
+    settings.device = Device::Cpu;
+    settings.channels.gradient = true;
+    EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("dense bake only"), std::string::npos);
+    settings.channels = {};
+    settings.sign = SignMethod::Pseudonormal;
+    EXPECT_NE(test::errorFrom([&] { test::bakeMesh(test::cup(false), settings); }).find("pseudonormal"), std::string::npos);
+    // A resolution whose dense grid would never fit is fine for a band.
+    settings.sign = SignMethod::Auto;
+    settings.res = 100000;
+    const std::string error = test::errorFrom([&] { test::bakeMesh(sphere, settings); });
+    EXPECT_NE(error.find("band"), std::string::npos) << error;
+}
+
+} // namespace
+} // namespace sdfgen
