@@ -137,7 +137,7 @@ workspace "sdfgen"
 project "sdfgen_core"
    kind "SharedLib"
    targetname "sdfgen"
-   files { "src/core/*.cpp", "src/core/formats/*.cpp" }
+   files { "src/core/**.cpp" }
    includedirs { "include", "src" }
    defines(SDFGEN_PLUGIN_DEFINES)
    links { "dl" }
@@ -146,12 +146,12 @@ project "sdfgen_core"
    sdfgen_flags()
    -- The kernels' functions start on cache lines, so that their speed does not shift with every
    -- change to the code linked before them.
-   filter "files:src/core/exact_avx2.cpp or src/core/exact_baseline.cpp or src/core/ray_avx2.cpp or src/core/ray_baseline.cpp"
+   filter "files:src/core/distance/exact_avx2.cpp or src/core/distance/exact_baseline.cpp or src/core/distance/ray_avx2.cpp or src/core/distance/ray_baseline.cpp"
       buildoptions { "-falign-functions=64" }
    filter {}
 
 -- OpenVDB (.vdb files, iso-surfaces) and Assimp (mesh formats other than OBJ) in libraries of
--- their own beside libsdfgen.so, which opens them on first use (src/core/plugin.hpp).
+-- their own beside libsdfgen.so, which opens them on first use (src/core/runtime/plugin.hpp).
 -- Each is optional (--no-openvdb, --no-assimp).
 if SDFGEN_OPENVDB then
    project "sdfgen_openvdb"
@@ -311,7 +311,8 @@ if not _OPTIONS["no-tests"] then
    end
 
    project "sdfgen_tests"
-      sdfgen_gtest_program({ "tests/*.cpp", "tests/support/*.cpp" })
+      -- Batch planning is the batch command's own code (src/cli/), tested here without the CLI.
+      sdfgen_gtest_program({ "tests/*.cpp", "tests/support/*.cpp", "src/cli/batch_plan.cpp" })
       sdfgen_needs_plugins()
       sdfgen_use_gtest()
       sdfgen_use_core()

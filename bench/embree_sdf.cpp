@@ -26,8 +26,8 @@
 // localPosition, distances scaled by mesh.unit when stored).
 #include "peer_common.hpp"
 
-#include "core/directions.hpp"
-#include "core/sample_positions.hpp"
+#include "core/distance/directions.hpp"
+#include "core/distance/sample_positions.hpp"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>

@@ -1,14 +1,14 @@
-// The exact distance kernel alone (core/exact_kernel.inc): loads a mesh, builds both trees once,
+// The exact distance kernel alone (core/distance/exact_kernel.inc): loads a mesh, builds both trees once,
 // then runs the unsigned exact field (computeExactField) --repeat times on the grid of
 // `sdfgen bake --res N`. Prints the best wall seconds and CPU seconds of the process (all threads;
 // steadier than wall time on a busy machine), samples per CPU second, the SIMD path the kernel ran
 // (SDFGEN_SIMD picks one), and a checksum of the field's bits (equal checksums: bit-identical
 // fields, e.g. across paths, thread counts or versions).
-#include "core/bvh.hpp"
-#include "core/exact.hpp"
-#include "core/kernel.hpp"
-#include "core/parallel.hpp"
-#include "core/wide_bvh.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/distance/exact.hpp"
+#include "core/distance/kernel.hpp"
+#include "core/runtime/parallel.hpp"
+#include "core/accel/wide_bvh.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"

@@ -8,8 +8,8 @@
 // is positive but for the icosphere's sag (the ray distance is a real ray's length). Prints mean,
 // median, 99th percentile and max over all samples, in voxels.
 #include "sdfgen/error.hpp"
-#include "core/bake.hpp"
-#include "core/bvh.hpp"
+#include "core/bake/bake.hpp"
+#include "core/accel/bvh.hpp"
 #include "support/shapes.hpp"
 
 #include <CLI/CLI.hpp>

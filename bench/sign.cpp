@@ -1,11 +1,11 @@
-// The winding sign alone (core/sign.cpp): loads a mesh, builds its topology once, then runs
+// The winding sign alone (core/sign/winding_sign.cpp): loads a mesh, builds its topology once, then runs
 // insideByWinding --repeat times on the grid of `sdfgen bake --res N`. Prints the best wall seconds
 // and CPU seconds of the process (all threads; steadier than wall time on a busy machine), the
 // caps and fan evaluations, and a checksum of the inside flags (equal checksums: identical signs,
 // e.g. across thread counts or versions).
-#include "core/parallel.hpp"
-#include "core/sign.hpp"
-#include "core/topology.hpp"
+#include "core/runtime/parallel.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"

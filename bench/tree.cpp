@@ -1,8 +1,8 @@
-// The binary tree's build alone (core/bvh.hpp): loads a mesh, builds its Bvh --repeat times on
+// The binary tree's build alone (core/accel/bvh.hpp): loads a mesh, builds its Bvh --repeat times on
 // --threads threads, and prints the fastest and the median wall seconds and a checksum of the tree
 // (every node's box, children, leaf range and split axis, the leaf order and the depth). Equal
 // checksums: the same tree bit for bit, e.g. across versions of the build or thread counts.
-#include "core/bvh.hpp"
+#include "core/accel/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <CLI/CLI.hpp>

@@ -1,7 +1,7 @@
 #include "nearest.hpp"
 
-#include "core/geometry.hpp"
-#include "core/parallel.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/runtime/parallel.hpp"
 
 #include <glm/geometric.hpp>
 

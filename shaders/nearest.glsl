@@ -10,7 +10,7 @@
 // 1 finds the nearest triangle of one sample per 4x4x4 brick (its first corner); the main pass
 // starts every sample of the brick from the distance to that triangle (the field is 1-Lipschitz,
 // so the bound is tight and prunes most of the tree). The winner is re-measured in double as
-// src/core/geometry.cpp's closestPointOnTriangle measures it (`precise`: no fused multiply-adds,
+// src/core/mesh/geometry.cpp's closestPointOnTriangle measures it (`precise`: no fused multiply-adds,
 // as that file is compiled). Where the GPU's float and double operations are IEEE, as on Mesa's
 // llvmpipe, the distances and nearest triangles are the CPU's bit for bit.
 //
@@ -114,7 +114,7 @@ double distance2To(dvec3 p, dvec3 q, out dvec3 closest) {
     return distance2To(p, q);
 }
 
-// src/core/geometry.cpp's closestPointOnTriangle, operation for operation: the squared distance,
+// src/core/mesh/geometry.cpp's closestPointOnTriangle, operation for operation: the squared distance,
 // the closest point q and its feature (as TriangleFeature: 0 face, 1-3 edges AB, BC, CA, 4-6
 // vertices A, B, C).
 double closestOnTriangle(dvec3 p, dvec3 a, dvec3 b, dvec3 c, out dvec3 q, out int feature) {

@@ -3,7 +3,7 @@
 // w = (the crossings ahead, from winding_prefix.comp) - (the winding number of the fans that close
 // the holes, sdfgen/device.hpp's WindingFans), and each sample's side of |w| = 1/2.
 //
-// As src/core/sign.cpp's WindingCaps::inside, a node of the fans' box tree seen from p at distance
+// As src/core/sign/winding_sign.cpp's WindingCaps::inside, a node of the fans' box tree seen from p at distance
 // d is worth at most area / (4π d²): nodes bounded below kSkip are summed into the doubt (up to
 // kBudget in all), every other one is opened and its fans measured. The integer part leaves
 // |ahead| at least ½ from ½, so the fans must move w by ½ to change a side: a doubt of
@@ -60,7 +60,7 @@ double atanDouble(double y, double x) {
 
 dvec3 fanPoint(int i) { return dvec3(fanPoints[3 * i], fanPoints[3 * i + 1], fanPoints[3 * i + 2]); }
 
-// The fan's winding number at p (its solid angle over 4π), times its weight: src/core/sign.cpp's
+// The fan's winding number at p (its solid angle over 4π), times its weight: src/core/sign/winding_sign.cpp's
 // fanSolidAngle in double up to the final angle.
 double fanWinding(dvec3 p, ivec4 fan) {
     const dvec3 rc = fanPoint(fan.x) - p;

@@ -2,7 +2,7 @@
 // The winding number's integer part, step 1 of 2 (src/gpu/gl_device.cpp): each closed-surface
 // triangle's signed crossings with the rows of samples (lines parallel to x) it covers.
 //
-// This reproduces src/core/sign.cpp's crossing test operation for operation, in double, with no
+// This reproduces src/core/sign/winding_sign.cpp's crossing test operation for operation, in double, with no
 // fused multiply-adds (`precise`; the CPU file is compiled with -ffp-contract=off): a robust 2D
 // point-in-triangle test with symbolic tie-breaking, so that a row through a shared edge or
 // vertex crosses exactly one of the triangles, and the crossing's x from barycentric weights. A
@@ -25,7 +25,7 @@ uniform ivec3 dims;
 uniform int slabZ;
 uniform int firstTile;
 
-// orientation2d of src/core/geometry.cpp.
+// orientation2d of src/core/mesh/geometry.cpp.
 int orientation2d(dvec2 u, dvec2 v, out double area) {
     precise double left = u.y * v.x;
     precise double right = u.x * v.y;
@@ -49,7 +49,7 @@ void main() {
     const dvec3 b = dvec3(corners[t + 3], corners[t + 4], corners[t + 5]);
     const dvec3 c = dvec3(corners[t + 6], corners[t + 7], corners[t + 8]);
     const dvec2 q = dvec2(exactSamples[dims.x + j], exactSamples[dims.x + dims.y + k]);
-    // pointInTriangle2d of src/core/geometry.cpp, for q in the (y, z) projection.
+    // pointInTriangle2d of src/core/mesh/geometry.cpp, for q in the (y, z) projection.
     precise dvec2 pa = a.yz - q;
     precise dvec2 pb = b.yz - q;
     precise dvec2 pc = c.yz - q;

@@ -4,7 +4,7 @@
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
-#include "core/bake.hpp"
+#include "core/bake/bake.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
 

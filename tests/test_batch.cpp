@@ -1,6 +1,6 @@
 // Batch planning: output names from folders and lists, collisions, sharding from options and the
 // Slurm / Kubernetes environment, JSON strings and concurrent appends to the status file.
-#include "core/batch.hpp"
+#include "cli/batch_plan.hpp"
 #include "sdfgen/error.hpp"
 
 #include "support/checks.hpp"

@@ -1,5 +1,5 @@
 // The BVH's nearest hit equals brute force over every triangle.
-#include "core/bvh.hpp"
+#include "core/accel/bvh.hpp"
 #include "support/shapes.hpp"
 #include "support/binary_rays.hpp"
 

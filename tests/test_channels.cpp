@@ -1,10 +1,10 @@
 // A bake's and samples' channels (gradient, closest point, nearest triangle) against brute force
 // in double, the distance they leave untouched, their determinism, and their files.
-#include "core/bake.hpp"
-#include "core/geometry.hpp"
-#include "core/kernel.hpp"
-#include "core/memory.hpp"
-#include "core/sample_positions.hpp"
+#include "core/bake/bake.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/distance/kernel.hpp"
+#include "core/runtime/memory.hpp"
+#include "core/distance/sample_positions.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/model.hpp"

@@ -2,9 +2,9 @@
 // and that a bake on a device uses its distances and winding numbers (with the holes' fractional
 // part still added on the CPU). The device here is a stand-in that answers on the CPU, by brute
 // force for the winding numbers; the real GPU device is tested in tests/gpu.
-#include "core/exact.hpp"
-#include "core/geometry.hpp"
-#include "core/sample_positions.hpp"
+#include "core/distance/exact.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/distance/sample_positions.hpp"
 #include "sdfgen/device.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"

@@ -1,13 +1,13 @@
 // Exact copies of triangles: held once in the tree, counted per pair of copies by the mesh check,
 // crossed once with a weight by the winding sign, and boundary loops of stacked open triangles
 // walked in linear time. The field must be the one the triangle-by-triangle definition gives.
-#include "core/bvh.hpp"
-#include "core/duplicates.hpp"
-#include "core/exact.hpp"
-#include "core/memory.hpp"
-#include "core/sample_positions.hpp"
-#include "core/sign.hpp"
-#include "core/topology.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/mesh/triangle_copies.hpp"
+#include "core/distance/exact.hpp"
+#include "core/runtime/memory.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/model.hpp"
 #include "support/checks.hpp"
 #include "support/binary_rays.hpp"

@@ -1,6 +1,6 @@
 // The exact bake's determinism across thread counts and its cancellation from the progress callback.
 #include "sdfgen/error.hpp"
-#include "core/bake.hpp"
+#include "core/bake/bake.hpp"
 #include "support/reference.hpp"
 #include "support/shapes.hpp"
 

@@ -1,6 +1,6 @@
 // Exact distances against the brute-force reference, on closed and on open or overlapping meshes.
 #include "sdfgen/compare.hpp"
-#include "core/exact.hpp"
+#include "core/distance/exact.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/reference.hpp"
 

@@ -4,7 +4,7 @@
 #include "sdfgen/field.hpp"
 
 #include "support/checks.hpp"
-#include "core/formats/format.hpp"
+#include "core/io/formats/format.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // anything is allocated for it; grids that are not a field's (non-finite, degenerate, beyond
 // float32) are refused by every format; errors are one line naming the file, with the file's own
 // text escaped.
-#include "core/formats/format.hpp"
-#include "core/formats/npy.hpp"
-#include "core/surface.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/io/formats/npy.hpp"
+#include "core/bake/surface.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 

@@ -1,7 +1,7 @@
 // The geometric primitives against their definitions: the closest point on a triangle, the solid
 // angle, the winding number and the 2D point-in-triangle test.
-#include "core/geometry.hpp"
-#include "core/sign.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/sign/winding_sign.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>

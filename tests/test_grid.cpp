@@ -3,7 +3,7 @@
 #include "sdfgen/grid.hpp"
 
 #include "support/checks.hpp"
-#include "core/memory.hpp"
+#include "core/runtime/memory.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Local coordinates: a mesh far from the origin or at an extreme scale is as exact as one of unit
 // size at the origin (issue: a cube at 1e7 baked to all zeros, one scaled by 1e20 had wrong signs).
-#include "core/bake.hpp"
-#include "core/bvh.hpp"
-#include "core/formats/format.hpp"
+#include "core/bake/bake.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/io/formats/format.hpp"
 #include "sdfgen/field.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"

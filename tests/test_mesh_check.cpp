@@ -1,7 +1,7 @@
 // The mesh check's counts on generated broken meshes, and the sign that auto picks from them.
 #include "sdfgen/compare.hpp"
-#include "core/predicates.hpp"
-#include "core/topology.hpp"
+#include "core/mesh/predicates.hpp"
+#include "core/mesh/topology.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"
 #include "support/reference.hpp"

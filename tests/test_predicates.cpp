@@ -1,6 +1,6 @@
 // The mesh check's orientation predicates against exact rational arithmetic (GMP), on
 // configurations built so close to degenerate that plain double precision gets the sign wrong.
-#include "core/predicates.hpp"
+#include "core/mesh/predicates.hpp"
 #include "support/reference.hpp"
 
 #include <gtest/gtest.h>

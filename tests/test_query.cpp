@@ -1,5 +1,5 @@
 // Point queries through sdfgen::Model: exact like the grid, and equal to the baked field at its samples.
-#include "core/sign.hpp"
+#include "core/sign/winding_sign.hpp"
 #include "sdfgen/model.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"

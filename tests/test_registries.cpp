@@ -1,8 +1,8 @@
 // The registries every front end reads its names from, and decideSign, the one place a sign is
 // settled for bakes and point queries.
-#include "core/bake.hpp"
-#include "core/bvh.hpp"
-#include "core/topology.hpp"
+#include "core/bake/bake.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/model.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"

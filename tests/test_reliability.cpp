@@ -1,11 +1,11 @@
 // Issue 8: atomic writes (symlinks, modes, failures, signals, concurrent writers), reading any
 // input (pipes, size limit, NULs), the OBJ pre-scan, the text format's reader and writer agreeing,
 // the bake's memory estimate, and inside-out meshes against their analytic SDF.
-#include "core/atomic_file.hpp"
-#include "core/formats/format.hpp"
-#include "core/input_file.hpp"
-#include "core/memory.hpp"
-#include "core/obj_scan.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/mesh/input_file.hpp"
+#include "core/runtime/memory.hpp"
+#include "core/mesh/obj_scan.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"

@@ -1,7 +1,7 @@
 // The control path: a RunControl given to Model's construction reaches the tree build (threads,
 // cancel, progress), bad thread counts are refused, warnings reach RunControl::warn; the cgroup
 // memory reader on fake cgroup trees; memory checks and messages that name the mesh.
-#include "core/memory.hpp"
+#include "core/runtime/memory.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
 #include "sdfgen/sample.hpp"

@@ -1,8 +1,8 @@
 // The setup phases (tree build, topology, mesh check, crossing scan): the same results for any
 // thread count, progress that never runs backwards, and cancel honoured inside each.
-#include "core/bvh.hpp"
-#include "core/sign.hpp"
-#include "core/topology.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
 #include "support/binary_rays.hpp"

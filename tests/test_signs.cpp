@@ -1,9 +1,9 @@
 // The sign methods against the brute-force reference and the reference winding number.
 #include "sdfgen/compare.hpp"
-#include "core/exact.hpp"
-#include "core/sample_positions.hpp"
-#include "core/sign.hpp"
-#include "core/topology.hpp"
+#include "core/distance/exact.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "core/mesh/topology.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/reference.hpp"
 #include "support/shapes.hpp"

@@ -2,9 +2,9 @@
 // overlapping shells, an open cup, flipped faces) is a closed, manifold, consistently oriented
 // mesh by sdfgen's own mesh check, facing outwards, and it stays within a voxel of the input (or
 // of the patches that close its openings).
-#include "core/geometry.hpp"
-#include "core/surface.hpp"
-#include "core/topology.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/bake/surface.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 

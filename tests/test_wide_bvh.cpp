@@ -1,13 +1,13 @@
-// The closest-point kernel: the 8-wide tree with triangle packets (core/wide_bvh.hpp) and the
-// brick candidate lists of the exact distance (core/exact.hpp), against linear scans and brute
+// The closest-point kernel: the 8-wide tree with triangle packets (core/accel/wide_bvh.hpp) and the
+// brick candidate lists of the exact distance (core/distance/exact.hpp), against linear scans and brute
 // force in double: random points and grid samples near and far, slivers and needles, copies of a
 // triangle (ties to the lower index), huge and tiny scales, thread counts.
-#include "core/exact.hpp"
-#include "core/geometry.hpp"
-#include "core/kernel.hpp"
-#include "core/sample_positions.hpp"
-#include "core/topology.hpp"
-#include "core/wide_bvh.hpp"
+#include "core/distance/exact.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/distance/kernel.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/mesh/topology.hpp"
+#include "core/accel/wide_bvh.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/model.hpp"
 #include "support/checks.hpp"
@@ -242,7 +242,7 @@ TEST(ExactBricks, IndependentOfTheThreadCount) {
 }
 
 TEST(ExactBricks, BaselinePathEqualsTheAvx2Path) {
-    // The kernel's two compiled copies (core/kernel.hpp): the same fields, nearest triangles and
+    // The kernel's two compiled copies (core/distance/kernel.hpp): the same fields, nearest triangles and
     // point queries bit for bit, near and far, and on a soup of slivers and copies.
     if (!simdPathAvailable(SimdPath::Avx2)) GTEST_SKIP() << "this CPU has no AVX2: only the baseline path runs";
     const SimdPath chosen = simdPath();

@@ -1,11 +1,11 @@
 // The winding sign on meshes that make it work hard: many holes, long open borders, copies and
 // coplanar overlaps. Signs must equal those of the reference winding number, sample by sample,
 // work must stay bounded by what is near, and point queries must agree with the bake.
-#include "core/bvh.hpp"
-#include "core/sample_positions.hpp"
-#include "core/sign.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/sign/winding_sign.hpp"
 #include "sdfgen/model.hpp"
-#include "core/topology.hpp"
+#include "core/mesh/topology.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
 

@@ -1,4 +1,5 @@
 #include "app/file_browser.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <imgui.h>
 #include <algorithm>
@@ -38,8 +39,7 @@ void FileBrowser::list() {
             folders_.push_back(name);
             continue;
         }
-        std::string extension = it->path().extension().string();
-        std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        const std::string extension = lowerExtension(it->path());
         if (extensions_.empty() || std::find(extensions_.begin(), extensions_.end(), extension) != extensions_.end()) files_.push_back(name);
     }
     if (ec) error_ = folder_ + ": " + ec.message();

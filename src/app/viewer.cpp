@@ -7,6 +7,7 @@
 #include "sdfgen/formats.hpp"
 #include "render/font.hpp"
 #include "render/image.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -26,12 +27,6 @@
 namespace sdfgen::app {
 
 namespace fs = std::filesystem;
-
-std::string lowerExtension(const std::string& path) {
-    std::string e = fs::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return e;
-}
 
 bool isFieldPath(const std::string& path) {
     const std::vector<std::string> fields = fieldFormatExtensions();

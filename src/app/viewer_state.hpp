@@ -87,7 +87,6 @@ struct RangeChoice {
     glm::vec2 fixed{-1.0f, 1.0f};
 };
 
-std::string lowerExtension(const std::string& path);
 bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
 std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
 

@@ -4,12 +4,13 @@
 // vertices, so no geometry is "repaired" or dropped behind the user's back (buildMesh drops and
 // counts zero-area triangles, as for OBJ; points and lines are counted in a warning).
 //
-// The library the core opens on first use (core/assimp_plugin.hpp), so that only runs that read
+// The library the core opens on first use (core/mesh/assimp_reader.hpp), so that only runs that read
 // such files load Assimp.
 #include "gltf_guard.hpp"
-#include "core/assimp_plugin.hpp"
+#include "core/mesh/assimp_reader.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
@@ -98,8 +99,7 @@ Mesh loadWithAssimp(const std::string& path) {
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
                                                             aiComponent_COLORS | aiComponent_TEXCOORDS |
                                                             aiComponent_BONEWEIGHTS);
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string extension = lowerExtension(path);
     GltfCheck gltf;
     if (extension == ".gltf" || extension == ".glb") {
         gltf = guardGltf(path, extension == ".glb");

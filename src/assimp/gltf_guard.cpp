@@ -1,7 +1,7 @@
 #include "gltf_guard.hpp"
-#include "core/input_file.hpp"
-#include "core/memory.hpp"
-#include "core/mesh_readers.hpp"
+#include "core/mesh/input_file.hpp"
+#include "core/runtime/memory.hpp"
+#include "core/mesh/mesh_readers.hpp"
 #include "sdfgen/error.hpp"
 
 #include <nlohmann/json.hpp>
@@ -246,9 +246,9 @@ private:
                     if (buffer.length != buffer.inline_.size()) fail(what + " declares " + std::to_string(buffer.length) + " bytes but its data URI holds " + std::to_string(buffer.inline_.size()));
                 } else {
                     buffer.file = (std::filesystem::path(path_).parent_path() / text).string();
-                    const RandomAccessFile external(buffer.file, path_ + ": " + what + " (" + printable(text) + ")");
+                    const RandomAccessFile external(buffer.file, path_ + ": " + what + " (" + printable(text, 40) + ")");
                     if (buffer.length > external.size()) {
-                        fail(what + " declares " + std::to_string(buffer.length) + " bytes but its file '" + printable(text) + "' has " + std::to_string(external.size()));
+                        fail(what + " declares " + std::to_string(buffer.length) + " bytes but its file '" + printable(text, 40) + "' has " + std::to_string(external.size()));
                     }
                     if (buffer.length > maxInputBytes()) {
                         fail(what + " declares " + std::to_string(buffer.length) + " bytes, more than the input limit of " +
@@ -327,7 +327,7 @@ private:
             for (const auto& [name, n] : kComponents) {
                 if (acc.type == name) components = n;
             }
-            if (components == 0) fail(what + "'s type '" + printable(acc.type) + "' is not a glTF accessor type");
+            if (components == 0) fail(what + "'s type '" + printable(acc.type, 40) + "' is not a glTF accessor type");
             acc.elementSize = acc.componentSize * std::uint64_t(components);
             acc.offset = number(a, "byteOffset", what, 0);
             if (member(a, "bufferView")) {
@@ -403,7 +403,7 @@ private:
                 if (!attributes || !attributes->is_object()) fail(what + " has no attributes");
                 for (const auto& [name, index] : attributes->items()) {
                     if (!index.is_number_unsigned() || index.get<std::uint64_t>() >= accessors_.size()) {
-                        fail(what + "'s attribute " + printable(name) + " refers to no accessor");
+                        fail(what + "'s attribute " + printable(name, 40) + " refers to no accessor");
                     }
                 }
                 if (mode < 4) continue; // points and lines: the mesh counts what it skips

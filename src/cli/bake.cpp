@@ -6,9 +6,9 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <tbb/task_arena.h>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -31,9 +31,7 @@ void runBake(BakeArgs args) {
     args.settings.channels = parseChannels(args.channels);
     if (args.settings.band > 0 && args.settings.channels.any()) {
         // Channels come from the dense bake: its .vdb keeps the band's voxels (and theirs) only.
-        std::string extension = std::filesystem::path(args.output).extension().string();
-        for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (extension != ".vdb") throw Error("--band with --channels applies to .vdb output only (" + args.output + ")");
+        if (lowerExtension(args.output) != ".vdb") throw Error("--band with --channels applies to .vdb output only (" + args.output + ")");
         args.save.band = args.settings.band;
         args.settings.band = 0;
     }

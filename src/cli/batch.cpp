@@ -3,8 +3,8 @@
 // only; the parent schedules, records and summarises.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
-#include "core/batch.hpp"
-#include "core/memory.hpp"
+#include "cli/batch_plan.hpp"
+#include "core/runtime/memory.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"

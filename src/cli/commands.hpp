@@ -1,5 +1,5 @@
 #pragma once
-#include "core/atomic_file.hpp"
+#include "core/io/atomic_file.hpp"
 #include "sdfgen/sdfgen.hpp"
 
 #include <CLI/CLI.hpp>

@@ -1,8 +1,8 @@
 // `sdfgen query`: exact point queries from the command line, NumPy arrays in and out.
 #include "cli/commands.hpp"
-#include "core/atomic_file.hpp"
-#include "core/formats/format.hpp"
-#include "core/formats/npy.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/io/formats/npy.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
 
@@ -35,7 +35,7 @@ std::vector<double> readPoints(const std::string& path) {
     };
     const formats::NpyHeader header = formats::readNpyHeader(read, path);
     if (header.descr != "<f4" && header.descr != "<f8") {
-        throw Error(path + ": points must be float32 or float64 (dtype '" + formats::printable(header.descr) + "')");
+        throw Error(path + ": points must be float32 or float64 (dtype '" + printable(header.descr) + "')");
     }
     if (header.shape.size() != 2 || header.shape[1] != 3) throw Error(path + ": points must be an (N, 3) array");
     const std::uint64_t n = header.shape[0];

@@ -2,11 +2,12 @@
 // the automatic sign, so holes and self-intersections do not leak) or from a saved field.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
-#include "core/surface.hpp"
-#include "core/topology.hpp"
+#include "core/bake/surface.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
+#include "core/io/file_extension.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -28,8 +29,7 @@ struct SurfaceArgs {
 };
 
 bool isFieldFile(const std::string& path) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string extension = lowerExtension(path);
     const std::vector<std::string> fields = fieldFormatExtensions();
     return std::find(fields.begin(), fields.end(), extension) != fields.end();
 }

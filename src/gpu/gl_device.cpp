@@ -4,7 +4,7 @@
 #include "render/gl.hpp"
 #include "render/shader.hpp"
 #include "sdfgen/error.hpp"
-#include "core/sample_positions.hpp"
+#include "core/distance/sample_positions.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>
@@ -258,7 +258,7 @@ public:
         weightBuffer.bind(5);
         exactSamples.bind(6);
 
-        // Candidate rows per triangle, exactly as src/core/sign.cpp bounds them (a superset: the
+        // Candidate rows per triangle, exactly as src/core/sign/winding_sign.cpp bounds them (a superset: the
         // exact test decides), cut into 8x4 tiles.
         struct Rows {
             int j0, j1, k0, k1;

@@ -1,5 +1,5 @@
 #include "render/image.hpp"
-#include "core/atomic_file.hpp"
+#include "core/io/atomic_file.hpp"
 #include "sdfgen/error.hpp"
 #include "render/gl.hpp"
 

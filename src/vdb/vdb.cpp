@@ -6,11 +6,11 @@
 // names with the surface grid's transform and active voxels: "gradient" and "closest" Vec3SGrids,
 // "triangle" an Int32Grid. Also the iso-surfaces of `sdfgen surface`.
 //
-// The library the core opens on first use (core/openvdb_plugin.hpp), so that only runs that read
+// The library the core opens on first use (core/io/openvdb_plugin.hpp), so that only runs that read
 // or write OpenVDB load it.
-#include "core/atomic_file.hpp"
-#include "core/formats/format.hpp"
-#include "core/openvdb_plugin.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/io/openvdb_plugin.hpp"
 #include "sdfgen/error.hpp"
 
 #include <openvdb/io/DelayedLoadMetadata.h>

@@ -2,8 +2,8 @@
 // second the grid resolution (1-8) and ray count (1-16); the rest is an OBJ file. Any input either
 // gives a field of finite values on the grid or an Error.
 #include "fuzz_input.hpp"
-#include "core/bake.hpp"
-#include "core/bvh.hpp"
+#include "core/bake/bake.hpp"
+#include "core/accel/bvh.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
 

@@ -1,4 +1,4 @@
-// Fuzzes the PLY reader (src/core/ply_reader.cpp): any input either loads into a valid mesh or is
+// Fuzzes the PLY reader (src/core/mesh/ply_reader.cpp): any input either loads into a valid mesh or is
 // an Error; never a crash, a sanitizer report, a hang or an allocation beyond what the file holds.
 #include "fuzz_input.hpp"
 #include "sdfgen/error.hpp"

@@ -3,11 +3,11 @@
 // on closed, open, self-intersecting and overlapping meshes and the bundled bunny; determinism;
 // cancellation. The bad-context suite (GpuBadContext) runs in its own process with
 // MESA_GL_VERSION_OVERRIDE=3.3 (tests/CMakeLists.txt), since Mesa reads that once per process.
-#include "core/bake.hpp"
-#include "core/exact.hpp"
-#include "core/sample_positions.hpp"
-#include "core/sign.hpp"
-#include "core/topology.hpp"
+#include "core/bake/bake.hpp"
+#include "core/distance/exact.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "core/mesh/topology.hpp"
 #include "gpu/gl_device.hpp"
 #include "render/egl_context.hpp"
 #include "render/gl.hpp"

@@ -9,8 +9,8 @@
 // and look at the images before committing them. A failing comparison writes the image it got
 // beside the test binary (render-actual/), to compare by eye.
 #include "sdfgen/error.hpp"
-#include "core/bake.hpp"
-#include "core/bvh.hpp"
+#include "core/bake/bake.hpp"
+#include "core/accel/bvh.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
 #include "render/egl_context.hpp"

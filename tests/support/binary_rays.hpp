@@ -1,8 +1,8 @@
 #pragma once
 // Ray queries over the binary Bvh, for the tests: the packet traversal that the ray method's wide
-// tree (core/ray_tree.hpp) must reproduce bit for bit, and the tree's depth.
-#include "core/bvh.hpp"
-#include "core/simd.hpp"
+// tree (core/accel/ray_tree.hpp) must reproduce bit for bit, and the tree's depth.
+#include "core/accel/bvh.hpp"
+#include "core/simd/simd.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <glm/vec3.hpp>

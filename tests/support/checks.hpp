@@ -1,8 +1,8 @@
 #pragma once
 // Test helpers shared by the suites: error messages, and a scratch folder per test.
 #include "sdfgen/error.hpp"
-#include "core/bake.hpp"
-#include "core/bvh.hpp"
+#include "core/bake/bake.hpp"
+#include "core/accel/bvh.hpp"
 
 #include <gtest/gtest.h>
 #include <atomic>

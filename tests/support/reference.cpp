@@ -1,5 +1,5 @@
 #include "support/reference.hpp"
-#include "core/bvh.hpp"
+#include "core/accel/bvh.hpp"
 #include "support/checks.hpp"
 
 #include <algorithm>

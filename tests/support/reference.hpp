@@ -1,7 +1,7 @@
 #pragma once
 // The brute-force reference and the comparisons the accuracy suites make against it.
-#include "core/bake.hpp"
-#include "core/topology.hpp"
+#include "core/bake/bake.hpp"
+#include "core/mesh/topology.hpp"
 
 #include <cstddef>
 #include <string>

@@ -1,0 +1,253 @@
+#include "core/bake/bake.hpp"
+#include "core/bake/band_bake.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/runtime/memory.hpp"
+#include "core/runtime/parallel.hpp"
+#include "sdfgen/error.hpp"
+
+#include <glm/geometric.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <utility>
+
+namespace sdfgen {
+
+namespace {
+
+// The gradient of the signed distance: the direction away from the surface, negated where the
+// value is negative (where it is 0 the direction is already the outward normal). In fixed blocks.
+void signGradient(const std::vector<float>& values, std::vector<float>& gradient, const RunControl& control) {
+    const std::size_t n = values.size();
+    constexpr std::size_t kBlock = std::size_t(1) << 16;
+    parallelFor((n + kBlock - 1) / kBlock, quiet(control), [&](std::size_t block) {
+        for (std::size_t i = block * kBlock; i < std::min(n, (block + 1) * kBlock); ++i) {
+            if (values[i] < 0.0f) {
+                for (std::size_t a = 0; a < 3; ++a) gradient[a * n + i] = -gradient[a * n + i];
+            }
+        }
+    });
+}
+
+constexpr const char* kChannelNames[] = {"sdf", "gradient", "closest", "triangle"};
+
+} // namespace
+
+Channels parseChannels(const std::string& list) {
+    Channels channels;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const std::size_t comma = std::min(list.find(',', start), list.size());
+        const std::string name = list.substr(start, comma - start);
+        if (name == "gradient") channels.gradient = true;
+        else if (name == "closest") channels.closest = true;
+        else if (name == "triangle") channels.triangle = true;
+        else if (name != "sdf" && !(name.empty() && list.empty())) {
+            std::string known;
+            for (const char* channel : kChannelNames) known += std::string(known.empty() ? "" : ", ") + channel;
+            throw Error("unknown channel '" + name + "' (expected a comma-separated list of " + known + ")");
+        }
+        start = comma + 1;
+    }
+    return channels;
+}
+
+std::string toString(const Channels& channels) {
+    std::string list = kChannelNames[0];
+    const bool on[] = {true, channels.gradient, channels.closest, channels.triangle};
+    for (int c = 1; c < 4; ++c) {
+        if (on[c]) list += std::string(",") + kChannelNames[c];
+    }
+    return list;
+}
+
+BakeResult bake(const BakeContext& context, const RunControl& control) {
+    const BakeSettings& settings = context.settings;
+    if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
+    const DistanceMethodInfo& method = distanceMethod(settings.method);
+    SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
+    if (method.fixedSign && sign != SignMethod::Auto && sign != method.defaultSign) {
+        throw Error(std::string("the ") + method.name + " method signs by the exact winding number; --sign " + toString(sign) +
+                    " does not apply");
+    }
+
+    // The compute device (device.hpp) measures exact distances and counts winding numbers; the
+    // other methods and the rest of the bake stay here.
+    if (settings.device == Device::Gpu && !method.deviceMemory) {
+        throw Error(std::string("--device gpu computes exact distances; --method ") + method.name + " runs on the CPU");
+    }
+    const bool banded = settings.band != 0;
+    if (banded) {
+        if (!(settings.band >= 1.0) || !std::isfinite(settings.band)) {
+            throw Error("the band must be a finite number of voxels, at least 1 (got " + std::to_string(settings.band) + ")");
+        }
+        if (!method.measuresBand) {
+            throw Error(std::string("the narrow-band bake measures exact distances; --method ") + method.name + " makes dense fields only");
+        }
+        if (settings.device == Device::Gpu) throw Error("the narrow-band bake runs on the CPU only; use --device cpu or auto");
+        if (settings.channels.any()) {
+            throw Error("channels " + toString(settings.channels).substr(4) + " come from the dense bake only; a band bake gives the distance (sdf)");
+        }
+        if (signMethod(sign).castsRays) throw Error("the narrow-band bake signs by the winding number (or auto); --sign rays votes per sample");
+    }
+    const Channels& channels = settings.channels;
+    if (channels.any()) {
+        const std::string named = toString(channels).substr(4); // without "sdf,"
+        if (!method.makesChannels) {
+            throw Error("channels " + named + ": only the exact method finds the nearest triangle they come from; --method " +
+                        method.name + " gives the distance (sdf) only");
+        }
+        if (settings.device == Device::Gpu) throw Error("channels " + named + ": made on the CPU only; use --device cpu or auto");
+        if (channels.triangle && context.mesh.triangleCount() > std::size_t(INT32_MAX)) {
+            throw Error(context.mesh.source + ": more than 2147483647 triangles for the triangle channel's int32 indices");
+        }
+    }
+    BakeResult result;
+    BakeContext deviceContext = context;
+    if (banded) {
+        result.deviceReason = "cpu: the narrow-band bake runs on the CPU only";
+    } else if (channels.any()) {
+        result.deviceReason = "cpu: asked for channels " + toString(channels).substr(4) + " (made on the CPU only)";
+    } else if (method.deviceMemory) {
+        deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
+        result.onDevice = deviceContext.device != nullptr;
+    }
+    if (banded) {
+        const double needed = double(estimateBandBakeBytes(context.mesh, context.grid, settings.band));
+        const std::uint64_t available = availableMemoryBytes();
+        if (available > 0 && needed > double(available)) {
+            const Grid& g = context.grid;
+            throw Error("a band of " + std::to_string(settings.band) + " voxels on grid " + std::to_string(g.dims.x) + "x" +
+                        std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) + " needs about " + mebibytes(needed) +
+                        " but only " + mebibytes(double(available)) + " of memory is available");
+        }
+    } else {
+        checkBakeMemory(context.mesh, context.tree, context.grid, settings, result.onDevice, quiet(control));
+    }
+
+    using Clock = std::chrono::steady_clock;
+    auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    // What the passes will read of the mesh's structures is built first (if not built yet), the
+    // wide tree and the topology at once: each alone leaves a core idle for much of its build.
+    const Clock::time_point setupStart = Clock::now();
+    const bool readsWide = (method.readsWideTree && !result.onDevice) || (!method.fixedSign && signMethod(sign).readsWideTree);
+    const bool readsTopology = (!method.fixedSign && signMethod(sign).readsTopology) || banded;
+    if (readsWide && readsTopology) {
+        parallelInvoke(quiet(control), [&] { context.wide(); }, [&] { context.topology(); });
+    } else if (readsWide) {
+        context.wide();
+    } else if (readsTopology) {
+        context.topology();
+    }
+    result.setupSeconds = since(setupStart);
+    // The sign is settled first (auto checks the mesh), so that a method that can sign as it
+    // measures (exact with the pseudonormal) writes the signed field in one pass.
+    const Clock::time_point checkStart = Clock::now();
+    BakeContext methodContext = deviceContext;
+    if (!method.fixedSign) {
+        SignDecision decision = decideSign(sign, method.defaultSign, context.topology, context.check);
+        sign = decision.sign;
+        result.checked = decision.checked;
+        result.check = decision.check;
+        result.signReason = std::move(decision.reason);
+        result.warnings = std::move(decision.warnings);
+        methodContext.flipped = decision.flipped;
+        methodContext.sign = sign;
+    }
+    if (banded && sign == SignMethod::Pseudonormal && !result.checked && !context.check().closedAndClean()) {
+        // Out of the band a sample has no distance pass to take a closest feature from: its side
+        // is the winding sign's, which is the pseudonormal's only where the check proves it right.
+        throw Error("the narrow-band bake takes --sign pseudonormal only for meshes it is proven right on (closed, manifold, "
+                    "consistently oriented, without self-intersections); use --sign winding or auto");
+    }
+    const double checkSeconds = since(checkStart);
+    releaseFreedMemory(); // the setup phases' scratch, before the field is allocated
+
+    // The field's method line, e.g. "exact sign=auto/winding res=128 padding=0.1".
+    auto parameters = [&](SignMethod used) {
+        std::vector<std::pair<std::string, std::string>> list;
+        if (method.castsRays || signMethod(used).castsRays) list.emplace_back("rays", std::to_string(settings.rays));
+        list.emplace_back("sign", std::string(result.checked ? "auto/" : "") + toString(used));
+        char number[32];
+        list.emplace_back("res", std::to_string(settings.res));
+        std::snprintf(number, sizeof(number), "%g", settings.padding);
+        list.emplace_back("padding", number);
+        if (banded) {
+            std::snprintf(number, sizeof(number), "%g", settings.band);
+            list.emplace_back("band", number);
+        }
+        return list;
+    };
+    if (banded) {
+        bakeBand(methodContext, sign == SignMethod::Winding, result, control);
+        result.sign = sign;
+        result.signSeconds += checkSeconds;
+        result.sparse.method = method.name;
+        result.sparse.parameters = parameters(sign);
+        result.field.source = result.sparse.source;
+        result.field.grid = result.sparse.grid;
+        result.field.method = result.sparse.method;
+        result.field.parameters = result.sparse.parameters;
+        result.field.background = result.sparse.background;
+        return result;
+    }
+
+    const Clock::time_point start = Clock::now();
+    const bool signsInline = !method.fixedSign && sign == method.signsInline;
+    DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
+    result.distanceSeconds = since(start);
+    releaseFreedMemory(); // the distance pass's scratch, before the sign pass's
+
+    // Signs are applied to the distances in place, and side arrays released as soon as they are used.
+    const Clock::time_point signStart = Clock::now();
+    if (method.fixedSign) {
+        sign = method.defaultSign;
+        negateInside(pass.distance, *pass.inside);
+    } else if (!pass.signedAsAsked) {
+        signMethod(sign).run(methodContext, pass, control.phase(0.7, 1.0));
+    }
+    pass.inside.reset();
+    result.sign = sign;
+    result.signSeconds = checkSeconds + since(signStart);
+
+    Field& field = result.field;
+    field.source = context.mesh.source;
+    field.grid = context.grid;
+    field.values = std::move(pass.distance);
+    if (!pass.gradient.empty()) signGradient(field.values, pass.gradient, control);
+    field.gradient = std::move(pass.gradient);
+    field.closest = std::move(pass.closest);
+    field.triangle = std::move(pass.triangle);
+    // Never a silently wrong field: float distances overflow on meshes far beyond unit scale.
+    if (!std::all_of(field.values.begin(), field.values.end(), [](float v) { return std::isfinite(v); })) {
+        throw Error(context.mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");
+    }
+    field.method = method.name;
+    field.parameters = parameters(result.sign);
+    return result;
+}
+
+BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
+    const Grid grid = settings.band > 0 ? gridAround(mesh.worldBounds(), settings.res, settings.padding) : makeGrid(mesh.worldBounds(), settings.res, settings.padding);
+    std::optional<WideBvh> wide;
+    std::optional<MeshTopology> topology;
+    std::optional<MeshCheck> check;
+    const RunControl lazy = quiet(control); // built inside the bake's phases (see Model::bake)
+    auto wideOf = [&]() -> const WideBvh& {
+        if (!wide) wide.emplace(mesh, tree, lazy);
+        return *wide;
+    };
+    auto topologyOf = [&]() -> const MeshTopology& {
+        if (!topology) topology.emplace(mesh, tree, lazy);
+        return *topology;
+    };
+    const BakeContext context{mesh, tree, wideOf, grid, settings, topologyOf, [&]() -> const MeshCheck& {
+                                  if (!check) check = topologyOf().check(mesh, tree, lazy);
+                                  return *check;
+                              }};
+    return bake(context, control);
+}
+
+} // namespace sdfgen

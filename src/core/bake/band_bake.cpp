@@ -1,0 +1,154 @@
+// The narrow-band bake: exact distances only in the bricks that hold a sample within the band,
+// sides everywhere from the winding sign's crossing counts, and the dense grid never allocated.
+#include "core/bake/band_bake.hpp"
+#include "core/distance/exact.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/runtime/memory.hpp"
+#include "core/runtime/parallel.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "sdfgen/error.hpp"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <thread>
+#include <tuple>
+
+namespace sdfgen {
+
+namespace {
+
+constexpr int kBrick = SparseField::kBrick;
+
+// Finds, top-down over cubes of 2^n bricks, the bricks that may hold a sample within the band (a
+// cube whose samples are all farther than the band, by one closest-point search from its centre,
+// is skipped whole) and, out of the band, those that a fan closing a hole may reach (the winding
+// sign decides their samples one by one; elsewhere one count decides a whole brick).
+struct BrickFinder {
+    const Mesh& mesh;
+    const WideBvh& tree;
+    const WindingCaps& caps;
+    const Grid& grid;
+    glm::ivec3 brickDims;
+    double band; // local units
+
+    void visit(const glm::ivec3& lo, int size, bool outOfBand, std::vector<glm::ivec3>& inBand, std::vector<glm::ivec3>& nearFans) const {
+        const glm::ivec3 hi = glm::min(lo + size, brickDims);
+        if (glm::any(glm::lessThanEqual(hi, lo))) return;
+        const glm::ivec3 first = lo * kBrick, last = glm::min(hi * kBrick, grid.dims) - 1;
+        const glm::dvec3 p0 = localPosition(mesh, grid, first.x, first.y, first.z), p1 = localPosition(mesh, grid, last.x, last.y, last.z);
+        const glm::dvec3 centre = 0.5 * (p0 + p1);
+        const double reach = 0.5 * glm::length(p1 - p0) * (1.0 + 1e-9);
+        if (!outOfBand) {
+            std::uint32_t hint = WideBvh::kEmpty;
+            const std::uint32_t t = nearestTriangle(tree, glm::vec3(centre), hint);
+            const double d = std::sqrt(closestPointOnTriangle(centre, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                              glm::dvec3(mesh.vertex(t, 2)))
+                                           .distanceSquared);
+            // The float search's answer may be a rounding farther than the true nearest triangle.
+            const double magnitude = std::max({std::fabs(centre.x), std::fabs(centre.y), std::fabs(centre.z)}) + reach + d;
+            outOfBand = d - reach - 1e-5 * magnitude > band * (1.0 + 1e-5);
+        }
+        if (outOfBand && caps.farFromEveryFan(centre, reach)) return;
+        if (size == 1) {
+            (outOfBand ? nearFans : inBand).push_back(lo);
+            return;
+        }
+        const int half = size / 2;
+        for (int dz = 0; dz < size; dz += half)
+            for (int dy = 0; dy < size; dy += half)
+                for (int dx = 0; dx < size; dx += half) visit(lo + glm::ivec3(dx, dy, dz), half, outOfBand, inBand, nearFans);
+    }
+};
+
+bool before(const glm::ivec3& a, const glm::ivec3& b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); }
+
+} // namespace
+
+std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double band) {
+    // The band's bricks from the surface's area: a sheet of area A crosses about A / (8h)² brick
+    // columns, (2 band + 8) / 8 bricks deep; twice that for curvature, corners and the fans' bricks.
+    double area = 0.0;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+        area += 0.5 * glm::length(glm::cross(b - a, c - a));
+    }
+    const double h = grid.voxel / mesh.unit;
+    const glm::dvec3 brickDims = glm::ceil(glm::dvec3(grid.dims) / double(kBrick));
+    const double allBricks = brickDims.x * brickDims.y * brickDims.z;
+    const double bricks = std::min(allBricks, 2.0 * area / (64.0 * h * h) * (2.0 * band + 8.0) / 8.0 + 64.0);
+    // Values and coordinates, once more while the fans' bricks are merged in; the crossings of a
+    // layer of rows per thread; the tree's and the scan's tables per triangle.
+    const double perBrick = 2.0 * (SparseField::kBrickSamples * sizeof(float) + sizeof(glm::ivec3));
+    const double rows = double(grid.dims.y) * kBrick * 64.0 * double(std::max(1u, std::thread::hardware_concurrency()));
+    return std::uint64_t(bricks * perBrick + rows + double(mesh.triangleCount()) * 160.0);
+}
+
+void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, const RunControl& control) {
+    const Mesh& mesh = context.mesh;
+    const Grid& grid = context.grid;
+    const double band = context.settings.band;
+    using Clock = std::chrono::steady_clock;
+    auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
+
+    SparseField& field = result.sparse;
+    field.grid = grid;
+    field.source = mesh.source;
+    field.background = float(band * grid.voxel);
+    if (!(field.background > 0.0f) || !std::isfinite(field.background)) {
+        throw Error(mesh.source + ": a band of " + std::to_string(band) + " voxels is beyond single precision at this grid's scale");
+    }
+    const glm::ivec3 brickDims = (grid.dims + (kBrick - 1)) / kBrick;
+
+    // 1. The bricks in the band, and those near the fans, ordered by z, y, x.
+    Clock::time_point start = Clock::now();
+    const WindingCaps caps(context.topology());
+    const BrickFinder finder{mesh, context.wide(), caps, grid, brickDims, band * grid.voxel / mesh.unit};
+    constexpr int kTop = 16; // bricks per edge of the cubes searched in parallel
+    const glm::ivec3 tops = (brickDims + (kTop - 1)) / kTop;
+    const std::size_t topCount = std::size_t(tops.x) * std::size_t(tops.y) * std::size_t(tops.z);
+    std::vector<std::vector<glm::ivec3>> inBand(topCount), nearFans(topCount);
+    parallelFor(topCount, control.phase(0.0, 0.05), [&](std::size_t n) {
+        const glm::ivec3 top(int(n % std::size_t(tops.x)), int(n / std::size_t(tops.x) % std::size_t(tops.y)),
+                             int(n / (std::size_t(tops.x) * std::size_t(tops.y))));
+        finder.visit(top * kTop, kTop, false, inBand[n], nearFans[n]);
+    });
+    BandSides sides;
+    sides.background = field.background;
+    sides.signBricks = signBricks;
+    for (std::size_t n = 0; n < topCount; ++n) {
+        sides.bricks.insert(sides.bricks.end(), inBand[n].begin(), inBand[n].end());
+        sides.fanBricks.insert(sides.fanBricks.end(), nearFans[n].begin(), nearFans[n].end());
+    }
+    inBand = {}, nearFans = {};
+    std::sort(sides.bricks.begin(), sides.bricks.end(), before);
+    std::sort(sides.fanBricks.begin(), sides.fanBricks.end(), before);
+    result.signSeconds += since(start);
+
+    // 2. Their exact distances, as the dense bake measures them (samples past the grid's end: +background).
+    start = Clock::now();
+    sides.values.assign(sides.bricks.size() * SparseField::kBrickSamples, field.background);
+    const MeshTopology* pseudonormal = signBricks ? nullptr : &context.topology();
+    computeExactBricks(mesh, context.wide(), grid, sides.bricks.data(), sides.bricks.size(), finder.band * (1.0 + 1e-5), pseudonormal, context.flipped,
+                       sides.values.data(), control.phase(0.05, 0.75));
+    result.distanceSeconds = since(start);
+
+    // 3. Sides: the band's samples and every other brick's.
+    start = Clock::now();
+    bandWindingSigns(mesh, context.topology(), caps, grid, sides, control.phase(0.75, 1.0));
+    // Out of the band only the side is kept.
+    const float background = field.background;
+    for (float& v : sides.values) {
+        if (!(std::fabs(v) < background)) v = std::signbit(v) ? -background : background;
+    }
+    result.signSeconds += since(start);
+    field.bricks = std::move(sides.bricks);
+    field.values = std::move(sides.values);
+    field.insideBoxes = std::move(sides.insideBoxes);
+}
+
+} // namespace sdfgen

@@ -1,0 +1,291 @@
+// sdfgen::Model: the facade that owns a mesh, its tree and its topology, and runs bakes and point
+// queries over them.
+#include "sdfgen/model.hpp"
+#include "core/bake/bake.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/distance/exact.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/runtime/parallel.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "core/mesh/topology.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/grid.hpp"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <mutex>
+#include <optional>
+
+namespace sdfgen {
+
+struct Model::Impl {
+    Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control) {}
+
+    // Built on first use, with the control of that use (a cancelled build is retried by the next).
+    // The wide tree serves the closest-point searches of bakes and queries alike.
+    const WideBvh& wide(const RunControl& control = {}) const {
+        std::call_once(wideOnce, [&] { wide_.emplace(mesh, tree, control); });
+        return *wide_;
+    }
+    const MeshTopology& topology(const RunControl& control = {}) const {
+        std::call_once(topologyOnce, [&] { topology_.emplace(mesh, tree, control); });
+        return *topology_;
+    }
+    const MeshCheck& check(const RunControl& control = {}) const {
+        std::call_once(checkOnce, [&] {
+            const MeshTopology& built = topology(control.phase(0.0, 0.5));
+            check_ = built.check(mesh, tree, control.phase(0.5, 1.0));
+        });
+        return check_;
+    }
+    const WindingCaps& caps(const RunControl& control = {}) const {
+        std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
+        return *caps_;
+    }
+
+    Mesh mesh;
+    Bvh tree;
+
+private:
+    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce;
+    mutable std::optional<WideBvh> wide_;
+    mutable std::optional<MeshTopology> topology_;
+    mutable MeshCheck check_;
+    mutable std::optional<WindingCaps> caps_;
+};
+
+namespace {
+
+// Mesh::warnings and the zero-area triangles buildMesh dropped, through control.warn.
+void warnAboutMesh(const Mesh& mesh, const RunControl& control) {
+    if (!control.warn) return;
+    if (mesh.droppedDegenerate > 0) {
+        control.warn(mesh.source + ": dropped " + std::to_string(mesh.droppedDegenerate) + " zero-area triangles");
+    }
+    for (const std::string& warning : mesh.warnings) control.warn(warning);
+}
+
+// The thread count is checked and the cancel flag read before the long work starts, so that a bad
+// count or an early Cancel is answered at once, not after the load.
+const RunControl& checkedControl(const RunControl& control) {
+    arenaSize(control);
+    throwIfCancelled(control);
+    return control;
+}
+
+} // namespace
+
+Model Model::load(const std::string& path, const RunControl& control) {
+    checkedControl(control);
+    return Model(loadMesh(path), control);
+}
+
+Model::Model(Mesh mesh, const RunControl& control) {
+    warnAboutMesh(mesh, checkedControl(control));
+    impl_ = std::make_unique<Impl>(std::move(mesh), control);
+}
+Model::~Model() = default;
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+
+const Mesh& Model::mesh() const { return impl_->mesh; }
+
+const MeshCheck& Model::check(const RunControl& control) const { return impl_->check(control); }
+
+BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) const {
+    const Impl& m = *impl_;
+    checkedControl(control);
+    Grid grid;
+    try {
+        grid = settings.band > 0 ? gridAround(m.mesh.worldBounds(), settings.res, settings.padding) : makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
+    } catch (const Error& e) {
+        throw Error(m.mesh.source + ": " + e.what());
+    }
+    // Topology and check, when a method needs them, are built inside the bake's phases: they honour
+    // its cancel flag and threads, and report no progress of their own (it would run backwards).
+    const RunControl lazy = quiet(control);
+    const BakeContext context{m.mesh, m.tree, [&m, &lazy]() -> const WideBvh& { return m.wide(lazy); }, grid, settings,
+                              [&m, &lazy]() -> const MeshTopology& { return m.topology(lazy); },
+                              [&m, &lazy]() -> const MeshCheck& { return m.check(lazy); }};
+    BakeResult result = sdfgen::bake(context, control);
+    if (control.warn) {
+        for (const std::string& warning : result.warnings) control.warn(m.mesh.source + ": " + warning);
+    }
+    return result;
+}
+
+void Model::query(const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
+                  const RunControl& control) const {
+    const Impl& m = *impl_;
+    const Mesh& mesh = m.mesh;
+    if (sign == SignMethod::Default) sign = SignMethod::Auto;
+    const bool needSign = out.signedDistance || out.gradient;
+    const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle;
+    if (needSign && !signMethod(sign).pointQueries) {
+        std::string known;
+        const std::vector<Choice<SignMethod>> choices = pointQuerySignChoices();
+        for (std::size_t i = 0; i < choices.size(); ++i) known += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::string(choices[i].name);
+        throw Error("point queries sign by " + known + ", not " + toString(sign));
+    }
+    // Every sign a query takes reads the topology: built beside the wide tree (as in bake), each
+    // alone leaving a core idle.
+    if (needSign && signMethod(sign).readsTopology) {
+        parallelInvoke(
+            quiet(control), [&] { if (needNearest) m.wide(quiet(control)); }, [&] { m.topology(quiet(control)); });
+    }
+    // As bake: auto swaps the pseudonormal's inside and outside on an inside-out mesh (the winding
+    // sign, |w| > 1/2, needs no swap).
+    bool flipped = false;
+    if (needSign) {
+        const SignDecision decision = decideSign(
+            sign, SignMethod::Auto, [&]() -> const MeshTopology& { return m.topology(quiet(control)); },
+            [&]() -> const MeshCheck& { return m.check(quiet(control)); });
+        flipped = decision.flipped;
+        sign = decision.sign;
+        if (control.warn) {
+            for (const std::string& warning : decision.warnings) control.warn(mesh.source + ": " + warning);
+        }
+    }
+    if (count > std::numeric_limits<std::uint32_t>::max()) throw Error("more than 4294967295 query points in one call");
+    for (std::size_t i = 0; i < 3 * count; ++i) {
+        if (!std::isfinite(points[i])) throw Error("query point " + std::to_string(i / 3) + " has a non-finite coordinate");
+    }
+    // The closest-point search runs in single precision in the mesh's local frame: exact near the
+    // mesh, but about a million mesh sizes away a point is rounded by more than the differences
+    // that decide its nearest triangle and sign (measured on the bundled bunny: wrong signs from
+    // 1e6 sizes on, none up to 1e5). Farther points are refused, not answered wrongly.
+    constexpr double kFarthestQuery = 1e4; // in mesh sizes (the bounding box's longest side)
+    {
+        const WorldBounds box = mesh.worldBounds();
+        const glm::dvec3 extent = box.extent();
+        const double size = std::max({extent.x, extent.y, extent.z});
+        for (std::size_t i = 0; i < count; ++i) {
+            const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+            const glm::dvec3 outside = glm::max(glm::max(box.min - p, p - box.max), glm::dvec3(0.0));
+            const double away = std::max({outside.x, outside.y, outside.z});
+            if (away > kFarthestQuery * size) {
+                char message[320];
+                std::snprintf(message, sizeof(message),
+                              ": query point %zu (%.6g, %.6g, %.6g) is %.3g mesh sizes from the mesh's bounding box; points "
+                              "are answered up to %.0f mesh sizes away (farther, single-precision searches cannot tell its "
+                              "nearest triangle and sign)",
+                              i, p.x, p.y, p.z, away / size, kFarthestQuery);
+                throw Error(mesh.source + message);
+            }
+        }
+    }
+    const bool needWinding = out.windingNumber || (needSign && sign == SignMethod::Winding);
+    // Build what the workers share before they start.
+    const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
+    if (needWinding) m.caps(quiet(control));
+
+    // Points are visited in Morton order of their position, so that each point's search is seeded
+    // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
+    // to the lower triangle index, as for the grid's samples), and the blocks are fixed, so they
+    // never depend on the thread count either.
+    std::vector<std::uint64_t> keys(count);
+    {
+        const Bounds& box = mesh.bounds;
+        const glm::dvec3 lo = glm::dvec3(box.min) - 1.0, size = glm::dvec3(box.extent()) + 2.0;
+        auto spread = [](std::uint64_t v) { // 21 bits to every third bit
+            v &= 0x1fffff;
+            v = (v | v << 32) & 0x1f00000000ffffULL;
+            v = (v | v << 16) & 0x1f0000ff0000ffULL;
+            v = (v | v << 8) & 0x100f00f00f00f00fULL;
+            v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+            v = (v | v << 2) & 0x1249249249249249ULL;
+            return v;
+        };
+        for (std::size_t i = 0; i < count; ++i) {
+            const glm::dvec3 q = glm::clamp((mesh.toLocal({points[3 * i], points[3 * i + 1], points[3 * i + 2]}) - lo) / size, 0.0, 1.0);
+            const auto cell = [&](double c) { return std::uint64_t(c * double(0x1fffff)); };
+            keys[i] = spread(cell(q.x)) | spread(cell(q.y)) << 1 | spread(cell(q.z)) << 2;
+        }
+    }
+    std::vector<std::uint32_t> order(count);
+    for (std::size_t i = 0; i < count; ++i) order[i] = std::uint32_t(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
+    keys = {};
+
+    constexpr std::size_t kBlock = 256;
+    const std::size_t blocks = (count + kBlock - 1) / kBlock;
+    parallelFor(blocks, control, [&](std::size_t block) {
+        const std::size_t begin = block * kBlock, end = std::min(count, begin + kBlock);
+        std::uint32_t hint = WideBvh::kEmpty;
+        for (std::size_t at = begin; at < end; ++at) {
+            const std::size_t index = order[at];
+            const glm::dvec3 p = mesh.toLocal({points[3 * index], points[3 * index + 1], points[3 * index + 2]});
+            if (needNearest) {
+                const std::uint32_t t = nearestTriangle(*wide, glm::vec3(p), hint);
+                const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                                    glm::dvec3(mesh.vertex(t, 2)));
+                const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
+                if (out.unsignedDistance) out.unsignedDistance[index] = distance;
+                if (out.triangle) out.triangle[index] = std::int64_t(t);
+                if (out.closestPoint) {
+                    const glm::dvec3 world = mesh.toWorld(closest.point);
+                    for (int a = 0; a < 3; ++a) out.closestPoint[3 * index + std::size_t(a)] = world[a];
+                }
+                if (needSign) {
+                    bool inside;
+                    if (sign == SignMethod::Pseudonormal) {
+                        inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
+                    } else {
+                        inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                    }
+                    if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
+                    if (out.gradient) {
+                        // As the bake's gradient channel (exact_kernel.inc's writeChannels, then signed by the value).
+                        const glm::dvec3 g = distance == 0.0f ? glm::dvec3(mesh.faceNormals[t]) * (flipped ? -1.0 : 1.0)
+                                                              : (p - closest.point) / std::sqrt(closest.distanceSquared) * (inside ? -1.0 : 1.0);
+                        for (int a = 0; a < 3; ++a) out.gradient[3 * index + std::size_t(a)] = g[a];
+                    }
+                }
+            }
+            if (out.windingNumber) {
+                out.windingNumber[index] = m.caps().winding(p, crossingsAhead(mesh, m.tree, m.caps(), p));
+            }
+        }
+    });
+    // Never an infinity handed back as a distance: as bake, a mesh far beyond unit scale overflows float.
+    for (float* distances : {out.signedDistance, out.unsignedDistance}) {
+        if (distances && !std::all_of(distances, distances + count, [](float v) { return std::isfinite(v); })) {
+            throw Error(mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");
+        }
+    }
+}
+
+namespace {
+
+std::vector<double> flatten(const std::vector<glm::dvec3>& points) {
+    std::vector<double> xyz(3 * points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        for (int a = 0; a < 3; ++a) xyz[3 * i + std::size_t(a)] = points[i][a];
+    }
+    return xyz;
+}
+
+} // namespace
+
+std::vector<float> Model::signedDistance(const std::vector<glm::dvec3>& points, const RunControl& control) const {
+    std::vector<float> result(points.size());
+    PointQueryOutputs out;
+    out.signedDistance = result.data();
+    query(flatten(points).data(), points.size(), out, SignMethod::Auto, control);
+    return result;
+}
+
+std::vector<float> Model::unsignedDistance(const std::vector<glm::dvec3>& points, const RunControl& control) const {
+    std::vector<float> result(points.size());
+    PointQueryOutputs out;
+    out.unsignedDistance = result.data();
+    query(flatten(points).data(), points.size(), out, SignMethod::Auto, control);
+    return result;
+}
+
+} // namespace sdfgen

@@ -1,0 +1,89 @@
+#pragma once
+#include "sdfgen/field.hpp"
+#include "sdfgen/grid.hpp"
+#include "sdfgen/sparse_field.hpp"
+#include "core/runtime/parallel.hpp"
+#include "core/accel/bvh.hpp"
+#include "core/accel/wide_bvh.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace sdfgen {
+
+// The exact unsigned distance from every sample to the mesh, and the triangle that attains it.
+struct NearestField {
+    std::vector<float> distance;
+    std::vector<std::uint32_t> triangle;
+};
+
+class MeshTopology;
+
+// Samples are visited in bricks of 8x8x8: one tree search from the brick's centre bounds the
+// distance of every sample in it (the field is 1-Lipschitz), and the leaf packets within that
+// bound of the brick (far from the surface, within the lens around its centre's closest point)
+// are collected once; each 4x4x4 quarter finds its centre's nearest triangle among them and
+// narrows the list the same way from there, and each row of four samples
+// scans only its quarter's list, together, each sample seeded by the packet that held its
+// neighbour's answer. The answer is the nearest triangle by WideBvh's float distance, ties to the
+// lower index (as WideBvh::nearest, so point queries agree bit for bit); its distance is
+// re-measured in double (four samples of a row at once, bit for bit closestPointOnTriangle's).
+// Independent of thread count.
+NearestField computeNearest(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const RunControl& control);
+NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control);
+
+// Where computeExactField also writes each sample's channels (sdfgen::Channels), from the closest
+// point it measures the distance with: at grid.index(i, j, k) of each plane, in Field's planar
+// layout (the y plane `plane` floats after the x plane, the z plane after that). Null: not written.
+struct ChannelOutputs {
+    // (p - c) / |p - c|, pointing away from the surface whatever the sign (the caller negates it
+    // where the signed value is negative); where the float distance is 0, the nearest triangle's
+    // face normal, reversed when `flipped`.
+    float* gradient = nullptr;
+    float* closest = nullptr; // c in world coordinates
+    std::int32_t* triangle = nullptr;
+    std::size_t plane = 0; // grid.sampleCount()
+};
+
+// The same search writing each sample's exact distance (world units) straight into
+// values[grid.index(i, j, k)] (grid.sampleCount() floats): negated where the closest feature's
+// angle-weighted pseudonormal points away from the sample when `pseudonormal` is given (the other
+// way round when `flipped`), unsigned otherwise. No per-sample side arrays, unless `channels` asks
+// for them; the distances are the same with or without.
+void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
+                       float* values, const RunControl& control, const ChannelOutputs* channels = nullptr);
+
+// computeExactField for the samples of `count` bricks of 8³ (SparseField's): brick b's samples go to
+// values[512 b + ((k - 8 z) * 8 + (j - 8 y)) * 8 + (i - 8 x)], (x, y, z) = bricks[b]; samples past
+// the grid's end are not written. Each sample gets the value computeExactField gives it, bit for bit,
+// except in quarters of 4³ whose samples are all farther than `skipBeyond` (local units) from the
+// surface: those are not written (a band bake keeps only their side).
+void computeExactBricks(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const glm::ivec3* bricks, std::size_t count,
+                        double skipBeyond, const MeshTopology* pseudonormal, bool flipped, float* values, const RunControl& control);
+
+// The distance (world units) from p (local) to triangle t, measured in double, negated where the
+// pseudonormal of its closest feature points away from p (the other way round when flipped), when
+// `pseudonormal` is given: what computeExactField writes for a sample whose nearest triangle is t.
+float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipped, const glm::dvec3& p, std::uint32_t t);
+
+// What computeExactField writes for the sample at local position p (nearestTriangle's answer,
+// `hint` as there), signed by the pseudonormal: for samples a compute device leaves undecided.
+float exactSignedSample(const Mesh& mesh, const WideBvh& tree, const MeshTopology& topology, bool flipped, const glm::dvec3& p,
+                        std::uint32_t& hint);
+
+// Inside flags (1 = inside) by the angle-weighted pseudonormal of each sample's closest feature,
+// found by the same search (for distance methods that do not find nearest triangles).
+std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,
+                                                 bool flipped, const RunControl& control);
+
+// The nearest triangle to one point (local coordinates) by the same float distance and tie rule
+// as the grid's samples; `hint` (in/out, WideBvh::kEmpty at first) is the packet that held the
+// previous answer, a seed for the next nearby point.
+std::uint32_t nearestTriangle(const WideBvh& tree, const glm::vec3& p, std::uint32_t& hint);
+
+// The reference: for every sample, the distance to every triangle and the winding number summed
+// over every triangle, all in double (inside where its magnitude exceeds 1/2, as the winding sign
+// has it). O(samples x triangles).
+Field computeBruteForce(const Mesh& mesh, const Grid& grid, const RunControl& control);
+
+} // namespace sdfgen

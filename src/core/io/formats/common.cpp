@@ -1,0 +1,131 @@
+// What every field format shares: the checks on saved and loaded fields, and the method line.
+#include "core/io/formats/format.hpp"
+#include "core/runtime/memory.hpp"
+#include "sdfgen/error.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <tuple>
+
+namespace sdfgen::formats {
+
+namespace {
+
+bool isToken(const std::string& s) {
+    return !s.empty() && s.find_first_of(std::string_view(" \t\r\n=\0", 6)) == std::string::npos;
+}
+
+void checkValuesAndNames(const Field& field, const std::string& path) {
+    if (field.values.size() != field.grid.sampleCount()) {
+        throw Error(path + ": field has " + std::to_string(field.values.size()) + " values for a grid of " +
+                    std::to_string(field.grid.sampleCount()));
+    }
+    for (std::size_t i = 0; i < field.values.size(); ++i) {
+        if (!std::isfinite(field.values[i])) throw Error(path + ": value " + std::to_string(i) + " is not finite");
+    }
+    const std::size_t n = field.grid.sampleCount();
+    for (const auto& [name, size, per] : {std::tuple{"gradient", field.gradient.size(), 3}, {"closest", field.closest.size(), 3},
+                                          {"triangle", field.triangle.size(), 1}}) {
+        if (size != 0 && size != std::size_t(per) * n) {
+            throw Error(path + ": the " + name + " channel has " + std::to_string(size) + " values for a grid of " + std::to_string(n));
+        }
+    }
+    if (field.source.find_first_of(std::string_view("\r\n\0", 3)) != std::string::npos) {
+        throw Error(path + ": source name has a line break or NUL byte");
+    }
+    if (!isToken(field.method)) throw Error(path + ": method name '" + printable(field.method) + "' is not a single word");
+    for (const auto& [key, value] : field.parameters) {
+        if (!isToken(key) || !isToken(value)) throw Error(path + ": bad method parameter '" + printable(key + "=" + value) + "'");
+    }
+}
+
+} // namespace
+
+void checkGrid(const Grid& grid, const std::string& path) {
+    if (grid.dims.x < 1 || grid.dims.y < 1 || grid.dims.z < 1) throw Error(path + ": grid has no samples");
+    if (!std::isfinite(grid.origin.x) || !std::isfinite(grid.origin.y) || !std::isfinite(grid.origin.z)) {
+        throw Error(path + ": grid origin is not finite");
+    }
+    const double h = grid.voxel;
+    auto text = [](double v) { // the shortest text that reads back as v
+        char buffer[32];
+        return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, v).ptr);
+    };
+    if (!(h >= double(std::numeric_limits<float>::min())) || !(h <= double(std::numeric_limits<float>::max()))) {
+        throw Error(path + ": voxel size " + text(h) + " is not a positive normal float32 (" +
+                    text(std::numeric_limits<float>::min()) + " to " + text(std::numeric_limits<float>::max()) + ")");
+    }
+    for (int a = 0; a < 3; ++a) {
+        const double low = grid.origin[a], high = grid.origin[a] + double(grid.dims[a]) * h;
+        const double largest = std::max(std::fabs(low), std::fabs(high));
+        if (!(largest <= double(std::numeric_limits<float>::max()))) {
+            throw Error(path + ": grid (origin " + text(grid.origin.x) + " " + text(grid.origin.y) + " " + text(grid.origin.z) +
+                        ", voxel size " + text(h) + ") reaches beyond float32's range");
+        }
+        // Neighbouring samples must be distinct points: a voxel size far below the spacing of the
+        // numbers at the grid's coordinates would put them on top of each other.
+        if (grid.dims[a] > 1 && h < largest * 0x1p-40) {
+            throw Error(path + ": voxel size " + text(h) + " is too small for coordinates as large as " + text(largest) +
+                        " (neighbouring samples would coincide)");
+        }
+    }
+}
+
+void checkField(const Field& field, const std::string& path) {
+    checkGrid(field.grid, path);
+    checkValuesAndNames(field, path);
+}
+
+void checkDimsFit(const std::uint64_t dims[3], const std::string& path) {
+    double samples = 1.0;
+    for (int a = 0; a < 3; ++a) {
+        if (dims[a] < 1) throw Error(path + ": dimensions must be at least 1");
+        if (dims[a] > std::uint64_t(std::numeric_limits<int>::max())) {
+            throw Error(path + ": dimension " + std::to_string(dims[a]) + " is too large");
+        }
+        samples *= double(dims[a]);
+    }
+    const std::uint64_t memory = availableMemoryBytes();
+    if (samples * sizeof(float) > (memory > 0 ? double(memory) : 0x1p62)) {
+        throw Error(path + ": dimensions " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                    std::to_string(dims[2]) + " too large: they need " + std::to_string(std::llround(samples * sizeof(float) / 0x1p20)) +
+                    " MiB, more than the " + std::to_string(memory >> 20) + " MiB of memory available");
+    }
+}
+
+std::string methodLine(const Field& field) {
+    std::string line = field.method;
+    for (const auto& [key, value] : field.parameters) line += " " + key + "=" + value;
+    return line;
+}
+
+void parseMethodLine(const std::string& line, Field& field, const std::string& path) {
+    field.parameters.clear();
+    std::size_t pos = 0;
+    bool first = true;
+    while (pos < line.size()) {
+        const std::size_t end = std::min(line.find(' ', pos), line.size());
+        const std::string item = line.substr(pos, end - pos);
+        pos = end + 1;
+        if (item.empty()) continue;
+        if (first) {
+            if (item.find('=') != std::string::npos) throw Error(path + ": method line '" + printable(line) + "' has no method name");
+            field.method = item;
+            first = false;
+            continue;
+        }
+        const std::size_t eq = item.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == item.size() || item.find('=', eq + 1) != std::string::npos) {
+            throw Error(path + ": method parameter '" + printable(item) + "' is not key=value");
+        }
+        field.parameters.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+    }
+    if (first) throw Error(path + ": missing method name");
+    if (line.find_first_of("\t\r\n") != std::string::npos) throw Error(path + ": method line has a tab or line break");
+}
+
+} // namespace sdfgen::formats

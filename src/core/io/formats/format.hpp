@@ -1,0 +1,89 @@
+#pragma once
+// Field file formats as plug-ins: each format is one file in src/core/io/formats/ that defines its
+// save and load functions, plus one line in the table in registry.cpp.
+#include "core/io/printable.hpp"
+#include "sdfgen/field.hpp"
+#include "sdfgen/formats.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace sdfgen {
+
+// Writes the sdfgen-text format (docs/field-format.md) atomically: a temporary file in the same
+// folder is renamed over `path` only once complete. Throws Error naming `path` on failure.
+void saveFieldText(const Field& field, const std::string& path);
+
+// Reads and validates an sdfgen-text file; errors name the file and the line of the first problem.
+Field loadFieldText(const std::string& path);
+
+} // namespace sdfgen
+
+namespace sdfgen::formats {
+
+struct FieldFormat {
+    const char* extension;   // with the dot, lower case
+    const char* description; // for help texts (knownFieldFormats)
+    bool holdsChannels;      // writes Field::gradient, closest and triangle (see sdfgen::Channels)
+    void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
+    Field (*load)(const std::string& path);
+    // Formats that keep a narrow-band field sparse (null for the dense ones, which get
+    // SparseField::toDense): its writer, its reader, and whether a file holds one (its header only).
+    void (*saveSparse)(const SparseField& field, const std::string& path) = nullptr;
+    SparseField (*loadSparse)(const std::string& path) = nullptr;
+    bool (*isSparse)(const std::string& path) = nullptr;
+};
+
+// Every registered format, in the order the help texts list them.
+const std::vector<FieldFormat>& fieldFormats();
+
+// The rules every writer checks before writing anything and every reader checks on what it read:
+// values match the grid, the grid is valid, values are finite, source and method fit on one line
+// (the text format's rules). Throws Error naming `path`.
+void checkField(const Field& field, const std::string& path);
+
+// Throws Error naming `path` when the grid is not one a field can be: no samples, an origin or
+// voxel size that is not finite, a voxel size that is not a positive normal float32, samples whose
+// coordinates leave float32's range (meshes and distances are float32) or coincide (a voxel size
+// lost in the origin's rounding).
+void checkGrid(const Grid& grid, const std::string& path);
+
+// Throws Error naming `path` when a grid of these dimensions cannot be held in memory (the memory
+// available now), before anything is allocated for it. Every dimension must be at least 1 and fit
+// in an int.
+void checkDimsFit(const std::uint64_t dims[3], const std::string& path);
+
+// The method line of the text format without the keyword: "exact sign=auto/winding res=64 ...".
+std::string methodLine(const Field& field);
+// Splits a method line into the field's method and parameters; Error naming `path` when malformed.
+void parseMethodLine(const std::string& line, Field& field, const std::string& path);
+
+// The sdfgen-text format (text.cpp).
+void saveText(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadText(const std::string& path);
+// NumPy .npy (npy.cpp) and .npz (npz.cpp), OpenVDB (vdb.cpp), NRRD (nrrd.cpp).
+void saveNpy(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadNpy(const std::string& path);
+// One .npy member of an .npz archive: its header (or whole small array) and the data after it.
+struct NpzMember {
+    std::string name;
+    std::string head;
+    const void* data = nullptr;
+    std::size_t size = 0;
+};
+// Writes the members as an .npz (stored zip, as numpy.savez lays it out), atomically.
+void writeNpz(const std::string& path, const std::vector<NpzMember>& members);
+
+void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadNpz(const std::string& path);
+void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadVdb(const std::string& path);
+void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);
+Field loadNrrd(const std::string& path);
+
+} // namespace sdfgen::formats

@@ -1,0 +1,41 @@
+#include "core/io/openvdb_plugin.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/runtime/plugin.hpp"
+#include "sdfgen/error.hpp"
+
+#include <mutex>
+
+namespace sdfgen {
+
+namespace {
+// A build configured with SDFGEN_OPENVDB=OFF has no libsdfgen_openvdb.so to open.
+const std::string kBuiltWithout = "this sdfgen was built without OpenVDB (configure with -DSDFGEN_OPENVDB=ON)";
+} // namespace
+
+const OpenVdbPlugin& openVdbPlugin() {
+    if (!SDFGEN_HAS_OPENVDB) throw Error("iso-surfaces need OpenVDB, and " + kBuiltWithout);
+    // Kept once opened; a failure is reported again by the next call, which tries again.
+    static std::mutex mutex;
+    static const OpenVdbPlugin* plugin = nullptr;
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (!plugin) {
+        plugin = reinterpret_cast<OpenVdbPluginEntry>(openPlugin("libsdfgen_openvdb.so", kOpenVdbPluginEntry, "OpenVDB support"))();
+    }
+    return *plugin;
+}
+
+namespace formats {
+
+void saveVdb(const Field& field, const std::string& path, const SaveOptions& options) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    openVdbPlugin().save(field, path, options);
+}
+
+Field loadVdb(const std::string& path) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    return openVdbPlugin().load(path);
+}
+
+} // namespace formats
+
+} // namespace sdfgen

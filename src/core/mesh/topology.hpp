@@ -1,0 +1,76 @@
+#pragma once
+#include "core/mesh/geometry.hpp"
+#include "core/accel/bvh.hpp"
+#include "sdfgen/mesh.hpp"
+#include "sdfgen/mesh_check.hpp"
+#include "sdfgen/run_control.hpp"
+
+#include <glm/vec3.hpp>
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace sdfgen {
+
+// Connectivity of a mesh whose coincident vertices are merged (OBJ files often repeat positions).
+class MeshTopology {
+public:
+    // Reports progress and throws Cancelled (between its stages) when control.cancel is raised.
+    explicit MeshTopology(const Mesh& mesh, const RunControl& control = {});
+    // The same, taking the exact copies of triangles from the mesh's tree, which has found them
+    // already (Bvh::copies), instead of finding them again.
+    MeshTopology(const Mesh& mesh, const Bvh& tree, const RunControl& control = {});
+
+    // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
+    // repeated triangles counted once per pair of copies (as triangle by triangle).
+    // In parallel; the same counts for any thread count. Throws Cancelled when control.cancel is raised.
+    MeshCheck check(const Mesh& mesh, const Bvh& tree, const RunControl& control = {}) const;
+    // The counts found by the topology alone: everything but self-intersections (not searched).
+    const MeshCheck& edgeCheck() const { return edgeCheck_; }
+
+    // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
+    // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
+    const std::vector<std::vector<std::uint32_t>>& boundaryLoops() const { return loops_; }
+    const glm::dvec3& position(std::uint32_t vertex) const { return positions_[vertex]; }
+    // How often triangle t occurs in the mesh if it is the first of its exact copies, else 0 (see
+    // TriangleCopies): passes that stack triangles weigh the first copy and skip the others.
+    std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }
+    // Closed and consistently oriented with negative volume (see MeshCheck::insideOut).
+    bool insideOut() const { return edgeCheck_.insideOut; }
+
+    // The angle-weighted pseudonormal (Bærentzen & Aanæs 2005) of a feature of a triangle. Safe
+    // from any thread; the vertex normals of a mesh whose edges rule the pseudonormal out are
+    // built by the first call that needs one.
+    glm::dvec3 pseudonormal(std::uint32_t triangle, TriangleFeature feature) const;
+
+private:
+    MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
+    glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
+    // The angle-weighted vertex normals, built once: in parallel with a control, else serially.
+    void buildVertexNormals(const RunControl* control) const;
+    const glm::dvec3& vertexNormal(std::uint32_t vertex) const;
+    // Whether triangles t and u have a point in common other than the vertices they share (exact).
+    bool trianglesCross(std::uint32_t t, std::uint32_t u) const;
+    // MeshCheck::misorientedShells of a mesh whose other counts are all zero; `outward` is -1 for
+    // a mesh inside out as a whole, else 1.
+    std::size_t countMisorientedShells(const Mesh& mesh, const Bvh& tree, int outward, const RunControl& control) const;
+
+    std::vector<glm::dvec3> positions_;  // merged vertices
+    std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices
+    std::vector<glm::vec3> faceNormals_;  // the mesh's (float, exact in double)
+    mutable std::once_flag vertexNormalsOnce_;
+    // Set once they are built: the per-sample check is one load, where std::call_once's own fast
+    // path writes thread-locals on every call.
+    mutable std::atomic<bool> vertexNormalsBuilt_{false};
+    mutable std::vector<glm::dvec3> vertexNormals_; // empty until buildVertexNormals
+    // 3 per triangle (AB, BC, CA): the other triangle of an edge used by exactly two, else kNoNeighbour.
+    static constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
+    std::vector<std::uint32_t> edgeNeighbours_;
+    std::vector<std::vector<std::uint32_t>> loops_;
+    std::vector<std::uint32_t> copies_;
+    MeshCheck edgeCheck_; // everything but self-intersections
+};
+
+} // namespace sdfgen

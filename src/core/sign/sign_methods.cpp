@@ -1,0 +1,184 @@
+// The sign methods: generalized winding number, angle-weighted pseudonormal, the report's ray vote.
+#include "core/distance/exact.hpp"
+#include "core/bake/methods.hpp"
+#include "core/runtime/parallel.hpp"
+#include "core/distance/ray_generator.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/sign/winding_sign.hpp"
+#include "sdfgen/error.hpp"
+
+#include <utility>
+
+namespace sdfgen {
+
+namespace {
+
+// The winding sign with the compute device counting the closed surface's crossings (the mesh, each
+// set of copies of a triangle once with its number, and the fans over the holes with their
+// weights, as insideByWinding closes it) and subtracting the fans' own part where their bounds
+// leave doubt; the samples whose |w| its float cannot tell from 1/2 as the CPU's double would are
+// decided here, by WindingCaps::inside (so the signs are the CPU's). Negates `distance` in place
+// where inside.
+void windingSignOnDevice(const BakeContext& context, std::vector<float>& distance, const RunControl& control) {
+    const Mesh& mesh = context.mesh;
+    const Grid& grid = context.grid;
+    const MeshTopology& topology = context.topology();
+    const WindingCaps caps(topology);
+    std::vector<glm::dvec3> closed;
+    std::vector<std::int32_t> weights;
+    closed.reserve(3 * mesh.triangleCount());
+    weights.reserve(mesh.triangleCount());
+    for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        if (topology.copies(t) == 0) continue; // counted with the first copy
+        closed.insert(closed.end(), {glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2))});
+        weights.push_back(std::int32_t(topology.copies(t)));
+    }
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            closed.insert(closed.end(), {cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre});
+            weights.push_back(cap.weight);
+        }
+    }
+    const WindingFans fans = caps.flattened();
+    std::vector<std::uint8_t> sides;
+    const std::vector<std::int32_t> ahead =
+        context.device->windingNumbers(mesh, closed, weights, caps.empty() ? nullptr : &fans, grid, control.phase(0.0, 0.9), sides);
+    const std::size_t rows = std::size_t(grid.dims.y) * std::size_t(grid.dims.z);
+    parallelFor(rows, control.phase(0.9, 1.0), [&](std::size_t row) {
+        const int j = int(row % std::size_t(grid.dims.y)), k = int(row / std::size_t(grid.dims.y));
+        for (int i = 0; i < grid.dims.x; ++i) {
+            const std::size_t index = grid.index(i, j, k);
+            bool inside;
+            if (caps.empty()) inside = ahead[index] != 0;
+            else if (sides[index] != 2) inside = sides[index];
+            else inside = caps.inside(localPosition(mesh, grid, i, j, k), ahead[index]);
+            if (inside) distance[index] = -distance[index];
+        }
+    });
+}
+
+void windingSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+    if (context.device) return windingSignOnDevice(context, pass.distance, control);
+    signByWinding(context.mesh, context.topology(), context.grid, pass.distance.data(), control);
+}
+
+// For passes that did not sign as they measured (rays): one more closest-feature search.
+void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+    // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
+    negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide(), context.grid, context.topology(), context.flipped, control));
+}
+
+void raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+    const Field votes = generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control);
+    for (std::size_t i = 0; i < votes.values.size(); ++i) {
+        if (votes.values[i] < 0.0f) pass.distance[i] = -pass.distance[i];
+    }
+}
+
+// The memory estimates' parts (core/memory.cpp): the pseudonormal reads the topology, the winding
+// sign the topology and its crossings; on a compute device the winding pass holds the closed
+// surface's corners twice (72 bytes each), its weights and its triangles' row ranges (16), and per
+// sample the crossings ahead (4) and the sides (1).
+double noMemory(const MemoryTerms&) { return 0; }
+double windingMemory(const MemoryTerms& terms) { return terms.winding; }
+double pseudonormalMemory(const MemoryTerms& terms) { return terms.topology; }
+double windingDeviceMemory(const MemoryTerms& terms) { return terms.triangles * (72 + 72 + 4 + 16) + terms.samples * (4 + 1); }
+
+// Why auto chose as it did, for the summary and the panel.
+std::string autoReason(const MeshCheck& c) {
+    if (c.closedAndClean()) {
+        return "pseudonormal: the mesh is closed, manifold, consistently oriented and free of self-intersections";
+    }
+    std::string problems;
+    for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
+                                      {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
+                                      {c.selfIntersections, "self-intersections"},
+                                      {c.misorientedShells, "closed shells facing against their nesting"}}) {
+        if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
+    }
+    return "winding: the mesh has " + problems;
+}
+
+} // namespace
+
+const std::vector<SignMethodInfo>& signMethods() {
+    // Auto first and default last: the order front ends list them in.
+    static const std::vector<SignMethodInfo> methods = {
+        {SignMethod::Auto, "auto", "pseudonormal when the mesh check proves it right, else winding", nullptr, true, false, true, false,
+         noMemory, nullptr},
+        {SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly", windingSign, true, false, true, false,
+         windingMemory, windingDeviceMemory},
+        {SignMethod::Pseudonormal, "pseudonormal", "angle-weighted pseudonormal of the closest feature", pseudonormalSign, true, true,
+         true, false, pseudonormalMemory, nullptr},
+        {SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays", raySign, false, false, false, true, noMemory,
+         nullptr},
+        {SignMethod::Default, "default", "the method's own: rays for the rays method, auto otherwise", nullptr, false, false, false, false,
+         noMemory, nullptr},
+    };
+    return methods;
+}
+
+const SignMethodInfo& signMethod(SignMethod id) {
+    for (const SignMethodInfo& method : signMethods()) {
+        if (method.id == id) return method;
+    }
+    throw Error("unknown sign method");
+}
+
+const char* toString(SignMethod sign) {
+    for (const SignMethodInfo& info : signMethods()) {
+        if (info.id == sign) return info.name;
+    }
+    return "?";
+}
+
+std::vector<Choice<SignMethod>> signMethodChoices() {
+    std::vector<Choice<SignMethod>> choices;
+    for (const SignMethodInfo& info : signMethods()) choices.push_back({info.id, info.name, info.description});
+    return choices;
+}
+
+std::vector<Choice<SignMethod>> pointQuerySignChoices() {
+    std::vector<Choice<SignMethod>> choices;
+    for (const SignMethodInfo& info : signMethods()) {
+        if (info.pointQueries) choices.push_back({info.id, info.name, info.description});
+    }
+    return choices;
+}
+
+SignMethod parseSignMethod(const std::string& name) { return parseChoice(signMethodChoices(), name, "sign method"); }
+
+std::vector<SignMethod> possibleSigns(SignMethod asked, SignMethod whenDefault) {
+    const SignMethod sign = asked == SignMethod::Default ? whenDefault : asked;
+    if (sign == SignMethod::Auto) return {SignMethod::Pseudonormal, SignMethod::Winding};
+    return {sign};
+}
+
+SignDecision decideSign(SignMethod asked, SignMethod whenDefault, const std::function<const MeshTopology&()>& topology,
+                        const std::function<const MeshCheck&()>& check) {
+    SignDecision decision;
+    decision.sign = asked == SignMethod::Default ? whenDefault : asked;
+    if (decision.sign == SignMethod::Auto) {
+        decision.checked = true;
+        // Holes, non-manifold or flipped edges rule the pseudonormal out already: the costly
+        // search for self-intersections could not change the choice, so it is skipped.
+        const MeshCheck& edges = topology().edgeCheck();
+        decision.check = edges.closedAndClean() ? check() : edges;
+        decision.reason = autoReason(decision.check);
+        decision.sign = decision.check.closedAndClean() ? SignMethod::Pseudonormal : SignMethod::Winding;
+        if (decision.check.insideOut) {
+            decision.flipped = true;
+            decision.reason += decision.sign == SignMethod::Pseudonormal
+                                   ? "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
+                                     "are swapped as if every face were flipped"
+                                   : "; the mesh is inside out (closed, its faces point inwards): its winding number "
+                                     "is -1 inside, and |w| > 1/2 counts that as inside";
+        }
+    } else if (decision.sign == SignMethod::Pseudonormal && topology().insideOut()) {
+        decision.warnings.push_back("the mesh is inside out (closed, its faces point inwards); --sign pseudonormal follows "
+                                    "the faces, so inside and outside are swapped; --sign auto or winding fixes it");
+    }
+    return decision;
+}
+
+} // namespace sdfgen

@@ -1,0 +1,972 @@
+#include "core/sign/winding_sign.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/runtime/parallel.hpp"
+#include "core/distance/sample_positions.hpp"
+
+#include <glm/geometric.hpp>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <tuple>
+
+namespace sdfgen {
+
+namespace {
+
+// The fan's solid angle with a single atan2: each triangle contributes 2·arg(den + i·det) (Van
+// Oosterom & Strackee), args add when the complex numbers multiply, and every crossing of the
+// negative real axis is counted so that no turn is lost.
+double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
+    // Triangle (a, b, c) = (loop[i + 1], loop[i], centre): lengths and dot products with the
+    // centre are shared by neighbouring triangles, so each loop vertex is measured once.
+    const glm::dvec3 rc = cap.centre - p;
+    const double lc = glm::length(rc);
+    const std::size_t n = cap.loop.size();
+    glm::dvec3 rb = cap.loop[0] - p;
+    double lb = glm::length(rb), bc = glm::dot(rb, rc);
+    double re = 1.0, im = 0.0;
+    int turns = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 ra = cap.loop[i + 1 < n ? i + 1 : 0] - p; // no division: this is the hottest loop
+        const double la = glm::length(ra), ac = glm::dot(ra, rc);
+        const double det = glm::dot(ra, glm::cross(rb, rc));
+        const double den = la * lb * lc + glm::dot(ra, rb) * lc + bc * la + ac * lb;
+        const double nextRe = re * den - im * det, nextIm = re * det + im * den;
+        // Each factor turns by less than π, so a sign change of the imaginary part in the turning
+        // direction means the product passed -1.
+        if (det > 0.0 && im >= 0.0 && nextIm < 0.0) ++turns;
+        else if (det < 0.0 && im < 0.0 && nextIm >= 0.0) --turns;
+        const double scale = std::max(std::fabs(nextRe), std::fabs(nextIm));
+        if (scale == 0.0) return 0.0; // p lies on a fan edge: the angle is undefined there
+        re = nextRe / scale;
+        im = nextIm / scale;
+        rb = ra;
+        lb = la;
+        bc = ac;
+    }
+    return 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
+}
+
+// The cap's winding number at p, times its weight.
+double fanWinding(const glm::dvec3& p, const Cap& cap) { return cap.weight * fanSolidAngle(p, cap) / (4.0 * M_PI); }
+
+// The Biot-Savart field of the cap's boundary (its loop reversed, as the fan's triangles run) at
+// p, over 4π and times its weight: the gradient of the cap's winding number at p, off the fan.
+glm::dvec3 fanGradient(const glm::dvec3& p, const Cap& cap) {
+    glm::dvec3 sum(0.0);
+    const std::size_t n = cap.loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        // Segment a -> b: (e x ra) / |e x ra|² (e.rb / |rb| - e.ra / |ra|).
+        const glm::dvec3 ra = cap.loop[i + 1 < n ? i + 1 : 0] - p, rb = cap.loop[i] - p, e = rb - ra;
+        const glm::dvec3 u = glm::cross(e, ra);
+        const double u2 = glm::dot(u, u);
+        if (u2 == 0.0) continue; // p on the edge's line (off the edge: no field)
+        sum += u * ((glm::dot(e, rb) / glm::length(rb) - glm::dot(e, ra) / glm::length(ra)) / u2);
+    }
+    return sum * (-cap.weight / (4.0 * M_PI));
+}
+
+// Bounds over the ball (centre, reach), which the fan does not meet, of the rest of the cap's
+// winding number's expansion at the centre: `curvature` bounds |Hessian| / 2 (each edge's field
+// r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the distance from
+// the ball to the edge) and `slack` the rounding of fanGradient (each edge's to 8 eps / h, h the
+// distance from the centre to its line, plus a relative 8 eps). False where the ball reaches an edge.
+bool expansionBounds(const Cap& cap, const glm::dvec3& centre, double reach, double& curvature, double& slack) {
+    constexpr double kEps = std::numeric_limits<double>::epsilon();
+    const std::size_t n = cap.loop.size();
+    double c = 0.0, r = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3& a = cap.loop[i];
+        const glm::dvec3 e = cap.loop[(i + 1) % n] - a, ra = a - centre;
+        const double length2 = glm::dot(e, e), length = std::sqrt(length2);
+        const double t = length2 > 0.0 ? std::clamp(-glm::dot(ra, e) / length2, 0.0, 1.0) : 0.0;
+        const double d = glm::length(ra + t * e) * (1.0 - 1e-12) - reach;
+        if (!(d > 0.0)) return false;
+        c += length / (d * d * d);
+        const double h = length > 0.0 ? glm::length(glm::cross(e, ra)) / length : glm::length(ra);
+        r += 8.0 * kEps * (h > 0.0 ? 1.0 / h : std::numeric_limits<double>::infinity()) + 8.0 * kEps * length / (d * d);
+    }
+    const double scale = std::abs(cap.weight) / (4.0 * M_PI);
+    curvature += c * scale;
+    slack += r * scale;
+    return std::isfinite(c) && std::isfinite(r);
+}
+
+// Whether the ball (centre, reach) misses the cap's fan.
+bool clearOf(const Cap& cap, const glm::dvec3& centre, double reach) {
+    const std::size_t n = cap.loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const ClosestPoint closest = closestPointOnTriangle(centre, cap.loop[(i + 1) % n], cap.loop[i], cap.centre);
+        if (!(glm::length(closest.point - centre) * (1.0 - 1e-9) > reach)) return false;
+    }
+    return true;
+}
+
+Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
+    Cap cap;
+    cap.loop = std::move(loop);
+    cap.weight = weight;
+    for (const glm::dvec3& v : cap.loop) cap.centre += v;
+    cap.centre /= double(cap.loop.size());
+    cap.lo = cap.hi = cap.centre;
+    for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+        const glm::dvec3& from = cap.loop[i];
+        const glm::dvec3& to = cap.loop[(i + 1) % cap.loop.size()];
+        cap.lo = glm::min(cap.lo, from);
+        cap.hi = glm::max(cap.hi, from);
+        cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
+    }
+    return cap;
+}
+
+// Closes `loop` by fans of at most kMaxCapEdges edges each, all near the loop: its runs of
+// kMaxCapEdges edges, each closed by the chord back to the run's start, and then (recursively)
+// the polygon of those chords, whose edges cancel the chords. One fan over a long loop (a
+// terrain's border) would span the whole sheet: every sample near the sheet would be near it and
+// pay for its whole loop; small fans stay near the border and are bounded from afar.
+void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps) {
+    constexpr std::size_t kEdges = WindingCaps::kMaxCapEdges;
+    if (loop.size() <= kEdges + 1) {
+        caps.push_back(makeCap(loop, weight));
+        return;
+    }
+    std::vector<glm::dvec3> coarse;
+    for (std::size_t start = 0; start < loop.size(); start += kEdges) {
+        const std::size_t end = std::min(start + kEdges, loop.size()); // the run's last vertex is loop[end % size]
+        std::vector<glm::dvec3> run(loop.begin() + std::ptrdiff_t(start), loop.begin() + std::ptrdiff_t(end));
+        run.push_back(loop[end % loop.size()]);
+        caps.push_back(makeCap(std::move(run), weight));
+        coarse.push_back(loop[start]);
+    }
+    addLoop(coarse, weight, caps);
+}
+
+
+// Candidate rows of a coordinate range [lo, hi] on an axis with `count` samples from `first` at
+// spacing h: one wider each way (the exact test decides), clamped before any conversion to int.
+std::pair<int, int> sampleRange(double lo, double hi, double first, double h, int count) {
+    const double from = std::floor((lo - first) / h) - 1.0, to = std::ceil((hi - first) / h) + 1.0;
+    return {int(std::clamp(from, 0.0, double(count))), int(std::clamp(to, -1.0, double(count - 1)))};
+}
+
+} // namespace
+
+WindingCaps::WindingCaps(const MeshTopology& topology) {
+    // Equal loops (rotated to start at their smallest vertex) become one cap with a weight, so that
+    // a stack of copies of an open triangle is one fan, evaluated once.
+    std::map<std::vector<std::uint32_t>, int> loops;
+    for (std::vector<std::uint32_t> loop : topology.boundaryLoops()) {
+        std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+        ++loops[loop];
+    }
+    for (const auto& [loop, weight] : loops) {
+        std::vector<glm::dvec3> points;
+        for (std::uint32_t v : loop) points.push_back(topology.position(v));
+        addLoop(points, weight, caps_);
+    }
+    if (caps_.empty()) return;
+    std::vector<std::uint32_t> order(caps_.size());
+    std::iota(order.begin(), order.end(), 0u);
+    nodes_.reserve(2 * caps_.size());
+    nodes_.push_back({});
+    build(0, order, 0, order.size());
+}
+
+void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) {
+    Node node{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max()), 0.0, 0, false};
+    glm::dvec3 centreLo = node.lo, centreHi = node.hi;
+    for (std::size_t i = begin; i < end; ++i) {
+        const Cap& c = caps_[order[i]];
+        node.lo = glm::min(node.lo, c.lo);
+        node.hi = glm::max(node.hi, c.hi);
+        centreLo = glm::min(centreLo, c.centre);
+        centreHi = glm::max(centreHi, c.centre);
+        node.area += std::abs(c.weight) * c.area;
+    }
+    if (end - begin == 1) {
+        node.first = order[begin];
+        node.leaf = true;
+        nodes_[index] = node;
+        return;
+    }
+    // Median split along the centres' longest extent: depth log2(caps), leaves of one cap.
+    const glm::dvec3 extent = centreHi - centreLo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const std::size_t middle = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(middle), order.begin() + std::ptrdiff_t(end),
+                     [&](std::uint32_t l, std::uint32_t r) {
+                         const double cl = caps_[l].centre[axis], cr = caps_[r].centre[axis];
+                         return cl != cr ? cl < cr : l < r;
+                     });
+    node.first = std::uint32_t(nodes_.size());
+    nodes_[index] = node;
+    nodes_.push_back({});
+    nodes_.push_back({});
+    build(node.first, order, begin, middle);
+    build(node.first + 1, order, middle, end);
+}
+
+
+// The lazy walk for one point p: w = ahead minus the fans measured so far; every node not yet
+// opened waits in `pending` with its bound, and while their sum leaves |w| within `margin` of 1/2
+// plus that sum (w that near 1/2 or -1/2), the loosest is opened. The same steps for the same p,
+// ahead and start, wherever the call comes from: the bake's samples and point queries agree to
+// the bit.
+struct WindingCaps::Search {
+    const WindingCaps& caps;
+    const glm::dvec3& p;
+    double margin;
+    double w;
+    std::vector<Pending>& pending;
+    double farSum = 0.0;
+    std::size_t measured = 0;
+
+    void measure(std::uint32_t cap) {
+        w -= fanWinding(p, caps.caps_[cap]);
+        ++measured;
+    }
+    // Nodes whose box holds p are opened (fans measured) at once, the others wait with their bound.
+    void add(std::uint32_t start) {
+        std::uint32_t stack[128];
+        int top = 0;
+        stack[top++] = start;
+        while (top > 0) {
+            const std::uint32_t index = stack[--top];
+            const Node& node = caps.nodes_[index];
+            const double b = caps.bound(node, p, 0.0);
+            if (b <= 0.0) continue; // no area
+            if (std::isfinite(b)) {
+                pending.push_back({b, index});
+                farSum += b;
+            } else if (node.leaf) {
+                measure(node.first);
+            } else {
+                stack[top++] = node.first + 1;
+                stack[top++] = node.first;
+            }
+        }
+    }
+    // The margin's factor covers the rounding of the running sums.
+    bool doubtful() const { return std::fabs(std::fabs(w) - 0.5) <= farSum * (1.0 + 1e-12) + margin; }
+    // Nodes bounded over a ball that holds p (a cut's far nodes, loosest first): each is opened
+    // when it is the loosest, without being bounded again at p (that would shave little off a
+    // ball's bound and cost a trip through the heap).
+    const Pending* ballNext = nullptr;
+    const Pending* ballEnd = nullptr;
+
+    // A leaf is measured; an inner node's children are bounded at p and join the heap.
+    void open(std::uint32_t index) {
+        const Node& node = caps.nodes_[index];
+        if (node.leaf) {
+            measure(node.first);
+            return;
+        }
+        const std::size_t before = pending.size();
+        add(node.first);
+        add(node.first + 1);
+        for (std::size_t n = before; n < pending.size(); ++n) std::push_heap(pending.begin(), pending.begin() + std::ptrdiff_t(n) + 1);
+    }
+
+    void refine() {
+        std::make_heap(pending.begin(), pending.end());
+        while ((!pending.empty() || ballNext != ballEnd) && doubtful()) {
+            Pending loosest;
+            if (ballNext != ballEnd && (pending.empty() || pending.front().bound < ballNext->bound)) {
+                loosest = *ballNext++;
+            } else {
+                std::pop_heap(pending.begin(), pending.end());
+                loosest = pending.back();
+                pending.pop_back();
+            }
+            farSum -= loosest.bound;
+            open(loosest.node);
+        }
+    }
+};
+
+bool WindingCaps::inside(const glm::dvec3& p, int ahead, std::size_t* evaluations) const {
+    if (nodes_.empty()) return ahead != 0; // a closed surface: w is the integer count
+    thread_local std::vector<Pending> pending;
+    pending.clear();
+    Search search{*this, p, 1e-15, double(ahead), pending};
+    search.add(0);
+    if (search.doubtful()) search.refine(); // most samples are decided at once; the others refine, loosest node first
+    if (evaluations) *evaluations += search.measured;
+    return std::fabs(search.w) > 0.5;
+}
+
+void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
+                      const Cut* within) const {
+    out.nearNodes.clear();
+    out.exactNodes.clear();
+    out.farNodes.clear();
+    out.farSorted = false;
+    out.farSum = 0.0;
+    out.smooth = true;
+    out.curvature = 0.0;
+    out.slack = 0.0;
+    if (nodes_.empty()) return;
+    // Nodes bounded by less than a twentieth of the target are not worth opening: they go to the
+    // far nodes at once, and a smaller ball keeps the bounds they have in `within` (bounds over a
+    // ball that holds every sample of this one), measuring only the nodes worth opening afresh.
+    const double small = 0.05 * target;
+    std::vector<Pending>& pending = out.scratch;
+    pending.clear();
+    double sum = 0.0; // of the finite bounds, far and pending, running (farSum is summed afresh at the end)
+    int touching = 0; // pending nodes whose box the ball touches (infinite bound)
+    auto push = [&](std::uint32_t index) {
+        const double b = bound(nodes_[index], centre, reach);
+        if (b <= 0.0) return; // no area
+        if (b <= small) {
+            out.farNodes.push_back({b, index});
+            sum += b;
+            return;
+        }
+        pending.push_back({b, index});
+        if (std::isfinite(b)) sum += b;
+        else ++touching;
+    };
+    if (within) { // a ball inside `within`'s: its cut refines that one
+        for (std::uint32_t index : within->nearNodes) push(index);
+        for (std::uint32_t index : within->exactNodes) push(index);
+        for (const Pending& far : within->farNodes) {
+            if (far.bound <= small) {
+                out.farNodes.push_back(far);
+                sum += far.bound;
+            } else {
+                push(far.node);
+            }
+        }
+    } else {
+        push(0);
+    }
+    std::make_heap(pending.begin(), pending.end());
+    while (!pending.empty() && (touching > 0 || sum > target)) {
+        const Pending loosest = pending.front();
+        const Node& node = nodes_[loosest.node];
+        const bool touches = !std::isfinite(loosest.bound);
+        if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() >= maxNear) break;
+        std::pop_heap(pending.begin(), pending.end());
+        pending.pop_back();
+        if (touches) --touching;
+        else sum -= loosest.bound;
+        if (!node.leaf) {
+            for (std::uint32_t child : {node.first, node.first + 1}) {
+                const std::size_t before = pending.size();
+                push(child);
+                if (pending.size() > before) std::push_heap(pending.begin(), pending.end());
+            }
+            continue;
+        }
+        const Cap& cap = caps_[node.first];
+        if (expand) {
+            // Expanded if that bounds it more tightly than its bound does (a sliver's area is small).
+            double curvature = 0.0, slack = 0.0;
+            const bool smooth = (!touches || clearOf(cap, centre, reach)) && expansionBounds(cap, centre, reach, curvature, slack);
+            if (!touches && !(smooth && (curvature * reach + slack) * reach < loosest.bound)) {
+                out.farNodes.push_back(loosest);
+                sum += loosest.bound;
+                continue;
+            }
+            if (!smooth) { // the ball may meet the fan: measured at every point
+                out.exactNodes.push_back(loosest.node);
+                continue;
+            }
+            out.curvature += curvature;
+            out.slack += slack;
+        }
+        out.nearNodes.push_back(loosest.node);
+    }
+    out.smooth = out.exactNodes.size() <= kMaxExactFans;
+    out.farNodes.insert(out.farNodes.end(), pending.begin(), pending.end());
+    for (const Pending& far : out.farNodes) out.farSum += far.bound;
+}
+
+double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient) const {
+    double w = 0.0;
+    if (gradient) *gradient = glm::dvec3(0.0);
+    for (std::uint32_t node : cut.nearNodes) {
+        const Cap& cap = caps_[nodes_[node].first];
+        w += fanWinding(p, cap);
+        if (gradient) *gradient += fanGradient(p, cap);
+    }
+    return w;
+}
+
+double WindingCaps::exactWinding(const glm::dvec3& p, const Cut& cut) const {
+    double w = 0.0;
+    for (std::uint32_t node : cut.exactNodes) w += fanWinding(p, caps_[nodes_[node].first]);
+    return w;
+}
+
+bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
+    std::vector<Pending>& pending = scratch.scratch;
+    pending.clear();
+    Search search{*this, p, kDecisionMargin, double(ahead), pending};
+    for (std::uint32_t node : cut.nearNodes) search.measure(nodes_[node].first);
+    search.farSum = cut.farSum;
+    bool decided = !search.doubtful();
+    if (!decided) { // the point's own bounds are tighter than the ball's, loosest first
+        if (!cut.farSorted) {
+            std::sort(cut.farNodes.begin(), cut.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
+            cut.farSorted = true;
+        }
+        search.ballNext = cut.farNodes.data();
+        search.ballEnd = cut.farNodes.data() + cut.farNodes.size();
+        search.refine();
+        decided = !search.doubtful();
+    }
+    if (evaluations) *evaluations += search.measured;
+    if (!decided) return inside(p, ahead, evaluations); // |w| within the margin of 1/2: inside()'s own steps
+    return std::fabs(search.w) > 0.5;
+}
+
+bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
+    // Nodes bounded below kFarBound, and leaves, are summed, not opened; a fan the ball may touch
+    // (an infinite bound) ends the search, as does a sum reaching 0.45. Below that, every point of the ball
+    // has w within 0.45 of the integer ahead, so inside() can only answer ahead != 0 there.
+    constexpr double kFarBound = 0.01, kMaxSum = 0.45;
+    if (nodes_.empty()) return true;
+    double sum = 0.0;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        const double b = bound(node, p, reach);
+        if (b < kFarBound || node.leaf) {
+            if (!((sum += b) < kMaxSum)) return false;
+        } else {
+            stack[top++] = node.first + 1;
+            stack[top++] = node.first;
+        }
+    }
+    return true;
+}
+
+WindingFans WindingCaps::flattened() const {
+    WindingFans out;
+    for (const Cap& cap : caps_) {
+        out.fans.push_back({std::uint32_t(out.points.size()), std::uint32_t(cap.loop.size()), cap.weight});
+        out.points.push_back(cap.centre);
+        out.points.insert(out.points.end(), cap.loop.begin(), cap.loop.end());
+    }
+    for (const Node& node : nodes_) out.nodes.push_back({node.lo, node.hi, node.area, node.first, node.leaf});
+    return out;
+}
+
+double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
+    double w = double(ahead);
+    for (const Cap& cap : caps_) w -= fanWinding(p, cap);
+    return w;
+}
+
+int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
+    // The same line and the same predicates as insideByWinding's row through p, so that a query at a
+    // sample's position counts exactly the crossings its row scan counts ahead of it.
+    // The row through p is the line at p's own (y, z), in double, as the row scan has it; its float
+    // rounding only bounds the tree's walk (a triangle whose float box holds (y, z) holds its rounding).
+    const glm::vec3 line(p);
+    int ahead = 0;
+    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
+        int orientation;
+        glm::dvec3 w;
+        if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
+        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
+    };
+    Bounds ray;
+    ray.min = glm::vec3(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), line.y, line.z);
+    ray.max = glm::vec3(std::numeric_limits<float>::infinity(), line.y, line.z);
+    tree.forEachOverlap(ray, [&](std::uint32_t t) {
+        count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), int(tree.copies(t)));
+    });
+    for (const Cap& cap : caps.caps()) {
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight);
+    }
+    return ahead;
+}
+
+double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
+    double sum = 0.0;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        sum += solidAngle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+    }
+    return sum / (4.0 * M_PI);
+}
+
+namespace {
+
+// Where the winding sign puts its answer: inside flags, or the field itself, negated where inside;
+// sample (i, j, k) at base + i + rowStride * j + planeStride * k (the grid's layout, or a brick's).
+struct SignOutput {
+    std::uint8_t* flags;
+    float* field;
+    std::ptrdiff_t base = 0, rowStride = 0, planeStride = 0;
+    std::size_t index(int i, int j, int k) const { return std::size_t(base + i + rowStride * j + planeStride * k); }
+    void set(std::size_t index, bool inside) const {
+        if (flags) flags[index] = inside;
+        else if (inside) field[index] = -field[index];
+    }
+};
+
+// sampleAxes by axis: position(i, j, k) == localPosition(mesh, grid, i, j, k) to the bit.
+struct SampleAxes {
+    std::vector<double> all;
+    const double *x, *y, *z;
+    SampleAxes(const Mesh& mesh, const Grid& grid)
+        : all(sampleAxes(mesh, grid)), x(all.data()), y(x + grid.dims.x), z(y + grid.dims.y) {}
+    glm::dvec3 position(int i, int j, int k) const { return {x[i], y[j], z[k]}; }
+};
+
+// The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
+// ahead, coarse to fine (8³, 4³): in a block, the near fans that its ball misses have their
+// winding number expanded to first order at its centre, the few it may meet (a big fan across a
+// sheet) are measured at each sample, and every sample whose w the bounds (the far nodes' over
+// the ball, the expansion's rest) keep off ±1/2 is decided; the rest are split into octants, and
+// the samples of 2³ blocks are decided by WindingCaps::insideNear.
+struct BrickSigns {
+    static constexpr int kEdge = 8;
+    // The cuts' targets (sums of far bounds) and their most fans: expanded once per block, or
+    // measured at every sample of a 2³ block (tuned on open sheets and meshes with many holes).
+    static constexpr double kExpandTarget = 0.01, kPointTarget = 0.05;
+    static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 4;
+    static constexpr int kMeasuredEdge = 2; // blocks of 2³ are measured sample by sample
+    const Grid& grid;
+    const SampleAxes& axes;
+    const WindingCaps& caps;
+    SignOutput output;
+    std::size_t evaluations = 0, exactDecided = 0;
+    WindingCaps::Cut cuts[4]; // per level: 8³, 4³, 2³ (measured); scratch
+    // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
+    // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
+    // of undecided[k - k0]).
+    int i0 = 0, j0 = 0, k0 = 0, i1 = 0, j1 = 0, k1 = 0;
+    const int* counts = nullptr;
+    int stride = 0;
+    std::uint64_t undecided[kEdge] = {};
+
+    const int& count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
+    static std::uint64_t bit(int i, int j) { return std::uint64_t(1) << (i + kEdge * j); }
+    std::uint64_t& row(int k) { return undecided[k - k0]; }
+
+    void decide(int ib, int jb, int kb, int ie, int je, int ke, const int* brickCounts, int rowStride) {
+        i0 = ib, j0 = jb, k0 = kb, i1 = ie, j1 = je, k1 = ke;
+        counts = brickCounts;
+        stride = rowStride;
+        std::uint64_t layer = 0; // the brick's samples in one of its layers
+        for (int j = 0; j < je - jb; ++j)
+            for (int i = 0; i < ie - ib; ++i) layer |= bit(i, j);
+        for (int k = 0; k < kEdge; ++k) undecided[k] = k < ke - kb ? layer : 0;
+        block(i0, j0, k0, kEdge, 0, nullptr);
+    }
+
+    void block(int ia, int ja, int ka, int edge, int level, const WindingCaps::Cut* within) {
+        const int ie = std::min(i1, ia + edge), je = std::min(j1, ja + edge), ke = std::min(k1, ka + edge);
+        if (ie <= ia || je <= ja || ke <= ka) return;
+        std::uint64_t mine = 0; // this block's samples in a layer of the brick
+        for (int j = ja; j < je; ++j)
+            for (int i = ia; i < ie; ++i) mine |= bit(i - i0, j - j0);
+        auto anyUndecided = [&] {
+            for (int k = ka; k < ke; ++k)
+                if (row(k) & mine) return true;
+            return false;
+        };
+        if (!anyUndecided()) return;
+        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
+        const glm::dvec3 centre = 0.5 * (lo + hi);
+        const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
+        if (caps.farFromEveryFan(centre, reach)) { // the counts decide (as insideNear() would)
+            const SignOutput out = output; // a local copy: its pointers stay in registers across the stores
+            for (int k = ka; k < ke; ++k) {
+                const std::uint64_t open = row(k) & mine;
+                if (!open) continue;
+                for (int j = ja; j < je; ++j) {
+                    const unsigned rowOpen = unsigned(open >> (kEdge * (j - j0))) & 0xffu;
+                    const int* rowCounts = &count(i0, j, k);
+                    const std::size_t rowStart = out.index(i0, j, k);
+                    for (int i = ia - i0; i < ie - i0; ++i) {
+                        if (rowOpen >> i & 1u) out.set(rowStart + std::size_t(i), rowCounts[i] != 0);
+                    }
+                }
+                row(k) &= ~mine;
+            }
+            return;
+        }
+        WindingCaps::Cut& cut = cuts[level];
+        if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
+            caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
+            for (int k = ka; k < ke; ++k)
+                for (int j = ja; j < je; ++j)
+                    for (int i = ia; i < ie; ++i) {
+                        const std::uint64_t b = bit(i - i0, j - j0);
+                        if (!(row(k) & b)) continue;
+                        output.set(output.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), cut, cuts[3], &evaluations));
+                        row(k) &= ~b;
+                    }
+            return;
+        }
+        caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut, within);
+        if (cut.smooth) {
+            glm::dvec3 gradient;
+            const double near = caps.nearWinding(centre, cut, &gradient);
+            evaluations += cut.nearNodes.size();
+            for (int k = ka; k < ke; ++k)
+                for (int j = ja; j < je; ++j)
+                    for (int i = ia; i < ie; ++i) {
+                        const std::uint64_t b = bit(i - i0, j - j0);
+                        if (!(row(k) & b)) continue;
+                        const glm::dvec3 p = axes.position(i, j, k), offset = p - centre;
+                        double fans = near + glm::dot(gradient, offset);
+                        if (!cut.exactNodes.empty()) {
+                            fans += caps.exactWinding(p, cut);
+                            evaluations += cut.exactNodes.size();
+                        }
+                        // |w| - 1/2: its distance from 0 bounds w's from both 1/2 and -1/2.
+                        const double x = std::fabs(double(count(i, j, k)) - fans) - 0.5;
+                        const double distance = glm::length(offset);
+                        const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
+                        if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
+                            output.set(output.index(i, j, k), x > 0.0);
+                            row(k) &= ~b;
+                            exactDecided += !cut.exactNodes.empty();
+                        }
+                    }
+            if (!anyUndecided()) return;
+        }
+        const int half = edge / 2;
+        for (int dk = 0; dk < edge; dk += half)
+            for (int dj = 0; dj < edge; dj += half)
+                for (int di = 0; di < edge; di += half) block(ia + di, ja + dj, ka + dk, half, level + 1, &cut);
+    }
+};
+
+// Signed crossings of rows' lines (parallel to x, through the samples' own (y, z) in double, as
+// crossingsAhead's and the GPU's shaders/winding_rows.comp are) with the closed surface: the mesh,
+// copies of a triangle counted once with their number as the weight, and the fans. The scan
+// triangles are bucketed to groups of `planes` z planes, in index order, so that each row's
+// crossings are the same for any thread count.
+struct Crossing {
+    double x;
+    int sign; // +weight where the surface faces +x: moving along +x leaves the solid there
+};
+class RowCrossings {
+public:
+    RowCrossings(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, const SampleAxes& axes,
+                 int planes, const RunControl& control)
+        : mesh_(mesh), topology_(topology), grid_(grid), axes_(axes), planes_(planes) {
+        for (std::uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+            if (topology.copies(t)) firstCopies_.push_back(t);
+        }
+        for (const Cap& cap : caps.caps()) {
+            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+                capTriangles_.push_back({cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight});
+            }
+        }
+        const std::size_t scanCount = firstCopies_.size() + capTriangles_.size();
+        const int nz = grid.dims.z, ny = grid.dims.y;
+        const glm::dvec3 first = localPosition(mesh, grid, 0, 0, 0);
+        const double h = grid.voxel / mesh.unit;
+        groups_ = (nz + planes - 1) / planes;
+        // Each scan triangle's candidate planes (k) and rows (j), in parallel by chunks of triangles.
+        candidates_.resize(scanCount);
+        constexpr std::size_t kChunk = 4096;
+        parallelFor((scanCount + kChunk - 1) / kChunk, control, [&](std::size_t chunk) {
+            for (std::size_t index = chunk * kChunk; index < std::min(scanCount, (chunk + 1) * kChunk); ++index) {
+                const ScanTriangle s = triangle(index);
+                const auto [k0, k1] = sampleRange(std::min({s.a.z, s.b.z, s.c.z}), std::max({s.a.z, s.b.z, s.c.z}), first.z, h, nz);
+                const auto [j0, j1] = sampleRange(std::min({s.a.y, s.b.y, s.c.y}), std::max({s.a.y, s.b.y, s.c.y}), first.y, h, ny);
+                candidates_[index] = {k0, k1, j0, j1};
+            }
+        });
+        groupStart_.assign(std::size_t(groups_) + 1, 0);
+        for (std::size_t index = 0; index < scanCount; ++index) {
+            const Candidates& c = candidates_[index];
+            if (c.k0 > c.k1) continue;
+            for (int group = c.k0 / planes; group <= c.k1 / planes; ++group) ++groupStart_[std::size_t(group) + 1];
+        }
+        for (int group = 0; group < groups_; ++group) groupStart_[std::size_t(group) + 1] += groupStart_[std::size_t(group)];
+        groupTriangles_.resize(groupStart_.back());
+        std::vector<std::size_t> fill(groupStart_.begin(), groupStart_.end() - 1);
+        for (std::size_t index = 0; index < scanCount; ++index) {
+            const Candidates& c = candidates_[index];
+            if (c.k0 > c.k1) continue;
+            for (int group = c.k0 / planes; group <= c.k1 / planes; ++group) {
+                groupTriangles_[fill[std::size_t(group)]++] = std::uint32_t(index);
+            }
+        }
+    }
+    int groups() const { return groups_; }
+    // Appends the crossings of the rows of group g's planes k to rows[(k - g * planes) * ny + j].
+    void fill(int g, std::vector<Crossing>* rows) const {
+        const int ny = grid_.dims.y;
+        const int groupLo = g * planes_, groupHi = std::min(grid_.dims.z - 1, groupLo + planes_ - 1);
+        for (std::size_t n = groupStart_[std::size_t(g)]; n < groupStart_[std::size_t(g) + 1]; ++n) {
+            const ScanTriangle s = triangle(groupTriangles_[n]);
+            const Candidates& c = candidates_[groupTriangles_[n]];
+            const int k0 = std::max(groupLo, c.k0), k1 = std::min(groupHi, c.k1);
+            for (int k = k0; k <= k1; ++k) {
+                for (int j = c.j0; j <= c.j1; ++j) {
+                    int orientation2d;
+                    glm::dvec3 w;
+                    if (!pointInTriangle2d({axes_.y[j], axes_.z[k]}, {s.a.y, s.a.z}, {s.b.y, s.b.z}, {s.c.y, s.c.z}, orientation2d, w)) continue;
+                    rows[std::size_t(k - groupLo) * std::size_t(ny) + std::size_t(j)].push_back(
+                        {w.x * s.a.x + w.y * s.b.x + w.z * s.c.x, orientation2d * s.weight});
+                }
+            }
+        }
+    }
+
+private:
+    struct ScanTriangle {
+        glm::dvec3 a, b, c;
+        int weight;
+    };
+    struct Candidates {
+        int k0, k1, j0, j1;
+    };
+    ScanTriangle triangle(std::size_t index) const {
+        if (index >= firstCopies_.size()) return capTriangles_[index - firstCopies_.size()];
+        const std::uint32_t t = firstCopies_[index];
+        return {glm::dvec3(mesh_.vertex(t, 0)), glm::dvec3(mesh_.vertex(t, 1)), glm::dvec3(mesh_.vertex(t, 2)), int(topology_.copies(t))};
+    }
+    const Mesh& mesh_;
+    const MeshTopology& topology_;
+    const Grid& grid_;
+    const SampleAxes& axes_;
+    int planes_, groups_ = 0;
+    std::vector<std::uint32_t> firstCopies_;
+    std::vector<ScanTriangle> capTriangles_;
+    std::vector<Candidates> candidates_;
+    std::vector<std::size_t> groupStart_;
+    std::vector<std::uint32_t> groupTriangles_;
+};
+
+void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, const SignOutput& output,
+                  const RunControl& control, WindingStats* stats) {
+    const WindingCaps caps(topology);
+    const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
+    const SampleAxes axes(mesh, grid);
+
+    // 1. Signed crossings of every row's line (parallel to x) with the closed surface mesh + fans.
+    constexpr int kBandPlanes = 4;
+    std::vector<std::vector<Crossing>> rows(std::size_t(ny) * std::size_t(nz));
+    {
+        const RowCrossings scan(mesh, topology, caps, grid, axes, kBandPlanes, control.phase(0.0, 0.05));
+        // Parallel over bands of z planes: each band's rows are written by its item alone.
+        parallelFor(std::size_t(scan.groups()), control.phase(0.05, 0.3), [&](std::size_t band) {
+            scan.fill(int(band), &rows[std::size_t(band) * kBandPlanes * std::size_t(ny)]);
+        });
+    }
+
+    // 2. Per block of kBrickEdge² rows: the closed surface's winding number is the signed count of
+    //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
+    //    subtracted wherever it might matter.
+    constexpr int kBrickEdge = BrickSigns::kEdge;
+    std::atomic<std::size_t> fanEvaluations{0}, exactFanSamples{0};
+    const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
+    parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
+        const int jb = kBrickEdge * int(block % std::size_t(blocksY)), kb = kBrickEdge * int(block / std::size_t(blocksY));
+        const int je = std::min(ny, jb + kBrickEdge), ke = std::min(nz, kb + kBrickEdge);
+        std::vector<int> ahead(std::size_t(kBrickEdge * kBrickEdge) * std::size_t(nx));
+        auto rowAhead = [&](int j, int k) { return &ahead[std::size_t((k - kb) * kBrickEdge + (j - jb)) * std::size_t(nx)]; };
+        for (int k = kb; k < ke; ++k) {
+            for (int j = jb; j < je; ++j) {
+                std::vector<Crossing>& crossings = rows[std::size_t(k) * std::size_t(ny) + std::size_t(j)];
+                std::sort(crossings.begin(), crossings.end(), [](const Crossing& l, const Crossing& r) { return l.x > r.x; });
+                int* counts = rowAhead(j, k);
+                int count = 0;
+                std::size_t next = 0;
+                for (int i = nx - 1; i >= 0; --i) {
+                    const double x = axes.x[i];
+                    while (next < crossings.size() && crossings[next].x > x) count += crossings[next++].sign;
+                    counts[i] = count;
+                }
+                std::vector<Crossing>().swap(crossings); // done with this row
+            }
+        }
+        SignOutput layout = output;
+        layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
+        BrickSigns brick{grid, axes, caps, layout, 0, 0, {}};
+        for (int ib = 0; ib < nx; ib += kBrickEdge) {
+            brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
+        }
+        const std::size_t evaluations = brick.evaluations;
+        fanEvaluations += evaluations;
+        exactFanSamples += brick.exactDecided;
+    });
+    if (stats) {
+        stats->caps = caps.caps().size();
+        stats->fanEvaluations = fanEvaluations;
+        stats->exactFanSamples = exactFanSamples;
+    }
+}
+
+} // namespace
+
+void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, BandSides& band,
+                      const RunControl& control) {
+    constexpr int kEdge = BrickSigns::kEdge;
+    static_assert(kEdge == SparseField::kBrick, "the sign's bricks are the sparse field's");
+    const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
+    const glm::ivec3 brickDims = (grid.dims + (kEdge - 1)) / kEdge;
+    const SampleAxes axes(mesh, grid);
+    const RowCrossings scan(mesh, topology, caps, grid, axes, kEdge, control.phase(0.0, 0.1));
+    // Where each layer's stored and fan bricks begin (both lists are ordered by z, y, x).
+    auto layerStarts = [&](const std::vector<glm::ivec3>& bricks) {
+        std::vector<std::size_t> starts(std::size_t(brickDims.z) + 1);
+        for (int z = 0; z <= brickDims.z; ++z) {
+            starts[std::size_t(z)] = std::size_t(std::lower_bound(bricks.begin(), bricks.end(), z,
+                                                                  [](const glm::ivec3& b, int layer) { return b.z < layer; }) -
+                                                 bricks.begin());
+        }
+        return starts;
+    };
+    const std::vector<std::size_t> storedStart = layerStarts(band.bricks), fanStart = layerStarts(band.fanBricks);
+    struct Layer {
+        std::vector<std::array<int, 6>> boxes;
+        std::vector<glm::ivec3> mixed; // fan bricks with both sides, and their values
+        std::vector<float> values;
+    };
+    std::vector<Layer> layers(std::size_t(brickDims.z));
+    const float background = band.background;
+    parallelFor(std::size_t(brickDims.z), control.phase(0.1, 1.0), [&](std::size_t layerIndex) {
+        const int bz = int(layerIndex), k0 = bz * kEdge, k1 = std::min(nz, k0 + kEdge);
+        Layer& layer = layers[layerIndex];
+        std::vector<std::vector<Crossing>> rows(std::size_t(kEdge) * std::size_t(ny));
+        scan.fill(bz, rows.data());
+        std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex];
+        BrickSigns signs{grid, axes, caps, {}, 0, 0, {}};
+        int counts[kEdge * kEdge * kEdge];
+        std::uint8_t flags[kEdge * kEdge * kEdge];
+        std::size_t cursor[kEdge * kEdge];
+        int behind[kEdge * kEdge], total[kEdge * kEdge];
+        for (int by = 0; by < brickDims.y; ++by) {
+            const int j0 = by * kEdge, j1 = std::min(ny, j0 + kEdge);
+            // The brick row's rows, crossings in ascending x: ahead of x is the total minus those at or behind x.
+            for (int r = 0; r < kEdge * kEdge; ++r) {
+                cursor[r] = 0, behind[r] = 0, total[r] = 0;
+                const int j = j0 + r % kEdge, k = k0 + r / kEdge;
+                if (j >= j1 || k >= k1) continue;
+                std::vector<Crossing>& row = rows[std::size_t(k - k0) * std::size_t(ny) + std::size_t(j)];
+                std::sort(row.begin(), row.end(), [](const Crossing& l, const Crossing& r) { return l.x < r.x; });
+                for (const Crossing& c : row) total[r] += c.sign;
+            }
+            auto aheadAt = [&](int r, int i) {
+                const std::vector<Crossing>& row = rows[std::size_t(r / kEdge) * std::size_t(ny) + std::size_t(j0 + r % kEdge)];
+                while (cursor[r] < row.size() && row[cursor[r]].x <= axes.x[i]) behind[r] += row[cursor[r]++].sign;
+                return total[r] - behind[r];
+            };
+            // Every sample's count of a brick, and its sides decided as the dense bake decides them.
+            auto decide = [&](int bx, const SignOutput& output) {
+                const int i0 = bx * kEdge, i1 = std::min(nx, i0 + kEdge);
+                for (int k = k0; k < k1; ++k)
+                    for (int j = j0; j < j1; ++j) {
+                        const int r = (j - j0) + kEdge * (k - k0);
+                        for (int i = i0; i < i1; ++i) counts[r * kEdge + (i - i0)] = aheadAt(r, i);
+                    }
+                signs.output = output;
+                signs.decide(i0, j0, k0, i1, j1, k1, counts, kEdge);
+            };
+            int runStart = -1; // the first brick of the open run of inside bricks
+            auto closeRun = [&](int end) {
+                if (runStart >= 0) layer.boxes.push_back({runStart * kEdge, j0, k0, std::min(nx, end * kEdge), j1, k1});
+                runStart = -1;
+            };
+            for (int bx = 0; bx < brickDims.x; ++bx) {
+                const glm::ivec3 brick(bx, by, bz);
+                const std::ptrdiff_t local = -(std::ptrdiff_t(bx) * kEdge + std::ptrdiff_t(j0) * kEdge + std::ptrdiff_t(k0) * kEdge * kEdge);
+                int side; // 1 inside, 0 outside, -1 both
+                if (stored < storedStart[layerIndex + 1] && band.bricks[stored] == brick) {
+                    float* values = &band.values[stored * std::size_t(SparseField::kBrickSamples)];
+                    if (band.signBricks) {
+                        decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge});
+                    } else {
+                        // Signed as measured, but for the samples the distance pass skipped (out of the
+                        // band, still +background): theirs are the winding sign's.
+                        std::fill(std::begin(flags), std::end(flags), std::uint8_t(0));
+                        decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+                        for (int n = 0; n < SparseField::kBrickSamples; ++n) {
+                            if (flags[n] == 1 && values[n] == background) values[n] = -background;
+                        }
+                    }
+                    ++stored;
+                    side = -1;
+                } else if (fan < fanStart[layerIndex + 1] && band.fanBricks[fan] == brick) {
+                    ++fan;
+                    std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side
+                    decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+                    bool in = false, out = false;
+                    for (const std::uint8_t f : flags) in |= f == 1, out |= f == 0;
+                    side = in && out ? -1 : in ? 1 : 0;
+                    if (side < 0) {
+                        layer.mixed.push_back(brick);
+                        for (const std::uint8_t f : flags) layer.values.push_back(f == 1 ? -background : background);
+                    }
+                } else {
+                    // Out of the band and clear of the fans: the surface is nowhere in the brick, so
+                    // every sample has its first sample's count and, the fans' winding number being
+                    // below 0.45 there, is inside when that count is not 0 (as the dense bake decides).
+                    side = aheadAt(0, bx * kEdge) != 0;
+                }
+                if (side == 1) {
+                    if (runStart < 0) runStart = bx;
+                } else {
+                    closeRun(bx);
+                }
+            }
+            closeRun(brickDims.x);
+        }
+    });
+    // The mixed fan bricks join the stored ones, in order (merged from the back, in place).
+    std::size_t added = 0;
+    for (const Layer& layer : layers) added += layer.mixed.size();
+    if (added) {
+        std::vector<glm::ivec3> mixed;
+        std::vector<float> mixedValues;
+        mixed.reserve(added), mixedValues.reserve(added * SparseField::kBrickSamples);
+        for (Layer& layer : layers) {
+            mixed.insert(mixed.end(), layer.mixed.begin(), layer.mixed.end());
+            mixedValues.insert(mixedValues.end(), layer.values.begin(), layer.values.end());
+            layer.mixed = {}, layer.values = {};
+        }
+        std::size_t a = band.bricks.size(), b = mixed.size(), out = a + b;
+        band.bricks.resize(out);
+        band.values.resize(out * SparseField::kBrickSamples);
+        constexpr std::size_t n = SparseField::kBrickSamples;
+        const auto before = [](const glm::ivec3& l, const glm::ivec3& r) { return std::tie(l.z, l.y, l.x) < std::tie(r.z, r.y, r.x); };
+        while (b > 0) {
+            --out;
+            if (a > 0 && before(mixed[b - 1], band.bricks[a - 1])) {
+                --a;
+                band.bricks[out] = band.bricks[a];
+                std::copy(band.values.begin() + std::ptrdiff_t(a * n), band.values.begin() + std::ptrdiff_t((a + 1) * n),
+                          band.values.begin() + std::ptrdiff_t(out * n));
+            } else {
+                --b;
+                band.bricks[out] = mixed[b];
+                std::copy(mixedValues.begin() + std::ptrdiff_t(b * n), mixedValues.begin() + std::ptrdiff_t((b + 1) * n),
+                          band.values.begin() + std::ptrdiff_t(out * n));
+            }
+        }
+    }
+    band.insideBoxes.clear();
+    for (const Layer& layer : layers) band.insideBoxes.insert(band.insideBoxes.end(), layer.boxes.begin(), layer.boxes.end());
+}
+
+std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
+                                          const RunControl& control, WindingStats* stats) {
+    std::vector<std::uint8_t> inside(grid.sampleCount());
+    windingSigns(mesh, topology, grid, {inside.data(), nullptr}, control, stats);
+    return inside;
+}
+
+void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
+                   WindingStats* stats) {
+    windingSigns(mesh, topology, grid, {nullptr, field}, control, stats);
+}
+
+} // namespace sdfgen
+

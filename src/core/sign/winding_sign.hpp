@@ -1,0 +1,181 @@
+#pragma once
+#include "core/accel/bvh.hpp"
+#include "core/distance/exact.hpp"
+#include "sdfgen/device.hpp"
+#include "sdfgen/grid.hpp"
+#include "sdfgen/mesh.hpp"
+#include "core/mesh/topology.hpp"
+
+#include <glm/geometric.hpp>
+#include <cmath>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace sdfgen {
+
+// A fan closing one boundary loop (or a run of one), counted `weight` times. Its triangles are
+// (loop[i + 1], loop[i], centre): the loop reversed, so that mesh + fans is closed.
+struct Cap {
+    std::vector<glm::dvec3> loop;
+    glm::dvec3 centre{0.0};
+    glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
+    double area = 0;
+    double length = 0; // of the loop: bounds the gradient of the fan's solid angle (see WindingCaps::Cut)
+    int weight = 1;    // equal loops (copies of open triangles) share one cap
+};
+
+// The fans that close a mesh's boundary, and a bounding-box hierarchy over them that bounds their
+// winding number from afar: seen from a point at distance d > 0 from a node's box, everything
+// under the node has |winding number| <= area / (4π d²) (a surface's solid angle is at most its
+// area over the squared distance to its nearest point). Boxes, not spheres: the small fans along a
+// border are slivers, and a sphere around one would reach far across the sheet.
+class WindingCaps {
+public:
+    // Equal boundary loops become one cap with a weight; loops longer than kMaxCapEdges are closed
+    // by several small fans near the loop (runs of it closed by chords, then the chords' polygon).
+    static constexpr std::size_t kMaxCapEdges = 4;
+
+    explicit WindingCaps(const MeshTopology& topology);
+
+    const std::vector<Cap>& caps() const { return caps_; }
+    bool empty() const { return caps_.empty(); }
+
+    // Inside flag at p, given `ahead`, the signed count of crossings of the mesh and the fans along
+    // +x from p (the closed surface's winding number): inside where |w| > 1/2, w the exact winding
+    // number (ahead minus the fans'), so that a part is solid whichever way its faces point. Lazy:
+    // fans are measured only while the bounds of the rest leave doubt, loosest node first, down to
+    // every fan exactly; so the answer is that of w in double and p pays only for the fans that can
+    // move w across 1/2 or -1/2. `evaluations` (when given) counts the fans measured.
+    bool inside(const glm::dvec3& p, int ahead, std::size_t* evaluations = nullptr) const;
+    // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
+    // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
+    bool farFromEveryFan(const glm::dvec3& p, double reach) const;
+    // A node waiting in a walk, with its bound.
+    struct Pending {
+        double bound;
+        std::uint32_t node;
+        bool operator<(const Pending& other) const { return bound < other.bound; }
+    };
+    // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
+    // whose leaves (near fans) are measured and whose other nodes are bounded over the whole ball,
+    // opened loosest first until the bounds sum to at most `target`, with at most `maxNear` fans
+    // measured (beyond those whose boxes the ball touches, which are always measured).
+    struct Cut {
+        std::vector<std::uint32_t> nearNodes; // leaves
+        // With `expand`: leaves whose fan the ball may meet, measured at every point of the ball.
+        std::vector<std::uint32_t> exactNodes;
+        std::vector<Pending> farNodes; // with their bounds over the ball
+        bool farSorted = false; // farNodes loosest first (insideNear sorts them when it first needs them)
+        double farSum = 0; // the sum of the far nodes' bounds over the ball
+        // The ball misses every near fan, and at most kMaxExactFans are exact: the near fans'
+        // winding number is harmonic over it, and differs from its first-order expansion at the
+        // centre (nearWinding with the gradient) by at most (curvature * |d| + slack) * |d| at offset d.
+        bool smooth = true;
+        double curvature = 0, slack = 0;
+        std::vector<Pending> scratch; // the walks' heap, kept for its memory
+    };
+    // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
+    // expansion's rest over the ball is below its bound; a fan the ball may meet is exact; the
+    // others stay far. With `within`, the cut of a ball that holds this one's samples, the walk
+    // starts from that cut, and its far nodes too small to open keep their bounds.
+    void cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out, const Cut* within = nullptr) const;
+    // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
+    // than splitting the block.
+    static constexpr std::size_t kMaxExactFans = 4;
+    // The exact fans' winding number at p.
+    double exactWinding(const glm::dvec3& p, const Cut& cut) const;
+    // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
+    double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
+    // inside() for a point of the ball that `cut` was made for: the near fans measured, then the
+    // far nodes bounded (the ball's bounds; then, loosest first, each far node bounded at the point
+    // and opened as inside() opens nodes) while
+    // |w| is within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside()
+    // decides. Deciding only outside that margin, it answers as inside() does (their doubles of
+    // w differ by rounding, far below the margin), with the tree's top walked once per block.
+    static constexpr double kDecisionMargin = 1e-7;
+    // `scratch` is any Cut's: its heap is borrowed. Most points are decided by the ball's bounds
+    // alone; the first that is not sorts the cut's far nodes (loosest first), for every later one.
+    bool insideNear(const glm::dvec3& p, int ahead, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
+    // The caps and their tree for a compute device (WindingFans).
+    WindingFans flattened() const;
+    // The exact winding number at p given `ahead`: every fan measured.
+    double winding(const glm::dvec3& p, int ahead) const;
+
+private:
+    struct Node {
+        glm::dvec3 lo, hi;
+        double area;         // the sum of |weight| * area below
+        std::uint32_t first; // inner: first child (the second is first + 1); leaf: the cap
+        bool leaf;
+    };
+    struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
+    void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    // The winding-number bound of a node for every point within `reach` of p (infinite when the
+    // ball touches the node's box). Inline: the walks call it for every node they look at.
+    static double bound(const Node& node, const glm::dvec3& p, double reach) {
+        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0))) - reach;
+        return d > 0.0 ? node.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+    }
+
+    std::vector<Cap> caps_;
+    std::vector<Node> nodes_;
+};
+
+// `ahead` for one point p (local coordinates), from the tree: what insideByWinding's row scan
+// finds for a sample at p (copies of a triangle and caps counted with their weight).
+int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p);
+
+// What the winding sign did, for tests and benchmarks.
+struct WindingStats {
+    std::size_t caps = 0;           // fans closing the boundary (equal loops share one, long ones are split)
+    std::size_t fanEvaluations = 0; // fan solid angles measured, over all samples
+    std::size_t exactFanSamples = 0; // samples decided by a block's expansion with its exact fans measured at each
+};
+
+// The generalized winding number w (Jacobson et al. 2013), inside where |w| > 1/2, computed exactly.
+// The mesh is closed with small fans over its boundary loops; the closed surface's winding number
+// is an integer, counted for whole rows at once from the signed crossings of each row's line
+// (robust 2D point-in-triangle tests in double with symbolic tie-breaking, so shared edges count
+// once; copies of a triangle count once with their number as weight), scanned in parallel by bands
+// of z planes. The fans' own winding number is subtracted wherever it could move w across ±1/2,
+// by bricks of 8³ samples, coarse to fine: a block that no fan can reach is decided by the counts
+// alone, a block clear of its near fans by their first-order expansion at its centre (within
+// bounds), the samples left by WindingCaps::insideNear. So signs are those of the exact w (those
+// of WindingCaps::inside, bit for bit), and a sample pays only for the fans near it. Robust to
+// holes, self-intersections, overlapping shells and flipped parts: by |w|, a closed part is solid
+// whichever way its faces point (w = -1 inside a part modelled inside out), a cavity bounded by a
+// reversed inner shell stays empty (w = 0 there), and the mesh with every face flipped has the
+// same signs.
+std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
+                                          const RunControl& control, WindingStats* stats = nullptr);
+// The same signs applied in place: negates field[index] of every inside sample (no side array).
+void signByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid, float* field, const RunControl& control,
+                   WindingStats* stats = nullptr);
+
+// A narrow-band bake's sides (band_bake.cpp), the same as the dense bake's winding sign gives.
+struct BandSides {
+    float background = 0;
+    // In: the bricks in the band (ordered by z, y, x) and their 512 samples each (unsigned
+    // distances, or signed already when signBricks is false); out: their samples negated where
+    // inside, and the fan bricks whose samples are on both sides added (±background).
+    std::vector<glm::ivec3> bricks;
+    std::vector<float> values;
+    bool signBricks = true;
+    // Bricks out of the band that a fan may reach (ordered by z, y, x): decided sample by sample.
+    std::vector<glm::ivec3> fanBricks;
+    // Out: SparseField::insideBoxes.
+    std::vector<std::array<int, 6>> insideBoxes;
+};
+// Every other brick must be out of the band (the surface nowhere in its samples' box) and clear of
+// the fans (WindingCaps::farFromEveryFan over a ball around its samples): its side is its first
+// sample's count of crossings ahead. The rows' crossings are counted by layers of 8 planes, in
+// parallel, each layer's once.
+void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, BandSides& band,
+                      const RunControl& control);
+
+// The generalized winding number at p, summed over every triangle in double (the reference).
+double windingNumber(const Mesh& mesh, const glm::dvec3& p);
+
+} // namespace sdfgen
