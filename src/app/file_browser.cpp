@@ -1,4 +1,5 @@
 #include "app/file_browser.hpp"
+#include "app/wrapped_text.hpp"
 #include "core/io/file_extension.hpp"
 
 #include <imgui.h>
@@ -61,7 +62,7 @@ bool FileBrowser::draw() {
         open_ = false;
         return false;
     }
-    ImGui::TextWrapped("%s", folder_.c_str());
+    wrappedText("%s", folder_.c_str());
     const float footer = ImGui::GetFrameHeightWithSpacing() * 2.0f + ImGui::GetTextLineHeightWithSpacing();
     ImGui::BeginChild("##entries", ImVec2(0, -footer), true);
     std::string enter;

@@ -15,8 +15,12 @@ namespace sdfgen::app {
 
 namespace fs = std::filesystem;
 
+std::string signSummaryOf(const Field& field) {
+    const std::string sign = field.parameter("sign");
+    return "sign: " + (sign.empty() ? std::string("not recorded in the file") : sign);
+}
+
 namespace {
-std::string signSummaryOf(const Field& field) { return "sign: " + field.parameter("sign"); }
 // A .npy holds the values only: its loader places them with unit voxels at the origin and an
 // unknown method and source.
 bool hasNoGrid(const Field& field) { return field.source.empty() && field.method == "unknown"; }
@@ -38,6 +42,7 @@ void Viewer::showField(Field field, FieldInfo info) {
     field_ = std::move(field);
     fieldInfo_ = std::move(info);
     ++fieldVersion_;
+    probeKept_ = false; // a reading of the last field
     checkFieldAgainstScene();
     // Show it, unless the user has chosen the views.
     render::Views& v = scene_.views;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 namespace sdfgen::app {
 
@@ -24,8 +25,23 @@ std::string formatBytes(double bytes) {
     std::snprintf(text, sizeof(text), "%.3g %s", bytes, units[u]);
     return text;
 }
-
-std::string signSummaryOf(const Field& field) { return "sign: " + field.parameter("sign"); }
+// A combo of a registry's choices (sdfgen/bake.hpp), each with its description as tooltip; the
+// chosen entry's id goes into `value`.
+template <class Id>
+void choiceCombo(const char* label, Id& value, const std::vector<Choice<Id>>& choices) {
+    const bool open = ImGui::BeginCombo(label, toString(value));
+    if (!open && ImGui::IsItemHovered()) {
+        for (const Choice<Id>& choice : choices) {
+            if (choice.id == value) ImGui::SetTooltip("%s", choice.description);
+        }
+    }
+    if (!open) return;
+    for (const Choice<Id>& choice : choices) {
+        if (ImGui::Selectable(choice.name, choice.id == value)) value = choice.id;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", choice.description);
+    }
+    ImGui::EndCombo();
+}
 } // namespace
 
 // The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they describe.
@@ -59,18 +75,12 @@ void Viewer::generationSection() {
     track("padding");
     ImGui::InputInt("Threads (0 = all)", &threads_);
     track("threads");
-    int method = int(settings_.method);
-    ImGui::Combo("Method", &method, "rays\0exact\0brute\0");
-    settings_.method = DistanceMethod(method);
+    choiceCombo("Method", settings_.method, distanceMethodChoices());
     track("method");
-    int sign = int(settings_.sign);
-    ImGui::Combo("Sign", &sign, "default\0auto\0rays\0pseudonormal\0winding\0");
-    settings_.sign = SignMethod(sign);
+    choiceCombo("Sign", settings_.sign, signMethodChoices());
     track("sign");
     // The GPU device makes its own headless context current on the generation's worker thread.
-    int device = int(settings_.device);
-    ImGui::Combo("Device", &device, "cpu\0gpu\0auto\0");
-    settings_.device = Device(device);
+    choiceCombo("Device", settings_.device, deviceChoices());
     track("device");
     ImGui::EndDisabled();
 
@@ -79,7 +89,7 @@ void Viewer::generationSection() {
     // The grid the settings make, or why they cannot be used (only once there is a model to bake).
     if (!problem.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.35f, 1.0f));
-        ImGui::TextWrapped("%s", problem.c_str());
+        wrappedText("%s", problem.c_str());
         ImGui::PopStyleColor();
         track("validation");
         if (!debugDir_.empty()) layout_ += "text validation " + problem + "\n";
@@ -113,11 +123,11 @@ void Viewer::generationSection() {
         const Grid& g = field_->grid;
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         if (fieldInfo_.seconds >= 0) {
-            ImGui::TextWrapped("%dx%dx%d voxels, %.2f s, %.3g voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
+            wrappedText("%dx%dx%d voxels, %.2f s, %.3g voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
         } else {
-            ImGui::TextWrapped("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
+            wrappedText("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
         }
-        ImGui::TextWrapped("method: %s\n%s", fieldInfo_.method.c_str(), fieldInfo_.signSummary.c_str());
+        wrappedText("method: %s\n%s", fieldInfo_.method.c_str(), fieldInfo_.signSummary.c_str());
         ImGui::PopStyleColor();
         track("stats");
         if (!debugDir_.empty()) layout_ += "text stats method " + fieldInfo_.method + (fieldInfo_.seconds >= 0 ? " baked" : " loaded") + "\n";

@@ -80,6 +80,7 @@ void Viewer::rebuildScene(bool reframe) {
         sceneMesh_ = std::make_shared<Mesh>(mergeMeshes(parts, name));
     }
     probeModel_.reset();
+    probeKept_ = false; // a reading of the last scene
     if (models_.size() == 1 && models_[0].identity()) scene_.setMesh(*sceneMesh_);
     else if (!models_.empty()) scene_.setMeshes(parts);
     for (std::size_t i = 0; i < models_.size() && i < scene_.meshStyles.size(); ++i) scene_.meshStyles[i] = {models_[i].colour, models_[i].visible};
@@ -173,7 +174,7 @@ void Viewer::modelSection() {
         // In the models' own units (the world coordinates the files use).
         const WorldBounds b = sceneMesh_->worldBounds();
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("scene: %zu triangles, (%.4g %.4g %.4g) to (%.4g %.4g %.4g)", sceneMesh_->triangleCount(), b.min.x, b.min.y,
+        wrappedText("scene: %zu triangles, (%.4g %.4g %.4g) to (%.4g %.4g %.4g)", sceneMesh_->triangleCount(), b.min.x, b.min.y,
                            b.min.z, b.max.x, b.max.y, b.max.z);
         ImGui::PopStyleColor();
         track("scene_bounds");
@@ -184,7 +185,7 @@ void Viewer::modelSection() {
         }
     } else {
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("no model: type a path, Browse, or drop mesh files on the window");
+        wrappedText("no model: type a path, Browse, or drop mesh files on the window");
         ImGui::PopStyleColor();
     }
 }

@@ -45,10 +45,19 @@ void Viewer::rangeControls(const char* label, const char* name, RangeChoice& cho
         choice.fixed.y = std::max(choice.fixed.y, 1e-9f);
     }
     ImGui::PopID();
-    if (!field_ || choice.mode == 0) sceneRange = glm::vec2(0.0f);
-    else if (choice.mode == 2) sceneRange = choice.fixed;
-    else if (slice) sceneRange = render::sliceValueRange(*field_, glm::normalize(scene_.sliceNormal), scene_.slicePosition);
-    else sceneRange = render::fieldValueRange(*field_);
+    if (!field_ || choice.mode == 0) {
+        sceneRange = glm::vec2(0.0f);
+    } else if (choice.mode == 2) {
+        sceneRange = choice.fixed;
+    } else {
+        const glm::vec4 plane = slice ? glm::vec4(glm::normalize(scene_.sliceNormal), scene_.slicePosition) : glm::vec4(0.0f);
+        if (choice.valuesVersion != fieldVersion_ || choice.valuesPlane != plane) {
+            choice.fromValues = slice ? render::sliceValueRange(*field_, glm::vec3(plane), plane.w) : render::fieldValueRange(*field_);
+            choice.valuesVersion = fieldVersion_;
+            choice.valuesPlane = plane;
+        }
+        sceneRange = choice.fromValues;
+    }
     // A range with nothing on one side still needs a scale there (the bar shows 0 at that end).
     if (sceneRange != glm::vec2(0.0f)) sceneRange = glm::vec2(std::min(sceneRange.x, 0.0f), std::max(sceneRange.y, 1e-9f));
 }
@@ -91,7 +100,7 @@ void Viewer::viewSection() {
     track("slice_cut");
     const glm::vec3 n = scene_.sliceNormal;
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    ImGui::TextWrapped("normal (%.2f %.2f %.2f); in the view: left-drag moves, Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
+    wrappedText("normal (%.2f %.2f %.2f); in the view: left-drag moves, Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
     ImGui::PopStyleColor();
     ImGui::Combo("Colour map", &scene_.colormap, "diverging\0viridis\0grey\0");
     track("colormap");
@@ -137,7 +146,7 @@ void Viewer::cameraSection() {
     ImGui::DragFloat3("Target", &camera_.target.x, camera_.sceneRadius * 0.01f, 0.0f, 0.0f, "%.4g");
     track("target");
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    ImGui::TextWrapped("right-drag orbit, middle-drag pan, wheel zoom, arrows orbit (a tap 3 degrees, held 90 per second), F frames");
+    wrappedText("right-drag orbit, middle-drag pan, wheel zoom, arrows orbit (a tap 3 degrees, held 90 per second), F frames");
     ImGui::PopStyleColor();
 }
 
@@ -145,21 +154,23 @@ void Viewer::probeSection() {
     if (!ImGui::CollapsingHeader("Probe", ImGuiTreeNodeFlags_DefaultOpen)) return;
     ImGui::Checkbox("Probe under the cursor", &probeOn_);
     track("probe");
+    if (!probeOn_) return;
     if (!probeValid_) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        ImGui::TextWrapped("move the pointer over the model, the slice or the ray-marched surface");
+        wrappedText(probeKept_ ? "the last reading; move the pointer over the model, the slice or the ray-marched surface for another"
+                                      : "move the pointer over the model, the slice or the ray-marched surface");
         ImGui::PopStyleColor();
-        return;
+        if (!probeKept_) return;
     }
     const ProbeResult& p = probe_;
-    ImGui::TextWrapped("at (%.4g %.4g %.4g)", p.point.x, p.point.y, p.point.z);
+    wrappedText("at (%.4g %.4g %.4g)", p.point.x, p.point.y, p.point.z);
     if (field_) {
-        ImGui::TextWrapped("field: %.5g%s", double(p.fieldValue), p.insideField ? "" : " (outside the box: clamped)");
-        ImGui::TextWrapped("gradient (%.3f %.3f %.3f)", double(p.gradient.x), double(p.gradient.y), double(p.gradient.z));
+        wrappedText("field: %.5g%s", double(p.fieldValue), p.insideField ? "" : " (outside the box: clamped)");
+        wrappedText("gradient (%.3f %.3f %.3f)", double(p.gradient.x), double(p.gradient.y), double(p.gradient.z));
     }
     if (p.haveMesh) {
-        ImGui::TextWrapped("mesh: distance %.5g (exact)", p.meshDistance);
-        ImGui::TextWrapped("nearest (%.4g %.4g %.4g)", p.nearest.x, p.nearest.y, p.nearest.z);
+        wrappedText("mesh: distance %.5g (exact)", p.meshDistance);
+        wrappedText("nearest (%.4g %.4g %.4g)", p.nearest.x, p.nearest.y, p.nearest.z);
     }
     track("probe_values");
 }

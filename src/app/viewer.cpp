@@ -251,7 +251,7 @@ void Viewer::messageLine(const char* id, Message& m) {
         ImGui::SameLine();
     }
     ImGui::PushStyleColor(ImGuiCol_Text, colours[int(m.level)]);
-    ImGui::TextWrapped("%s", m.text.c_str());
+    wrappedText("%s", m.text.c_str());
     ImGui::PopStyleColor();
     ImGui::EndGroup();
     ImGui::PopID();
@@ -293,6 +293,12 @@ void Viewer::sceneInput(const FrameInput& input) {
     // The panel's width for this frame (the camera frames the part of the window it leaves free).
     const float scale = std::max(ImGui::GetFontSize() / 13.0f, 1.0f);
     panelWidth_ = std::min(std::clamp(std::round(io.DisplaySize.x * 0.3f), 290.0f * scale, 520.0f * scale), io.DisplaySize.x);
+    // A resized window keeps the framing the user left (the scene area's aspect changed).
+    if (io.DisplaySize.x > 0.0f && io.DisplaySize.y > 0.0f) {
+        const float aspect = std::max(io.DisplaySize.x - panelWidth_, 1.0f) / io.DisplaySize.y;
+        if (sceneAspect_ > 0.0f && aspect != sceneAspect_) camera_.keepFraming(sceneAspect_, aspect);
+        sceneAspect_ = aspect;
+    }
     // A frame's moves all come before its one button event: they drag with the buttons as
     // they were, then the press or release applies.
     const float dx = float(input.x - input.startX), dy = float(input.y - input.startY);
@@ -364,7 +370,7 @@ void Viewer::probeAt(const FrameInput& input) {
     // Pixels of the grid (the plane under the model, within depth precision) are not probed.
     if (scene_.views["grid"] && std::abs(point.y - scene_.gridHeight()) < 1e-4f * camera_.distance) return;
     probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get());
-    probeValid_ = true;
+    probeValid_ = probeKept_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
     const float r = camera_.sceneRadius * 0.02f;
     scene_.markers = {point - glm::vec3(r, 0, 0), point + glm::vec3(r, 0, 0), point - glm::vec3(0, r, 0), point + glm::vec3(0, r, 0),
@@ -409,9 +415,12 @@ void Viewer::panel() {
     const float labels = ImGui::CalcTextSize("Threads (0 = all)").x + ImGui::GetStyle().ItemInnerSpacing.x +
                          ImGui::GetStyle().ScrollbarSize + ImGui::GetStyle().WindowPadding.x;
 
-    // The probe's reading, pinned above the scrolling sections.
-    if (probeValid_) {
-        ImGui::TextWrapped("probe: %s", probeText(", ").c_str());
+    // The probe's reading, pinned above the scrolling sections (the last one, greyed, while the
+    // pointer is elsewhere).
+    if (probeOn_ && probeKept_) {
+        if (!probeValid_) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        wrappedText("probe: %s", probeText(", ").c_str());
+        if (!probeValid_) ImGui::PopStyleColor();
         track("probe_pinned");
         ImGui::Separator();
     }
@@ -423,11 +432,12 @@ void Viewer::panel() {
     viewSection();
     cameraSection();
     probeSection();
-    // Where the pointer is over the panel, for the GUI test's scrolling.
+    // Where the pointer is over the panel and where its scrolling part begins (below the pinned
+    // probe line), for the GUI test's scrolling.
     if (!debugDir_.empty()) {
-        char line[96];
-        std::snprintf(line, sizeof(line), "panel 0 0 %d %d 1\nscroll %d %d\n", int(panelWidth_), int(io.DisplaySize.y),
-                      int(ImGui::GetScrollY()), int(ImGui::GetScrollMaxY()));
+        char line[128];
+        std::snprintf(line, sizeof(line), "panel 0 0 %d %d 1\nsections %d\nscroll %d %d\n", int(panelWidth_), int(io.DisplaySize.y),
+                      int(ImGui::GetWindowPos().y), int(ImGui::GetScrollY()), int(ImGui::GetScrollMaxY()));
         layout_ += line;
     }
     ImGui::PopItemWidth();
@@ -484,7 +494,8 @@ void Viewer::saveScreenshot() {
             if (!fs::exists(path, ec)) break;
         }
         render::OrbitCamera camera = camera_;
-        camera.offsetX = 0.0f; // the scene area's own centre
+        camera.offsetX = 0.0f;                                          // the scene area's own centre
+        camera.keepFraming(sceneAspect_, float(size.x) / float(size.y)); // framed as in the window, at the chosen size too
         scene_.draw(camera, size, 0);
         render::savePng(scene_.image(), path.string());
         lastSceneState_.clear();

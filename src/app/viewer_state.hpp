@@ -8,6 +8,7 @@
 #include "app/input_queue.hpp"
 #include "app/probe.hpp"
 #include "app/recent_files.hpp"
+#include "app/wrapped_text.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/model.hpp"
@@ -85,10 +86,16 @@ struct FieldInfo {
 struct RangeChoice {
     int mode = 0; // 0 symmetric, 1 from the values, 2 fixed
     glm::vec2 fixed{-1.0f, 1.0f};
+    // The range from the values, for the field version and slice plane it was taken from (a pass
+    // over the field, not repeated every frame).
+    glm::vec2 fromValues{0.0f};
+    int valuesVersion = -1;
+    glm::vec4 valuesPlane{0.0f};
 };
 
 bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
 std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
+std::string signSummaryOf(const Field& field);    // "sign: " and how the field's signs were decided
 
 class Viewer {
 public:
@@ -176,11 +183,15 @@ private:
     bool sceneDrag_[3] = {false, false, false};
     bool sliceTilt_ = false;
     bool probeOn_ = true, probeValid_ = false;
+    // probe_ holds a reading of the scene shown (the last one, once the pointer left the scene):
+    // the panel keeps it, so that its top line does not come and go under the pointer.
+    bool probeKept_ = false;
     ProbeResult probe_;
     glm::ivec2 probePointer_{0, 0};
     RangeChoice sliceColours_, volumeColours_;
     int screenshotSize_[2] = {0, 0}; // 0 0: the scene area's size
     float panelWidth_ = 300.0f;
+    float sceneAspect_ = 0.0f; // of the scene area (beside the panel) in the last frame; 0 before the first
     int meshVersion_ = 0, fieldVersion_ = 0;
     std::string lastSceneState_;
     long sceneDraws_ = 0;

@@ -91,7 +91,11 @@ void runRender(const RenderArgs& args) {
     const glm::ivec2 pixels{int(size[0]), int(size[1])};
 
     const RunControl control = commandControl(args.threads);
-    const Model model(loadScene(args.meshes), control);
+    // A scene's meshes are drawn one by one, each in its own colour (render::meshColour, as in the
+    // viewer); the field is their union's.
+    std::vector<Mesh> meshes;
+    for (const std::string& path : args.meshes) meshes.push_back(loadMesh(path));
+    const Model model(meshes.size() == 1 ? std::move(meshes[0]) : mergeScene(meshes, args.meshes), control);
     const Mesh& mesh = model.mesh();
     Field field;
     bool needField = false;
@@ -127,14 +131,20 @@ void runRender(const RenderArgs& args) {
         }
         scene.background = glm::vec3(rgb[0], rgb[1], rgb[2]);
     }
-    scene.setMesh(mesh);
+    if (meshes.size() == 1) {
+        scene.setMesh(mesh);
+    } else {
+        std::vector<MeshInstance> parts;
+        for (const Mesh& part : meshes) parts.push_back({&part, glm::dmat4(1.0)});
+        scene.setMeshes(parts);
+    }
     if (!field.values.empty()) scene.setField(field);
 
     render::OrbitCamera orbit;
     orbit.yaw = camera[0];
     orbit.pitch = camera[1];
     orbit.orthographic = args.orthographic;
-    orbit.frame(mesh.worldBounds(), camera[2]);
+    orbit.frame(mesh.worldBounds(), camera[2], float(pixels.x) / float(pixels.y)); // fits a narrow image too
     scene.draw(orbit, pixels);
     context->present();
     if (args.repeat > 0) {
@@ -154,7 +164,7 @@ void runRender(const RenderArgs& args) {
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* render = app.add_subcommand("render", "Render views of a mesh and its field to a PNG, headless (EGL or OSMesa, no display needed)");
-    render->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several make one scene")->required();
+    render->add_option("mesh", args->meshes, "Input mesh (" + meshFormatList() + ", ...); several make one scene")->required();
     render->add_option("-o,--output", args->output, "Output PNG file")->required();
     render->add_option("--sdf", args->sdf, "Field file to show (default: bake one from the mesh when a view needs it)");
     render->add_option("--view", args->views, "Comma-separated views: " + render::Views::names() + " (or all, none)")

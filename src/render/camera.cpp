@@ -27,10 +27,21 @@ glm::mat4 OrbitCamera::projection(float aspect) const {
     return shift * glm::perspective(glm::radians(fovY), aspect, nearPlane, farPlane);
 }
 
+namespace {
+// How much farther frame() moves the camera for a view of `aspect` (width / height): nothing for
+// a wide view, enough for the scene to fit across a narrow one.
+float narrowness(float aspect) { return 1.0f / std::clamp(aspect, 0.2f, 1.0f); }
+} // namespace
+
 void OrbitCamera::frame(const WorldBounds& bounds, float zoomFactor, float aspect) {
     target = glm::vec3(0.5 * (bounds.min + bounds.max));
     sceneRadius = std::max(float(0.5 * glm::length(bounds.extent())), 1e-6f);
-    distance = zoomFactor * sceneRadius / std::sin(glm::radians(0.5f * fovY)) * 1.05f / std::clamp(aspect, 0.2f, 1.0f);
+    distance = zoomFactor * sceneRadius / std::sin(glm::radians(0.5f * fovY)) * 1.05f * narrowness(aspect);
+}
+
+void OrbitCamera::keepFraming(float before, float after) {
+    if (!(before > 0.0f && after > 0.0f)) return;
+    distance *= narrowness(after) / narrowness(before);
 }
 
 void OrbitCamera::rotate(float yawDegrees, float pitchDegrees) {

@@ -30,6 +30,10 @@ struct OrbitCamera {
     // (times `zoom`: 2 is twice as far), also across when the view is narrower than tall
     // (`aspect` = width / height). Keeps yaw and pitch.
     void frame(const WorldBounds& bounds, float zoom = 1.0f, float aspect = 1.0f);
+    // The view's aspect changed from `before` to `after` (a resized window): moves the camera so
+    // that the view keeps its extent across its narrower side, as frame() fits it, and what was
+    // framed stays framed at the same size.
+    void keepFraming(float before, float after);
     // Rotates by degrees; yaw wraps to -180..180, pitch stays within (-89, 89).
     void rotate(float yawDegrees, float pitchDegrees);
     // Moves the target in the view plane by a fraction of the view's height.

@@ -100,17 +100,20 @@ glm::vec2 fieldValueRange(const Field& field) {
 }
 
 glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position) {
-    // The samples within half a voxel of the plane: the ones the slice's colours come from.
+    // The slice shows the field interpolated between the samples around it: every sample at a
+    // corner of a voxel cell the plane crosses, i.e. within h * (|nx| + |ny| + |nz|) of it. (Half
+    // a voxel would miss both layers when the plane lies midway between them, by rounding.)
     const Grid& g = field.grid;
     const float h = float(g.voxel);
     const glm::vec3 boxMin(g.origin), boxSize = glm::vec3(g.dims) * h;
     const glm::vec4 plane = slicePlane(boxMin, boxSize, normal, position);
+    const float reach = h * (std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z));
     glm::vec2 range(0.0f);
     for (int k = 0; k < g.dims.z; ++k) {
         for (int j = 0; j < g.dims.y; ++j) {
             for (int i = 0; i < g.dims.x; ++i) {
                 const glm::vec3 p = boxMin + (glm::vec3(i, j, k) + 0.5f) * h;
-                if (std::abs(glm::dot(glm::vec3(plane), p) - plane.w) > 0.5f * h) continue;
+                if (std::abs(glm::dot(glm::vec3(plane), p) - plane.w) > reach) continue;
                 const float v = field.values[(std::size_t(k) * std::size_t(g.dims.y) + std::size_t(j)) * std::size_t(g.dims.x) + std::size_t(i)];
                 range = glm::vec2(std::min(range.x, v), std::max(range.y, v));
             }
@@ -121,8 +124,12 @@ glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position) 
 void Scene::clearMesh() {
     mesh_.clear();
     meshStyles.clear();
+    gridHeight_ = field_.empty() ? 0.0f : field_.boxMin().y;
 }
-void Scene::setField(const Field& field) { field_.upload(field); }
+void Scene::setField(const Field& field) {
+    field_.upload(field);
+    if (mesh_.empty()) gridHeight_ = field_.boxMin().y; // a field alone stands on the grid too
+}
 void Scene::clearField() { field_.clear(); }
 
 void Scene::resizeTargets(glm::ivec2 size) {

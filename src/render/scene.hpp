@@ -85,7 +85,7 @@ public:
     glm::vec2 colourBarRange() const { return effectiveRange(views["slice"] ? sliceRange : volumeRange); }
     // The plane that cuts (as the shaders take it: dot(xyz, p) > w is cut), (0, 0, 0, 1) for none.
     glm::vec4 cutPlane() const;
-    float gridHeight() const { return gridHeight_; } // the grid's plane: y = the meshes' lowest point
+    float gridHeight() const { return gridHeight_; } // the grid's plane: y = the meshes' lowest point (the field's box's without)
     glm::vec3 fieldBoxMin() const { return field_.boxMin(); }
     glm::vec3 fieldBoxSize() const { return field_.boxSize(); }
 

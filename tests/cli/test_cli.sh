@@ -60,6 +60,39 @@ vexpect fail '^sdfgen: no display' -- env -u DISPLAY -u WAYLAND_DISPLAY "$sdfgen
 printf 'v 2 0 0\nv 3 0 0\nv 2 1 0\nv 2 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tet2.obj"
 expect 0 'tet.obj\+tet2.obj -> .*: 8 triangles' -- "$sdfgen" bake "$work/tet.obj" "$work/tet2.obj" -o "$work/union.sdf" --res 16
 expect 0 '^source tet.obj\+tet2.obj$' -- sed -n 2p "$work/union.sdf"
+# render draws each mesh of a scene in its own colour: seen from the front, the left tetrahedron
+# orange (red over blue), the right one blue.
+if [ "$has_viewer" = 1 ] && command -v python3 >/dev/null; then
+  env ASAN_OPTIONS=detect_leaks=0 "$sdfgen" render "$work/tet.obj" "$work/tet2.obj" --view mesh --camera 0,0,1 --size 96x48 \
+    --background 0,0,0 -o "$work/two.png" >/dev/null 2>&1
+  expect 0 '^left red, right blue$' -- python3 - "$work/two.png" <<'PY'
+import struct, sys, zlib
+png = open(sys.argv[1], "rb").read()
+chunks, at = {}, 8
+while at < len(png):
+    size, kind = struct.unpack(">I4s", png[at:at + 8])
+    chunks[kind] = chunks.get(kind, b"") + png[at + 8:at + 8 + size]
+    at += 12 + size
+width, height, depth, colour = struct.unpack(">IIBB", chunks[b"IHDR"][:10])
+assert (depth, colour) == (8, 6), "expected 8-bit RGBA"
+raw, rows, stride = zlib.decompress(chunks[b"IDAT"]), [], width * 4
+previous = bytearray(stride)
+for y in range(height):
+    kind, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+    for i in range(stride):
+        a, b, c = line[i - 4] if i >= 4 else 0, previous[i], previous[i - 4] if i >= 4 else 0
+        p = a + b - c
+        predictor = [0, a, b, (a + b) // 2, a if abs(p - a) <= min(abs(p - b), abs(p - c)) else b if abs(p - b) <= abs(p - c) else c][kind]
+        line[i] = (line[i] + predictor) & 255
+    rows.append(line)
+    previous = line
+def redder(x0, x1):
+    votes = [px[x * 4] - px[x * 4 + 2] for px in rows for x in range(x0, x1) if max(px[x * 4:x * 4 + 3]) > 20]
+    return sum(v > 0 for v in votes) > 0.9 * len(votes) > 20, sum(v < 0 for v in votes) > 0.9 * len(votes) > 20
+left, right = redder(0, width // 2), redder(width // 2, width)
+print(("left red" if left[0] else "left not red") + ", " + ("right blue" if right[1] else "right not blue"))
+PY
+fi
 # A field made from another mesh: render says so on stderr and still draws. (Mesa's OSMesa leaks
 # at exit, so the sanitizer build's leak check is off for this one drawing command.)
 vexpect 0 "^sdfgen: warning: $work/tet.sdf: the field was made from $work/tet.obj, not from bunny.obj" -- \

@@ -11,8 +11,9 @@
 # exactly their view and change the scene; the probe reports the field's trilinear value where the
 # pointer is; a field made from another mesh is warned about; at 400 ms per frame a tapped F still
 # reframes and a click still toggles; the surface exports and a field compares with itself as
-# equal; a field opened without a model is framed, and Shift+F
-# frames it again; the window's title names what it shows; Ctrl+Q exits with status 0. Every wait
+# equal; a field opened without a model is framed, and Shift+F frames it again; a resized window
+# keeps the framing (a narrower one moves the camera back so that the scene stays in view); the
+# window's title names what it shows; Ctrl+Q exits with status 0. Every wait
 # polls with a deadline.
 #
 # Usage: tests/gui/test_gui.sh SDFGEN_BINARY REPO_ROOT   (ctest runs it under xvfb-run)
@@ -95,7 +96,8 @@ reach() {
     y0=$(echo "$rect" | cut -d' ' -f2)
     before=$(scroll_state)
     xdotool mousemove --window "$window" 150 250
-    if [ "$y0" -lt 0 ]; then xdotool click 4; else xdotool click 5; fi
+    # Above the scrolling part's top (below the probe's pinned line, when shown): scroll up.
+    if [ "$y0" -lt "$(grep '^sections ' "$work/shots/widgets.txt" | cut -d' ' -f2)" ]; then xdotool click 4; else xdotool click 5; fi
     until_ok scrolled_from "$before" || fail "the panel did not scroll towards '$1' ($before)"
   done
 }
@@ -136,7 +138,7 @@ awk -v c="$cpu" 'BEGIN { exit !(c < 5) }' || fail "an idle viewer used $cpu% of 
 echo "idle viewer: $cpu% of a core over 5 s"
 
 # --- every control of the panel can be scrolled into view at 800x500.
-names=$(grep -vE '^(text|panel|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
+names=$(grep -vE '^(text|panel|sections|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
 count=0
 for name in $names; do
   reach "$name"
@@ -355,7 +357,7 @@ stop
 # --- at 400 ms per frame: a tapped F reframes, a click toggles.
 start SDFGEN_DEBUG_FRAME_DELAY_MS=400
 xdotool mousemove --window "$window" 545 250
-xdotool key f # framed for the window's size now (it was framed at its first size, before the resize)
+xdotool key f
 shoot
 framed=$(grep "^screenshot 0:" "$work/log" | sed 's/.*camera=//')
 xdotool click 5 click 5 click 5 # zoom out over the scene
@@ -393,7 +395,7 @@ target = np.array([float(v) for v in sys.argv[2].split(",")])
 print(f"field alone: camera target {target}, box centre {centre}")
 sys.exit(0 if np.all(np.abs(target - centre) <= 1e-3 * np.abs(centre).max() + 1e-4) else 1)
 EOF
-xdotool key f # framed again for the window's size now (it was framed at its first size)
+xdotool key f
 shoot
 framed=$(camera_of 1)
 xdotool click 5 click 5
@@ -402,5 +404,27 @@ xdotool key shift+f
 shoot
 [ "$(camera_of 3)" = "$framed" ] && [ "$(camera_of 2)" != "$framed" ] || fail "Shift+F did not frame the field ($framed, $(camera_of 2), $(camera_of 3))"
 echo "field alone framed; Shift+F frames it again: $framed"
+# --- a resized window keeps the framing: the camera the resize from 1280x720 left is the one F
+# gives at 800x500; narrowed to 560x500 the field is framed as F frames it there; a zoomed view
+# resized and back is as it was.
+same_camera() { awk -v a="$1" -v b="$2" 'BEGIN { split(a, x, ","); split(b, y, ","); d = x[3] - y[3]; exit !(x[1] == y[1] && x[2] == y[2] && (d < 0 ? -d : d) <= 1e-3 * x[3]) }'; }
+same_camera "$(camera_of 0)" "$framed" || fail "the resize did not keep the framing ($(camera_of 0), framed at the new size $framed)"
+resize() {
+  xdotool windowsize --sync "$window" "$1" "$2"
+  until_ok grep -qs "^panel 0 0 [0-9]* $2 1$" "$work/shots/widgets.txt" || fail "the window did not become $1x$2"
+  xdotool mousemove --window "$window" $(($1 - 10)) $(($2 - 10))
+}
+resize 560 500
+shoot
+xdotool key f
+shoot
+same_camera "$(camera_of 4)" "$(camera_of 5)" || fail "narrowing the window did not keep the field framed ($(camera_of 4), framed $(camera_of 5))"
+xdotool click 4 click 4 click 4
+shoot
+resize 1000 500
+resize 560 500
+shoot
+same_camera "$(camera_of 6)" "$(camera_of 7)" || fail "a zoomed view resized and back changed ($(camera_of 6), then $(camera_of 7))"
+echo "resizing keeps the framing: at 800x500 $(camera_of 0), at 560x500 $(camera_of 4), zoomed $(camera_of 6) -> $(camera_of 7)"
 stop
 echo "GUI test passed"

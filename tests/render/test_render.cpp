@@ -419,5 +419,24 @@ TEST_F(RenderTest, FieldLargerThanTheTextureLimitIsAnError) {
     EXPECT_THROW(scene_->setField(field), Error);
 }
 
+// "From the slice" colours: the range of the samples the slice interpolates. A plane midway
+// between two layers of samples (position 0.5 across an even count) has both layers half a voxel
+// away; rounding must not drop them and leave no range at all.
+TEST(SliceValueRange, TakesTheLayersAroundThePlane) {
+    Field field;
+    field.grid.origin = glm::dvec3(-0.3);
+    field.grid.voxel = 0.1;
+    field.grid.dims = glm::ivec3(3, 3, 8);
+    // Each sample's height above the middle plane (z = 0.1).
+    for (int k = 0; k < 8; ++k) field.values.insert(field.values.end(), 9, float((k + 0.5) * 0.1 - 0.4));
+    const glm::vec2 range = sliceValueRange(field, axisNormal(2), 0.5f);
+    EXPECT_NEAR(range.x, -0.05f, 1e-6f);
+    EXPECT_NEAR(range.y, 0.05f, 1e-6f);
+    const glm::vec2 whole = fieldValueRange(field);
+    EXPECT_NEAR(whole.x, -0.35f, 1e-6f);
+    EXPECT_NEAR(whole.y, 0.35f, 1e-6f);
+}
+
 } // namespace
 } // namespace sdfgen::render
+

@@ -28,7 +28,7 @@ namespace sdfgen::formats {
 
 struct FieldFormat {
     const char* extension;   // with the dot, lower case
-    const char* description; // for help texts and the unknown-extension error
+    const char* description; // for help texts (knownFieldFormats)
     bool holdsChannels;      // writes Field::gradient, closest and triangle (see sdfgen::Channels)
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
     Field (*load)(const std::string& path);

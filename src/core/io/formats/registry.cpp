@@ -48,7 +48,7 @@ void checkFormatHoldsChannels(const std::string& path, const Channels& channels)
     const formats::FieldFormat& format = formats::formatOf(path);
     if (channels.any() && !format.holdsChannels) {
         throw Error(path + ": " + format.extension + " holds the distance (sdf) only; for channels " + toString(channels).substr(4) +
-                    " write .npz or .vdb");
+                    " write " + channelFormatList());
     }
 }
 
@@ -101,6 +101,22 @@ std::vector<std::string> fieldFormatExtensions() {
     std::vector<std::string> extensions;
     for (const formats::FieldFormat& format : formats::fieldFormats()) extensions.emplace_back(format.extension);
     return extensions;
+}
+
+std::vector<FieldFormatInfo> knownFieldFormats() {
+    std::vector<FieldFormatInfo> known;
+    for (const formats::FieldFormat& format : formats::fieldFormats()) known.push_back({format.extension, format.description, format.holdsChannels});
+    return known;
+}
+
+std::string channelFormatList() {
+    std::vector<const char*> holding;
+    for (const formats::FieldFormat& format : formats::fieldFormats()) {
+        if (format.holdsChannels) holding.push_back(format.extension);
+    }
+    std::string list;
+    for (std::size_t i = 0; i < holding.size(); ++i) list += (i == 0 ? "" : i + 1 == holding.size() ? " or " : ", ") + std::string(holding[i]);
+    return list;
 }
 
 } // namespace sdfgen
