@@ -66,9 +66,9 @@ for mesh in "${meshes[@]}"; do
     s_seconds=$seconds s_mb=$megabytes
     signs=-
     if [ "$res" -le 512 ]; then
-      "$sdfgen" bake "$mesh" --res "$res" -o "$out/$name-dense.npy" >/dev/null
-      measure "$out/openvdb.log" "$peer" "$mesh" --res "$res" --band "$band" -o "$out/$name-openvdb.vdb" --signs-against "$out/$name-dense.npy"
-      ours=$("$sdfgen" compare "$out/$name-sdfgen.vdb" "$out/$name-dense.npy" | grep -o 'sign[^,;]*' | head -n 1 || true)
+      "$sdfgen" bake "$mesh" --res "$res" -o "$out/$name-dense.npz" >/dev/null
+      measure "$out/openvdb.log" "$peer" "$mesh" --res "$res" --band "$band" -o "$out/$name-openvdb.vdb" --signs-against "$out/$name-dense.npz"
+      ours=$("$sdfgen" compare "$out/$name-sdfgen.vdb" "$out/$name-dense.npz" | grep -o 'sign[^,;]*' | head -n 1 || true)
       theirs=$(grep -o 'wrong signs: .*' "$out/openvdb.log" | sed 's/wrong signs: //')
       signs="$ours / $theirs"
     else
@@ -81,6 +81,6 @@ for mesh in "${meshes[@]}"; do
     printf '%6s | %9s %8s | %9s %8s | %6sx %6sx | %7s | %s\n' "$res" "$s_seconds" "$s_mb" "$o_seconds" "$o_mb" \
       "$(awk -v a="$o_seconds" -v b="$s_seconds" 'BEGIN { printf "%.2f", a / b }')" \
       "$(awk -v a="$o_mb" -v b="$s_mb" 'BEGIN { printf "%.2f", a / b }')" "$growth" "$signs"
-    rm -f "$out/$name-"*.vdb "$out/$name-dense.npy"
+    rm -f "$out/$name-"*.vdb "$out/$name-dense.npz"
   done
 done
