@@ -4,7 +4,8 @@
 // sampled distance. At a hit: normal from the field's gradient (central differences), Lambert
 // light, soft shadows (a second march towards the light, penumbra from the closest approach)
 // and ambient occlusion (the field sampled along the normal). Writes the hit's depth. `iso` offsets
-// the surface: the level set field = iso.
+// the surface: the level set field = iso. A band field's values beyond the band are the background,
+// a lower bound of the distance, so stepping by them never overshoots; maxSteps allows for it.
 in vec2 vNdc;
 out vec4 colour;
 
@@ -19,6 +20,7 @@ uniform int shadows;
 uniform vec3 lightDirection; // towards the light
 uniform float iso;           // the level set drawn: 0 is the surface, > 0 offset outwards
 uniform vec4 cutPlane;       // points with dot(xyz, p) > w are cut away (the slice's cut; (0,0,0,1): none)
+uniform int maxSteps;        // 512, more for a band field
 uniform int capCut;          // where the cut enters the solid: a flat cap (else nothing: the slice is there)
 
 vec2 boxHits(vec3 origin, vec3 dir) {
@@ -84,7 +86,7 @@ void main() {
     float t = max(span.x, 0.0); // outside the box: jump by the distance to it
     float eps = 0.02 * voxel;
     bool hit = false;
-    for (int i = 0; i < 512 && t < span.y; ++i) {
+    for (int i = 0; i < maxSteps && t < span.y; ++i) {
         float d = sdf(eye + t * dir);
         if (d < eps) {
             hit = true;
