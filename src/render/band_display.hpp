@@ -21,8 +21,8 @@ struct BandDisplay {
 
 // The band's full grid when its dense form fits the memory available, the 3D texture limit
 // `textureLimit` and kBandDisplaySamples; otherwise the grid `factor` times coarser (the smallest
-// whole factor that fits), each sample SparseField::sample at its centre, in parallel on
-// control.threads (progress and cancel through control).
+// whole factor that fits), each sample the value SparseField::sample gives at its centre (clamped
+// to the background), in parallel on control.threads (progress and cancel through control).
 BandDisplay bandDisplay(const SparseField& band, int textureLimit, const RunControl& control = {});
 
 // GL_MAX_3D_TEXTURE_SIZE of the current context.

@@ -440,6 +440,10 @@ TEST_F(RenderTest, BandFieldIsResampledToFit) {
             for (int i = 0; i < std::min(shown.x, dense.grid.dims.x); ++i) {
                 const float v = bandShown_->field.at(i, j, k);
                 ASSERT_LE(std::abs(v), band_->background);
+                if ((i + j + k) % 5 == 0) { // SparseField::sample's value, exactly (clamped to the background)
+                    const float sampled = band_->sample(bandShown_->field.grid.position(i, j, k));
+                    ASSERT_EQ(v, std::clamp(sampled, -band_->background, band_->background)) << i << " " << j << " " << k;
+                }
                 differ += std::abs(dense.at(i, j, k)) > float(dense.grid.voxel) && (v < 0.0f) != (dense.at(i, j, k) < 0.0f);
                 ++compared;
             }
