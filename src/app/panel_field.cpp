@@ -123,7 +123,8 @@ void Viewer::loadFieldFile(const std::string& path) {
 void Viewer::exportSurface() {
     try {
         if (!field_) throw Error("no field to take the surface from: Generate or Load one first");
-        const SurfaceMesh surface = extractSurface(*field_, double(scene_.iso), 0.0);
+        // A band field's own samples, not the resampling shown (an Error when they do not fit densely).
+        const SurfaceMesh surface = extractSurface(band_ ? band_->toDense() : *field_, double(scene_.iso), 0.0);
         saveSurface(surface, surfacePath_);
         rememberRecent(surfacePath_);
         setMessage(fieldMessage_, Message::Level::Info,
@@ -138,7 +139,7 @@ void Viewer::compareWith(const std::string& path) {
     try {
         if (!field_) throw Error("no field to compare: Generate or Load one first");
         const Field other = loadField(path);
-        const FieldDifference d = compareFields(*field_, other, 0.0);
+        const FieldDifference d = compareFields(band_ ? band_->toDense() : *field_, other, 0.0);
         char text[320];
         std::snprintf(text, sizeof(text), "against %s: max |difference| %.4g (%.3g voxels), mean %.3g, rms %.3g; signs differ at %zu of %zu samples",
                       fs::path(path).filename().string().c_str(), d.maxAbs, d.maxAbs / d.voxel, d.meanAbs, d.rmsAbs, d.signDifferences,

@@ -53,7 +53,7 @@ BandDisplay bandDisplay(const SparseField& band, int textureLimit, const RunCont
     const double memory = double(availableMemoryBytes());
     const glm::ivec3 dims = band.grid.dims;
     glm::ivec3 coarse = dims;
-    while (!fits(coarse, textureLimit, memory)) {
+    while (!fits(coarse, textureLimit, memory) && coarse != glm::ivec3(1)) {
         ++shown.factor;
         coarse = (dims + (shown.factor - 1)) / shown.factor;
     }
