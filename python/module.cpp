@@ -4,6 +4,7 @@
 #include "sdfgen/sdfgen.hpp"
 #include "sdfgen/sample.hpp"
 #include "nearest.hpp"
+#include "core/runtime/parallel.hpp"
 #if SDFGEN_PYTHON_GPU
 #include "gpu/gl_device.hpp"
 #endif
@@ -13,7 +14,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <optional>
 #include <chrono>
@@ -236,7 +239,41 @@ struct PyField {
     std::optional<BakeResult> bake; // what the bake decided (absent for a loaded field)
 };
 
+// A narrow-band field (a band bake, or a sparse file); `brick_values` and `inside_boxes` view its buffers.
+struct PySparseField {
+    SparseField field;
+    std::optional<BakeResult> bake; // what the bake decided (absent for a loaded field)
+    // The bricks' first samples (field.bricks * 8), as the sparse .npz stores them: made on first use.
+    std::vector<int> brickOrigins;
+};
+
 py::tuple tuple3(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+// The grid, provenance and bake decisions that Field and SparseField both have.
+template <class Py>
+void addFieldInfo(py::class_<Py>& cls) {
+    cls.def_property_readonly("dims", [](const Py& f) { return py::make_tuple(f.field.grid.dims.x, f.field.grid.dims.y, f.field.grid.dims.z); })
+        .def_property_readonly("origin", [](const Py& f) { return tuple3(f.field.grid.origin); },
+                               "The grid's minimum corner; sample (i, j, k) is at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size")
+        .def_property_readonly("voxel_size", [](const Py& f) { return f.field.grid.voxel; })
+        .def_property_readonly("source", [](const Py& f) { return f.field.source; })
+        .def_property_readonly("method", [](const Py& f) { return f.field.method; })
+        .def_property_readonly("parameters", [](const Py& f) {
+            py::dict d;
+            for (const auto& [key, value] : f.field.parameters) d[py::str(key)] = value;
+            return d;
+        })
+        .def_property_readonly("sign", [](const Py& f) { return f.field.parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
+        .def_property_readonly("device", [](const Py& f) { return f.bake ? py::object(py::str(f.bake->deviceReason)) : py::object(py::none()); },
+                               "Where the bake ran and why, e.g. 'cpu: asked for' (None for a loaded field)")
+        .def_property_readonly("warnings", [](const Py& f) { return f.bake ? f.bake->warnings : std::vector<std::string>{}; },
+                               "The bake's warnings, one line each (also issued as sdfgen.Warning); empty for a loaded field")
+        .def_property_readonly("sign_reason", [](const Py& f) { return f.bake ? py::object(py::str(f.bake->signReason)) : py::object(py::none()); })
+        .def_property_readonly("check", [](const Py& f) {
+            return f.bake && f.bake->checked ? py::object(checkToDict(f.bake->check)) : py::object(py::none());
+        }, "The mesh check made for sign='auto', as a dict (None otherwise); its 'self_intersections' is None when holes or bad "
+   "edges decided the sign and the search was skipped");
+}
 
 // A channel of the field `self` as an (nx, ny, nz) or, for `vector`, (nx, ny, nz, 3) view of its
 // planar buffer (no copy; keeps the field alive); None when it was not baked.
@@ -248,6 +285,15 @@ py::object channelView(const py::object& self, const std::vector<T>& planes, boo
     std::vector<py::ssize_t> shape{nx, ny, nz}, strides{item, item * nx, item * nx * ny};
     if (vector) shape.push_back(3), strides.push_back(item * nx * ny * nz);
     return py::array_t<T>(shape, strides, planes.data(), self);
+}
+
+// A read-only view of a buffer that the sparse field `self` holds (no copy; keeps the field alive).
+// Read-only: the lookups rely on the bricks' order and bounds, which writes could break.
+template <class T>
+py::array sparseView(const py::object& self, const T* data, std::vector<py::ssize_t> shape, std::vector<py::ssize_t> strides) {
+    py::array view(py::dtype::of<T>(), std::move(shape), std::move(strides), data, self);
+    view.attr("setflags")(py::arg("write") = false);
+    return view;
 }
 
 } // namespace
@@ -417,7 +463,12 @@ PYBIND11_MODULE(_sdfgen, m) {
         py::arg("mesh"), py::arg("points"), py::arg("vertices") = py::none(), py::arg("sign") = py::none(), py::arg("gradient") = false,
         py::arg("closest") = false, py::arg("features") = false, py::arg("threads") = 0);
 
-    py::class_<PyField>(m, "Field", "A signed distance field on a grid of cubic voxels (samples at voxel centres)")
+    py::class_<PyField> fieldClass(m, "Field", "A signed distance field on a grid of cubic voxels (samples at voxel centres)");
+    addFieldInfo(fieldClass);
+    fieldClass
+        .def_property_readonly("background", [](const PyField& f) { return f.field.background; },
+                               "0 when every value is a distance; for a band field made dense (SparseField.to_dense), the "
+                               "magnitude of the values outside the band, which tell only the side")
         .def_property_readonly(
             "values",
             [](py::object self) {
@@ -440,27 +491,6 @@ PYBIND11_MODULE(_sdfgen, m) {
             "triangle", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.triangle, false); },
             "(nx, ny, nz) int32 view of the triangle channel: the nearest triangle's index (as Mesh.faces numbers them); None "
             "unless baked")
-        .def_property_readonly("dims", [](const PyField& f) { return py::make_tuple(f.field.grid.dims.x, f.field.grid.dims.y, f.field.grid.dims.z); })
-        .def_property_readonly("origin", [](const PyField& f) { return tuple3(f.field.grid.origin); },
-                               "The grid's minimum corner; sample (i, j, k) is at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size")
-        .def_property_readonly("voxel_size", [](const PyField& f) { return f.field.grid.voxel; })
-        .def_property_readonly("source", [](const PyField& f) { return f.field.source; })
-        .def_property_readonly("method", [](const PyField& f) { return f.field.method; })
-        .def_property_readonly("parameters", [](const PyField& f) {
-            py::dict d;
-            for (const auto& [key, value] : f.field.parameters) d[py::str(key)] = value;
-            return d;
-        })
-        .def_property_readonly("sign", [](const PyField& f) { return f.field.parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
-        .def_property_readonly("device", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->deviceReason)) : py::object(py::none()); },
-                               "Where the bake ran and why, e.g. 'cpu: asked for' (None for a loaded field)")
-        .def_property_readonly("warnings", [](const PyField& f) { return f.bake ? f.bake->warnings : std::vector<std::string>{}; },
-                               "The bake's warnings, one line each (also issued as sdfgen.Warning); empty for a loaded field")
-        .def_property_readonly("sign_reason", [](const PyField& f) { return f.bake ? py::object(py::str(f.bake->signReason)) : py::object(py::none()); })
-        .def_property_readonly("check", [](const PyField& f) {
-            return f.bake && f.bake->checked ? py::object(checkToDict(f.bake->check)) : py::object(py::none());
-        }, "The mesh check made for sign='auto', as a dict (None otherwise); its 'self_intersections' is None when holes or bad "
-   "edges decided the sign and the search was skipped")
         .def(
             "positions",
             [](const PyField& f) {
@@ -495,11 +525,140 @@ PYBIND11_MODULE(_sdfgen, m) {
                    " of " + f.field.source + ", " + f.field.method + " sign=" + f.field.parameter("sign") + ">";
         });
 
+    py::class_<PySparseField> sparseClass(
+        m, "SparseField",
+        "A narrow-band field (bake with band > 0, or a sparse .npz or .vdb file): exact distances within the band, in "
+        "bricks of 8x8x8 samples; every other sample is +background outside the solid and -background inside");
+    addFieldInfo(sparseClass);
+    sparseClass
+        .def_static(
+            "load",
+            [](const std::string& path) {
+                auto result = std::make_unique<PySparseField>();
+                py::gil_scoped_release release;
+                result->field = loadSparseField(path);
+                return result;
+            },
+            py::arg("path"),
+            "Loads any field file as sparse: a sparse .npz or .vdb as it is, a dense file through its samples (bricks "
+            "where a sample lies within the file's band of the surface, 3 voxels when it names none)")
+        .def_property_readonly("background", [](const PySparseField& f) { return f.field.background; },
+                               "band * voxel_size: the magnitude of every sample outside the band")
+        .def_property_readonly(
+            "band",
+            [](const PySparseField& f) {
+                // The band as the bake was given it, else from the float background (in float, where
+                // band * voxel was rounded: 3, not 3.0000001).
+                const std::string given = f.field.parameter("band");
+                char* end = nullptr;
+                const double band = std::strtod(given.c_str(), &end);
+                return !given.empty() && *end == '\0' && std::isfinite(band) ? band : double(f.field.background / float(f.field.grid.voxel));
+            },
+            "The band's half-width in voxels")
+        .def_property_readonly(
+            "brick_origins",
+            [](const py::object& self) {
+                PySparseField& f = self.cast<PySparseField&>();
+                if (f.brickOrigins.size() != 3 * f.field.bricks.size()) {
+                    f.brickOrigins.resize(3 * f.field.bricks.size());
+                    for (std::size_t b = 0; b < f.field.bricks.size(); ++b) {
+                        for (int a = 0; a < 3; ++a) f.brickOrigins[3 * b + std::size_t(a)] = f.field.bricks[b][a] * SparseField::kBrick;
+                    }
+                }
+                const py::ssize_t item = sizeof(int);
+                return sparseView(self, f.brickOrigins.data(), {py::ssize_t(f.field.bricks.size()), 3}, {3 * item, item});
+            },
+            "(B, 3) int32 read-only view: the first sample (i, j, k) of each brick, multiples of 8, ordered by k, then j, "
+            "then i (made once, 12 bytes a brick)")
+        .def_property_readonly(
+            "brick_values",
+            [](const py::object& self) {
+                const SparseField& f = self.cast<const PySparseField&>().field;
+                const py::ssize_t item = sizeof(float), n = SparseField::kBrick;
+                // brick_values[a, b, c, n], as the sparse .npz stores it: x fastest, so Fortran order.
+                return sparseView(self, f.values.data(), {n, n, n, py::ssize_t(f.bricks.size())}, {item, item * n, item * n * n, item * n * n * n});
+            },
+            "(8, 8, 8, B) float32 read-only view in Fortran order (no copy): brick_values[a, b, c, n] is sample "
+            "brick_origins[n] + (a, b, c); samples past the grid's end hold +background")
+        .def_property_readonly(
+            "inside_boxes",
+            [](const py::object& self) {
+                const SparseField& f = self.cast<const PySparseField&>().field;
+                const py::ssize_t item = sizeof(int);
+                static_assert(sizeof(std::array<int, 6>) == 6 * sizeof(int), "boxes are packed int sextuples");
+                return sparseView(self, reinterpret_cast<const int*>(f.insideBoxes.data()), {py::ssize_t(f.insideBoxes.size()), 6},
+                                  {6 * item, item});
+            },
+            "(R, 6) int32 read-only view (no copy): i0 j0 k0 i1 j1 k1, the samples [i0, i1) x [j0, j1) x [k0, k1) outside "
+            "every brick and inside the solid (-background); samples in neither a brick nor a box are outside (+background)")
+        .def_property_readonly("active_count", [](const PySparseField& f) { return f.field.activeCount(); },
+                               "The samples in the band (|value| < background), counted")
+        .def(
+            "at",
+            [](const PySparseField& f, int i, int j, int k) {
+                const glm::ivec3 d = f.field.grid.dims;
+                if (i < 0 || j < 0 || k < 0 || i >= d.x || j >= d.y || k >= d.z) {
+                    throw Error("sample (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) +
+                                ") is outside the " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) + " grid");
+                }
+                return f.field.at(i, j, k);
+            },
+            py::arg("i"), py::arg("j"), py::arg("k"), "The value of sample (i, j, k)")
+        .def(
+            "sample",
+            [](const PySparseField& f, const py::array& input, int threads) {
+                std::vector<py::ssize_t> shape;
+                const auto points = pointsFrom(input, shape);
+                const std::size_t count = std::size_t(points.size() / 3);
+                std::vector<float> out(count);
+                const double* data = points.data();
+                runReleased(
+                    [&](const RunControl& control) {
+                        constexpr std::size_t kBlock = 4096;
+                        parallelFor((count + kBlock - 1) / kBlock, control, [&](std::size_t block) {
+                            for (std::size_t n = block * kBlock, end = std::min(count, n + kBlock); n < end; ++n) {
+                                out[n] = f.field.sample(glm::dvec3(data[3 * n], data[3 * n + 1], data[3 * n + 2]));
+                            }
+                        });
+                        return 0;
+                    },
+                    threads);
+                return toNumpy(std::move(out), shape);
+            },
+            py::arg("points"), py::arg("threads") = 0,
+            "Trilinear interpolation of the samples at (..., 3) world points (clamped to the grid), float32 of shape (...)")
+        .def(
+            "to_dense",
+            [](const PySparseField& f) {
+                auto result = std::make_unique<PyField>();
+                py::gil_scoped_release release;
+                result->field = f.field.toDense();
+                return result;
+            },
+            "The dense Field (every sample; Field.background tells the band's values from the sides); sdfgen.Error when it "
+            "does not fit in memory")
+        .def(
+            "save",
+            [](const PySparseField& f, const std::string& path) {
+                py::gil_scoped_release release;
+                saveSparseField(f.field, path);
+            },
+            py::arg("path"),
+            "Saves atomically: .vdb (a level set) and .npz keep it sparse; .sdf, .npy and .nrrd write the dense form, "
+            "or raise sdfgen.Error when it does not fit in memory")
+        .def("__repr__", [](const PySparseField& f) {
+            const Grid& g = f.field.grid;
+            return "<sdfgen.SparseField " + std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
+                   " of " + f.field.source + ", " + std::to_string(f.field.bricks.size()) + " bricks, " + f.field.method +
+                   " sign=" + f.field.parameter("sign") + ">";
+        });
+
     m.def(
         "bake",
         [](const PyMesh& mesh, int res, double padding, const std::string& method, const std::string& sign, int threads,
-           const py::object& progress, int rays, const std::string& device, const py::object& channels) {
+           const py::object& progress, int rays, const std::string& device, const py::object& channels, double band) -> py::object {
             BakeSettings settings;
+            settings.band = band;
             settings.channels = channelsFrom(channels);
             const std::map<std::string, Device> devices = {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}};
             const auto named = devices.find(device);
@@ -510,28 +669,54 @@ PYBIND11_MODULE(_sdfgen, m) {
             settings.method = methodFrom(method);
             settings.sign = signFrom(sign);
             settings.rays = rays;
+            BakeResult baked = runReleased([&](const RunControl& control) { return mesh.model->bake(settings, control); }, threads, progress);
+            if (band > 0) {
+                auto result = std::make_unique<PySparseField>();
+                result->field = std::move(baked.sparse);
+                result->bake = std::move(baked);
+                return py::cast(std::move(result));
+            }
             auto result = std::make_unique<PyField>();
-            result->bake = runReleased([&](const RunControl& control) { return mesh.model->bake(settings, control); }, threads, progress);
-            result->field = std::move(result->bake->field);
-            return result;
+            result->field = std::move(baked.field);
+            result->bake = std::move(baked);
+            return py::cast(std::move(result));
         },
         py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
         py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "auto",
-        py::arg("channels") = "sdf",
-        "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
+        py::arg("channels") = "sdf", py::arg("band") = 0.0,
+        "Bakes a field: res voxels along the padded box's longest side. band > 0: a narrow-band bake (method exact, on the "
+        "CPU): exact distances only within band voxels of the surface, returned as a SparseField; the dense grid is never "
+        "allocated. progress(fraction) is called on this thread; "
         "Ctrl+C cancels. device: where exact distances and winding signs run: gpu (OpenGL 4.5 compute), cpu, or auto "
         "(the GPU when a hardware OpenGL 4.5 driver is there). channels: 'sdf' or a comma-separated list (or sequence) "
         "adding gradient, closest and triangle (method exact, on the CPU): Field.gradient, .closest, .triangle.");
 
     m.def(
         "load_field",
-        [](const std::string& path) {
+        [](const std::string& path) -> py::object {
+            bool sparse = false;
+            {
+                py::gil_scoped_release release;
+                sparse = isSparseFieldFile(path);
+            }
+            if (sparse) {
+                auto result = std::make_unique<PySparseField>();
+                {
+                    py::gil_scoped_release release;
+                    result->field = loadSparseField(path);
+                }
+                return py::cast(std::move(result));
+            }
             auto result = std::make_unique<PyField>();
-            py::gil_scoped_release release;
-            result->field = loadField(path);
-            return result;
+            {
+                py::gil_scoped_release release;
+                result->field = loadField(path);
+            }
+            return py::cast(std::move(result));
         },
-        py::arg("path"), "Loads a field saved in any format sdfgen writes");
+        py::arg("path"),
+        "Loads a field saved in any format sdfgen writes: a SparseField for a sparse file (a sparse .npz, a .vdb level set "
+        "with inactive voxels), a Field otherwise (SparseField.load loads any file as sparse)");
 
     m.def(
         "sample",

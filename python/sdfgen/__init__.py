@@ -1,7 +1,7 @@
 """sdfgen: exact signed distance fields, point queries and DeepSDF-style samples from triangle meshes.
 
-Meshes (Mesh.load, Mesh(vertices, faces)), bakes (bake, load_field), point queries (the Mesh's
-methods) and samples (sample) take and give numpy arrays; sdfgen.torch gives the same queries on
+Meshes (Mesh.load, Mesh(vertices, faces)), bakes (bake, load_field: a Field, or a SparseField for
+a narrow band), point queries (the Mesh's methods) and samples (sample) take and give numpy arrays; sdfgen.torch gives the same queries on
 torch tensors, with gradients (``import sdfgen.torch``; importing sdfgen alone never loads torch).
 """
 from . import _sdfgen

@@ -167,11 +167,22 @@ std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads,
         device = "cpu"; // point queries
     } else {
         const BakeResult result = model.bake(args.settings, control);
-        saveField(result.field, partial.string());
-        const Grid& g = result.field.grid;
+        // A band bake's field is sparse: .vdb and .npz keep it so, the dense formats get its dense form where it fits.
+        const bool band = args.settings.band > 0;
+        try {
+            if (band) saveSparseField(result.sparse, partial.string());
+            else saveField(result.field, partial.string());
+        } catch (const Error& e) {
+            // The writer names the hidden partial file; the user named the output.
+            std::string message = e.what();
+            for (std::size_t at; (at = message.find(partial.string())) != std::string::npos;) message.replace(at, partial.string().size(), task.output);
+            throw Error(message);
+        }
+        const Grid& g = band ? result.sparse.grid : result.field.grid;
+        const std::string sign = band ? result.sparse.parameter("sign") : result.field.parameter("sign");
         details += ",\"dims\":[" + std::to_string(g.dims.x) + "," + std::to_string(g.dims.y) + "," + std::to_string(g.dims.z) +
                    "],\"origin\":[" + jsonNumber(g.origin.x) + "," + jsonNumber(g.origin.y) + "," + jsonNumber(g.origin.z) +
-                   "],\"voxel\":" + jsonNumber(g.voxel) + ",\"sign\":" + batch::jsonString(result.field.parameter("sign")) +
+                   "],\"voxel\":" + jsonNumber(g.voxel) + ",\"sign\":" + batch::jsonString(sign) +
                    ",\"sign_reason\":" + (result.signReason.empty() ? "null" : batch::jsonString(result.signReason));
         device = deviceUsed(result, args.settings.device);
     }
@@ -357,7 +368,7 @@ private:
     std::vector<Running> running_;
 };
 
-std::string statusLine(const Outcome& o, const batch::Shard& shard, const std::string& host) {
+std::string statusLine(const Outcome& o, double band, const batch::Shard& shard, const std::string& host) {
     std::string line = "{\"mesh\":" + batch::jsonString(o.task.mesh) + ",\"output\":" + batch::jsonString(o.task.output) +
                        ",\"status\":\"" + o.status + "\",\"seconds\":" + jsonNumber(std::round(o.seconds * 1000.0) / 1000.0) +
                        ",\"error\":" + (o.error.empty() ? "null" : batch::jsonString(o.error));
@@ -366,14 +377,24 @@ std::string statusLine(const Outcome& o, const batch::Shard& shard, const std::s
     line += ",\"warnings\":[" + warnings + "]";
     line += "," + (o.details.empty() ? std::string("\"triangles\":null,\"dims\":null,\"origin\":null,\"voxel\":null,\"sign\":null,\"sign_reason\":null,\"device\":null")
                                      : o.details);
+    line += std::string(",\"band\":") + (band > 0 ? jsonNumber(band) : "null");
     line += ",\"shard\":\"" + std::to_string(shard.index) + "/" + std::to_string(shard.count) + "\",\"host\":" + batch::jsonString(host) + "}";
     return line;
 }
 
-void printSummary(const std::vector<Outcome>& outcomes, std::size_t allTasks, const batch::Shard& shard, double seconds) {
+// ", band 3 voxels" for a band bake, "" for a dense one.
+std::string bandText(double band) {
+    if (!(band > 0)) return "";
+    char text[48];
+    std::snprintf(text, sizeof(text), ", band %g voxels", band);
+    return text;
+}
+
+void printSummary(const std::vector<Outcome>& outcomes, std::size_t allTasks, const batch::Shard& shard, double band, double seconds) {
     std::map<std::string, std::size_t> counts{{"done", 0}, {"skipped", 0}, {"failed", 0}};
     for (const Outcome& o : outcomes) ++counts[o.status];
-    std::printf("\nbatch summary: shard %d/%d, %zu of %zu meshes, %.1f s\n", shard.index, shard.count, outcomes.size(), allTasks, seconds);
+    std::printf("\nbatch summary: shard %d/%d, %zu of %zu meshes%s, %.1f s\n", shard.index, shard.count, outcomes.size(), allTasks,
+                bandText(band).c_str(), seconds);
     std::printf("  %-8s %6zu\n  %-8s %6zu\n  %-8s %6zu\n", "done", counts["done"], "skipped", counts["skipped"], "failed", counts["failed"]);
     if (counts["done"] > 0) std::printf("  %.0f meshes per hour (baked meshes / wall time)\n", double(counts["done"]) * 3600.0 / seconds);
     std::vector<const Outcome*> baked;
@@ -391,6 +412,15 @@ void printSummary(const std::vector<Outcome>& outcomes, std::size_t allTasks, co
 
 int runBatch(const BatchArgs& args) {
     Stopwatch clock;
+    if (args.settings.band > 0 && args.settings.band < 1) {
+        // Refused here, before any work, rather than by every mesh's bake.
+        char text[96];
+        std::snprintf(text, sizeof(text), "--band must be 0 (dense) or at least 1 voxel (got %g)", args.settings.band);
+        throw Error(text);
+    }
+    if (args.settings.band > 0 && args.format == "samples") {
+        throw Error("--band makes a field; --format samples makes samples without a grid (choose one)");
+    }
     const std::string extension = formatExtensions.at(args.format);
     const std::vector<batch::Task> all = batch::planBatch(args.input, args.outDir, extension);
     const batch::Shard shard = batch::resolveShard(args.shard, args.shardCount, [](const char* name) { return std::getenv(name); });
@@ -402,8 +432,8 @@ int runBatch(const BatchArgs& args) {
     const int threadsPerJob = std::max(1, cpus / args.jobs);
     const double memoryMiB = args.memoryMiB > 0 ? args.memoryMiB : double(usableMemoryBytes() >> 20) / args.jobs;
     removeStalePartials(tasks, host);
-    std::printf("batch: %zu of %zu meshes in shard %d/%d, %d at a time with %d threads each\n", tasks.size(), all.size(),
-                shard.index, shard.count, args.jobs, threadsPerJob);
+    std::printf("batch: %zu of %zu meshes in shard %d/%d, %d at a time with %d threads each%s\n", tasks.size(), all.size(),
+                shard.index, shard.count, args.jobs, threadsPerJob, bandText(args.settings.band).c_str());
     std::fflush(stdout);
 
     std::vector<Outcome> outcomes;
@@ -415,7 +445,7 @@ int runBatch(const BatchArgs& args) {
         std::fflush(stdout);
         for (const std::string& warning : o.warnings) std::printf("  warning: %s\n", warning.c_str());
         std::fflush(stdout);
-        if (!statusPath.empty()) batch::appendLine(statusPath, statusLine(o, shard, host));
+        if (!statusPath.empty()) batch::appendLine(statusPath, statusLine(o, args.settings.band, shard, host));
     };
     Scheduler scheduler(args, threadsPerJob, memoryMiB);
     std::size_t next = 0;
@@ -431,7 +461,7 @@ int runBatch(const BatchArgs& args) {
         }
         for (const Outcome& o : scheduler.wait()) record(o);
     }
-    printSummary(outcomes, all.size(), shard, clock.seconds());
+    printSummary(outcomes, all.size(), shard, args.settings.band, clock.seconds());
     return std::any_of(outcomes.begin(), outcomes.end(), [](const Outcome& o) { return o.status == "failed"; }) ? 1 : 0;
 }
 
@@ -449,6 +479,11 @@ void addBatchCommand(CLI::App& app, int& exitCode) {
         ->check(CLI::IsMember(formats))
         ->capture_default_str();
     addBakeOptions(*batch, args->settings, args->threads);
+    batch->add_option("--band", args->settings.band,
+                      "A narrow-band bake: exact distances only within this many voxels of the surface (0 = dense); "
+                      "vdb and npz keep it sparse, npy, sdf and nrrd get its dense form where it fits in memory")
+        ->check(finiteRange(0.0, 1e9))
+        ->capture_default_str();
     addSampleOptions(*batch, args->sampling);
     batch->add_option("--samples", args->samples, "Samples per mesh for --format samples")->check(wholeNumber(1, std::uint64_t(1) << 34))->capture_default_str();
     batch->add_option("--jobs", args->jobs, "Meshes baked at a time; each gets threads / jobs threads")->check(CLI::Range(1, 1024))->capture_default_str();

@@ -159,4 +159,27 @@ check "batch records a mesh's warnings in its JSON line" json_check "$work/warne
 len(lines) == 1 and lines[0]["status"] == "done" and len(lines[0]["warnings"]) == 1 and lines[0]["warnings"][0].endswith("degenerate.obj: dropped 2 zero-area triangles")'
 check "every status line has a warnings list" json_check "$work/status.jsonl" 'all(l["warnings"] == [] for l in lines)'
 
+# --band: each mesh baked in a narrow band, as `sdfgen bake --band` bakes it; sparse in .npz and .vdb,
+# dense in .sdf; the band in every status line and in the summary.
+for format in npz vdb sdf; do
+  "$sdfgen" batch "$work/meshes" --out "$work/band-$format" --format $format --res 20 --band 2 --status "$work/band-$format.jsonl" >"$work/band-$format.txt" 2>&1
+  check "batch --band 2 --format $format records the band and bakes every good mesh" json_check "$work/band-$format.jsonl" '
+len(lines) == 6 and all(l["band"] == 2 for l in lines) and sorted(l["status"] for l in lines) == ["done"] * 4 + ["failed"] * 2'
+  check "batch --band 2 --format $format gives sdfgen bake --band 2's field" bash -c "
+    '$sdfgen' bake '$work/meshes/sub/open.obj' -o '$work/band-ref.$format' --res 20 --band 2 >/dev/null &&
+    '$sdfgen' compare '$work/band-ref.$format' '$work/band-$format/sub/open.$format' | grep -q 'max 0 '"
+  check "the summary of batch --band names the band" grep -qE '^batch summary: .*, band 2 voxels, ' "$work/band-$format.txt"
+done
+check "batch --band --format npz writes sparse archives" $python -c "
+import numpy as np, sys
+z = np.load(sys.argv[1])
+assert 'sdf' not in z.files and z['brick_origins'].shape[1] == 3 and z['brick_values'].shape[:3] == (8, 8, 8)" "$work/band-npz/octahedron.npz"
+check "a dense batch records no band" json_check "$work/status.jsonl" 'all(l["band"] is None for l in lines)'
+check "batch --band 0.5 is refused before any work" bash -c "
+  ! '$sdfgen' batch '$work/meshes' --out '$work/band-half' --band 0.5 >'$work/band-half.txt' 2>&1 &&
+  grep -q 'at least 1 voxel (got 0.5)' '$work/band-half.txt' && test ! -e '$work/band-half'"
+check "batch --band with --format samples is a one-line error" bash -c "
+  ! '$sdfgen' batch '$work/meshes' --out '$work/band-samples' --format samples --band 2 2>'$work/band-samples.txt' &&
+  grep -q 'band' '$work/band-samples.txt' && test \$(wc -l <'$work/band-samples.txt') -eq 1 && test ! -e '$work/band-samples'"
+
 check_summary batch
