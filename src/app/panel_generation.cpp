@@ -58,11 +58,11 @@ void Viewer::generationSection() {
     track("rays");
     ImGui::InputDouble("Padding", &settings_.padding, 0.01, 0.1, "%.3f");
     track("padding");
-    ImGui::InputInt("Threads (0 = all)", &threads_);
-    track("threads");
     ImGui::InputDouble("Band (0 = dense)", &settings_.band, 1.0, 1.0, "%g");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("Voxels each side of the surface with exact distances (a sparse field); 0: every voxel");
     track("band");
+    ImGui::InputInt("Threads (0 = all)", &threads_);
+    track("threads");
     int method = int(settings_.method);
     ImGui::Combo("Method", &method, "rays\0exact\0brute\0");
     settings_.method = DistanceMethod(method);
