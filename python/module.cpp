@@ -22,7 +22,6 @@
 #include <chrono>
 #include <future>
 #include <limits>
-#include <map>
 #include <memory>
 #include <type_traits>
 
@@ -106,24 +105,24 @@ py::array_t<T> toNumpy(std::vector<T>&& values, std::vector<py::ssize_t> shape) 
     return py::array_t<T>(shape, owned->data(), free);
 }
 
-SignMethod signFrom(const std::string& name) {
-    static const std::map<std::string, SignMethod> signs = {{"default", SignMethod::Default},
-                                                            {"auto", SignMethod::Auto},
-                                                            {"winding", SignMethod::Winding},
-                                                            {"pseudonormal", SignMethod::Pseudonormal},
-                                                            {"rays", SignMethod::Rays}};
-    const auto it = signs.find(name);
-    if (it == signs.end()) throw py::value_error("sign must be auto, winding, pseudonormal, rays or default (got '" + name + "')");
-    return it->second;
+// "a, b or c": a registry's names, for messages and docstrings.
+template <class Id>
+std::string namesOf(const std::vector<Choice<Id>>& choices) {
+    std::string names;
+    for (std::size_t i = 0; i < choices.size(); ++i) names += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::string(choices[i].name);
+    return names;
 }
 
-DistanceMethod methodFrom(const std::string& name) {
-    static const std::map<std::string, DistanceMethod> methods = {
-        {"exact", DistanceMethod::Exact}, {"rays", DistanceMethod::Rays}, {"brute", DistanceMethod::Brute}};
-    const auto it = methods.find(name);
-    if (it == methods.end()) throw py::value_error("method must be exact, rays or brute (got '" + name + "')");
-    return it->second;
+// The choice a keyword argument names; ValueError listing the registry's names.
+template <class Id>
+Id choose(const std::vector<Choice<Id>>& choices, const char* what, const std::string& name) {
+    for (const Choice<Id>& choice : choices) {
+        if (name == choice.name) return choice.id;
+    }
+    throw py::value_error(std::string(what) + " must be " + namesOf(choices) + " (got '" + name + "')");
 }
+
+SignMethod signFrom(const std::string& name) { return choose(signMethodChoices(), "sign", name); }
 
 // Channels from "sdf,gradient" or ["sdf", "gradient"]; ValueError for an unknown name.
 Channels channelsFrom(const py::object& names) {
@@ -305,7 +304,34 @@ using namespace sdfgen::python;
 
 // The compiled part of the package sdfgen (python/sdfgen/__init__.py re-exports it).
 PYBIND11_MODULE(_sdfgen, m) {
-    m.doc() = "sdfgen: exact signed distance fields, point queries and DeepSDF-style samples from triangle meshes";
+    // The names the arguments take, from the library's registries.
+    std::string fieldFormats, meshFormats, extensions;
+    for (const FieldFormatInfo& format : knownFieldFormats()) {
+        fieldFormats += (fieldFormats.empty() ? "" : ", ") + std::string(format.extension) + " (" + format.description + ")";
+        extensions += (extensions.empty() ? "" : ", ") + std::string(format.extension);
+    }
+    for (const std::string& extension : meshFormatExtensions()) meshFormats += (meshFormats.empty() ? "" : ", ") + extension;
+    m.doc() = "sdfgen: exact signed distance fields, point queries and DeepSDF-style samples from triangle meshes\n\n"
+              "Distance methods (bake's method): " + describeChoices(distanceMethodChoices()) + ".\n"
+              "Sign methods (sign): " + describeChoices(signMethodChoices()) + "; point queries sign by " +
+              namesOf(pointQuerySignChoices()) + ".\n"
+              "Devices (bake's device): " + describeChoices(deviceChoices()) + ".\n"
+              "Field formats: " + fieldFormats + ".\nMesh formats: " + meshFormats + " and the others Assimp reads.";
+    const std::vector<Choice<SignMethod>> querySigns = pointQuerySignChoices();
+    py::tuple querySignNames(querySigns.size());
+    for (std::size_t i = 0; i < querySigns.size(); ++i) querySignNames[i] = querySigns[i].name;
+    m.attr("_point_query_signs") = querySignNames; // for sdfgen.torch's messages
+    // pybind11 keeps a docstring's pointer: these live as long as the module.
+    static const std::string signedDistanceDoc =
+        "Signed distances (negative inside) at (..., 3) points, float32 of shape (...); sign: " + namesOf(querySigns);
+    static const std::string saveDoc = "Saves in the format the extension names (" + extensions + "), atomically";
+    static const std::string bakeDoc =
+        "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
+        "Ctrl+C cancels. method: " + namesOf(distanceMethodChoices()) + "; sign: " + namesOf(signMethodChoices()) +
+        " (see the module's notes). device: where exact distances and winding signs run: " + describeChoices(deviceChoices()) +
+        ". channels: 'sdf' or a comma-separated list (or sequence) adding gradient, closest and triangle (method exact, "
+        "on the CPU): Field.gradient, .closest, .triangle. band > 0: a narrow-band bake (method exact, on the CPU): exact "
+        "distances only within band voxels of the surface, returned as a SparseField; the dense grid is never allocated.";
     m.attr("__version__") = "0.1.0";
 #if SDFGEN_PYTHON_GPU
     gpu::registerGlDevice();
@@ -383,8 +409,7 @@ PYBIND11_MODULE(_sdfgen, m) {
             [](const PyMesh& m, const py::array& points, const std::string& sign, int threads) {
                 return query<float>(m, points, signFrom(sign), threads, &PointQueryOutputs::signedDistance, 1);
             },
-            py::arg("points"), py::arg("sign") = "auto", py::arg("threads") = 0,
-            "Signed distances (negative inside) at (..., 3) points, float32 of shape (...)")
+            py::arg("points"), py::arg("sign") = "auto", py::arg("threads") = 0, signedDistanceDoc.c_str())
         .def(
             "unsigned_distance",
             [](const PyMesh& m, const py::array& points, int threads) {
@@ -518,7 +543,7 @@ PYBIND11_MODULE(_sdfgen, m) {
                 py::gil_scoped_release release;
                 saveField(f.field, path, options);
             },
-            py::arg("path"), py::arg("band") = 0.0, "Saves in the format the extension names (.sdf, .npy, .npz, .vdb, .nrrd), atomically")
+            py::arg("path"), py::arg("band") = 0.0, saveDoc.c_str())
         .def("__repr__", [](const PyField& f) {
             const Grid& g = f.field.grid;
             return "<sdfgen.Field " + std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
@@ -660,13 +685,10 @@ PYBIND11_MODULE(_sdfgen, m) {
             BakeSettings settings;
             settings.band = band;
             settings.channels = channelsFrom(channels);
-            const std::map<std::string, Device> devices = {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}};
-            const auto named = devices.find(device);
-            if (named == devices.end()) throw py::value_error("device must be cpu, gpu or auto (got '" + device + "')");
-            settings.device = named->second;
+            settings.device = choose(deviceChoices(), "device", device);
             settings.res = res;
             settings.padding = padding;
-            settings.method = methodFrom(method);
+            settings.method = choose(distanceMethodChoices(), "method", method);
             settings.sign = signFrom(sign);
             settings.rays = rays;
             BakeResult baked = runReleased([&](const RunControl& control) { return mesh.model->bake(settings, control); }, threads, progress);
@@ -684,12 +706,7 @@ PYBIND11_MODULE(_sdfgen, m) {
         py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
         py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "auto",
         py::arg("channels") = "sdf", py::arg("band") = 0.0,
-        "Bakes a field: res voxels along the padded box's longest side. band > 0: a narrow-band bake (method exact, on the "
-        "CPU): exact distances only within band voxels of the surface, returned as a SparseField; the dense grid is never "
-        "allocated. progress(fraction) is called on this thread; "
-        "Ctrl+C cancels. device: where exact distances and winding signs run: gpu (OpenGL 4.5 compute), cpu, or auto "
-        "(the GPU when a hardware OpenGL 4.5 driver is there). channels: 'sdf' or a comma-separated list (or sequence) "
-        "adding gradient, closest and triangle (method exact, on the CPU): Field.gradient, .closest, .triangle.");
+        bakeDoc.c_str());
 
     m.def(
         "load_field",

@@ -84,6 +84,14 @@ TEST(BandBake, EqualsTheDenseBakeInTheBandAndItsSidesOutside) {
     }
 }
 
+TEST(BandBake, OpenMeshesAtAFinerGrid) {
+    // Finer grids leave cubes near the holes' fans but far from the surface, whose side the bake
+    // takes from the winding number at their centre and the bound on its change.
+    expectMatchesDense("holed sphere", test::holedSphere(1.0f), 112, 2.0, SignMethod::Auto, 2);
+    expectMatchesDense("cup", test::cup(false), 112, 3.0, SignMethod::Auto, 2);
+    expectMatchesDense("disk", test::flatDisk(), 96, 1.5, SignMethod::Auto, 1);
+}
+
 TEST(BandBake, HugeAndTinyScales) {
     const Mesh sphere = test::icosphere(1.0f, 2);
     for (const float scale : {1e-6f, 1e6f}) {

@@ -1,8 +1,10 @@
 #pragma once
+#include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh_check.hpp"
 #include "sdfgen/sparse_field.hpp"
 
+#include <cctype>
 #include <string>
 #include <vector>
 
@@ -16,7 +18,7 @@ enum class DistanceMethod {
 };
 // How inside is told from outside.
 enum class SignMethod {
-    Default,      // Rays for the rays method, Auto otherwise
+    Default,      // the method's own: Rays for the rays method, Auto otherwise
     Auto,         // Pseudonormal where the mesh check proves it right (flipped for a mesh inside out), Winding otherwise
     Rays,         // majority of back-face first hits (rays per sample from BakeSettings::rays)
     Pseudonormal, // angle-weighted pseudonormal of the closest feature
@@ -24,7 +26,7 @@ enum class SignMethod {
 };
 const char* toString(DistanceMethod method);
 const char* toString(SignMethod sign);
-// The method named `name` ("exact", "winding", ...); throws Error listing the known names.
+// The method named `name` ("exact", "winding", ...; any case); throws Error listing the known names.
 DistanceMethod parseDistanceMethod(const std::string& name);
 SignMethod parseSignMethod(const std::string& name);
 
@@ -36,6 +38,41 @@ enum class Device {
     Auto, // the compute device when it runs on real GPU hardware, the CPU otherwise
 };
 const char* toString(Device device);
+Device parseDevice(const std::string& name);
+
+// A distance method, sign method or device as its registry lists it: the name that toString
+// writes and parse* reads, and what it is in a line, for help texts, errors and tooltips. Front
+// ends build their options, argument parsing and combos from these lists, in their order.
+template <class Id>
+struct Choice {
+    Id id;
+    const char* name;
+    const char* description;
+};
+std::vector<Choice<DistanceMethod>> distanceMethodChoices();
+std::vector<Choice<SignMethod>> signMethodChoices(); // auto first, default (the method's own) last
+std::vector<Choice<SignMethod>> pointQuerySignChoices(); // those Model::query signs by (it takes default as auto)
+std::vector<Choice<Device>> deviceChoices();
+// "a (what a is), b (...) or c (...)", for help texts and errors.
+template <class Id>
+std::string describeChoices(const std::vector<Choice<Id>>& choices) {
+    std::string text;
+    for (std::size_t i = 0; i < choices.size(); ++i) {
+        text += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::string(choices[i].name) + " (" + choices[i].description + ")";
+    }
+    return text;
+}
+// The choice named `name`, in any case; else an Error naming it and `what` it should be ("sign
+// method"), and listing each choice with what it is.
+template <class Id>
+Id parseChoice(const std::vector<Choice<Id>>& choices, const std::string& name, const std::string& what) {
+    std::string lower = name;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    for (const Choice<Id>& choice : choices) {
+        if (lower == choice.name) return choice.id;
+    }
+    throw Error("unknown " + what + " '" + name + "'; known: " + describeChoices(choices));
+}
 
 // What a bake or a set of samples gives per point besides the signed distance ("sdf", always
 // there), each from the same nearest-triangle search as the distance (exact method only):

@@ -9,13 +9,17 @@ namespace sdfgen {
 struct FieldDifference {
     double maxAbs = 0, meanAbs = 0, rmsAbs = 0; // over the samples compared, in the fields' units
     double voxel = 0;                           // to express the above in voxels
-    std::size_t compared = 0;                   // samples outside the band
-    std::size_t signDifferences = 0;            // of those, samples whose signs differ
-    double signFraction() const { return compared ? double(signDifferences) / double(compared) : 0.0; }
+    std::size_t compared = 0;                   // samples compared by value (outside the band skipped)
+    // Samples compared by sign only: outside a band field's band (Field::background), where it
+    // knows the side and not the distance.
+    std::size_t signOnly = 0;
+    std::size_t signDifferences = 0; // of both, samples whose signs differ
+    double signFraction() const { return compared + signOnly ? double(signDifferences) / double(compared + signOnly) : 0.0; }
 };
 
 // Compares a and b sample by sample, skipping samples within `bandVoxels` voxels of the surface in
-// either field (0 compares all). Throws Error when the grids differ.
+// either field (0 compares all). A band field (Field::background > 0) is compared by value where
+// |value| < background and by sign elsewhere. Throws Error when the grids differ.
 FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels);
 
 } // namespace sdfgen

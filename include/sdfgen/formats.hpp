@@ -43,4 +43,15 @@ bool isSparseFieldFile(const std::string& path);
 // The extensions saveField and loadField accept, with the dot (".sdf", ...).
 std::vector<std::string> fieldFormatExtensions();
 
+// The formats saveField and loadField know, in the order help texts list them: the extension
+// (with the dot), what the file holds, and whether it holds the channels besides the distance.
+struct FieldFormatInfo {
+    const char* extension;
+    const char* description;
+    bool holdsChannels;
+};
+std::vector<FieldFormatInfo> knownFieldFormats();
+// "A, B or C": the extensions of the formats that hold channels, for messages.
+std::string channelFormatList();
+
 } // namespace sdfgen

@@ -36,7 +36,7 @@ one with ``create_graph=True`` (for a gradient of a gradient) raises RuntimeErro
 import torch
 
 from . import Mesh
-from ._sdfgen import _nearest_terms
+from ._sdfgen import _nearest_terms, _point_query_signs
 
 __all__ = ["signed_distance", "unsigned_distance", "closest_points"]
 
@@ -44,10 +44,10 @@ __all__ = ["signed_distance", "unsigned_distance", "closest_points"]
 def signed_distance(points, mesh, faces=None, *, sign="auto", threads=0):
     """Signed distances (negative inside) at ``points`` (..., 3): a tensor of shape (...).
 
-    ``sign`` as for :meth:`sdfgen.Mesh.signed_distance` (auto, winding or pseudonormal);
+    ``sign`` as for :meth:`sdfgen.Mesh.signed_distance`;
     ``threads`` 0 for all cores. Differentiable (see the module's notes)."""
     if not isinstance(sign, str):
-        raise ValueError(f"sign must be a string (auto, winding or pseudonormal), not {type(sign).__name__}")
+        raise ValueError(f"sign must be a string ({', '.join(_point_query_signs)}), not {type(sign).__name__}")
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
     return _Distance.apply(points, vertices, mesh, sign, threads)
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 namespace sdfgen::app {
 
@@ -23,6 +24,23 @@ std::string formatBytes(double bytes) {
     char text[32];
     std::snprintf(text, sizeof(text), "%.3g %s", bytes, units[u]);
     return text;
+}
+// A combo of a registry's choices (sdfgen/bake.hpp), each with its description as tooltip; the
+// chosen entry's id goes into `value`.
+template <class Id>
+void choiceCombo(const char* label, Id& value, const std::vector<Choice<Id>>& choices) {
+    const bool open = ImGui::BeginCombo(label, toString(value));
+    if (!open && ImGui::IsItemHovered()) {
+        for (const Choice<Id>& choice : choices) {
+            if (choice.id == value) ImGui::SetTooltip("%s", choice.description);
+        }
+    }
+    if (!open) return;
+    for (const Choice<Id>& choice : choices) {
+        if (ImGui::Selectable(choice.name, choice.id == value)) value = choice.id;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", choice.description);
+    }
+    ImGui::EndCombo();
 }
 } // namespace
 
@@ -63,18 +81,12 @@ void Viewer::generationSection() {
     track("band");
     ImGui::InputInt("Threads (0 = all)", &threads_);
     track("threads");
-    int method = int(settings_.method);
-    ImGui::Combo("Method", &method, "rays\0exact\0brute\0");
-    settings_.method = DistanceMethod(method);
+    choiceCombo("Method", settings_.method, distanceMethodChoices());
     track("method");
-    int sign = int(settings_.sign);
-    ImGui::Combo("Sign", &sign, "default\0auto\0rays\0pseudonormal\0winding\0");
-    settings_.sign = SignMethod(sign);
+    choiceCombo("Sign", settings_.sign, signMethodChoices());
     track("sign");
     // The GPU device makes its own headless context current on the generation's worker thread.
-    int device = int(settings_.device);
-    ImGui::Combo("Device", &device, "cpu\0gpu\0auto\0");
-    settings_.device = Device(device);
+    choiceCombo("Device", settings_.device, deviceChoices());
     track("device");
     ImGui::EndDisabled();
 

@@ -58,8 +58,10 @@ void runBake(BakeArgs args) {
     if (args.settings.channels.any()) std::printf("channels: %s\n", toString(args.settings.channels).c_str());
     if (args.settings.band > 0) {
         const SparseField& sparse = result.sparse;
-        std::printf("band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes\n",
-                    args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size());
+        std::printf("band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes; "
+                    "tree and topology %.2f s, distances %.2f s, bricks and sides %.2f s\n",
+                    args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size(),
+                    result.setupSeconds, result.distanceSeconds, result.signSeconds);
     }
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
     if (!result.deviceReason.empty()) std::printf("device: %s\n", result.deviceReason.c_str());
@@ -70,7 +72,7 @@ void runBake(BakeArgs args) {
 void addBakeCommand(CLI::App& app) {
     auto args = std::make_shared<BakeArgs>();
     CLI::App* bake = app.add_subcommand("bake", "Generate a signed distance field from a mesh and save it (format from the extension)");
-    bake->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several give the field of their union")->required();
+    bake->add_option("mesh", args->meshes, "Input mesh (" + meshFormatList() + ", ...); several give the field of their union")->required();
     bake->add_option("-o,--output", args->output, "Output field file: " + fieldFormatList() + " (docs/field-format.md)")->required();
     bake->add_option("--band", args->settings.band,
                      "Narrow band: exact distances only within this many voxels of the surface (at least 1), the rest only "
@@ -80,11 +82,13 @@ void addBakeCommand(CLI::App& app) {
         ->capture_default_str();
     bake->add_option("--channels", args->channels,
                      "What each sample holds, comma-separated: sdf (the signed distance, always), gradient (its unit gradient), "
-                     "closest (the nearest surface point), triangle (the nearest triangle's index); for .npz and .vdb, "
-                     "--method exact")
+                     "closest (the nearest surface point), triangle (the nearest triangle's index); for " + channelFormatList() +
+                         ", --method exact")
         ->capture_default_str();
     addBakeOptions(*bake, args->settings, args->threads);
-    bake->footer("The summary line counts the whole process: load, tree, generation and save.");
+    std::string formats = "Field formats (from the output's extension):";
+    for (const FieldFormatInfo& format : knownFieldFormats()) formats += std::string("\n  ") + format.extension + "  " + format.description;
+    bake->footer(formats + "\nThe summary line counts the whole process: load, tree, generation and save.");
     bake->callback([args] { runBake(*args); });
 }
 

@@ -1,6 +1,7 @@
 #include "cli/batch_plan.hpp"
 #include "sdfgen/error.hpp"
 #include "core/io/file_extension.hpp"
+#include "sdfgen/mesh.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -159,11 +160,10 @@ int parsePositive(const char* text, const std::string& what, bool allowZero) {
 } // namespace
 
 bool isMeshFile(const std::string& path) {
-    // The formats loadMesh names in its errors (OBJ, and the common ones it reads through Assimp);
-    // a folder scan must not pick up textures, materials or glTF buffers.
-    static const char* const extensions[] = {".obj", ".stl", ".ply", ".off", ".gltf", ".glb", ".fbx", ".dae", ".3ds", ".3mf"};
-    const std::string ext = lowerExtension(path);
-    return std::any_of(std::begin(extensions), std::end(extensions), [&](const char* known) { return ext == known; });
+    // The formats loadMesh names in its errors (its own readers', and the common ones it reads
+    // through Assimp); a folder scan must not pick up textures, materials or glTF buffers.
+    static const std::vector<std::string> extensions = meshFormatExtensions();
+    return std::find(extensions.begin(), extensions.end(), lowerExtension(path)) != extensions.end();
 }
 
 std::vector<Task> planBatch(const std::string& input, const std::string& outDir, const std::string& extension) {

@@ -15,8 +15,8 @@ struct Task {
     bool operator==(const Task& other) const { return mesh == other.mesh && output == other.output; }
 };
 
-// Whether `path` names a mesh file sdfgen reads (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, .dae,
-// .3ds, .3mf; by extension, case-insensitive).
+// Whether `path` names a mesh file sdfgen reads (an extension meshFormatExtensions lists,
+// case-insensitive).
 bool isMeshFile(const std::string& path);
 
 // The tasks for `input`, sorted by mesh path, duplicates removed:

@@ -33,6 +33,26 @@ RunControl commandControl(int threads);
 
 // The field file extensions, for help texts: ".sdf, .npy, ...".
 std::string fieldFormatList();
+// The mesh file extensions sdfgen is tested with, for help texts: ".obj, .ply, ...".
+std::string meshFormatList();
+
+// An option named from a registry's choices (in any case), turned into its enum value; an unknown
+// name is refused with parseChoice's Error (the known names and what each is).
+template <class Id>
+CLI::Validator choiceOf(const std::vector<Choice<Id>>& choices, const std::string& what) {
+    std::string names;
+    for (const Choice<Id>& choice : choices) names += (names.empty() ? "" : ",") + std::string(choice.name);
+    return CLI::Validator(
+        [choices, what](std::string& text) -> std::string {
+            try {
+                text = std::to_string(int(parseChoice(choices, text, what)));
+                return "";
+            } catch (const Error& e) {
+                return e.what();
+            }
+        },
+        "{" + names + "}");
+}
 // The checks of numeric options (every one uses one of them): CLI::Range lets NaN and infinities
 // through, and an unsigned option saturates negative and too large values at its maximum.
 // A finite number in [min, max].

@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <string>
 
 namespace sdfgen::cli {
 
@@ -29,6 +30,18 @@ void runCompare(const CompareArgs& args) {
     const double h = d.voxel;
     std::printf("%s vs %s: %zu of %zu samples compared (band %g voxels)\n", args.first.c_str(), args.second.c_str(),
                 d.compared, a.values.size(), args.band);
+    std::string bands; // the band fields among the two: compared by value in their band, by sign outside
+    for (const auto& [name, field] : {std::pair{&args.first, &a}, {&args.second, &b}}) {
+        if (field->background > 0) {
+            char band[64];
+            std::snprintf(band, sizeof band, " (|d| < %g, %.4g voxels)", double(field->background), double(field->background) / h);
+            bands += (bands.empty() ? "" : ", ") + *name + band;
+        }
+    }
+    if (!bands.empty()) {
+        std::printf("band fields %s: values compared where |d| is below the band, %zu samples outside it compared by sign only\n",
+                    bands.c_str(), d.signOnly);
+    }
     std::printf("abs difference: max %.6g (%.4g voxels), mean %.6g (%.4g voxels), rms %.6g (%.4g voxels)\n", d.maxAbs,
                 d.maxAbs / h, d.meanAbs, d.meanAbs / h, d.rmsAbs, d.rmsAbs / h);
     std::printf("signs differ: %zu samples (%.4f%%)\n", d.signDifferences, 100.0 * d.signFraction());

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     sdfgen::cli::addRenderCommand(app);
     std::vector<std::string> viewMeshes;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");
-    view->add_option("mesh", viewMeshes, "Meshes (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...; several make one scene) and fields (.sdf, .npy, .npz, .vdb, .nrrd) to open");
+    view->add_option("mesh", viewMeshes, "Meshes (" + sdfgen::cli::meshFormatList() + ", ...; several make one scene) and fields (" + sdfgen::cli::fieldFormatList() + ") to open");
     // Words that are not a command are meshes to view. CLI11 matches command names first, so
     // `sdfgen bake ...` still runs bake.
     std::vector<std::string> meshes;

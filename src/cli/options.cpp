@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <map>
 #include <unistd.h>
 
 namespace sdfgen::cli {
@@ -18,30 +17,19 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
     command.add_option("--res", settings.res, "Voxels along the longest side of the padded bounding box")
         ->check(CLI::Range(1, 1 << 16))
         ->capture_default_str();
-    const std::map<std::string, DistanceMethod> methods = {
-        {"exact", DistanceMethod::Exact}, {"rays", DistanceMethod::Rays}, {"brute", DistanceMethod::Brute}};
-    command.add_option("--method", settings.method, "Distance: exact (nearest triangle), rays (the report's ray sampling) or brute (reference, slow)")
-        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case))
-        ->default_str("exact");
-    const std::map<std::string, SignMethod> signs = {{"auto", SignMethod::Auto},
-                                                     {"rays", SignMethod::Rays},
-                                                     {"pseudonormal", SignMethod::Pseudonormal},
-                                                     {"winding", SignMethod::Winding}};
-    command.add_option("--sign", settings.sign,
-                       "Inside test: auto (pseudonormal when the mesh check proves it right, else winding), winding "
-                       "(generalized winding number), pseudonormal, or rays (majority of back faces). Default: rays "
-                       "for --method rays, auto otherwise")
-        ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
+    command.add_option("--method", settings.method, "Distance: " + describeChoices(distanceMethodChoices()))
+        ->transform(choiceOf(distanceMethodChoices(), "distance method"))
+        ->default_str(toString(settings.method));
+    command.add_option("--sign", settings.sign, "Inside test: " + describeChoices(signMethodChoices()))
+        ->transform(choiceOf(signMethodChoices(), "sign method"))
+        ->default_str(toString(settings.sign));
     command.add_option("--rays", settings.rays, "Rays per sample for --method rays and --sign rays")->check(CLI::Range(1, 65536))->capture_default_str();
     command.add_option("--padding", settings.padding, "Margin around the mesh, as a fraction of its longest side")
         ->check(finiteRange(0.0, 100.0))
         ->capture_default_str();
-    const std::map<std::string, Device> devices = {{"cpu", Device::Cpu}, {"gpu", Device::Gpu}, {"auto", Device::Auto}};
-    command.add_option("--device", settings.device,
-                       "Where exact distances and winding signs run: gpu (OpenGL 4.5 compute, also on Mesa's llvmpipe), "
-                       "cpu, or auto (the GPU when a hardware OpenGL 4.5 driver is there, else the CPU)")
-        ->transform(CLI::CheckedTransformer(devices, CLI::ignore_case))
-        ->default_str("auto");
+    command.add_option("--device", settings.device, "Where exact distances and winding signs run: " + describeChoices(deviceChoices()))
+        ->transform(choiceOf(deviceChoices(), "device"))
+        ->default_str(toString(settings.device));
     addThreadsOption(command, threads);
 }
 
@@ -62,6 +50,12 @@ RunControl commandControl(int threads) {
 std::string fieldFormatList() {
     std::string list;
     for (const std::string& extension : fieldFormatExtensions()) list += (list.empty() ? "" : ", ") + extension;
+    return list;
+}
+
+std::string meshFormatList() {
+    std::string list;
+    for (const std::string& extension : meshFormatExtensions()) list += (list.empty() ? "" : ", ") + extension;
     return list;
 }
 

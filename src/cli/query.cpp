@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <map>
 #include <memory>
 
 namespace sdfgen::cli {
@@ -109,14 +108,14 @@ void runQuery(const QueryArgs& args) {
 void addQueryCommand(CLI::App& app) {
     auto args = std::make_shared<QueryArgs>();
     CLI::App* query = app.add_subcommand("query", "Exact distances (or closest points, triangles, winding numbers) at points from a .npy file");
-    query->add_option("mesh", args->mesh, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...)")->required();
+    query->add_option("mesh", args->mesh, "Input mesh (" + meshFormatList() + ", ...)")->required();
     query->add_option("points", args->points, "Points: an (N, 3) float32 or float64 .npy array")->required();
     query->add_option("-o,--output", args->output, "Output .npy: (N,) float32 distances, (N, 3) float64 closest points, (N,) int64 triangles or (N,) float64 winding numbers")->required();
     query->add_option("--what", args->what, "signed (default), unsigned, closest, triangle or winding")
         ->check(CLI::IsMember({"signed", "unsigned", "closest", "triangle", "winding"}));
-    const std::map<std::string, SignMethod> signs = {{"auto", SignMethod::Auto}, {"winding", SignMethod::Winding}, {"pseudonormal", SignMethod::Pseudonormal}};
-    query->add_option("--sign", args->sign, "Sign of signed distances: auto (as bake), winding or pseudonormal")
-        ->transform(CLI::CheckedTransformer(signs, CLI::ignore_case));
+    query->add_option("--sign", args->sign, "Sign of signed distances: " + describeChoices(pointQuerySignChoices()))
+        ->transform(choiceOf(pointQuerySignChoices(), "point query sign"))
+        ->default_str(toString(args->sign));
     addThreadsOption(*query, args->threads);
     query->footer("At a baked field's sample positions the signed distances equal the field's values exactly.");
     query->callback([args] { runQuery(*args); });

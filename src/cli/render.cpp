@@ -178,7 +178,7 @@ void runRender(const RenderArgs& args) {
 void addRenderCommand(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* render = app.add_subcommand("render", "Render views of a mesh and its field to a PNG, headless (EGL or OSMesa, no display needed)");
-    render->add_option("mesh", args->meshes, "Input mesh (.obj, .stl, .ply, .off, .gltf, .glb, .fbx, ...); several make one scene")->required();
+    render->add_option("mesh", args->meshes, "Input mesh (" + meshFormatList() + ", ...); several make one scene")->required();
     render->add_option("-o,--output", args->output, "Output PNG file")->required();
     render->add_option("--sdf", args->sdf, "Field file to show (default: bake one from the mesh when a view needs it)");
     render->add_option("--view", args->views, "Comma-separated views: " + render::Views::names() + " (or all, none)")

@@ -37,20 +37,34 @@ bool isFieldFile(const std::string& path) {
 void runSurface(const SurfaceArgs& args) {
     Stopwatch total;
     refuseOverwritingInput(args.output, {args.input});
+    // A band field (a band bake, or a sparse .vdb or .npz) is meshed as it is, never made dense.
     Field field;
+    SparseField sparse;
+    bool banded = false;
     if (isFieldFile(args.input)) {
-        field = loadField(args.input);
+        banded = isSparseFieldFile(args.input);
+        if (banded) {
+            sparse = loadSparseField(args.input);
+        } else {
+            field = loadField(args.input);
+        }
     } else {
         if (!(args.settings.padding > 0.0)) throw Error("--padding must be above 0: the surface must stay inside the grid to be closed");
         RunControl control = commandControl(args.threads);
         const Model model = Model::load(args.input, control);
         ProgressBar bar;
         control.progress = bar.callback();
-        field = model.bake(args.settings, control).field;
+        BakeResult result = model.bake(args.settings, control);
+        banded = args.settings.band > 0;
+        if (banded) {
+            sparse = std::move(result.sparse);
+        } else {
+            field = std::move(result.field);
+        }
     }
     SurfaceMesh surface;
     try {
-        surface = extractSurface(field, args.iso, args.adaptivity);
+        surface = banded ? extractSurface(sparse, args.iso, args.adaptivity) : extractSurface(field, args.iso, args.adaptivity);
     } catch (const Error& e) {
         throw Error(args.input + ": " + e.what());
     }
@@ -59,10 +73,10 @@ void runSurface(const SurfaceArgs& args) {
     const MeshCheck check = MeshTopology(result).check(result, Bvh(result));
     saveSurface(surface, args.output);
     const double seconds = total.seconds();
-    const Grid& g = field.grid;
-    std::printf("%s -> %s: %zu vertices, %zu triangles, iso %g, adaptivity %g, grid %dx%dx%d, %.3f s\n", args.input.c_str(),
+    const Grid& g = banded ? sparse.grid : field.grid;
+    std::printf("%s -> %s: %zu vertices, %zu triangles, iso %g, adaptivity %g, grid %dx%dx%d%s, %.3f s\n", args.input.c_str(),
                 args.output.c_str(), surface.positions.size(), surface.triangles.size(), args.iso, args.adaptivity, g.dims.x,
-                g.dims.y, g.dims.z, seconds);
+                g.dims.y, g.dims.z, banded ? (" (band field, " + std::to_string(sparse.bricks.size()) + " bricks)").c_str() : "", seconds);
     std::printf("mesh check of the output: %s\n", check.describe().c_str());
 }
 
@@ -84,6 +98,11 @@ void addSurfaceCommand(CLI::App& app) {
         ->capture_default_str();
     surface->add_option("--padding", args->settings.padding, "For a mesh: margin around it, as a fraction of its longest side (> 0)")
         ->check(finiteRange(0.0, 100.0))
+        ->capture_default_str();
+    surface->add_option("--band", args->settings.band,
+                        "For a mesh: bake only this many voxels each side of the surface, in bricks (memory grows with the surface, "
+                        "not the volume: for high --res); 0 bakes the whole grid")
+        ->check(finiteRange(0.0, 1e6))
         ->capture_default_str();
     addThreadsOption(*surface, args->threads);
     surface->footer("The surface is OpenVDB's volumeToMesh of the field; it is closed when it stays inside the grid.");

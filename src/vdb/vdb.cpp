@@ -1,7 +1,8 @@
 // OpenVDB: a FloatGrid named "surface" (the name Houdini's VDB from Polygons gives) of class level
 // set, with a transform that puts index (i, j, k) at sample (i, j, k): voxel size h, translation
 // origin + h/2. Dense by default; with a band of V voxels only samples with |d| < V h stay active
-// and the rest are inactive +-V h, as OpenVDB level sets are. The grid's sdfgen_* metadata keep
+// and the rest are inactive +-V h, as OpenVDB level sets are: a band field (SparseField) is written
+// straight from its bricks (each a leaf, the inside boxes -V h tiles) and read back as bricks. The grid's sdfgen_* metadata keep
 // the exact grid, method and source. A field's channels (sdfgen::Channels) follow as grids of their
 // names with the surface grid's transform and active voxels: "gradient" and "closest" Vec3SGrids,
 // "triangle" an Int32Grid. Also the iso-surfaces of `sdfgen surface`.
@@ -11,6 +12,7 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/formats/format.hpp"
 #include "core/io/openvdb_plugin.hpp"
+#include "core/runtime/memory.hpp"
 #include "sdfgen/error.hpp"
 
 #include <openvdb/io/DelayedLoadMetadata.h>
@@ -54,6 +56,13 @@ class VdbLayout {
 public:
     VdbLayout(std::istream& in, std::uint64_t fileBytes, const std::string& path) : in_(in), size_(fileBytes), path_(path) {}
 
+    // What the walk saw of each grid, enough to tell a band field from a dense one.
+    struct GridSummary {
+        std::string name, type;
+        double band = 0; // its sdfgen_band metadata, 0 when absent
+    };
+    const std::vector<GridSummary>& grids() const { return grids_; }
+
     void check() {
         if (read<std::int64_t>("the magic number") != std::int64_t(openvdb::OPENVDB_MAGIC)) fail("not an OpenVDB file (no VDB magic number)");
         version_ = read<std::uint32_t>("the format version");
@@ -74,8 +83,9 @@ public:
         }
         for (std::int32_t g = 0; g < grids; ++g) {
             const std::string what = "grid " + std::to_string(g);
-            string(what + "'s name");
-            const std::string type = string(what + "'s type");
+            GridSummary& summary = grids_.emplace_back();
+            summary.name = string(what + "'s name");
+            const std::string type = summary.type = string(what + "'s type");
             const bool instance = !string(what + "'s instance parent").empty();
             // OpenVDB reads every grid of the file; sdfgen checks the layout of the grid types it
             // writes (the distance and its channels).
@@ -88,7 +98,7 @@ public:
                      ") do not lie in the file's " + std::to_string(size_) + " bytes");
             }
             const std::uint32_t compression = read<std::uint32_t>(what + "'s compression flags");
-            metaMap(what + "'s metadata");
+            metaMap(what + "'s metadata", &summary.band);
             transform(what + "'s transform");
             if (!instance) tree(compression, layout, what + "'s tree");
             if (hasOffsets && std::uint64_t(endPos) != pos_) fail(what + " ends at byte " + std::to_string(pos_) + ", not at its end offset " + std::to_string(endPos));
@@ -236,8 +246,9 @@ private:
     }
 
 
-    // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes.
-    void metaMap(const std::string& what) {
+    // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes; the
+    // value of a double named sdfgen_band into `band` when given.
+    void metaMap(const std::string& what, double* band = nullptr) {
         const std::int32_t count = read<std::int32_t>(what);
         // Each entry takes at least 12 bytes (three lengths).
         if (count < 0 || std::uint64_t(count) > (size_ - pos_) / 12) {
@@ -245,7 +256,7 @@ private:
                  std::to_string(size_ - pos_) + " bytes hold");
         }
         for (std::int32_t i = 0; i < count; ++i) {
-            string(what);
+            const std::string name = string(what);
             const std::uint32_t typeLength = read<std::uint32_t>(what);
             need(typeLength, what);
             std::string type(typeLength, '\0');
@@ -262,6 +273,8 @@ private:
             } else if (type != openvdb::StringMetadata::staticTypeName() && openvdb::Metadata::isRegisteredType(type) &&
                        bytes != openvdb::Metadata::createMetadata(type)->size()) {
                 fail("not a readable OpenVDB file: a " + printable(type) + " value in " + what + " claims " + std::to_string(bytes) + " bytes");
+            } else if (band && name == "sdfgen_band" && type == openvdb::DoubleMetadata::staticTypeName()) {
+                *band = read<double>(what);
             }
             seek(end);
         }
@@ -301,6 +314,7 @@ private:
     const std::string& path_;
     std::uint64_t pos_ = 0;
     std::uint32_t version_ = 0;
+    std::vector<GridSummary> grids_;
 };
 
 // The grid's index-to-world map as voxel size and translation; Error unless it is axis-aligned
@@ -331,44 +345,70 @@ void linearMap(const openvdb::math::Transform& transform, double& h, openvdb::Ve
 const double kSmallestVoxelVolume = 3.0 * openvdb::math::Tolerance<double>::value();
 bool representableVoxel(double h) { return h * h * h >= kSmallestVoxelVolume; }
 
-// A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
-// h, translation origin + h/2). band 0: every sample active; band >= 1: only samples with
-// |d| < band * h, the rest inactive +-band * h. Initializes OpenVDB.
-openvdb::FloatGrid::Ptr fieldToGrid(const Field& field, double band) {
-    openvdb::initialize();
-    const Grid& g = field.grid;
+// Names `grid` "surface", of class level set, and gives it the transform that puts index (i, j, k)
+// at sample (i, j, k) of `g`.
+void nameLevelSet(openvdb::FloatGrid& grid, const Grid& g) {
     const double h = g.voxel;
-    const openvdb::CoordBBox box = indexBox(g);
-    openvdb::FloatGrid::Ptr grid;
-    if (band == 0) {
-        // Every sample active: the background is just beyond the largest distance, so that no
-        // sample equals it (copyFromDense makes samples equal to the background inactive).
-        float largest = 0.0f;
-        for (const float v : field.values) largest = std::max(largest, std::fabs(v));
-        grid = openvdb::FloatGrid::create(std::nextafter(largest, std::numeric_limits<float>::infinity()));
-        // copyFromDense only reads the dense array; Dense has no const view.
-        const DenseField dense(box, const_cast<float*>(field.values.data()));
-        openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-    } else {
-        const float width = float(band * h);
-        std::vector<float> clamped(field.values.size());
-        std::transform(field.values.begin(), field.values.end(), clamped.begin(),
-                       [width](float v) { return std::clamp(v, -width, width); });
-        // Samples at +width become inactive background here, those at -width just below, then
-        // whole inactive nodes become +-width tiles: the layout of an OpenVDB narrow-band level set.
-        grid = openvdb::FloatGrid::create(width);
-        const DenseField dense(box, clamped.data());
-        openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-        for (auto it = grid->beginValueOn(); it; ++it) {
-            if (*it <= -width) it.setValueOff();
-        }
-        openvdb::tools::pruneLevelSet(grid->tree());
-    }
-    grid->setName(kGridName);
-    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    grid.setName(kGridName);
+    grid.setGridClass(openvdb::GRID_LEVEL_SET);
     openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(h);
     transform->postTranslate(openvdb::Vec3d(double(g.origin.x) + 0.5 * h, double(g.origin.y) + 0.5 * h, double(g.origin.z) + 0.5 * h));
-    grid->setTransform(transform);
+    grid.setTransform(transform);
+}
+
+// A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
+// h, translation origin + h/2), every sample an active voxel. Initializes OpenVDB.
+openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
+    openvdb::initialize();
+    // The background is just beyond the largest distance, so that no sample equals it
+    // (copyFromDense makes samples equal to the background inactive).
+    float largest = 0.0f;
+    for (const float v : field.values) largest = std::max(largest, std::fabs(v));
+    const openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(std::nextafter(largest, std::numeric_limits<float>::infinity()));
+    // copyFromDense only reads the dense array; Dense has no const view.
+    const DenseField dense(indexBox(field.grid), const_cast<float*>(field.values.data()));
+    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+    nameLevelSet(*grid, field.grid);
+    return grid;
+}
+
+// A band field as a level-set FloatGrid named "surface" (the transform of fieldToGrid): each
+// brick a leaf, its samples in the band active; each inside box inactive -background tiles; the
+// rest the +background of the tree. Distances and grid scaled by 2^exponent. Initializes OpenVDB.
+openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent) {
+    constexpr int B = SparseField::kBrick;
+    openvdb::initialize();
+    const float background = std::ldexp(field.background, exponent);
+    const openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+    openvdb::FloatTree& tree = grid->tree();
+    const glm::ivec3 dims = field.grid.dims;
+    // Whole bricks (a box cut at the grid's end reaches on to its brick's end), so that fill makes
+    // tiles and no leaves; prune then merges the tiles of nodes wholly inside.
+    auto brickEnd = [](int v) { return (v + B - 1) / B * B - 1; };
+    for (const auto& box : field.insideBoxes) {
+        tree.fill(openvdb::CoordBBox(openvdb::Coord(box[0], box[1], box[2]), openvdb::Coord(brickEnd(box[3]), brickEnd(box[4]), brickEnd(box[5]))),
+                  -background, /*active=*/false);
+    }
+    openvdb::tools::prune(tree);
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    openvdb::tree::ValueAccessor<openvdb::FloatTree> access(tree); // caches the path to the last leaf: bricks come in order
+    for (std::size_t b = 0; b < field.bricks.size(); ++b) {
+        const glm::ivec3 lo = field.bricks[b] * B;
+        Leaf* leaf = access.touchLeaf(openvdb::Coord(lo.x, lo.y, lo.z));
+        const float* values = &field.values[b * SparseField::kBrickSamples];
+        for (int z = 0; z < B; ++z)
+            for (int y = 0; y < B; ++y)
+                for (int x = 0; x < B; ++x) {
+                    const float v = std::ldexp(values[(z * B + y) * B + x], exponent);
+                    const openvdb::Index offset = Leaf::coordToOffset(openvdb::Coord(x, y, z));
+                    leaf->setValueOnly(offset, v);
+                    leaf->setActiveState(offset, std::fabs(v) < background && lo.x + x < dims.x && lo.y + y < dims.y && lo.z + z < dims.z);
+                }
+    }
+    Grid scaled = field.grid;
+    scaled.voxel = std::ldexp(scaled.voxel, exponent);
+    for (int a = 0; a < 3; ++a) scaled.origin[a] = std::ldexp(scaled.origin[a], exponent);
+    nameLevelSet(*grid, scaled);
     return grid;
 }
 
@@ -414,6 +454,29 @@ openvdb::GridCPtrVec channelGrids(const Field& field, const openvdb::FloatGrid& 
     return grids;
 }
 
+// The sdfgen_* metadata that give the exact grid back (a transform's double arithmetic may not),
+// the band (in voxels, 0: dense) and the names.
+void insertSdfgenMetadata(openvdb::FloatGrid& grid, const Grid& g, double band, const std::string& method, const std::string& source) {
+    grid.insertMeta("sdfgen_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(g.dims.x, g.dims.y, g.dims.z)));
+    grid.insertMeta("sdfgen_origin", openvdb::Vec3DMetadata(openvdb::Vec3d(double(g.origin.x), double(g.origin.y), double(g.origin.z))));
+    grid.insertMeta("sdfgen_voxel", openvdb::DoubleMetadata(g.voxel));
+    grid.insertMeta("sdfgen_band", openvdb::DoubleMetadata(band));
+    grid.insertMeta("sdfgen_method", openvdb::StringMetadata(method));
+    grid.insertMeta("sdfgen_source", openvdb::StringMetadata(source));
+}
+
+void writeGrids(const openvdb::GridCPtrVec& grids, bool blosc, const std::string& path) {
+    writeFileAtomically(path, [&](std::ostream& out) {
+        try {
+            openvdb::io::Stream stream(out);
+            stream.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK | (blosc ? openvdb::io::COMPRESS_BLOSC : 0));
+            stream.write(grids);
+        } catch (const openvdb::Exception& e) {
+            throw Error(path + ": " + e.what());
+        }
+    });
+}
+
 void saveVdbFile(const Field& field, const std::string& path, const SaveOptions& options) {
     checkField(field, path);
     if (!(options.band == 0 || options.band >= 1) || !std::isfinite(options.band)) {
@@ -427,30 +490,33 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
     }
     openvdb::FloatGrid::Ptr grid;
     try {
-        grid = fieldToGrid(field, options.band);
+        // A band: the level set of the field's band (sparseToGrid), as a band bake writes it.
+        grid = options.band > 0 ? sparseToGrid(sparseFromDense(field, float(options.band * h)), 0) : fieldToGrid(field);
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": OpenVDB cannot hold this grid (" + e.what() + ")");
     }
-    grid->insertMeta("sdfgen_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(g.dims.x, g.dims.y, g.dims.z)));
-    grid->insertMeta("sdfgen_origin", openvdb::Vec3DMetadata(openvdb::Vec3d(double(g.origin.x), double(g.origin.y), double(g.origin.z))));
-    grid->insertMeta("sdfgen_voxel", openvdb::DoubleMetadata(h));
-    grid->insertMeta("sdfgen_band", openvdb::DoubleMetadata(options.band));
-    grid->insertMeta("sdfgen_method", openvdb::StringMetadata(methodLine(field)));
-    grid->insertMeta("sdfgen_source", openvdb::StringMetadata(field.source));
-
+    insertSdfgenMetadata(*grid, g, options.band, methodLine(field), field.source);
     openvdb::GridCPtrVec grids{grid};
     for (const openvdb::GridBase::ConstPtr& channel : channelGrids(field, *grid)) grids.push_back(channel);
-    writeFileAtomically(path, [&](std::ostream& out) {
-        try {
-            openvdb::io::Stream stream(out);
-            // Blosc pays off on a narrow band's few leaves; a dense grid of distances hardly
-            // compresses (about 20%) and saves three times faster without it.
-            stream.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK | (options.band > 0 ? openvdb::io::COMPRESS_BLOSC : 0));
-            stream.write(grids);
-        } catch (const openvdb::Exception& e) {
-            throw Error(path + ": " + e.what());
-        }
-    });
+    // Blosc pays off on a narrow band's few leaves; a dense grid of distances hardly compresses
+    // (about 20%) and saves three times faster without it.
+    writeGrids(grids, options.band > 0, path);
+}
+
+void saveSparseVdbFile(const SparseField& field, const std::string& path) {
+    checkSparseField(field, path);
+    if (!representableVoxel(field.grid.voxel)) {
+        throw Error(path + ": voxel size " + std::to_string(field.grid.voxel) + " is below what an OpenVDB transform can hold (OpenVDB refuses voxels of volume under " +
+                    std::to_string(kSmallestVoxelVolume) + ", sizes under about 1.45e-5)");
+    }
+    openvdb::FloatGrid::Ptr grid;
+    try {
+        grid = sparseToGrid(field, 0);
+    } catch (const openvdb::Exception& e) {
+        throw Error(path + ": OpenVDB cannot hold this grid (" + e.what() + ")");
+    }
+    insertSdfgenMetadata(*grid, field.grid, double(field.background) / field.grid.voxel, methodLine(field), field.source);
+    writeGrids({grid}, true, path);
 }
 
 // The grid's sdfgen_* metadata, all or none of dims, origin and voxel (a partial or mistyped
@@ -506,8 +572,8 @@ SdfgenMetadata sdfgenMetadata(const openvdb::GridBase& grid, const std::string& 
     if (required != 0 && required != 3) throw Error(path + ": the grid has only some of sdfgen_dims, sdfgen_origin and sdfgen_voxel");
     if (required == 0 && found != 0) throw Error(path + ": the grid has sdfgen metadata without sdfgen_dims, sdfgen_origin and sdfgen_voxel");
     meta.present = required == 3;
-    if (!(meta.band == 0 || meta.band >= 1) || !std::isfinite(meta.band)) {
-        throw Error(path + ": sdfgen_band " + std::to_string(meta.band) + " is not 0 (dense) or at least 1");
+    if (!(meta.band >= 0) || !std::isfinite(meta.band)) {
+        throw Error(path + ": sdfgen_band " + std::to_string(meta.band) + " is not 0 (dense) or a band's width in voxels");
     }
     return meta;
 }
@@ -537,7 +603,10 @@ openvdb::FloatGrid::Ptr readFloatGrid(const std::string& path, std::uint64_t fil
     throw Error(path + ": the file holds no float grid");
 }
 
-Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
+// The grid a FloatGrid stands for, into field.grid, with its names, and its box in index space:
+// for a grid sdfgen wrote, the grid of its metadata, which must agree with the transform and the
+// tree; for another program's, the box of its active voxels. Returns the metadata.
+SdfgenMetadata readFrame(const openvdb::FloatGrid& grid, Field& field, openvdb::CoordBBox& box, const std::string& path) {
     if (grid.getGridClass() == openvdb::GRID_FOG_VOLUME) {
         throw Error(path + ": grid '" + printable(grid.getName()) + "' is a fog volume, not a signed distance field");
     }
@@ -548,9 +617,7 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
     if (!representableVoxel(h)) throw Error(path + ": the grid's voxel size " + std::to_string(h) + " is below what an OpenVDB transform can hold");
     const SdfgenMetadata meta = sdfgenMetadata(grid, path);
 
-    Field field;
     field.method = "unknown";
-    openvdb::CoordBBox box;
     openvdb::CoordBBox active;
     grid.tree().evalActiveVoxelBoundingBox(active);
     if (meta.present) {
@@ -575,16 +642,12 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
             throw Error(path + ": sdfgen_dims " + dimsText + " says " + std::to_string(box.volume()) + " samples, the dense grid holds " +
                         std::to_string(grid.tree().activeVoxelCount()));
         }
-        const std::uint64_t extent[3] = {std::uint64_t(meta.dims[0]), std::uint64_t(meta.dims[1]), std::uint64_t(meta.dims[2])};
-        checkDimsFit(extent, path);
         if (meta.hasMethod) parseMethodLine(meta.method, field, path);
         if (meta.hasSource) field.source = meta.source;
     } else {
         // Another program's grid: the box of its active voxels.
         box = active;
         if (box.empty()) throw Error(path + ": grid '" + printable(grid.getName()) + "' has no active voxels");
-        const std::uint64_t extent[3] = {std::uint64_t(box.dim()[0]), std::uint64_t(box.dim()[1]), std::uint64_t(box.dim()[2])};
-        checkDimsFit(extent, path);
         for (int a = 0; a < 3; ++a) {
             field.grid.dims[a] = box.dim()[a];
             field.grid.origin[a] = translation[a] + h * (double(box.min()[a]) - 0.5);
@@ -592,6 +655,118 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
         field.grid.voxel = h;
         checkGrid(field.grid, path);
     }
+    return meta;
+}
+
+// Throws Error naming `path` when `bytes` more do not fit in the memory available now.
+void checkBytesFit(double bytes, const std::string& what, const std::string& path) {
+    const std::uint64_t memory = availableMemoryBytes();
+    if (memory > 0 && bytes > double(memory)) {
+        throw Error(path + ": " + what + " need " + mebibytes(bytes) + ", more than the " + mebibytes(double(memory)) + " of memory available");
+    }
+}
+
+// A level set sdfgen wrote from a band field, as that field: each leaf a brick, the inactive
+// negative tiles the inside boxes (runs of whole bricks per row of bricks).
+SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const std::string& path) {
+    constexpr int B = SparseField::kBrick;
+    SparseField field;
+    field.source = std::move(frame.source);
+    field.method = std::move(frame.method);
+    field.parameters = std::move(frame.parameters);
+    field.grid = frame.grid;
+    field.background = grid.background();
+    if (!(field.background > 0.0f) || !std::isfinite(field.background)) {
+        throw Error(path + ": the level set's background " + std::to_string(field.background) + " is not a positive number");
+    }
+    const float background = field.background;
+    const glm::ivec3 dims = field.grid.dims;
+    const openvdb::FloatTree& tree = grid.tree();
+
+    // The leaves that hold samples of the grid, in z, y, x order.
+    std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+        const openvdb::Coord o = leaf->origin();
+        if (o.x() >= 0 && o.y() >= 0 && o.z() >= 0 && o.x() < dims.x && o.y() < dims.y && o.z() < dims.z) leaves.push_back(leaf.getLeaf());
+    }
+    checkBytesFit(double(leaves.size()) * SparseField::kBrickSamples * sizeof(float), std::to_string(leaves.size()) + " bricks", path);
+    std::sort(leaves.begin(), leaves.end(), [](const auto* a, const auto* b) {
+        const openvdb::Coord &p = a->origin(), &q = b->origin();
+        return std::make_tuple(p.z(), p.y(), p.x()) < std::make_tuple(q.z(), q.y(), q.x());
+    });
+    field.bricks.reserve(leaves.size());
+    field.values.resize(leaves.size() * SparseField::kBrickSamples);
+    for (std::size_t b = 0; b < leaves.size(); ++b) {
+        const openvdb::Coord o = leaves[b]->origin();
+        field.bricks.emplace_back(o.x() / B, o.y() / B, o.z() / B);
+        float* values = &field.values[b * SparseField::kBrickSamples];
+        for (int z = 0; z < B; ++z)
+            for (int y = 0; y < B; ++y)
+                for (int x = 0; x < B; ++x) {
+                    float v = background; // samples past the grid's end
+                    if (o.x() + x < dims.x && o.y() + y < dims.y && o.z() + z < dims.z) {
+                        v = leaves[b]->getValue(openvdb::FloatTree::LeafNodeType::coordToOffset(openvdb::Coord(x, y, z)));
+                        if (!std::isfinite(v)) throw Error(path + ": the level set holds a value that is not finite");
+                        v = std::clamp(v, -background, background);
+                    }
+                    values[(z * B + y) * B + x] = v;
+                }
+    }
+
+    // The tiles: inside where negative, as runs of bricks along x in each row of bricks they cover.
+    struct Run {
+        int z, y, x0, x1; // in bricks
+    };
+    auto tiles = [&](const auto& visit) {
+        auto tile = tree.cbeginValueAll();
+        tile.setMaxDepth(tile.getLeafDepth() - 1);
+        for (; tile; ++tile) {
+            if (tile.isValueOn()) throw Error(path + ": the level set has active tiles (sdfgen reads level sets whose band lies in leaf voxels)");
+            if (!(*tile < 0.0f)) continue;
+            openvdb::CoordBBox box;
+            tile.getBoundingBox(box);
+            const openvdb::Coord lo = openvdb::Coord::maxComponent(box.min(), openvdb::Coord(0));
+            const openvdb::Coord hi = openvdb::Coord::minComponent(box.max() + openvdb::Coord(1), openvdb::Coord(dims.x, dims.y, dims.z));
+            if (lo.x() >= hi.x() || lo.y() >= hi.y() || lo.z() >= hi.z()) continue;
+            // In bricks: tiles start on multiples of 8, and the grid's last brick may be cut.
+            visit(openvdb::Coord(lo.x() / B, lo.y() / B, lo.z() / B),
+                  openvdb::Coord((hi.x() + B - 1) / B, (hi.y() + B - 1) / B, (hi.z() + B - 1) / B));
+        }
+    };
+    double rows = 0;
+    tiles([&](const openvdb::Coord& lo, const openvdb::Coord& hi) { rows += double(hi.y() - lo.y()) * double(hi.z() - lo.z()); });
+    checkBytesFit(rows * (sizeof(Run) + sizeof(field.insideBoxes[0])), "the inside region's " + std::to_string(std::llround(rows)) + " rows of bricks", path);
+    std::vector<Run> runs;
+    runs.reserve(std::size_t(rows));
+    tiles([&](const openvdb::Coord& lo, const openvdb::Coord& hi) {
+        for (int z = lo.z(); z < hi.z(); ++z)
+            for (int y = lo.y(); y < hi.y(); ++y) runs.push_back({z, y, lo.x(), hi.x()});
+    });
+    std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return std::tie(a.z, a.y, a.x0) < std::tie(b.z, b.y, b.x0); });
+    for (std::size_t n = 0; n < runs.size();) {
+        Run run = runs[n++];
+        while (n < runs.size() && runs[n].z == run.z && runs[n].y == run.y && runs[n].x0 == run.x1) run.x1 = runs[n++].x1;
+        field.insideBoxes.push_back({run.x0 * B, run.y * B, run.z * B, std::min(run.x1 * B, dims.x), std::min(run.y * B + B, dims.y),
+                                     std::min(run.z * B + B, dims.z)});
+    }
+    checkSparseField(field, path);
+    return field;
+}
+
+Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
+    Field field;
+    openvdb::CoordBBox box;
+    const SdfgenMetadata meta = readFrame(grid, field, box, path);
+    if (meta.present && meta.band > 0) {
+        try {
+            return gridToSparse(grid, std::move(field), path).toDense();
+        } catch (const Error& e) {
+            const std::string message = e.what();
+            throw Error(message.rfind(path, 0) == 0 ? message : path + ": " + message);
+        }
+    }
+    const std::uint64_t extent[3] = {std::uint64_t(field.grid.dims.x), std::uint64_t(field.grid.dims.y), std::uint64_t(field.grid.dims.z)};
+    checkDimsFit(extent, path);
     field.values.resize(field.grid.sampleCount());
     DenseField dense(box, field.values.data());
     openvdb::tools::copyToDense(grid, dense);
@@ -599,13 +774,25 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
     return field;
 }
 
-Field loadVdbFile(const std::string& path) {
+SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& path) {
+    Field field;
+    openvdb::CoordBBox box;
+    const SdfgenMetadata meta = readFrame(grid, field, box, path);
+    if (meta.present && meta.band > 0) return gridToSparse(grid, std::move(field), path);
+    // A dense grid, or another program's: its samples, read as any dense field.
+    const Field dense = loadGrid(grid, path);
+    return sparseFromDense(dense, bandBackground(dense));
+}
+
+// Runs `read` on the file's size, with OpenVDB's failures as Errors naming `path`.
+template <class Read>
+auto readVdb(const std::string& path, const Read& read) {
     struct stat info;
     if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     if (!S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
     openvdb::initialize();
     try {
-        return loadGrid(*readFloatGrid(path, std::uint64_t(info.st_size)), path);
+        return read(std::uint64_t(info.st_size));
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": not a readable OpenVDB file (" + printable(e.what(), 200) + ")");
     } catch (const std::bad_alloc&) {
@@ -619,27 +806,46 @@ Field loadVdbFile(const std::string& path) {
     }
 }
 
-void surfacePolygons(const Field& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
-                     std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads) {
-    // A voxel too small for OpenVDB's transforms: the field is meshed 2^exponent times larger
-    // (grid, distances and iso value; powers of two scale exactly) and the points scaled back.
+Field loadVdbFile(const std::string& path) {
+    return readVdb(path, [&](std::uint64_t bytes) { return loadGrid(*readFloatGrid(path, bytes), path); });
+}
+
+SparseField loadSparseVdbFile(const std::string& path) {
+    return readVdb(path, [&](std::uint64_t bytes) { return loadSparseGrid(*readFloatGrid(path, bytes), path); });
+}
+
+// Whether the grid loadField reads (named "surface", else the first float grid) is a band
+// field's: from the layout walk alone, without reading the trees.
+bool isSparseVdbFile(const std::string& path) {
+    return readVdb(path, [&](std::uint64_t bytes) {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+        VdbLayout layout(in, bytes, path);
+        layout.check();
+        auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
+        for (const bool byName : {true, false}) {
+            for (const VdbLayout::GridSummary& grid : layout.grids()) {
+                if (isFloat(grid.type) && (!byName || grid.name == kGridName)) return grid.band > 0;
+            }
+        }
+        throw Error(path + ": the file holds no float grid");
+    });
+}
+
+// The exponent that scales a voxel too small for OpenVDB's transforms into one it holds (powers
+// of two scale exactly): the field is meshed 2^exponent times larger and the points scaled back.
+int meshingExponent(double voxel) {
     int exponent = 0;
-    while (!representableVoxel(std::ldexp(field.grid.voxel, exponent))) exponent += 8;
-    openvdb::FloatGrid::Ptr grid;
-    if (exponent == 0) {
-        grid = fieldToGrid(field, 0.0);
-    } else {
-        Field scaled = field;
-        scaled.grid.voxel = std::ldexp(field.grid.voxel, exponent);
-        for (int a = 0; a < 3; ++a) scaled.grid.origin[a] = std::ldexp(field.grid.origin[a], exponent);
-        for (float& v : scaled.values) v = std::ldexp(v, exponent);
-        grid = fieldToGrid(scaled, 0.0);
-        iso = std::ldexp(iso, exponent);
-    }
+    while (!representableVoxel(std::ldexp(voxel, exponent))) exponent += 8;
+    return exponent;
+}
+
+void meshGrid(const openvdb::FloatGrid& grid, double iso, double adaptivity, int exponent, std::vector<glm::vec3>& points,
+              std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads) {
     std::vector<openvdb::Vec3s> vdbPoints;
     std::vector<openvdb::Vec3I> vdbTriangles;
     std::vector<openvdb::Vec4I> vdbQuads;
-    openvdb::tools::volumeToMesh(*grid, vdbPoints, vdbTriangles, vdbQuads, iso, adaptivity);
+    openvdb::tools::volumeToMesh(grid, vdbPoints, vdbTriangles, vdbQuads, std::ldexp(iso, exponent), adaptivity);
     points.resize(vdbPoints.size());
     for (std::size_t i = 0; i < vdbPoints.size(); ++i) {
         points[i] = {std::ldexp(vdbPoints[i].x(), -exponent), std::ldexp(vdbPoints[i].y(), -exponent), std::ldexp(vdbPoints[i].z(), -exponent)};
@@ -650,11 +856,35 @@ void surfacePolygons(const Field& field, double iso, double adaptivity, std::vec
     for (std::size_t i = 0; i < vdbQuads.size(); ++i) quads[i] = {vdbQuads[i][0], vdbQuads[i][1], vdbQuads[i][2], vdbQuads[i][3]};
 }
 
+void surfacePolygons(const Field& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
+                     std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads) {
+    const int exponent = meshingExponent(field.grid.voxel);
+    openvdb::FloatGrid::Ptr grid;
+    if (exponent == 0) {
+        grid = fieldToGrid(field);
+    } else {
+        Field scaled = field;
+        scaled.grid.voxel = std::ldexp(field.grid.voxel, exponent);
+        for (int a = 0; a < 3; ++a) scaled.grid.origin[a] = std::ldexp(field.grid.origin[a], exponent);
+        for (float& v : scaled.values) v = std::ldexp(v, exponent);
+        grid = fieldToGrid(scaled);
+    }
+    meshGrid(*grid, iso, adaptivity, exponent, points, triangles, quads);
+}
+
+void surfacePolygonsSparse(const SparseField& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
+                           std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads) {
+    const int exponent = meshingExponent(field.grid.voxel);
+    meshGrid(*sparseToGrid(field, exponent), iso, adaptivity, exponent, points, triangles, quads);
+}
+
 } // namespace
 
 } // namespace sdfgen::formats
 
 extern "C" __attribute__((visibility("default"))) const sdfgen::OpenVdbPlugin* sdfgen_openvdb_plugin() {
-    static const sdfgen::OpenVdbPlugin plugin{sdfgen::formats::saveVdbFile, sdfgen::formats::loadVdbFile, sdfgen::formats::surfacePolygons};
+    namespace f = sdfgen::formats;
+    static const sdfgen::OpenVdbPlugin plugin{f::saveVdbFile,       f::loadVdbFile,     f::surfacePolygons,      f::saveSparseVdbFile,
+                                              f::loadSparseVdbFile, f::isSparseVdbFile, f::surfacePolygonsSparse};
     return &plugin;
 }

@@ -189,6 +189,18 @@ expect 0 'triangles' -- "$sdfgen" surface "$work/tet.npz" -o "$work/tet-surface.
 expect 0 '^ply$' -- head -1 "$work/tet-surface.ply"
 expect 1 'padding' -- "$sdfgen" surface "$work/tet.obj" -o "$work/x.obj" --padding 0
 expect 1 "x.stl: unknown surface format" -- "$sdfgen" surface "$work/tet.obj" -o "$work/x.stl" --res 8
+# A band field (a .vdb level set): compare takes it by value in its band and by sign outside;
+# surface meshes it as the level set it is, closed and manifold; the dense formats hold its dense form.
+"$sdfgen" bake "$bunny" -o "$work/bunny-band.vdb" --res 40 --band 2 >/dev/null
+"$sdfgen" bake "$bunny" -o "$work/bunny.sdf" --res 40 >/dev/null
+expect 0 "^band fields $work/bunny-band.vdb \(\|d\| < [0-9.e-]+, 2 voxels\): values compared where \|d\| is below the band, [0-9]+ samples outside it compared by sign only$" -- \
+  "$sdfgen" compare "$work/bunny-band.vdb" "$work/bunny.sdf"
+expect 0 '^abs difference: max 0 \(0 voxels\)' -- "$sdfgen" compare "$work/bunny.sdf" "$work/bunny-band.vdb"
+expect 0 '^signs differ: 0 samples' -- "$sdfgen" compare "$work/bunny.sdf" "$work/bunny-band.vdb"
+expect 0 'grid 40x40x33 \(band field, [0-9]+ bricks\)' -- "$sdfgen" surface "$work/bunny-band.vdb" -o "$work/band-surface.obj"
+expect 0 'mesh check of the output: 0 boundary edges, 0 non-manifold edges, 0 inconsistently oriented edges, 0 non-manifold vertices' -- \
+  "$sdfgen" surface "$work/bunny-band.vdb" -o "$work/band-surface.obj"
+expect 1 "^sdfgen: $work/bunny-band.vdb: --iso 1 lies outside the band field's band" -- "$sdfgen" surface "$work/bunny-band.vdb" -o "$work/x.obj" --iso 1
 # ---- Issue 8: hostile input, nonsense arguments, files (each failed before the fix) ----------
 # OBJ hygiene: a BOM is skipped; hex floats, overflowing or missing vertices, short faces and NULs
 # are refused with the line; pipes and FIFOs are read; the input size is bounded.

@@ -2,7 +2,8 @@
 """Fields written by `sdfgen bake` read by the programs users read them with: numpy (.npy, .npz),
 pyopenvdb (.vdb) or teem's unu (.nrrd), compared with the sdfgen-text file of the same bake.
 
-Usage: python_readers.py numpy|openvdb|teem SDFGEN_BINARY SOURCE_DIR
+Usage: python_readers.py numpy|band|openvdb|teem SDFGEN_BINARY SOURCE_DIR
+band: a band field's sparse .npz read by the lines docs/field-format.md gives (numpy).
 Exits 77 (ctest's skip code) when numpy, pyopenvdb or teem-unu is not installed.
 """
 import os
@@ -135,6 +136,44 @@ with tempfile.TemporaryDirectory() as folder:
         expected = ref["field"].transpose(2, 1, 0).ravel()
         check(values.shape == expected.shape and np.allclose(values, expected, rtol=1e-6, atol=1e-6 * h), "unu's values equal the text file's")
         print(f"teem's unu reads .nrrd: {nx}x{ny}x{nz} samples equal the text file's")
+    elif mode == "band":
+        res = ["--res", "64"]
+        band_npz = os.path.join(folder, "bunny-band.npz")
+        subprocess.run([sdfgen, "bake", MESH, *res, "--band", "3", "-o", band_npz], check=True, stdout=subprocess.DEVNULL)
+        # A band field's sparse .npz, rebuilt and looked up by the very lines docs/field-format.md
+        # gives, equals the dense bake in the band and has its sign everywhere else.
+        with open(os.path.join(root, "docs", "field-format.md")) as f:
+            doc = f.read()
+        marker = "<!-- sparse-npz-snippet"
+        check(marker in doc, "the documented sparse .npz snippet")
+        snippet = doc[doc.index("```python\n", doc.index(marker)) + len("```python\n"):]
+        snippet = snippet[:snippet.index("```")]
+        dense_npy = os.path.join(folder, "bunny-dense.npy")
+        subprocess.run([sdfgen, "bake", MESH, *res, "-o", dense_npy], check=True, stdout=subprocess.DEVNULL)
+        reference = np.load(dense_npy)
+        space = {"np": np}
+        cwd = os.getcwd()
+        os.chdir(folder)
+        try:
+            exec(snippet, space)
+        finally:
+            os.chdir(cwd)
+        dense, bg, o = space["dense"], float(space["bg"]), space["o"]
+        check(dense.shape == reference.shape, f"rebuilt shape {dense.shape} vs {reference.shape}")
+        check(abs(bg - 3 * float(np.load(band_npz)["voxel_size"])) < 1e-6 * bg, f"background {bg} is 3 voxels")
+        in_band = np.abs(reference) < np.float32(bg)
+        check(in_band.any() and not in_band.all(), "the band holds some samples and not all")
+        check(np.array_equal(dense[in_band], reference[in_band]), "in the band: the dense bake's values, bit for bit")
+        check(np.array_equal(np.sign(dense[~in_band]), np.sign(reference[~in_band])) and np.all(np.abs(dense[~in_band]) == np.float32(bg)),
+              "outside the band: +-background with the dense bake's sign")
+        nx, ny, nz = reference.shape
+        check(len(o) < ((nx + 7) // 8) * ((ny + 7) // 8) * ((nz + 7) // 8) and len(space["boxes"]) > 0,
+              f"{len(o)} bricks and {len(space['boxes'])} inside boxes: sparse")
+        for i, j, k in [(0, 0, 0), (nx // 2, ny // 2, nz // 2), (nx - 1, ny - 1, nz - 1), (nx // 3, ny // 2, nz // 4)]:
+            check(space["sample"](i, j, k) == dense[i, j, k], f"sample({i}, {j}, {k}) equals the rebuilt array")
+        for i, j, k in np.argwhere(in_band)[::97]:
+            check(space["sample"](i, j, k) == reference[i, j, k], f"sample({i}, {j}, {k}) in the band")
+        print(f"numpy reads a band field's .npz as documented: {len(o)} bricks, equal to the dense bake in the band and by sign outside")
     else:
         grid = vdb.read(bake("f.vdb"), "surface")
         check(grid.gridClass == vdb.GridClass.LEVEL_SET, f"grid class {grid.gridClass}")
@@ -153,6 +192,27 @@ with tempfile.TemporaryDirectory() as folder:
         near = int(np.count_nonzero(np.abs(ref["field"]) < np.float32(2 * h)))
         check(band.activeVoxelCount() == near, f"band: {band.activeVoxelCount()} active voxels, {near} within 2 voxels")
         print(f"pyopenvdb reads .vdb: {nx}x{ny}x{nz} samples equal the text file's; --band 2 keeps {near}")
+
+        # A band field's level set: the dense bake's values in the band, +-background with its sign
+        # outside, the inside as inactive -background tiles.
+        fine = ["--res", "64"]
+        band_path, dense_npy = os.path.join(folder, "fine-band.vdb"), os.path.join(folder, "fine.npy")
+        subprocess.run([sdfgen, "bake", MESH, *fine, "--band", "3", "-o", band_path], check=True, stdout=subprocess.DEVNULL)
+        subprocess.run([sdfgen, "bake", MESH, *fine, "-o", dense_npy], check=True, stdout=subprocess.DEVNULL)
+        reference = np.load(dense_npy)
+        level_set = vdb.read(band_path, "surface")
+        bg = level_set.background
+        check(level_set.gridClass == vdb.GridClass.LEVEL_SET and bg > 0, f"band level set: class {level_set.gridClass}, background {bg}")
+        in_band = np.abs(reference) < np.float32(bg)
+        check(level_set.activeVoxelCount() == int(np.count_nonzero(in_band)), f"band: {level_set.activeVoxelCount()} active voxels")
+        values = np.zeros(reference.shape, dtype=np.float32)
+        level_set.copyToArray(values)
+        check(np.array_equal(values[in_band], reference[in_band]), "band: the dense bake's values in the band")
+        check(np.array_equal(values[~in_band], np.where(reference[~in_band] < 0, -bg, bg).astype(np.float32)),
+              "band: +-background with the dense bake's sign outside it")
+        tiles = [t for t in level_set.iterOffValues() if t["depth"] < 3 and t["value"] == -bg]
+        check(len(tiles) > 0, "band: the inside is inactive -background tiles")
+        print(f"pyopenvdb reads a band level set: {level_set.activeVoxelCount()} active voxels, {len(tiles)} inside tiles")
 
         # Channels: grids of their names beside "surface", at the same voxels, holding the .npz's arrays.
         channels = np.load(bake("channels.npz", "--channels", "gradient,closest,triangle"))

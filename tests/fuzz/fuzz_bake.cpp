@@ -1,6 +1,6 @@
-// Fuzzes load -> tree -> bake: the first byte picks the method and sign, the second the grid
-// resolution (1-8) and ray count (1-16); the rest is an OBJ file. Any input either gives a field
-// of finite values on the grid or an Error.
+// Fuzzes load -> tree -> bake: the first byte picks the method and sign from the registries, the
+// second the grid resolution (1-8) and ray count (1-16); the rest is an OBJ file. Any input either
+// gives a field of finite values on the grid or an Error.
 #include "fuzz_input.hpp"
 #include "core/bake/bake.hpp"
 #include "core/accel/bvh.hpp"
@@ -14,8 +14,11 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size < 2) return 0;
     sdfgen::BakeSettings settings;
-    settings.method = sdfgen::DistanceMethod(data[0] % 3);
-    settings.sign = sdfgen::SignMethod(data[0] / 3 % 5);
+    // Every method and sign the registries list, the unsupported pairs included (they must be refused).
+    static const auto methods = sdfgen::distanceMethodChoices();
+    static const auto signs = sdfgen::signMethodChoices();
+    settings.method = methods[data[0] % methods.size()].id;
+    settings.sign = signs[data[0] / methods.size() % signs.size()].id;
     settings.res = 1 + data[1] % 8;
     settings.rays = 1 + data[1] / 8 % 16;
     const std::string& path = sdfgen::fuzz::writeInput(data + 2, size - 2, ".obj");

@@ -17,21 +17,6 @@ namespace sdfgen {
 
 namespace {
 
-// Why auto chose as it did, for the summary and the panel.
-std::string autoReason(const MeshCheck& c) {
-    if (c.closedAndClean()) {
-        return "pseudonormal: the mesh is closed, manifold, consistently oriented and free of self-intersections";
-    }
-    std::string problems;
-    for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
-                                      {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
-                                      {c.selfIntersections, "self-intersections"},
-                                      {c.misorientedShells, "closed shells facing against their nesting"}}) {
-        if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
-    }
-    return "winding: the mesh has " + problems;
-}
-
 // The gradient of the signed distance: the direction away from the surface, negated where the
 // value is negative (where it is 0 the direction is already the outward normal). In fixed blocks.
 void signGradient(const std::vector<float>& values, std::vector<float>& gradient, const RunControl& control) {
@@ -78,11 +63,6 @@ std::string toString(const Channels& channels) {
     return list;
 }
 
-SignMethod resolveAutoSign(const MeshCheck& check, std::string* reason) {
-    if (reason) *reason = autoReason(check);
-    return check.closedAndClean() ? SignMethod::Pseudonormal : SignMethod::Winding;
-}
-
 BakeResult bake(const BakeContext& context, const RunControl& control) {
     const BakeSettings& settings = context.settings;
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
@@ -95,7 +75,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 
     // The compute device (device.hpp) measures exact distances and counts winding numbers; the
     // other methods and the rest of the bake stay here.
-    if (settings.device == Device::Gpu && settings.method != DistanceMethod::Exact) {
+    if (settings.device == Device::Gpu && !method.deviceMemory) {
         throw Error(std::string("--device gpu computes exact distances; --method ") + method.name + " runs on the CPU");
     }
     const bool banded = settings.band != 0;
@@ -103,19 +83,19 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         if (!(settings.band >= 1.0) || !std::isfinite(settings.band)) {
             throw Error("the band must be a finite number of voxels, at least 1 (got " + std::to_string(settings.band) + ")");
         }
-        if (settings.method != DistanceMethod::Exact) {
+        if (!method.measuresBand) {
             throw Error(std::string("the narrow-band bake measures exact distances; --method ") + method.name + " makes dense fields only");
         }
         if (settings.device == Device::Gpu) throw Error("the narrow-band bake runs on the CPU only; use --device cpu or auto");
         if (settings.channels.any()) {
             throw Error("channels " + toString(settings.channels).substr(4) + " come from the dense bake only; a band bake gives the distance (sdf)");
         }
-        if (sign == SignMethod::Rays) throw Error("the narrow-band bake signs by the winding number (or auto); --sign rays votes per sample");
+        if (signMethod(sign).castsRays) throw Error("the narrow-band bake signs by the winding number (or auto); --sign rays votes per sample");
     }
     const Channels& channels = settings.channels;
     if (channels.any()) {
         const std::string named = toString(channels).substr(4); // without "sdf,"
-        if (settings.method != DistanceMethod::Exact) {
+        if (!method.makesChannels) {
             throw Error("channels " + named + ": only the exact method finds the nearest triangle they come from; --method " +
                         method.name + " gives the distance (sdf) only");
         }
@@ -130,7 +110,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         result.deviceReason = "cpu: the narrow-band bake runs on the CPU only";
     } else if (channels.any()) {
         result.deviceReason = "cpu: asked for channels " + toString(channels).substr(4) + " (made on the CPU only)";
-    } else if (settings.method == DistanceMethod::Exact) {
+    } else if (method.deviceMemory) {
         deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
         result.onDevice = deviceContext.device != nullptr;
     }
@@ -152,8 +132,8 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     // What the passes will read of the mesh's structures is built first (if not built yet), the
     // wide tree and the topology at once: each alone leaves a core idle for much of its build.
     const Clock::time_point setupStart = Clock::now();
-    const bool readsWide = (settings.method == DistanceMethod::Exact && !result.onDevice) || sign == SignMethod::Pseudonormal;
-    const bool readsTopology = (!method.fixedSign && sign != SignMethod::Rays) || banded;
+    const bool readsWide = (method.readsWideTree && !result.onDevice) || (!method.fixedSign && signMethod(sign).readsWideTree);
+    const bool readsTopology = (!method.fixedSign && signMethod(sign).readsTopology) || banded;
     if (readsWide && readsTopology) {
         parallelInvoke(quiet(control), [&] { context.wide(); }, [&] { context.topology(); });
     } else if (readsWide) {
@@ -167,25 +147,13 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     const Clock::time_point checkStart = Clock::now();
     BakeContext methodContext = deviceContext;
     if (!method.fixedSign) {
-        if (sign == SignMethod::Auto) {
-            result.checked = true;
-            // Holes, non-manifold or flipped edges rule the pseudonormal out already: the costly
-            // search for self-intersections could not change the choice, so it is skipped.
-            const MeshCheck& edges = context.topology().edgeCheck();
-            result.check = edges.closedAndClean() ? context.check() : edges;
-            sign = resolveAutoSign(result.check, &result.signReason);
-            if (result.check.insideOut) {
-                methodContext.flipped = true;
-                result.signReason += sign == SignMethod::Pseudonormal
-                                         ? "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
-                                           "are swapped as if every face were flipped"
-                                         : "; the mesh is inside out (closed, its faces point inwards): its winding number "
-                                           "is -1 inside, and |w| > 1/2 counts that as inside";
-            }
-        } else if (sign == SignMethod::Pseudonormal && context.topology().insideOut()) {
-            result.warnings.push_back("the mesh is inside out (closed, its faces point inwards); --sign pseudonormal follows "
-                                      "the faces, so inside and outside are swapped; --sign auto or winding fixes it");
-        }
+        SignDecision decision = decideSign(sign, method.defaultSign, context.topology, context.check);
+        sign = decision.sign;
+        result.checked = decision.checked;
+        result.check = decision.check;
+        result.signReason = std::move(decision.reason);
+        result.warnings = std::move(decision.warnings);
+        methodContext.flipped = decision.flipped;
         methodContext.sign = sign;
     }
     if (banded && sign == SignMethod::Pseudonormal && !result.checked && !context.check().closedAndClean()) {
@@ -200,7 +168,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     // The field's method line, e.g. "exact sign=auto/winding res=128 padding=0.1".
     auto parameters = [&](SignMethod used) {
         std::vector<std::pair<std::string, std::string>> list;
-        if (settings.method == DistanceMethod::Rays || used == SignMethod::Rays) list.emplace_back("rays", std::to_string(settings.rays));
+        if (method.castsRays || signMethod(used).castsRays) list.emplace_back("rays", std::to_string(settings.rays));
         list.emplace_back("sign", std::string(result.checked ? "auto/" : "") + toString(used));
         char number[32];
         list.emplace_back("res", std::to_string(settings.res));

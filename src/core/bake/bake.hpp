@@ -16,7 +16,4 @@ BakeResult bake(const BakeContext& context, const RunControl& control);
 // and tools. Front ends use sdfgen::Model, which keeps them between bakes.
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control);
 
-// What auto picks for a mesh with this check: pseudonormal only where provably right.
-SignMethod resolveAutoSign(const MeshCheck& check, std::string* reason = nullptr);
-
 } // namespace sdfgen

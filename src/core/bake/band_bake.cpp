@@ -36,7 +36,13 @@ struct BrickFinder {
     glm::ivec3 brickDims;
     double band; // local units
 
-    void visit(const glm::ivec3& lo, int size, bool outOfBand, std::vector<glm::ivec3>& inBand, std::vector<glm::ivec3>& nearFans) const {
+    const Bvh& rows; // for the count of crossings ahead of a cube's centre
+
+    struct Found {
+        std::vector<glm::ivec3> inBand, nearFans;
+        std::vector<std::pair<glm::ivec3, std::uint8_t>> sided;
+    };
+    void visit(const glm::ivec3& lo, int size, bool outOfBand, Found& found) const {
         const glm::ivec3 hi = glm::min(lo + size, brickDims);
         if (glm::any(glm::lessThanEqual(hi, lo))) return;
         const glm::ivec3 first = lo * kBrick, last = glm::min(hi * kBrick, grid.dims) - 1;
@@ -54,14 +60,31 @@ struct BrickFinder {
             outOfBand = d - reach - 1e-5 * magnitude > band * (1.0 + 1e-5);
         }
         if (outOfBand && caps.farFromEveryFan(centre, reach)) return;
+        if (outOfBand) {
+            // Near a fan but clear of the surface: the winding number is smooth here; where it stays
+            // off ±1/2 over the whole cube (its value at the centre, exact, and the bound on its
+            // change), every sample has that side, as the dense bake decides it sample by sample.
+            const double variation = caps.windingVariation(centre, reach);
+            if (variation < 0.25) {
+                const double w = caps.winding(centre, crossingsAhead(mesh, rows, caps, centre));
+                const double margin = std::fabs(std::fabs(w) - 0.5);
+                if (margin > variation * (1.0 + 1e-9) + 1e-6) {
+                    const std::uint8_t side = std::fabs(w) > 0.5;
+                    for (int z = lo.z; z < hi.z; ++z)
+                        for (int y = lo.y; y < hi.y; ++y)
+                            for (int x = lo.x; x < hi.x; ++x) found.sided.emplace_back(glm::ivec3(x, y, z), side);
+                    return;
+                }
+            }
+        }
         if (size == 1) {
-            (outOfBand ? nearFans : inBand).push_back(lo);
+            (outOfBand ? found.nearFans : found.inBand).push_back(lo);
             return;
         }
         const int half = size / 2;
         for (int dz = 0; dz < size; dz += half)
             for (int dy = 0; dy < size; dy += half)
-                for (int dx = 0; dx < size; dx += half) visit(lo + glm::ivec3(dx, dy, dz), half, outOfBand, inBand, nearFans);
+                for (int dx = 0; dx < size; dx += half) visit(lo + glm::ivec3(dx, dy, dz), half, outOfBand, found);
     }
 };
 
@@ -107,26 +130,28 @@ void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, c
     // 1. The bricks in the band, and those near the fans, ordered by z, y, x.
     Clock::time_point start = Clock::now();
     const WindingCaps caps(context.topology());
-    const BrickFinder finder{mesh, context.wide(), caps, grid, brickDims, band * grid.voxel / mesh.unit};
+    const BrickFinder finder{mesh, context.wide(), caps, grid, brickDims, band * grid.voxel / mesh.unit, context.tree};
     constexpr int kTop = 16; // bricks per edge of the cubes searched in parallel
     const glm::ivec3 tops = (brickDims + (kTop - 1)) / kTop;
     const std::size_t topCount = std::size_t(tops.x) * std::size_t(tops.y) * std::size_t(tops.z);
-    std::vector<std::vector<glm::ivec3>> inBand(topCount), nearFans(topCount);
+    std::vector<BrickFinder::Found> found(topCount);
     parallelFor(topCount, control.phase(0.0, 0.05), [&](std::size_t n) {
         const glm::ivec3 top(int(n % std::size_t(tops.x)), int(n / std::size_t(tops.x) % std::size_t(tops.y)),
                              int(n / (std::size_t(tops.x) * std::size_t(tops.y))));
-        finder.visit(top * kTop, kTop, false, inBand[n], nearFans[n]);
+        finder.visit(top * kTop, kTop, false, found[n]);
     });
     BandSides sides;
     sides.background = field.background;
     sides.signBricks = signBricks;
-    for (std::size_t n = 0; n < topCount; ++n) {
-        sides.bricks.insert(sides.bricks.end(), inBand[n].begin(), inBand[n].end());
-        sides.fanBricks.insert(sides.fanBricks.end(), nearFans[n].begin(), nearFans[n].end());
+    for (BrickFinder::Found& f : found) {
+        sides.bricks.insert(sides.bricks.end(), f.inBand.begin(), f.inBand.end());
+        sides.fanBricks.insert(sides.fanBricks.end(), f.nearFans.begin(), f.nearFans.end());
+        sides.sidedBricks.insert(sides.sidedBricks.end(), f.sided.begin(), f.sided.end());
+        f = {};
     }
-    inBand = {}, nearFans = {};
     std::sort(sides.bricks.begin(), sides.bricks.end(), before);
     std::sort(sides.fanBricks.begin(), sides.fanBricks.end(), before);
+    std::sort(sides.sidedBricks.begin(), sides.sidedBricks.end(), [](const auto& a, const auto& b) { return before(a.first, b.first); });
     result.signSeconds += since(start);
 
     // 2. Their exact distances, as the dense bake measures them (samples past the grid's end: +background).

@@ -28,11 +28,15 @@ FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels)
     for (std::size_t i = 0; i < a.values.size(); ++i) {
         const double va = a.values[i], vb = b.values[i];
         if (std::min(std::fabs(va), std::fabs(vb)) < band) continue;
+        d.signDifferences += (va < 0) != (vb < 0);
+        if ((a.background > 0 && std::fabs(va) >= a.background) || (b.background > 0 && std::fabs(vb) >= b.background)) {
+            ++d.signOnly;
+            continue;
+        }
         const double diff = std::fabs(va - vb);
         d.maxAbs = std::max(d.maxAbs, diff);
         sum += diff;
         sumSquares += diff * diff;
-        d.signDifferences += (va < 0) != (vb < 0);
         ++d.compared;
     }
     if (d.compared) {

@@ -5,14 +5,30 @@
 
 namespace sdfgen {
 
+namespace {
+
+// Where a bake may run, as front ends list it.
+const std::vector<Choice<Device>>& devices() {
+    static const std::vector<Choice<Device>> table = {
+        {Device::Cpu, "cpu", "the CPU"},
+        {Device::Gpu, "gpu", "OpenGL 4.5 compute, on Mesa's llvmpipe too; an error when it cannot start"},
+        {Device::Auto, "auto", "the GPU when a hardware OpenGL 4.5 driver is there, else the CPU"},
+    };
+    return table;
+}
+
+} // namespace
+
 const char* toString(Device device) {
-    switch (device) {
-    case Device::Cpu: return "cpu";
-    case Device::Gpu: return "gpu";
-    case Device::Auto: return "auto";
+    for (const Choice<Device>& choice : devices()) {
+        if (choice.id == device) return choice.name;
     }
     return "?";
 }
+
+std::vector<Choice<Device>> deviceChoices() { return devices(); }
+
+Device parseDevice(const std::string& name) { return parseChoice(devices(), name, "device"); }
 
 namespace {
 

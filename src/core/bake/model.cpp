@@ -126,23 +126,30 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
     const bool needSign = out.signedDistance || out.gradient;
     const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle;
+    if (needSign && !signMethod(sign).pointQueries) {
+        std::string known;
+        const std::vector<Choice<SignMethod>> choices = pointQuerySignChoices();
+        for (std::size_t i = 0; i < choices.size(); ++i) known += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::string(choices[i].name);
+        throw Error("point queries sign by " + known + ", not " + toString(sign));
+    }
     // Every sign a query takes reads the topology: built beside the wide tree (as in bake), each
     // alone leaving a core idle.
-    if (needSign && (sign == SignMethod::Auto || sign == SignMethod::Winding || sign == SignMethod::Pseudonormal)) {
+    if (needSign && signMethod(sign).readsTopology) {
         parallelInvoke(
             quiet(control), [&] { if (needNearest) m.wide(quiet(control)); }, [&] { m.topology(quiet(control)); });
     }
     // As bake: auto swaps the pseudonormal's inside and outside on an inside-out mesh (the winding
     // sign, |w| > 1/2, needs no swap).
     bool flipped = false;
-    if (needSign && sign == SignMethod::Auto) {
-        const MeshCheck& edges = m.topology(quiet(control)).edgeCheck(); // as bake: no search when the edges decide
-        const MeshCheck& check = edges.closedAndClean() ? m.check(quiet(control)) : edges;
-        flipped = check.insideOut;
-        sign = resolveAutoSign(check);
-    }
-    if (needSign && sign != SignMethod::Winding && sign != SignMethod::Pseudonormal) {
-        throw Error(std::string("point queries sign by auto, winding or pseudonormal, not ") + toString(sign));
+    if (needSign) {
+        const SignDecision decision = decideSign(
+            sign, SignMethod::Auto, [&]() -> const MeshTopology& { return m.topology(quiet(control)); },
+            [&]() -> const MeshCheck& { return m.check(quiet(control)); });
+        flipped = decision.flipped;
+        sign = decision.sign;
+        if (control.warn) {
+            for (const std::string& warning : decision.warnings) control.warn(mesh.source + ": " + warning);
+        }
     }
     if (count > std::numeric_limits<std::uint32_t>::max()) throw Error("more than 4294967295 query points in one call");
     for (std::size_t i = 0; i < 3 * count; ++i) {

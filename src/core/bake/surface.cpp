@@ -34,6 +34,38 @@ bool boundaryReaches(const Field& field, double iso, glm::ivec3& where) {
     return false;
 }
 
+// The same for a band field: its bricks' samples on the boundary, and any inside box that touches
+// it (every other sample is +background, above an iso within the band).
+bool boundaryReaches(const SparseField& field, double iso, glm::ivec3& where) {
+    constexpr int B = SparseField::kBrick;
+    const glm::ivec3 n = field.grid.dims;
+    auto onBoundary = [&](const glm::ivec3& p) { return glm::any(glm::equal(p, glm::ivec3(0))) || glm::any(glm::equal(p, n - 1)); };
+    for (std::size_t b = 0; b < field.bricks.size(); ++b) {
+        const glm::ivec3 lo = field.bricks[b] * B, hi = glm::min(lo + B, n);
+        if (!onBoundary(lo) && !glm::any(glm::equal(hi, n))) continue;
+        for (int k = lo.z; k < hi.z; ++k)
+            for (int j = lo.y; j < hi.y; ++j)
+                for (int i = lo.x; i < hi.x; ++i) {
+                    const glm::ivec3 p(i, j, k);
+                    if (onBoundary(p) && double(field.values[b * SparseField::kBrickSamples + std::size_t(((k - lo.z) * B + (j - lo.y)) * B + (i - lo.x))]) <= iso) {
+                        where = p;
+                        return true;
+                    }
+                }
+    }
+    for (const auto& box : field.insideBoxes) {
+        const glm::ivec3 lo(box[0], box[1], box[2]), hi(box[3], box[4], box[5]);
+        for (int a = 0; a < 3; ++a) {
+            if (lo[a] == 0 || hi[a] == n[a]) {
+                where = lo;
+                where[a] = lo[a] == 0 ? 0 : n[a] - 1;
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 void appendNumber(std::string& out, float v) {
     char text[32];
     const auto result = std::to_chars(text, text + sizeof text, v); // shortest exact float
@@ -72,9 +104,9 @@ std::string plyBytes(const SurfaceMesh& mesh) {
     return bytes;
 }
 
-} // namespace
-
-SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
+// The checks before meshing: iso and adaptivity, and a surface that stays inside the grid.
+template <class AnyField>
+void checkSurfaceCanClose(const AnyField& field, double iso, double adaptivity) {
     if (!std::isfinite(iso)) throw Error("--iso must be a finite number");
     if (!(adaptivity >= 0.0 && adaptivity <= 1.0)) throw Error("--adaptivity must be between 0 and 1");
     glm::ivec3 where;
@@ -84,10 +116,13 @@ SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
                     std::to_string(field.at(where.x, where.y, where.z)) +
                     "), so it would be cut open: bake with more padding");
     }
+}
+
+// volumeToMesh's polygons as a mesh: triangles wound counter-clockwise seen from outside.
+SurfaceMesh surfaceMesh(std::vector<glm::vec3>&& positions, const std::vector<glm::uvec3>& triangles, const std::vector<glm::uvec4>& quads,
+                        const Grid& grid, double iso) {
     SurfaceMesh mesh;
-    std::vector<glm::uvec3> triangles;
-    std::vector<glm::uvec4> quads;
-    openVdbPlugin().polygons(field, iso, adaptivity, mesh.positions, triangles, quads);
+    mesh.positions = std::move(positions);
     // volumeToMesh winds its polygons clockwise seen from outside (where d > iso); reversed here.
     mesh.triangles.reserve(triangles.size() + 2 * quads.size());
     for (const glm::uvec3& t : triangles) mesh.triangles.emplace_back(t[2], t[1], t[0]);
@@ -112,10 +147,36 @@ SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
         std::snprintf(message, sizeof(message),
                       "the surface's vertices are beyond single precision (grid origin %.3g %.3g %.3g, voxel size %.3g): "
                       "no mesh file can hold them",
-                      field.grid.origin.x, field.grid.origin.y, field.grid.origin.z, field.grid.voxel);
+                      grid.origin.x, grid.origin.y, grid.origin.z, grid.voxel);
         throw Error(message);
     }
     return mesh;
+}
+
+} // namespace
+
+SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
+    checkSurfaceCanClose(field, iso, adaptivity);
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    std::vector<glm::uvec4> quads;
+    openVdbPlugin().polygons(field, iso, adaptivity, positions, triangles, quads);
+    return surfaceMesh(std::move(positions), triangles, quads, field.grid, iso);
+}
+
+SurfaceMesh extractSurface(const SparseField& field, double iso, double adaptivity) {
+    if (std::isfinite(iso) && !(std::fabs(iso) < double(field.background))) {
+        char message[160];
+        std::snprintf(message, sizeof message, "--iso %g lies outside the band field's band (|d| < %g), where it holds only the side of the surface",
+                      iso, double(field.background));
+        throw Error(message);
+    }
+    checkSurfaceCanClose(field, iso, adaptivity);
+    std::vector<glm::vec3> positions;
+    std::vector<glm::uvec3> triangles;
+    std::vector<glm::uvec4> quads;
+    openVdbPlugin().polygonsSparse(field, iso, adaptivity, positions, triangles, quads);
+    return surfaceMesh(std::move(positions), triangles, quads, field.grid, iso);
 }
 
 void saveSurface(const SurfaceMesh& mesh, const std::string& path) {

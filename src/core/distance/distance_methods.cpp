@@ -103,14 +103,26 @@ void negateInside(std::vector<float>& distance, const std::vector<std::uint8_t>&
     }
 }
 
+namespace {
+
+// The memory estimates' parts (core/memory.cpp): exact distances go straight into the field; on a
+// compute device the distance pass's host-side tables are its tree (144-byte triangles, 32-byte
+// nodes of up to 4) and, signing by the pseudonormal, the seven normals per triangle twice (the
+// topology's and the upload's, 168 bytes each). The reference holds each triangle in double.
+double noMemory(const MemoryTerms&) { return 0; }
+double exactDeviceMemory(const MemoryTerms& terms, bool signing) { return terms.triangles * (144 + 16 + (signing ? 2 * 168 : 0)); }
+double bruteMemory(const MemoryTerms& terms) { return terms.triangles * 3 * sizeof(glm::dvec3); }
+
+} // namespace
+
 const std::vector<DistanceMethodInfo>& distanceMethods() {
     static const std::vector<DistanceMethodInfo> methods = {
         {DistanceMethod::Exact, "exact", "the true distance to the nearest triangle", exactDistance, SignMethod::Auto, false,
-         SignMethod::Pseudonormal},
-        {DistanceMethod::Rays, "rays", "the original report's ray sampling (an upper bound)", rayDistance, SignMethod::Rays, false,
-         SignMethod::Rays},
-        {DistanceMethod::Brute, "brute", "every triangle for every sample in double, signed by the exact winding number (the reference)",
-         bruteDistance, SignMethod::Winding, true, SignMethod::Default},
+         SignMethod::Pseudonormal, true, false, true, true, noMemory, exactDeviceMemory},
+        {DistanceMethod::Rays, "rays", "the original report's ray sampling, an upper bound", rayDistance, SignMethod::Rays, false,
+         SignMethod::Rays, false, true, false, false, noMemory, nullptr},
+        {DistanceMethod::Brute, "brute", "every triangle for every sample in double, signed by the exact winding number: the reference",
+         bruteDistance, SignMethod::Winding, true, SignMethod::Default, false, false, false, false, bruteMemory, nullptr},
     };
     return methods;
 }
@@ -129,13 +141,14 @@ const char* toString(DistanceMethod method) {
     return "?";
 }
 
+std::vector<Choice<DistanceMethod>> distanceMethodChoices() {
+    std::vector<Choice<DistanceMethod>> choices;
+    for (const DistanceMethodInfo& info : distanceMethods()) choices.push_back({info.id, info.name, info.description});
+    return choices;
+}
+
 DistanceMethod parseDistanceMethod(const std::string& name) {
-    std::string known;
-    for (const DistanceMethodInfo& info : distanceMethods()) {
-        if (name == info.name) return info.id;
-        known += std::string(known.empty() ? "" : ", ") + info.name;
-    }
-    throw Error("unknown distance method '" + name + "' (expected " + known + ")");
+    return parseChoice(distanceMethodChoices(), name, "distance method");
 }
 
 } // namespace sdfgen

@@ -36,6 +36,21 @@ Field loadVdb(const std::string& path) {
     return openVdbPlugin().load(path);
 }
 
+void saveSparseVdb(const SparseField& field, const std::string& path) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    openVdbPlugin().saveSparse(field, path);
+}
+
+SparseField loadSparseVdb(const std::string& path) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    return openVdbPlugin().loadSparse(path);
+}
+
+bool isSparseVdb(const std::string& path) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    return openVdbPlugin().isSparse(path);
+}
+
 } // namespace formats
 
 } // namespace sdfgen

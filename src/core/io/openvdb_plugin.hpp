@@ -5,6 +5,7 @@
 // resident memory and 20 ms. The code that uses it is libsdfgen_openvdb.so (src/vdb/).
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
+#include "sdfgen/sparse_field.hpp"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -20,6 +21,13 @@ struct OpenVdbPlugin {
     // OpenVDB winds them.
     void (*polygons)(const Field& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
                      std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads);
+    // The same for band fields: a level set written straight from the bricks, read back as
+    // bricks, and meshed as a level set, never made dense.
+    void (*saveSparse)(const SparseField& field, const std::string& path);
+    SparseField (*loadSparse)(const std::string& path);
+    bool (*isSparse)(const std::string& path);
+    void (*polygonsSparse)(const SparseField& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
+                           std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads);
 };
 
 // The entry point the plugin exports.

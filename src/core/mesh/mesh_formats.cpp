@@ -87,8 +87,10 @@ Mesh loadMesh(const std::string& path) {
     } else {
         if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
         if (!SDFGEN_HAS_ASSIMP) {
-            throw Error(path + ": mesh formats other than OBJ, PLY, OFF and STL need Assimp, and this sdfgen was built "
-                               "without Assimp (configure with -DSDFGEN_ASSIMP=ON)");
+            std::string own;
+            for (const MeshReader& r : kMeshReaders) own += (own.empty() ? "" : ", ") + std::string(r.extension);
+            throw Error(path + ": mesh formats other than " + own + " need Assimp, and this sdfgen was built without Assimp "
+                               "(configure with -DSDFGEN_ASSIMP=ON)");
         }
         const AssimpPlugin& assimp = assimpPlugin();
         if (!assimp.supports(extension)) {

@@ -1,5 +1,6 @@
 #include "core/runtime/memory.hpp"
 #include "core/accel/bvh.hpp"
+#include "core/bake/methods.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
 
@@ -115,15 +116,16 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const Channels& channels = settings.channels;
     const double result = samples * (kFloat + (channels.gradient ? 3 * kFloat : 0) + (channels.closest ? 3 * kFloat : 0) +
                                      (channels.triangle ? sizeof(std::int32_t) : 0));
+    MemoryTerms terms;
+    terms.samples = samples;
+    terms.triangles = triangles;
 
-    if (settings.method == DistanceMethod::Brute) return std::uint64_t(result + triangles * 3 * sizeof(glm::dvec3));
-
-    SignMethod sign = settings.sign;
-    if (sign == SignMethod::Default) sign = settings.method == DistanceMethod::Rays ? SignMethod::Rays : SignMethod::Auto;
+    const DistanceMethodInfo& method = distanceMethod(settings.method);
+    if (method.fixedSign) return std::uint64_t(result + method.memory(terms));
 
     // MeshTopology (merged positions and vertex normals, per-triangle corners, face normals, edge
     // neighbours, the sorted edge list and the union-find parents while it is built, the merge map).
-    const double topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 12 + 12 + 48 + 12);
+    terms.topology = vertices * (24 + 24 + 4 + 48) + triangles * (12 + 12 + 12 + 48 + 12);
     // Winding: one crossing (16 bytes) per row the surface crosses, plus each row's vector.
     constexpr std::size_t kBlock = std::size_t(1) << 15; // triangles per partial sum
     const std::size_t triangleCount = mesh.triangleCount();
@@ -143,42 +145,39 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double uniqueTriangles = double(tree ? tree->triangleCount() : triangleCount);
     const double h = grid.voxel / mesh.unit; // the positions above are local
     const double rows = double(grid.dims.y) * double(grid.dims.z);
-    const double winding = topology + rows * 24 + 16 * (projected / (h * h) + triangles);
-    const double pseudonormal = topology;
+    terms.winding = terms.topology + rows * 24 + 16 * (projected / (h * h) + triangles);
 
-    // Per-sample buffers alive at the peak besides the field (see bake.cpp). Exact distances go
-    // straight into the field, signed there by the pseudonormal or negated in place by the winding
-    // sign; the ray method's field is its own result when the rays sign it. Otherwise a sign leaves
-    // inside flags, or a second, ray field.
+    // Before the mesh check, auto may become either of its signs: the estimate takes the larger
+    // of each part.
+    bool signCastsRays = false, signReadsWide = false, signedInline = false;
+    double signBytes = 0, signDeviceBytes = 0;
+    for (SignMethod sign : possibleSigns(settings.sign, method.defaultSign)) {
+        const SignMethodInfo& info = signMethod(sign);
+        signCastsRays = signCastsRays || info.castsRays;
+        signReadsWide = signReadsWide || info.readsWideTree;
+        signedInline = signedInline || sign == method.signsInline;
+        signBytes = std::max(signBytes, info.memory(terms));
+        if (info.deviceMemory) signDeviceBytes = std::max(signDeviceBytes, info.deviceMemory(terms));
+    }
+
+    // Per-sample buffers alive at the peak besides the field (see bake.cpp). A method that signs as
+    // it measures writes the signed field alone, and exact distances signed by the winding number
+    // are negated in place. Otherwise a sign leaves inside flags, or a second, ray field.
     double perSample = 0;
     // The ray field's own tree (core/accel/ray_tree.hpp): each triangle prepared again (36 bytes), a
     // 36-byte record per binary leaf and the 256-byte wide nodes; 95 to 111 bytes per triangle
     // measured on the bundled, shared and generated meshes.
-    const double rayTree = settings.method == DistanceMethod::Rays || sign == SignMethod::Rays ? triangles * 120 : 0;
+    const double rayTree = method.castsRays || signCastsRays ? triangles * 120 : 0;
     // The closest-point tree (core/accel/wide_bvh.hpp): 99 to 119 bytes per triangle measured on the
     // bundled, shared and generated meshes, and its packets' triangle lists while it is built.
-    const bool closestPoints = (settings.method == DistanceMethod::Exact && !onDevice) || sign == SignMethod::Pseudonormal ||
-                               sign == SignMethod::Auto;
+    const bool closestPoints = (method.readsWideTree && !onDevice) || signReadsWide;
     const double wideTree = closestPoints ? uniqueTriangles * 130 : 0;
-    if (settings.method == DistanceMethod::Exact && sign == SignMethod::Rays) perSample = kFloat; // the ray field
-    else if (settings.method == DistanceMethod::Rays && sign != SignMethod::Rays) perSample = kFlag;
-    double signBytes = 0;
-    if (sign == SignMethod::Winding) signBytes = winding;
-    else if (sign == SignMethod::Pseudonormal) signBytes = pseudonormal;
-    else if (sign == SignMethod::Auto) signBytes = std::max(winding, pseudonormal);
+    if (!signedInline && signCastsRays) perSample = kFloat; // the ray field
+    else if (!signedInline && method.castsRays) perSample = kFlag;
 
-    // On a compute device, one pass at a time holds its host-side tables: the distance pass its
-    // tree (144-byte triangles, 32-byte nodes of up to 4) and, signing by the pseudonormal, the
-    // seven normals per triangle twice (the topology's and the upload's, 168 bytes each); the
-    // winding pass the closed surface's corners twice (72 bytes each), its weights and its
-    // triangles' row ranges (16), and per sample the crossings ahead (4) and the sides (1).
-    if (onDevice && settings.method == DistanceMethod::Exact) {
-        const bool pseudonormalSign = sign == SignMethod::Pseudonormal || sign == SignMethod::Auto;
-        const bool windingSign = sign == SignMethod::Winding || sign == SignMethod::Auto;
-        const double distanceTables = triangles * (144 + 16 + (pseudonormalSign ? 2 * 168 : 0));
-        const double windingTables = windingSign ? triangles * (72 + 72 + 4 + 16) + samples * (4 + kFlag) : 0;
-        signBytes += std::max(distanceTables, windingTables);
-    }
+    // On a compute device, one pass at a time holds its host-side tables: the distance pass's or
+    // the sign pass's (the registries' deviceMemory).
+    if (onDevice && method.deviceMemory) signBytes += std::max(method.deviceMemory(terms, signedInline), signDeviceBytes);
     return std::uint64_t(std::min(result + samples * perSample + signBytes + rayTree + wideTree, 1.8e19));
 }
 
@@ -193,10 +192,7 @@ void checkBakeMemory(const Mesh& mesh, const Bvh& tree, const Grid& grid, const 
     const double needed = double(estimateBakeBytes(mesh, grid, settings, onDevice, &tree, control));
     const std::uint64_t available = availableMemoryBytes();
     if (available > 0 && needed > double(available)) {
-        const SignMethod sign = settings.sign != SignMethod::Default ? settings.sign
-                                : settings.method == DistanceMethod::Rays ? SignMethod::Rays
-                                : settings.method == DistanceMethod::Brute ? SignMethod::Winding
-                                                                            : SignMethod::Auto;
+        const SignMethod sign = settings.sign != SignMethod::Default ? settings.sign : distanceMethod(settings.method).defaultSign;
         throw Error("grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" + std::to_string(grid.dims.z) +
                     " (method " + toString(settings.method) + ", sign " + toString(sign) + ") needs about " +
                     mebibytes(needed) + " but only " + mebibytes(double(available)) + " of memory is available");

@@ -7,6 +7,8 @@
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/error.hpp"
 
+#include <utility>
+
 namespace sdfgen {
 
 namespace {
@@ -73,13 +75,45 @@ void raySign(const BakeContext& context, DistancePass& pass, const RunControl& c
     }
 }
 
+// The memory estimates' parts (core/memory.cpp): the pseudonormal reads the topology, the winding
+// sign the topology and its crossings; on a compute device the winding pass holds the closed
+// surface's corners twice (72 bytes each), its weights and its triangles' row ranges (16), and per
+// sample the crossings ahead (4) and the sides (1).
+double noMemory(const MemoryTerms&) { return 0; }
+double windingMemory(const MemoryTerms& terms) { return terms.winding; }
+double pseudonormalMemory(const MemoryTerms& terms) { return terms.topology; }
+double windingDeviceMemory(const MemoryTerms& terms) { return terms.triangles * (72 + 72 + 4 + 16) + terms.samples * (4 + 1); }
+
+// Why auto chose as it did, for the summary and the panel.
+std::string autoReason(const MeshCheck& c) {
+    if (c.closedAndClean()) {
+        return "pseudonormal: the mesh is closed, manifold, consistently oriented and free of self-intersections";
+    }
+    std::string problems;
+    for (const auto& [count, name] : {std::pair{c.boundaryEdges, "holes"}, {c.nonManifoldEdges, "non-manifold edges"},
+                                      {c.inconsistentEdges, "flipped faces"}, {c.nonManifoldVertices, "pinched vertices"},
+                                      {c.selfIntersections, "self-intersections"},
+                                      {c.misorientedShells, "closed shells facing against their nesting"}}) {
+        if (count) problems += std::string(problems.empty() ? "" : ", ") + name;
+    }
+    return "winding: the mesh has " + problems;
+}
+
 } // namespace
 
 const std::vector<SignMethodInfo>& signMethods() {
+    // Auto first and default last: the order front ends list them in.
     static const std::vector<SignMethodInfo> methods = {
-        {SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly", windingSign},
-        {SignMethod::Pseudonormal, "pseudonormal", "angle-weighted pseudonormal of the closest feature", pseudonormalSign},
-        {SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays", raySign},
+        {SignMethod::Auto, "auto", "pseudonormal when the mesh check proves it right, else winding", nullptr, true, false, true, false,
+         noMemory, nullptr},
+        {SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly", windingSign, true, false, true, false,
+         windingMemory, windingDeviceMemory},
+        {SignMethod::Pseudonormal, "pseudonormal", "angle-weighted pseudonormal of the closest feature", pseudonormalSign, true, true,
+         true, false, pseudonormalMemory, nullptr},
+        {SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays", raySign, false, false, false, true, noMemory,
+         nullptr},
+        {SignMethod::Default, "default", "the method's own: rays for the rays method, auto otherwise", nullptr, false, false, false, false,
+         noMemory, nullptr},
     };
     return methods;
 }
@@ -88,26 +122,63 @@ const SignMethodInfo& signMethod(SignMethod id) {
     for (const SignMethodInfo& method : signMethods()) {
         if (method.id == id) return method;
     }
-    throw Error(std::string("sign method '") + toString(id) + "' is decided by bake, not run");
+    throw Error("unknown sign method");
 }
 
 const char* toString(SignMethod sign) {
-    if (sign == SignMethod::Default) return "default";
-    if (sign == SignMethod::Auto) return "auto";
     for (const SignMethodInfo& info : signMethods()) {
         if (info.id == sign) return info.name;
     }
     return "?";
 }
 
-SignMethod parseSignMethod(const std::string& name) {
-    if (name == "auto") return SignMethod::Auto;
-    std::string known = "auto";
+std::vector<Choice<SignMethod>> signMethodChoices() {
+    std::vector<Choice<SignMethod>> choices;
+    for (const SignMethodInfo& info : signMethods()) choices.push_back({info.id, info.name, info.description});
+    return choices;
+}
+
+std::vector<Choice<SignMethod>> pointQuerySignChoices() {
+    std::vector<Choice<SignMethod>> choices;
     for (const SignMethodInfo& info : signMethods()) {
-        if (name == info.name) return info.id;
-        known += std::string(", ") + info.name;
+        if (info.pointQueries) choices.push_back({info.id, info.name, info.description});
     }
-    throw Error("unknown sign method '" + name + "' (expected " + known + ")");
+    return choices;
+}
+
+SignMethod parseSignMethod(const std::string& name) { return parseChoice(signMethodChoices(), name, "sign method"); }
+
+std::vector<SignMethod> possibleSigns(SignMethod asked, SignMethod whenDefault) {
+    const SignMethod sign = asked == SignMethod::Default ? whenDefault : asked;
+    if (sign == SignMethod::Auto) return {SignMethod::Pseudonormal, SignMethod::Winding};
+    return {sign};
+}
+
+SignDecision decideSign(SignMethod asked, SignMethod whenDefault, const std::function<const MeshTopology&()>& topology,
+                        const std::function<const MeshCheck&()>& check) {
+    SignDecision decision;
+    decision.sign = asked == SignMethod::Default ? whenDefault : asked;
+    if (decision.sign == SignMethod::Auto) {
+        decision.checked = true;
+        // Holes, non-manifold or flipped edges rule the pseudonormal out already: the costly
+        // search for self-intersections could not change the choice, so it is skipped.
+        const MeshCheck& edges = topology().edgeCheck();
+        decision.check = edges.closedAndClean() ? check() : edges;
+        decision.reason = autoReason(decision.check);
+        decision.sign = decision.check.closedAndClean() ? SignMethod::Pseudonormal : SignMethod::Winding;
+        if (decision.check.insideOut) {
+            decision.flipped = true;
+            decision.reason += decision.sign == SignMethod::Pseudonormal
+                                   ? "; the mesh is inside out (closed, its faces point inwards), so inside and outside "
+                                     "are swapped as if every face were flipped"
+                                   : "; the mesh is inside out (closed, its faces point inwards): its winding number "
+                                     "is -1 inside, and |w| > 1/2 counts that as inside";
+        }
+    } else if (decision.sign == SignMethod::Pseudonormal && topology().insideOut()) {
+        decision.warnings.push_back("the mesh is inside out (closed, its faces point inwards); --sign pseudonormal follows "
+                                    "the faces, so inside and outside are swapped; --sign auto or winding fixes it");
+    }
+    return decision;
 }
 
 } // namespace sdfgen

@@ -464,6 +464,16 @@ double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
     return w;
 }
 
+double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) const {
+    double gradient = 0.0;
+    for (const Cap& cap : caps_) {
+        const double d = glm::length(glm::max(glm::max(cap.lo - centre, centre - cap.hi), glm::dvec3(0.0))) - reach;
+        if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
+        gradient += std::abs(cap.weight) * cap.length / (4.0 * M_PI * d * d);
+    }
+    return gradient * reach;
+}
+
 int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
     // The same line and the same predicates as insideByWinding's row through p, so that a query at a
     // sample's position counts exactly the crossings its row scan counts ahead of it.
@@ -825,6 +835,9 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
         return starts;
     };
     const std::vector<std::size_t> storedStart = layerStarts(band.bricks), fanStart = layerStarts(band.fanBricks);
+    std::vector<glm::ivec3> sidedCoordinates(band.sidedBricks.size());
+    for (std::size_t n = 0; n < band.sidedBricks.size(); ++n) sidedCoordinates[n] = band.sidedBricks[n].first;
+    const std::vector<std::size_t> sidedStart = layerStarts(sidedCoordinates);
     struct Layer {
         std::vector<std::array<int, 6>> boxes;
         std::vector<glm::ivec3> mixed; // fan bricks with both sides, and their values
@@ -837,7 +850,7 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
         Layer& layer = layers[layerIndex];
         std::vector<std::vector<Crossing>> rows(std::size_t(kEdge) * std::size_t(ny));
         scan.fill(bz, rows.data());
-        std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex];
+        std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex], sided = sidedStart[layerIndex];
         BrickSigns signs{grid, axes, caps, {}, 0, 0, {}};
         int counts[kEdge * kEdge * kEdge];
         std::uint8_t flags[kEdge * kEdge * kEdge];
@@ -894,6 +907,8 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                     }
                     ++stored;
                     side = -1;
+                } else if (sided < sidedStart[layerIndex + 1] && sidedCoordinates[sided] == brick) {
+                    side = band.sidedBricks[sided++].second;
                 } else if (fan < fanStart[layerIndex + 1] && band.fanBricks[fan] == brick) {
                     ++fan;
                     std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side

@@ -102,6 +102,11 @@ public:
     WindingFans flattened() const;
     // The exact winding number at p given `ahead`: every fan measured.
     double winding(const glm::dvec3& p, int ahead) const;
+    // A bound on how far the mesh's winding number moves over the ball (centre, reach), which no
+    // mesh triangle meets: its gradient is the field of the mesh's boundary loops (each cap's loop,
+    // of length L at distance d from the ball, adds at most |weight| L / (4π d²) per unit of
+    // distance). Infinite when the ball reaches a cap's box.
+    double windingVariation(const glm::dvec3& centre, double reach) const;
 
 private:
     struct Node {
@@ -165,6 +170,8 @@ struct BandSides {
     bool signBricks = true;
     // Bricks out of the band that a fan may reach (ordered by z, y, x): decided sample by sample.
     std::vector<glm::ivec3> fanBricks;
+    // Bricks out of the band near the fans whose side is known already (1 inside, 0 outside), ordered by z, y, x.
+    std::vector<std::pair<glm::ivec3, std::uint8_t>> sidedBricks;
     // Out: SparseField::insideBoxes.
     std::vector<std::array<int, 6>> insideBoxes;
 };

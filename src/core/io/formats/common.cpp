@@ -3,12 +3,15 @@
 #include "core/runtime/memory.hpp"
 #include "sdfgen/error.hpp"
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <system_error>
 #include <tuple>
 
 namespace sdfgen::formats {
@@ -17,6 +20,19 @@ namespace {
 
 bool isToken(const std::string& s) {
     return !s.empty() && s.find_first_of(std::string_view(" \t\r\n=\0", 6)) == std::string::npos;
+}
+
+// The source and method line as the text format holds them: one line, the method and each
+// parameter's key and value single words.
+void checkNames(const std::string& source, const std::string& method, const std::vector<std::pair<std::string, std::string>>& parameters,
+                const std::string& path) {
+    if (source.find_first_of(std::string_view("\r\n\0", 3)) != std::string::npos) {
+        throw Error(path + ": source name has a line break or NUL byte");
+    }
+    if (!isToken(method)) throw Error(path + ": method name '" + printable(method) + "' is not a single word");
+    for (const auto& [key, value] : parameters) {
+        if (!isToken(key) || !isToken(value)) throw Error(path + ": bad method parameter '" + printable(key + "=" + value) + "'");
+    }
 }
 
 void checkValuesAndNames(const Field& field, const std::string& path) {
@@ -34,13 +50,7 @@ void checkValuesAndNames(const Field& field, const std::string& path) {
             throw Error(path + ": the " + name + " channel has " + std::to_string(size) + " values for a grid of " + std::to_string(n));
         }
     }
-    if (field.source.find_first_of(std::string_view("\r\n\0", 3)) != std::string::npos) {
-        throw Error(path + ": source name has a line break or NUL byte");
-    }
-    if (!isToken(field.method)) throw Error(path + ": method name '" + printable(field.method) + "' is not a single word");
-    for (const auto& [key, value] : field.parameters) {
-        if (!isToken(key) || !isToken(value)) throw Error(path + ": bad method parameter '" + printable(key + "=" + value) + "'");
-    }
+    checkNames(field.source, field.method, field.parameters, path);
 }
 
 } // namespace
@@ -80,6 +90,68 @@ void checkField(const Field& field, const std::string& path) {
     checkValuesAndNames(field, path);
 }
 
+void checkSparseField(const SparseField& field, const std::string& path) {
+    checkGrid(field.grid, path);
+    field.check(path);
+    checkNames(field.source, field.method, field.parameters, path);
+}
+
+float bandBackground(const Field& field) {
+    if (field.background > 0) return field.background;
+    const std::string text = field.parameter("band");
+    double band = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), band);
+    const float background = float(band * field.grid.voxel);
+    const bool valid = !text.empty() && ec == std::errc() && end == text.data() + text.size() && background > 0 && std::isfinite(background);
+    return valid ? background : float(3 * field.grid.voxel);
+}
+
+SparseField sparseFromDense(const Field& field, float background) {
+    constexpr int B = SparseField::kBrick;
+    SparseField sparse;
+    sparse.source = field.source;
+    sparse.method = field.method;
+    sparse.parameters = field.parameters;
+    sparse.grid = field.grid;
+    sparse.background = background;
+    const glm::ivec3 dims = field.grid.dims, bricks = (dims + (B - 1)) / B;
+    std::vector<float> brick(SparseField::kBrickSamples);
+    for (int bz = 0; bz < bricks.z; ++bz) {
+        for (int by = 0; by < bricks.y; ++by) {
+            int insideFrom = -1; // the first brick of the current run of inside bricks in this row
+            for (int bx = 0; bx <= bricks.x; ++bx) {
+                bool inBand = false, negative = false, positive = false;
+                if (bx < bricks.x) {
+                    const glm::ivec3 lo = glm::ivec3(bx, by, bz) * B;
+                    std::fill(brick.begin(), brick.end(), background);
+                    for (int k = lo.z; k < std::min(lo.z + B, dims.z); ++k)
+                        for (int j = lo.y; j < std::min(lo.y + B, dims.y); ++j)
+                            for (int i = lo.x; i < std::min(lo.x + B, dims.x); ++i) {
+                                const float v = field.values[field.grid.index(i, j, k)];
+                                inBand |= std::fabs(v) < background;
+                                negative |= v < 0;
+                                positive |= !(v < 0);
+                                brick[std::size_t(((k - lo.z) * B + (j - lo.y)) * B + (i - lo.x))] = std::clamp(v, -background, background);
+                            }
+                }
+                const bool stored = inBand || (negative && positive);
+                const bool inside = bx < bricks.x && !stored && negative;
+                if (inside && insideFrom < 0) insideFrom = bx;
+                if (!inside && insideFrom >= 0) {
+                    sparse.insideBoxes.push_back({insideFrom * B, by * B, bz * B, std::min(bx * B, dims.x), std::min(by * B + B, dims.y),
+                                                  std::min(bz * B + B, dims.z)});
+                    insideFrom = -1;
+                }
+                if (stored) {
+                    sparse.bricks.emplace_back(bx, by, bz);
+                    sparse.values.insert(sparse.values.end(), brick.begin(), brick.end());
+                }
+            }
+        }
+    }
+    return sparse;
+}
+
 void checkDimsFit(const std::uint64_t dims[3], const std::string& path) {
     double samples = 1.0;
     for (int a = 0; a < 3; ++a) {
@@ -97,11 +169,16 @@ void checkDimsFit(const std::uint64_t dims[3], const std::string& path) {
     }
 }
 
-std::string methodLine(const Field& field) {
-    std::string line = field.method;
-    for (const auto& [key, value] : field.parameters) line += " " + key + "=" + value;
+namespace {
+std::string methodLine(const std::string& method, const std::vector<std::pair<std::string, std::string>>& parameters) {
+    std::string line = method;
+    for (const auto& [key, value] : parameters) line += " " + key + "=" + value;
     return line;
 }
+} // namespace
+
+std::string methodLine(const Field& field) { return methodLine(field.method, field.parameters); }
+std::string methodLine(const SparseField& field) { return methodLine(field.method, field.parameters); }
 
 void parseMethodLine(const std::string& line, Field& field, const std::string& path) {
     field.parameters.clear();

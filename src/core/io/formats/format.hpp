@@ -28,12 +28,13 @@ namespace sdfgen::formats {
 
 struct FieldFormat {
     const char* extension;   // with the dot, lower case
-    const char* description; // for help texts and the unknown-extension error
+    const char* description; // for help texts (knownFieldFormats)
     bool holdsChannels;      // writes Field::gradient, closest and triangle (see sdfgen::Channels)
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
     Field (*load)(const std::string& path);
-    // Formats that keep a narrow-band field sparse (null for the dense ones, which get
-    // SparseField::toDense): its writer, its reader, and whether a file holds one (its header only).
+    // The narrow-band side, null for the dense-only formats (saveSparseField writes those the
+    // field's dense form; loadSparseField reads their samples). loadSparse reads any file of the
+    // format, dense ones through sparseFromDense; isSparse reads only what tells the two apart.
     void (*saveSparse)(const SparseField& field, const std::string& path) = nullptr;
     SparseField (*loadSparse)(const std::string& path) = nullptr;
     bool (*isSparse)(const std::string& path) = nullptr;
@@ -53,6 +54,16 @@ void checkField(const Field& field, const std::string& path);
 // lost in the origin's rounding).
 void checkGrid(const Grid& grid, const std::string& path);
 
+// checkField for a narrow-band field: the grid, SparseField::check, and the names.
+void checkSparseField(const SparseField& field, const std::string& path);
+
+// The background of a dense field read as a band field: Field::background when set, else the
+// `band` parameter (voxels) times the voxel size, else 3 voxels.
+float bandBackground(const Field& field);
+// The band field of a dense one: bricks where a sample lies within `background` of the surface or
+// the side changes, values clamped to +-background; inside boxes where whole bricks are inside.
+SparseField sparseFromDense(const Field& field, float background);
+
 // Throws Error naming `path` when a grid of these dimensions cannot be held in memory (the memory
 // available now), before anything is allocated for it. Every dimension must be at least 1 and fit
 // in an int.
@@ -60,6 +71,7 @@ void checkDimsFit(const std::uint64_t dims[3], const std::string& path);
 
 // The method line of the text format without the keyword: "exact sign=auto/winding res=64 ...".
 std::string methodLine(const Field& field);
+std::string methodLine(const SparseField& field);
 // Splits a method line into the field's method and parameters; Error naming `path` when malformed.
 void parseMethodLine(const std::string& line, Field& field, const std::string& path);
 
@@ -81,8 +93,14 @@ void writeNpz(const std::string& path, const std::vector<NpzMember>& members);
 
 void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadNpz(const std::string& path);
+void saveSparseNpz(const SparseField& field, const std::string& path);
+SparseField loadSparseNpz(const std::string& path);
+bool isSparseNpz(const std::string& path);
 void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadVdb(const std::string& path);
+void saveSparseVdb(const SparseField& field, const std::string& path);
+SparseField loadSparseVdb(const std::string& path);
+bool isSparseVdb(const std::string& path);
 void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadNrrd(const std::string& path);
 

@@ -2,9 +2,14 @@
 // sdf (the values, as in .npy), origin (3, float64), voxel_size (float64 scalar), dims (3, int64),
 // method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k). A field
 // with channels adds gradient and closest ((nx, ny, nz, 3) float32) and triangle ((nx, ny, nz) int32).
+// A band field (SparseField) has no sdf but its bricks and boxes, laid out for numpy
+// (docs/field-format.md): brick_origins (B, 3) int32, the first sample of each brick; brick_values
+// (8, 8, 8, B) float32 in Fortran order, values[i, j, k, b], which is SparseField::values as is;
+// inside_boxes (R, 6) int32; background (float32 scalar); and the grid and names as above.
 #include "core/io/formats/format.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/formats/npy.hpp"
+#include "core/runtime/memory.hpp"
 #include "sdfgen/error.hpp"
 
 #include <zip.h>
@@ -14,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <sys/stat.h>
@@ -23,6 +29,11 @@ namespace sdfgen::formats {
 namespace {
 
 constexpr zip_uint64_t kMaxMetadataBytes = 1 << 20; // origin, dims, method, source: small arrays
+// The members that make an archive a band field's.
+constexpr const char* kBrickOrigins = "brick_origins.npy";
+constexpr const char* kBrickValues = "brick_values.npy";
+constexpr const char* kInsideBoxes = "inside_boxes.npy";
+constexpr const char* kBackground = "background.npy";
 
 struct ZipCloser {
     void operator()(zip_t* archive) const { zip_discard(archive); }
@@ -179,6 +190,113 @@ private:
     std::unique_ptr<zip_t, ZipCloser> archive_;
 };
 
+// origin, voxel_size, dims (required when `needDims`, else checked against the shape read from
+// sdf), method and source into `field`.
+void readGridAndNames(const ArchiveReader& archive, const std::string& path, Field& field, bool needDims) {
+    const std::vector<double> origin = parseNpyNumbers(archive.readSmall("origin.npy"), path + ": origin.npy");
+    if (origin.size() != 3) throw Error(path + ": origin.npy has " + std::to_string(origin.size()) + " values, not 3");
+    for (int a = 0; a < 3; ++a) field.grid.origin[a] = origin[std::size_t(a)];
+    const std::vector<double> voxel = parseNpyNumbers(archive.readSmall("voxel_size.npy"), path + ": voxel_size.npy");
+    if (voxel.size() != 1) throw Error(path + ": voxel_size.npy is not a single number");
+    if (!(voxel[0] > 0)) throw Error(path + ": voxel_size.npy: voxel size must be positive");
+    field.grid.voxel = voxel[0];
+    if (needDims || archive.has("dims.npy")) {
+        const std::vector<double> dims = parseNpyNumbers(archive.readSmall("dims.npy"), path + ": dims.npy");
+        if (needDims) {
+            if (dims.size() != 3) throw Error(path + ": dims.npy has " + std::to_string(dims.size()) + " values, not 3");
+            for (int a = 0; a < 3; ++a) {
+                const double d = dims[std::size_t(a)];
+                if (!(d >= 1 && d <= double(std::numeric_limits<int>::max())) || d != std::floor(d)) {
+                    throw Error(path + ": dims.npy: dimension " + std::to_string(d) + " is not a whole number from 1 to 2^31-1");
+                }
+                field.grid.dims[a] = int(d);
+            }
+        } else if (dims.size() != 3 || dims[0] != field.grid.dims.x || dims[1] != field.grid.dims.y || dims[2] != field.grid.dims.z) {
+            throw Error(path + ": dims.npy does not match the shape of sdf.npy");
+        }
+    }
+    field.method = "unknown";
+    if (archive.has("method.npy")) parseMethodLine(parseNpyString(archive.readSmall("method.npy"), path + ": method.npy"), field, path + ": method.npy");
+    if (archive.has("source.npy")) field.source = parseNpyString(archive.readSmall("source.npy"), path + ": source.npy");
+}
+
+// Throws Error naming `where` when `bytes` more cannot be held in the memory available now.
+void checkBytesFit(std::uint64_t bytes, const std::string& where) {
+    const std::uint64_t memory = availableMemoryBytes();
+    if (memory > 0 && bytes > memory) {
+        throw Error(where + ": needs " + mebibytes(double(bytes)) + ", more than the " + mebibytes(double(memory)) + " of memory available");
+    }
+}
+
+// An integer member of shape (rows, columns), int32 or int64 in either order, as int32 rows (C
+// order); every count is checked against the member's bytes before anything is allocated.
+std::vector<std::int32_t> readIntRows(const ArchiveReader& archive, const std::string& name, std::uint64_t columns, const std::string& path) {
+    const std::string where = path + ": " + name;
+    zip_uint64_t size = 0;
+    auto file = archive.open(name, size);
+    const ReadBytes read = ArchiveReader::reader(file.get());
+    const NpyHeader header = readNpyHeader(read, where);
+    if (header.descr != "<i4" && header.descr != "<i8") throw Error(where + ": dtype '" + printable(header.descr) + "' is not int32 or int64");
+    if (header.shape.size() != 2 || header.shape[1] != columns) {
+        throw Error(where + ": shape is not (n, " + std::to_string(columns) + ")");
+    }
+    const std::uint64_t bytes = header.dataBytes(where);
+    if (header.headerBytes > size || bytes != size - header.headerBytes) {
+        throw Error(where + ": holds " + std::to_string(size >= header.headerBytes ? size - header.headerBytes : 0) + " bytes of data for " +
+                    std::to_string(bytes));
+    }
+    checkBytesFit(bytes + header.count(where) * sizeof(std::int32_t), where);
+    const std::uint64_t rows = header.shape[0], count = header.count(where);
+    std::vector<std::int64_t> wide(header.descr == "<i8" ? count : 0);
+    std::vector<std::int32_t> narrow(count);
+    if (read(header.descr == "<i8" ? static_cast<void*>(wide.data()) : static_cast<void*>(narrow.data()), bytes) != bytes) {
+        throw Error(where + ": is truncated or corrupt (" + zip_file_strerror(file.get()) + ")");
+    }
+    archive.checkAtEnd(file.get(), name);
+    for (std::uint64_t n = 0; n < wide.size(); ++n) {
+        if (wide[n] < std::numeric_limits<std::int32_t>::min() || wide[n] > std::numeric_limits<std::int32_t>::max()) {
+            throw Error(where + ": value " + std::to_string(wide[n]) + " is beyond int32");
+        }
+        narrow[n] = std::int32_t(wide[n]);
+    }
+    if (!header.fortranOrder) return narrow;
+    std::vector<std::int32_t> rowMajor(count);
+    for (std::uint64_t r = 0; r < rows; ++r)
+        for (std::uint64_t c = 0; c < columns; ++c) rowMajor[r * columns + c] = narrow[c * rows + r];
+    return rowMajor;
+}
+
+// brick_values: float32 (8, 8, 8, bricks), in Fortran order (SparseField::values as is) or in C order.
+std::vector<float> readBrickValues(const ArchiveReader& archive, std::uint64_t bricks, const std::string& path) {
+    const std::string where = path + ": " + kBrickValues;
+    zip_uint64_t size = 0;
+    auto file = archive.open(kBrickValues, size);
+    const ReadBytes read = ArchiveReader::reader(file.get());
+    const NpyHeader header = readNpyHeader(read, where);
+    if (header.descr != "<f4") throw Error(where + ": dtype '" + printable(header.descr) + "' is not little-endian float32 ('<f4')");
+    constexpr std::uint64_t B = SparseField::kBrick;
+    if (header.shape != std::vector<std::uint64_t>{B, B, B, bricks}) {
+        throw Error(where + ": shape is not (8, 8, 8, " + std::to_string(bricks) + ") for the " + std::to_string(bricks) + " brick origins");
+    }
+    const std::uint64_t bytes = header.dataBytes(where);
+    if (header.headerBytes > size || bytes != size - header.headerBytes) {
+        throw Error(where + ": holds " + std::to_string(size >= header.headerBytes ? size - header.headerBytes : 0) + " bytes of data for " +
+                    std::to_string(bytes));
+    }
+    checkBytesFit(header.fortranOrder ? bytes : 2 * bytes, where);
+    std::vector<float> values(header.count(where));
+    if (read(values.data(), bytes) != bytes) throw Error(where + ": is truncated or corrupt (" + zip_file_strerror(file.get()) + ")");
+    archive.checkAtEnd(file.get(), kBrickValues);
+    if (header.fortranOrder) return values;
+    // C order: [i, j, k, b] at ((i * 8 + j) * 8 + k) * bricks + b.
+    std::vector<float> brickMajor(values.size());
+    for (std::uint64_t b = 0; b < bricks; ++b)
+        for (std::uint64_t k = 0; k < B; ++k)
+            for (std::uint64_t j = 0; j < B; ++j)
+                for (std::uint64_t i = 0; i < B; ++i) brickMajor[((b * B + k) * B + j) * B + i] = values[((i * B + j) * B + k) * bricks + b];
+    return brickMajor;
+}
+
 } // namespace
 
 void writeNpz(const std::string& path, const std::vector<NpzMember>& members) {
@@ -229,6 +347,14 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
 
 Field loadNpz(const std::string& path) {
     const ArchiveReader archive(path);
+    if (archive.has(kBrickOrigins)) {
+        try {
+            return loadSparseNpz(path).toDense();
+        } catch (const Error& e) {
+            const std::string message = e.what();
+            throw Error(message.rfind(path, 0) == 0 ? message : path + ": " + message);
+        }
+    }
     Field field;
     {
         const std::string where = path + ": sdf.npy";
@@ -240,24 +366,78 @@ Field loadNpz(const std::string& path) {
         readNpyFieldValues(header, read, size - header.headerBytes, field, where);
         archive.checkAtEnd(file.get(), "sdf.npy");
     }
-    const std::vector<double> origin = parseNpyNumbers(archive.readSmall("origin.npy"), path + ": origin.npy");
-    if (origin.size() != 3) throw Error(path + ": origin.npy has " + std::to_string(origin.size()) + " values, not 3");
-    for (int a = 0; a < 3; ++a) field.grid.origin[a] = origin[std::size_t(a)];
-    const std::vector<double> voxel = parseNpyNumbers(archive.readSmall("voxel_size.npy"), path + ": voxel_size.npy");
-    if (voxel.size() != 1) throw Error(path + ": voxel_size.npy is not a single number");
-    if (!(voxel[0] > 0)) throw Error(path + ": voxel_size.npy: voxel size must be positive");
-    field.grid.voxel = voxel[0];
-    if (archive.has("dims.npy")) {
-        const std::vector<double> dims = parseNpyNumbers(archive.readSmall("dims.npy"), path + ": dims.npy");
-        if (dims.size() != 3 || dims[0] != field.grid.dims.x || dims[1] != field.grid.dims.y || dims[2] != field.grid.dims.z) {
-            throw Error(path + ": dims.npy does not match the shape of sdf.npy");
-        }
-    }
-    field.method = "unknown";
-    if (archive.has("method.npy")) parseMethodLine(parseNpyString(archive.readSmall("method.npy"), path + ": method.npy"), field, path + ": method.npy");
-    if (archive.has("source.npy")) field.source = parseNpyString(archive.readSmall("source.npy"), path + ": source.npy");
+    readGridAndNames(archive, path, field, false);
     checkField(field, path);
     return field;
 }
+
+} // namespace sdfgen::formats
+
+namespace sdfgen::formats {
+
+void saveSparseNpz(const SparseField& field, const std::string& path) {
+    checkSparseField(field, path);
+    const Grid& g = field.grid;
+    std::vector<std::int32_t> origins;
+    origins.reserve(3 * field.bricks.size());
+    for (const glm::ivec3& brick : field.bricks) {
+        for (int a = 0; a < 3; ++a) origins.push_back(brick[a] * SparseField::kBrick);
+    }
+    std::string background = npyHeader("<f4", false, {});
+    background.append(reinterpret_cast<const char*>(&field.background), sizeof(float));
+    const std::uint64_t bricks = field.bricks.size(), B = SparseField::kBrick;
+    const std::vector<NpzMember> members = {
+        {kBrickOrigins, npyHeader("<i4", false, {bricks, 3}), origins.data(), origins.size() * sizeof(std::int32_t)},
+        {kBrickValues, npyHeader("<f4", true, {B, B, B, bricks}), field.values.data(), field.values.size() * sizeof(float)},
+        {kInsideBoxes, npyHeader("<i4", false, {field.insideBoxes.size(), 6}), field.insideBoxes.data(),
+         field.insideBoxes.size() * sizeof(field.insideBoxes[0])},
+        {kBackground, background},
+        {"origin.npy", npyFloat64Array({double(g.origin.x), double(g.origin.y), double(g.origin.z)}, false)},
+        {"voxel_size.npy", npyFloat64Array({double(g.voxel)}, true)},
+        {"dims.npy", npyInt64Array({g.dims.x, g.dims.y, g.dims.z})},
+        {"method.npy", npyUnicodeScalar(methodLine(field))},
+        {"source.npy", npyUnicodeScalar(field.source)},
+    };
+    writeNpz(path, members);
+}
+
+SparseField loadSparseNpz(const std::string& path) {
+    const ArchiveReader archive(path);
+    if (!archive.has(kBrickOrigins)) {
+        const Field dense = loadNpz(path);
+        return sparseFromDense(dense, bandBackground(dense));
+    }
+    Field names;
+    readGridAndNames(archive, path, names, true);
+    SparseField field;
+    field.grid = names.grid;
+    field.source = std::move(names.source);
+    field.method = std::move(names.method);
+    field.parameters = std::move(names.parameters);
+    checkGrid(field.grid, path);
+    const std::vector<double> background = parseNpyNumbers(archive.readSmall(kBackground), path + ": " + kBackground);
+    if (background.size() != 1) throw Error(path + ": " + kBackground + " is not a single number");
+    field.background = float(background[0]);
+    const std::vector<std::int32_t> origins = readIntRows(archive, kBrickOrigins, 3, path);
+    const std::size_t bricks = origins.size() / 3;
+    field.bricks.resize(bricks);
+    for (std::size_t b = 0; b < bricks; ++b) {
+        for (int a = 0; a < 3; ++a) {
+            const std::int32_t first = origins[3 * b + std::size_t(a)];
+            if (first % SparseField::kBrick != 0) {
+                throw Error(path + ": " + kBrickOrigins + ": brick " + std::to_string(b) + " does not start on a multiple of 8");
+            }
+            field.bricks[b][a] = first / SparseField::kBrick;
+        }
+    }
+    field.values = readBrickValues(archive, bricks, path);
+    const std::vector<std::int32_t> boxes = readIntRows(archive, kInsideBoxes, 6, path);
+    field.insideBoxes.resize(boxes.size() / 6);
+    std::memcpy(field.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));
+    checkSparseField(field, path);
+    return field;
+}
+
+bool isSparseNpz(const std::string& path) { return ArchiveReader(path).has(kBrickOrigins); }
 
 } // namespace sdfgen::formats

@@ -1,0 +1,343 @@
+// Band fields (SparseField) in files: .npz and .vdb keep them sparse and give them back bit for bit;
+// .vdb is an OpenVDB level set as OpenVDB itself reads it; the dense formats hold the dense form or
+// refuse in one line; dense files read as band fields; hostile sparse files are refused before
+// anything is allocated for what they claim; compare and surface take band fields as they are.
+#include "core/bake/surface.hpp"
+#include "core/io/formats/format.hpp"
+#include "core/io/formats/npy.hpp"
+#include "core/mesh/topology.hpp"
+#include "sdfgen/compare.hpp"
+#include "sdfgen/error.hpp"
+#include "sdfgen/formats.hpp"
+
+#include "support/checks.hpp"
+#include "support/shapes.hpp"
+
+#include <gtest/gtest.h>
+#if SDFGEN_HAS_OPENVDB
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#endif
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sdfgen {
+namespace {
+
+using test::errorFrom;
+
+// A solid ball and a hollow one (a shell between radii 0.12 and 0.25) on a grid whose sides are
+// not multiples of 8, so that bricks are cut at the grid's end, and whole bricks lie inside.
+Field ballsField() {
+    Field field;
+    field.source = "balls.obj";
+    field.method = "exact";
+    field.parameters = {{"sign", "winding"}, {"band", "2.5"}};
+    field.grid.dims = {75, 57, 45};
+    field.grid.origin = {-0.1, -0.2, -0.3};
+    field.grid.voxel = 0.02;
+    field.values.resize(field.grid.sampleCount());
+    for (int k = 0; k < field.grid.dims.z; ++k)
+        for (int j = 0; j < field.grid.dims.y; ++j)
+            for (int i = 0; i < field.grid.dims.x; ++i) {
+                const glm::dvec3 p = field.grid.position(i, j, k);
+                const double ball = glm::distance(p, glm::dvec3(0.4, 0.36, 0.18)) - 0.4;
+                const double shell = std::fabs(glm::distance(p, glm::dvec3(1.05, 0.45, 0.2)) - 0.185) - 0.065;
+                field.values[field.grid.index(i, j, k)] = float(std::min(ball, shell));
+            }
+    return field;
+}
+
+void expectSameSparse(const SparseField& a, const SparseField& b) {
+    EXPECT_EQ(a.grid.dims, b.grid.dims);
+    EXPECT_EQ(a.grid.origin, b.grid.origin);
+    EXPECT_EQ(a.grid.voxel, b.grid.voxel);
+    EXPECT_EQ(a.background, b.background);
+    EXPECT_EQ(a.source, b.source);
+    EXPECT_EQ(a.method, b.method);
+    EXPECT_EQ(a.parameters, b.parameters);
+    EXPECT_EQ(a.bricks, b.bricks);
+    EXPECT_EQ(a.insideBoxes, b.insideBoxes);
+    ASSERT_EQ(a.values.size(), b.values.size());
+    EXPECT_EQ(std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)), 0) << "brick values differ";
+}
+
+class SparseFormats : public test::ScratchFolderTest {
+protected:
+    void SetUp() override {
+        ScratchFolderTest::SetUp();
+        dense_ = ballsField();
+        sparse_ = formats::sparseFromDense(dense_, formats::bandBackground(dense_));
+    }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+    Field dense_;
+    SparseField sparse_;
+};
+
+TEST_F(SparseFormats, FromDenseKeepsTheBandAndTheSides) {
+    const float background = float(2.5 * dense_.grid.voxel);
+    EXPECT_EQ(sparse_.background, background);
+    sparse_.check("balls");
+    EXPECT_GT(sparse_.bricks.size(), 0u);
+    EXPECT_LT(sparse_.bricks.size(), 10u * 8u * 6u / 2u) << "most bricks are away from the surface";
+    EXPECT_GT(sparse_.insideBoxes.size(), 0u) << "whole bricks lie inside the balls";
+    std::size_t inBand = 0;
+    for (int k = 0; k < dense_.grid.dims.z; ++k)
+        for (int j = 0; j < dense_.grid.dims.y; ++j)
+            for (int i = 0; i < dense_.grid.dims.x; ++i) {
+                const float v = dense_.values[dense_.grid.index(i, j, k)];
+                const float expected = std::clamp(v, -background, background);
+                ASSERT_EQ(sparse_.at(i, j, k), expected) << i << " " << j << " " << k;
+                inBand += std::fabs(v) < background;
+            }
+    EXPECT_EQ(sparse_.activeCount(), inBand);
+}
+
+TEST_F(SparseFormats, NpzRoundTripIsExact) {
+    const std::string file = path("band.npz");
+    saveSparseField(sparse_, file);
+    EXPECT_TRUE(isSparseFieldFile(file));
+    expectSameSparse(loadSparseField(file), sparse_);
+    // loadField gives the dense form, marked as a band field.
+    const Field dense = loadField(file);
+    EXPECT_EQ(dense.background, sparse_.background);
+    EXPECT_EQ(dense.values, sparse_.toDense().values);
+    // A dense .npz is not sparse, and reads as a band field through its samples.
+    saveField(dense_, path("dense.npz"));
+    EXPECT_FALSE(isSparseFieldFile(path("dense.npz")));
+    expectSameSparse(loadSparseField(path("dense.npz")), sparse_);
+}
+
+TEST_F(SparseFormats, DenseFormatsHoldTheDenseFormAndReadBackAsTheBandField) {
+    for (const char* name : {"band.sdf", "band.nrrd", "band.npy"}) {
+        SCOPED_TRACE(name);
+        saveSparseField(sparse_, path(name));
+        EXPECT_FALSE(isSparseFieldFile(path(name)));
+        const Field dense = loadField(path(name));
+        EXPECT_EQ(dense.values, sparse_.toDense().values);
+        if (std::string(name) != "band.npy") {
+            // The method line keeps band=2.5: the field knows it is a band field.
+            EXPECT_EQ(dense.background, sparse_.background);
+            expectSameSparse(loadSparseField(path(name)), sparse_);
+        }
+    }
+    // A bare .npy names no band, and its voxels are 1: 3 voxels.
+    EXPECT_EQ(loadSparseField(path("band.npy")).background, 3.0f);
+}
+
+TEST_F(SparseFormats, DenseFormatsRefuseABandFieldThatDoesNotFitDense) {
+    // 16384^3 samples: 16 TiB dense, a few kilobytes sparse.
+    SparseField huge = sparse_;
+    huge.grid.dims = {16384, 16384, 16384};
+    huge.insideBoxes.clear();
+    huge.check("huge");
+    for (const char* name : {"huge.npy", "huge.sdf", "huge.nrrd"}) {
+        const std::string message = errorFrom([&] { saveSparseField(huge, path(name)); });
+        EXPECT_EQ(message.rfind(path(name), 0), 0u) << message;
+        EXPECT_CONTAINS(message, ".vdb or .npz");
+        EXPECT_EQ(message.find('\n'), std::string::npos);
+        EXPECT_FALSE(std::filesystem::exists(path(name)));
+    }
+    saveSparseField(huge, path("huge.npz"));
+    expectSameSparse(loadSparseField(path("huge.npz")), huge);
+    const std::string message = errorFrom([&] { loadField(path("huge.npz")); });
+    EXPECT_EQ(message.rfind(path("huge.npz"), 0), 0u) << message;
+    EXPECT_CONTAINS(message, "keep it sparse");
+}
+
+// An .npz of the sparse layout with one member replaced.
+class HostileSparseNpz : public SparseFormats {
+protected:
+    std::string writeWith(const std::string& name, const formats::NpzMember& replaced) {
+        const SparseField& f = sparse_;
+        std::vector<std::int32_t> origins;
+        for (const glm::ivec3& b : f.bricks) origins.insert(origins.end(), {8 * b.x, 8 * b.y, 8 * b.z});
+        std::string background = formats::npyHeader("<f4", false, {});
+        background.append(reinterpret_cast<const char*>(&f.background), 4);
+        const std::uint64_t bricks = f.bricks.size();
+        std::vector<formats::NpzMember> members = {
+            {"brick_origins.npy", formats::npyHeader("<i4", false, {bricks, 3}), origins.data(), origins.size() * 4},
+            {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, bricks}), f.values.data(), f.values.size() * 4},
+            {"inside_boxes.npy", formats::npyHeader("<i4", false, {f.insideBoxes.size(), 6}), f.insideBoxes.data(), f.insideBoxes.size() * 24},
+            {"background.npy", background},
+            {"origin.npy", formats::npyFloat64Array({-0.1, -0.2, -0.3}, false)},
+            {"voxel_size.npy", formats::npyFloat64Array({0.02}, true)},
+            {"dims.npy", formats::npyInt64Array({75, 57, 45})},
+        };
+        for (formats::NpzMember& m : members) {
+            if (m.name == replaced.name) m = replaced;
+        }
+        const std::string file = path(name);
+        formats::writeNpz(file, members);
+        return file;
+    }
+    void expectRefused(const std::string& file, const std::string& problem) {
+        const std::string message = errorFrom([&] { loadSparseField(file); });
+        EXPECT_EQ(message.rfind(file, 0), 0u) << message;
+        EXPECT_CONTAINS(message, problem);
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        EXPECT_EQ(errorFrom([&] { loadField(file); }), message);
+    }
+};
+
+TEST_F(HostileSparseNpz, CountsAreCheckedAgainstTheBytes) {
+    // A billion bricks claimed, a few held: refused before 2 TB are allocated.
+    const std::uint64_t bricks = sparse_.bricks.size();
+    expectRefused(writeWith("values.npz", {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, 1u << 30}), sparse_.values.data(),
+                                           sparse_.values.size() * 4}),
+                  "shape is not (8, 8, 8, " + std::to_string(bricks) + ")");
+    std::vector<std::int32_t> many(3 * 1000, 0);
+    expectRefused(writeWith("origins.npz", {"brick_origins.npy", formats::npyHeader("<i4", false, {1u << 30, 3}), many.data(), many.size() * 4}),
+                  "bytes of data");
+    expectRefused(writeWith("boxes.npz", {"inside_boxes.npy", formats::npyHeader("<i4", false, {4, 5}), many.data(), 80}),
+                  "shape is not (n, 6)");
+    expectRefused(writeWith("type.npz", {"inside_boxes.npy", formats::npyHeader("<f4", false, {0, 6}), nullptr, 0}), "is not int32 or int64");
+}
+
+TEST_F(HostileSparseNpz, FieldsThatAreNotBandFieldsAreRefused) {
+    std::vector<std::int32_t> origins;
+    for (const glm::ivec3& b : sparse_.bricks) origins.insert(origins.end(), {8 * b.x, 8 * b.y, 8 * b.z});
+    const std::string originsHeader = formats::npyHeader("<i4", false, {sparse_.bricks.size(), 3});
+    std::vector<std::int32_t> shifted = origins;
+    shifted[0] += 1;
+    expectRefused(writeWith("shifted.npz", {"brick_origins.npy", originsHeader, shifted.data(), shifted.size() * 4}), "multiple of 8");
+    std::vector<std::int32_t> swapped = origins;
+    std::swap_ranges(swapped.begin(), swapped.begin() + 3, swapped.end() - 3);
+    expectRefused(writeWith("order.npz", {"brick_origins.npy", originsHeader, swapped.data(), swapped.size() * 4}), "not in z, y, x order");
+    std::vector<std::int32_t> outside = origins;
+    outside.back() = 1 << 20;
+    expectRefused(writeWith("outside.npz", {"brick_origins.npy", originsHeader, outside.data(), outside.size() * 4}), "outside the grid");
+    std::vector<float> values = sparse_.values;
+    values[7] = 1.0f;
+    expectRefused(writeWith("value.npz", {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, sparse_.bricks.size()}), values.data(),
+                                          values.size() * 4}),
+                  "exceeds the background");
+    std::vector<std::array<int, 6>> boxes = sparse_.insideBoxes;
+    ASSERT_FALSE(boxes.empty());
+    boxes[0][3] -= 1;
+    expectRefused(writeWith("box.npz", {"inside_boxes.npy", formats::npyHeader("<i4", false, {boxes.size(), 6}), boxes.data(), boxes.size() * 24}),
+                  "whole bricks");
+    std::string negative = formats::npyHeader("<f4", false, {});
+    const float minusOne = -1.0f;
+    negative.append(reinterpret_cast<const char*>(&minusOne), 4);
+    expectRefused(writeWith("background.npz", {"background.npy", negative}), "background is not a positive");
+}
+
+TEST_F(SparseFormats, CompareTakesABandFieldByValueInItsBandAndBySignOutside) {
+    Field band = sparse_.toDense();
+    FieldDifference d = compareFields(band, dense_, 0.0);
+    EXPECT_EQ(d.compared, sparse_.activeCount());
+    EXPECT_EQ(d.compared + d.signOnly, dense_.values.size());
+    EXPECT_EQ(d.maxAbs, 0.0);
+    EXPECT_EQ(d.signDifferences, 0u);
+    // A wrong side far from the surface, and a wrong distance in the band.
+    Field wrong = dense_;
+    std::size_t far = 0, near = 0;
+    for (std::size_t i = 0; i < wrong.values.size(); ++i) {
+        if (std::fabs(wrong.values[i]) > 2 * band.background && far == 0) far = i;
+        if (std::fabs(wrong.values[i]) < 0.5f * band.background && near == 0) near = i;
+    }
+    wrong.values[far] = -wrong.values[far];
+    wrong.values[near] += 0.25f * float(dense_.grid.voxel);
+    d = compareFields(wrong, band, 0.0);
+    EXPECT_EQ(d.signDifferences, 1u);
+    EXPECT_NEAR(d.maxAbs, 0.25 * dense_.grid.voxel, 1e-7);
+}
+
+#if SDFGEN_HAS_OPENVDB
+
+TEST_F(SparseFormats, VdbRoundTripIsExactAndALevelSetToOpenVdb) {
+    const std::string file = path("band.vdb");
+    saveSparseField(sparse_, file);
+    EXPECT_TRUE(isSparseFieldFile(file));
+    expectSameSparse(loadSparseField(file), sparse_);
+    const Field dense = loadField(file);
+    EXPECT_EQ(dense.background, sparse_.background);
+    EXPECT_EQ(dense.values, sparse_.toDense().values);
+
+    // As OpenVDB reads it: a level set whose active voxels are the band's, whose leaves are the
+    // bricks, whose inside is inactive -background tiles, valued as the field at every sample.
+    openvdb::initialize();
+    openvdb::io::File vdb(file);
+    vdb.open();
+    const openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(vdb.readGrid("surface"));
+    vdb.close();
+    ASSERT_TRUE(grid);
+    EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
+    EXPECT_EQ(grid->background(), sparse_.background);
+    EXPECT_EQ(grid->activeVoxelCount(), sparse_.activeCount());
+    EXPECT_EQ(grid->tree().leafCount(), sparse_.bricks.size());
+    std::size_t insideTiles = 0;
+    for (auto tile = grid->tree().cbeginValueOff(); tile; ++tile) insideTiles += !tile.isVoxelValue() && *tile == -sparse_.background;
+    EXPECT_GT(insideTiles, 0u);
+    const auto accessor = grid->getConstAccessor();
+    for (int k = 0; k < sparse_.grid.dims.z; ++k)
+        for (int j = 0; j < sparse_.grid.dims.y; ++j)
+            for (int i = 0; i < sparse_.grid.dims.x; ++i) ASSERT_EQ(accessor.getValue(openvdb::Coord(i, j, k)), sparse_.at(i, j, k));
+    const openvdb::Vec3d world = grid->indexToWorld(openvdb::Vec3d(3, 5, 7));
+    const glm::dvec3 expected = sparse_.grid.position(3, 5, 7);
+    EXPECT_NEAR(world.x(), expected.x, 1e-12);
+    EXPECT_NEAR(world.z(), expected.z, 1e-12);
+
+    // A dense .vdb is not sparse, and reads as a band field through its samples.
+    saveField(dense_, path("dense.vdb"));
+    EXPECT_FALSE(isSparseFieldFile(path("dense.vdb")));
+    expectSameSparse(loadSparseField(path("dense.vdb")), sparse_);
+}
+
+TEST_F(SparseFormats, VdbOfAGridTooLargeToBeDenseStaysSparse) {
+    SparseField huge = sparse_;
+    huge.grid.dims = {16384, 16384, 16384};
+    huge.insideBoxes.clear();
+    saveSparseField(huge, path("huge.vdb"));
+    expectSameSparse(loadSparseField(path("huge.vdb")), huge);
+    const std::string message = errorFrom([&] { loadField(path("huge.vdb")); });
+    EXPECT_EQ(message.rfind(path("huge.vdb"), 0), 0u) << message;
+    EXPECT_CONTAINS(message, "keep it sparse");
+}
+
+TEST_F(SparseFormats, VdbWithActiveTilesIsRefused) {
+    saveSparseField(sparse_, path("band.vdb"));
+    openvdb::initialize();
+    openvdb::io::File in(path("band.vdb"));
+    in.open();
+    const openvdb::GridPtrVecPtr grids = in.getGrids();
+    in.close();
+    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[0]);
+    grid->tree().addTile(1, openvdb::Coord(0, 0, 0), -0.01f, /*active=*/true);
+    openvdb::io::File(path("tiles.vdb")).write(*grids);
+    const std::string message = errorFrom([&] { loadSparseField(path("tiles.vdb")); });
+    EXPECT_EQ(message.rfind(path("tiles.vdb"), 0), 0u) << message;
+    EXPECT_CONTAINS(message, "active tiles");
+}
+
+// The surface of a band field, meshed as a level set: closed and manifold, and the same as the
+// dense field's (the band holds every value volumeToMesh reads).
+TEST_F(SparseFormats, SurfaceOfABandFieldIsClosedAndEqualsTheDenseOnes) {
+    const SurfaceMesh fromSparse = extractSurface(sparse_, 0.0, 0.0);
+    const SurfaceMesh fromDense = extractSurface(dense_, 0.0, 0.0);
+    EXPECT_EQ(fromSparse.positions, fromDense.positions);
+    EXPECT_EQ(fromSparse.triangles, fromDense.triangles);
+    const Mesh output = buildMesh("surface", fromSparse.positions, fromSparse.triangles);
+    const MeshCheck check = MeshTopology(output).check(output, Bvh(output));
+    EXPECT_EQ(check.boundaryEdges, 0u);
+    EXPECT_EQ(check.nonManifoldEdges, 0u);
+    EXPECT_EQ(check.inconsistentEdges, 0u);
+    EXPECT_EQ(check.nonManifoldVertices, 0u);
+    EXPECT_CONTAINS(errorFrom([&] { extractSurface(sparse_, 3.0 * dense_.grid.voxel, 0.0); }), "outside the band field's band");
+    // An inside box on the grid's boundary cuts the surface open.
+    SparseField cut = sparse_;
+    cut.insideBoxes.insert(cut.insideBoxes.begin(), {0, 0, 0, 8, 8, 8});
+    cut.check("cut");
+    EXPECT_CONTAINS(errorFrom([&] { extractSurface(cut, 0.0, 0.0); }), "reaches the grid's boundary");
+}
+
+#endif
+
+} // namespace
+} // namespace sdfgen
