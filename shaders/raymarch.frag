@@ -21,6 +21,7 @@ uniform vec3 lightDirection; // towards the light
 uniform float iso;           // the level set drawn: 0 is the surface, > 0 offset outwards
 uniform vec4 cutPlane;       // points with dot(xyz, p) > w are cut away (the slice's cut; (0,0,0,1): none)
 uniform int maxSteps;        // 512, more for a band field
+uniform float background;    // > 0: a band field, whose values at +-background only bound the distance
 uniform int capCut;          // where the cut enters the solid: a flat cap (else nothing: the slice is there)
 
 vec2 boxHits(vec3 origin, vec3 dir) {
@@ -31,6 +32,8 @@ vec2 boxHits(vec3 origin, vec3 dir) {
 }
 
 float sdf(vec3 p) { return texture(field, (p - boxMin) / boxSize).r - iso; }
+// Whether the field at p is a band field's background: the distance is only known to be larger.
+bool beyondBand(float d) { return background > 0.0 && d + iso >= 0.999 * background; }
 
 vec3 gradient(vec3 p) {
     float h = 0.5 * voxel;
@@ -47,7 +50,7 @@ float softShadow(vec3 p, vec3 n) {
     for (int i = 0; i < 96 && t < span.y; ++i) {
         float d = sdf(origin + t * lightDirection);
         if (d < 0.1 * voxel) return 0.0;
-        result = min(result, 10.0 * d / max(t, voxel));
+        if (!beyondBand(d)) result = min(result, 10.0 * d / max(t, voxel)); // no penumbra from a bound
         t += max(d, 0.5 * voxel);
     }
     return clamp(result, 0.0, 1.0);
@@ -57,7 +60,8 @@ float ambientOcclusion(vec3 p, vec3 n) {
     float occlusion = 0.0, weight = 1.0;
     for (int i = 1; i <= 5; ++i) {
         float h = 1.5 * voxel * float(i * i);
-        occlusion += weight * max(h - sdf(p + n * h), 0.0) / h;
+        float d = sdf(p + n * h);
+        if (!beyondBand(d)) occlusion += weight * max(h - d, 0.0) / h; // nothing known occludes beyond the band
         weight *= 0.6;
     }
     return clamp(1.0 - 0.8 * occlusion, 0.0, 1.0);

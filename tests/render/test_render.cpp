@@ -476,6 +476,20 @@ TEST_F(RenderTest, BandFieldRaymarchMatchesMesh) {
         ASSERT_GT(either, 1000u);
         EXPECT_GE(double(both) / double(either), 0.95) << "camera yaw " << yaw << ", pitch " << pitch;
     }
+    // Shadows and occlusion take nothing from the background (a bound, not a distance): the band
+    // field's surface is lit about as the dense field's is.
+    auto brightness = [](const Image& image) {
+        double sum = 0.0;
+        std::size_t lit = 0;
+        for (std::size_t i = 0; i < image.rgba.size(); i += 4) {
+            const int v = std::max({image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]});
+            if (v > 0) sum += v, ++lit;
+        }
+        return lit ? sum / double(lit) : 0.0;
+    };
+    const double band = brightness(draw("bunny band", only("raymarch"), 30.0f, 20.0f, black, true));
+    const double dense = brightness(draw("bunny", only("raymarch"), 30.0f, 20.0f, black, true));
+    EXPECT_GT(band, 0.85 * dense) << "the band field's surface is darker than the dense field's";
     draw("bunny band", only("slice"));
     EXPECT_EQ(scene_->effectiveRange(glm::vec2(0.0f)), glm::vec2(-band_->background, band_->background));
     const Image empty = draw("bunny band", only("none"));
