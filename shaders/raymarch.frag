@@ -4,7 +4,8 @@
 // sampled distance. At a hit: normal from the field's gradient (central differences), Lambert
 // light, soft shadows (a second march towards the light, penumbra from the closest approach)
 // and ambient occlusion (the field sampled along the normal). Writes the hit's depth. `iso` offsets
-// the surface: the level set field = iso.
+// the surface: the level set field = iso. A band field's values beyond the band are the background,
+// a lower bound of the distance, so stepping by them never overshoots; maxSteps allows for it.
 in vec2 vNdc;
 out vec4 colour;
 
@@ -19,6 +20,8 @@ uniform int shadows;
 uniform vec3 lightDirection; // towards the light
 uniform float iso;           // the level set drawn: 0 is the surface, > 0 offset outwards
 uniform vec4 cutPlane;       // points with dot(xyz, p) > w are cut away (the slice's cut; (0,0,0,1): none)
+uniform int maxSteps;        // 512, more for a band field
+uniform float background;    // > 0: a band field, whose values at +-background only bound the distance
 uniform int capCut;          // where the cut enters the solid: a flat cap (else nothing: the slice is there)
 
 vec2 boxHits(vec3 origin, vec3 dir) {
@@ -29,6 +32,8 @@ vec2 boxHits(vec3 origin, vec3 dir) {
 }
 
 float sdf(vec3 p) { return texture(field, (p - boxMin) / boxSize).r - iso; }
+// Whether the field at p is a band field's background: the distance is only known to be larger.
+bool beyondBand(float d) { return background > 0.0 && d + iso >= 0.999 * background; }
 
 vec3 gradient(vec3 p) {
     float h = 0.5 * voxel;
@@ -45,7 +50,7 @@ float softShadow(vec3 p, vec3 n) {
     for (int i = 0; i < 96 && t < span.y; ++i) {
         float d = sdf(origin + t * lightDirection);
         if (d < 0.1 * voxel) return 0.0;
-        result = min(result, 10.0 * d / max(t, voxel));
+        if (!beyondBand(d)) result = min(result, 10.0 * d / max(t, voxel)); // no penumbra from a bound
         t += max(d, 0.5 * voxel);
     }
     return clamp(result, 0.0, 1.0);
@@ -55,7 +60,8 @@ float ambientOcclusion(vec3 p, vec3 n) {
     float occlusion = 0.0, weight = 1.0;
     for (int i = 1; i <= 5; ++i) {
         float h = 1.5 * voxel * float(i * i);
-        occlusion += weight * max(h - sdf(p + n * h), 0.0) / h;
+        float d = sdf(p + n * h);
+        if (!beyondBand(d)) occlusion += weight * max(h - d, 0.0) / h; // nothing known occludes beyond the band
         weight *= 0.6;
     }
     return clamp(1.0 - 0.8 * occlusion, 0.0, 1.0);
@@ -84,7 +90,7 @@ void main() {
     float t = max(span.x, 0.0); // outside the box: jump by the distance to it
     float eps = 0.02 * voxel;
     bool hit = false;
-    for (int i = 0; i < 512 && t < span.y; ++i) {
+    for (int i = 0; i < maxSteps && t < span.y; ++i) {
         float d = sdf(eye + t * dir);
         if (d < eps) {
             hit = true;

@@ -15,6 +15,7 @@ uniform float voxel;
 uniform float band;    // the shell's length scale
 uniform float density; // overall opacity scale
 uniform vec2 range;    // distances at which the colour map saturates, inside (< 0) and outside
+uniform float background; // > 0: a band field, whose values at +-background only tell the side
 
 #include "colormap.glsl"
 
@@ -56,6 +57,8 @@ void main() {
         float sigma; // extinction per unit length
         if (d < 0.0) {
             sigma = mix(6.0, 14.0, shell) / longest;
+        } else if (background > 0.0 && d >= 0.999 * background) {
+            sigma = 0.0; // beyond the band outside: the distance is unknown, nothing drawn
         } else {
             float haze = exp(-d / (0.08 * longest));
             sigma = (14.0 * shell + 1.5 * haze) / longest;

@@ -2,6 +2,7 @@
 // comparing with another field; and what the panel knows about the field shown.
 #include "app/viewer_state.hpp"
 #include "core/bake/surface.hpp"
+#include "render/band_display.hpp"
 #include "sdfgen/compare.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field_match.hpp"
@@ -40,6 +41,8 @@ void Viewer::checkFieldAgainstScene() {
 void Viewer::showField(Field field, FieldInfo info) {
     scene_.setField(field);
     field_ = std::move(field);
+    band_.reset();
+    bandLine_.clear();
     fieldInfo_ = std::move(info);
     ++fieldVersion_;
     probeKept_ = false; // a reading of the last field
@@ -49,6 +52,17 @@ void Viewer::showField(Field field, FieldInfo info) {
     if (!userChoseViews_ && !v["volume"] && !v["raymarch"] && !v["slice"]) v["slice"] = true;
     if (!sceneMesh_) frameCamera(); // nothing else to frame
     updateTitle();
+}
+
+// A band field is shown from a dense resampling that fits the GPU (render::bandDisplay) and kept
+// for the probe's exact values and for saving.
+void Viewer::showBand(SparseField band, FieldInfo info) {
+    RunControl control;
+    control.threads = threads_;
+    render::BandDisplay shown = render::bandDisplay(band, textureLimit_, control);
+    showField(std::move(shown.field), std::move(info));
+    band_ = std::make_shared<const SparseField>(std::move(band));
+    bandLine_ = std::move(shown.line);
 }
 
 // A field saved next to the model (MODEL.sdf) is shown at once instead of being regenerated,
@@ -77,11 +91,19 @@ void Viewer::loadSavedField(const std::string& meshPath) {
 
 void Viewer::loadFieldFile(const std::string& path) {
     try {
-        Field field = loadField(path);
-        const bool noGrid = hasNoGrid(field);
-        FieldInfo info{"loaded from " + path, field.method, -1.0, 0.0, signSummaryOf(field)};
+        bool noGrid = false;
         fieldWarning_.clear();
-        showField(std::move(field), info);
+        if (isSparseFieldFile(path)) {
+            SparseField band = loadSparseField(path);
+            const std::string sign = band.parameter("sign");
+            FieldInfo info{"loaded from " + path, band.method, -1.0, 0.0, "sign: " + (sign.empty() ? std::string("not recorded in the file") : sign)};
+            showBand(std::move(band), info);
+        } else {
+            Field field = loadField(path);
+            noGrid = hasNoGrid(field);
+            FieldInfo info{"loaded from " + path, field.method, -1.0, 0.0, signSummaryOf(field)};
+            showField(std::move(field), info);
+        }
         rememberRecent(path);
         setMessage(generationMessage_, Message::Level::Info, ""); // the last bake is no longer shown
         if (noGrid) {
@@ -101,7 +123,8 @@ void Viewer::loadFieldFile(const std::string& path) {
 void Viewer::exportSurface() {
     try {
         if (!field_) throw Error("no field to take the surface from: Generate or Load one first");
-        const SurfaceMesh surface = extractSurface(*field_, double(scene_.iso), 0.0);
+        // A band field's own samples, not the resampling shown (an Error when they do not fit densely).
+        const SurfaceMesh surface = extractSurface(band_ ? band_->toDense() : *field_, double(scene_.iso), 0.0);
         saveSurface(surface, surfacePath_);
         rememberRecent(surfacePath_);
         setMessage(fieldMessage_, Message::Level::Info,
@@ -116,7 +139,7 @@ void Viewer::compareWith(const std::string& path) {
     try {
         if (!field_) throw Error("no field to compare: Generate or Load one first");
         const Field other = loadField(path);
-        const FieldDifference d = compareFields(*field_, other, 0.0);
+        const FieldDifference d = compareFields(band_ ? band_->toDense() : *field_, other, 0.0);
         char text[320];
         std::snprintf(text, sizeof(text), "against %s: max |difference| %.4g (%.3g voxels), mean %.3g, rms %.3g; signs differ at %zu of %zu samples",
                       fs::path(path).filename().string().c_str(), d.maxAbs, d.maxAbs / d.voxel, d.meanAbs, d.rmsAbs, d.signDifferences,
@@ -139,7 +162,11 @@ void Viewer::fieldSection() {
     if (ImGui::Button("Save")) {
         try {
             if (!field_) throw Error("no field to save: Generate one first");
-            saveField(*field_, fieldPath_);
+            if (band_) {
+                saveSparseField(*band_, fieldPath_); // not the resampling shown
+            } else {
+                saveField(*field_, fieldPath_);
+            }
             rememberRecent(fieldPath_);
             setMessage(fieldMessage_, Message::Level::Info, std::string("saved ") + fieldPath_);
         } catch (const std::exception& e) {

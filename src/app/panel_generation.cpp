@@ -47,7 +47,10 @@ void choiceCombo(const char* label, Id& value, const std::vector<Choice<Id>>& ch
 // The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they describe.
 std::string Viewer::validateSettings(Grid& grid) const {
     if (settings_.res < 1) return "Resolution must be at least 1 (voxels along the longest side)";
-    if (settings_.res > textureLimit_) {
+    if (!(settings_.band == 0.0 || (settings_.band >= 1.0 && settings_.band <= 1e6))) return "Band must be 0 (a dense field) or 1 to 1000000 voxels";
+    if (settings_.band > 0 && settings_.method != DistanceMethod::Exact) return "Band needs the exact method";
+    // A band field is shown resampled to fit (render::bandDisplay); a dense one as it is.
+    if (settings_.band == 0 && settings_.res > textureLimit_) {
         return "Resolution " + std::to_string(settings_.res) + " is above this OpenGL driver's 3D texture limit of " +
                std::to_string(textureLimit_) + ", so the field could not be shown";
     }
@@ -73,6 +76,9 @@ void Viewer::generationSection() {
     track("rays");
     ImGui::InputDouble("Padding", &settings_.padding, 0.01, 0.1, "%.3f");
     track("padding");
+    ImGui::InputDouble("Band (0 = dense)", &settings_.band, 1.0, 1.0, "%g");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Voxels each side of the surface with exact distances (a sparse field); 0: every voxel");
+    track("band");
     ImGui::InputInt("Threads (0 = all)", &threads_);
     track("threads");
     choiceCombo("Method", settings_.method, distanceMethodChoices());
@@ -94,7 +100,11 @@ void Viewer::generationSection() {
         track("validation");
         if (!debugDir_.empty()) layout_ += "text validation " + problem + "\n";
     } else if (sceneMesh_) {
-        ImGui::TextDisabled("grid %dx%dx%d, %s", grid.dims.x, grid.dims.y, grid.dims.z, formatBytes(4.0 * double(grid.sampleCount())).c_str());
+        if (settings_.band > 0) {
+            ImGui::TextDisabled("grid %dx%dx%d, band of %g voxels each side", grid.dims.x, grid.dims.y, grid.dims.z, settings_.band);
+        } else {
+            ImGui::TextDisabled("grid %dx%dx%d, %s", grid.dims.x, grid.dims.y, grid.dims.z, formatBytes(4.0 * double(grid.sampleCount())).c_str());
+        }
         track("validation");
     }
 
@@ -120,7 +130,7 @@ void Viewer::generationSection() {
 
     // The field's own figures, wrapped.
     if (field_) {
-        const Grid& g = field_->grid;
+        const Grid& g = band_ ? band_->grid : field_->grid; // a band field's own, not its resampling's
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         if (fieldInfo_.seconds >= 0) {
             wrappedText("%dx%dx%d voxels, %.2f s, %.3g voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
@@ -128,9 +138,13 @@ void Viewer::generationSection() {
             wrappedText("%dx%dx%d voxels, %s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.origin.c_str());
         }
         wrappedText("method: %s\n%s", fieldInfo_.method.c_str(), fieldInfo_.signSummary.c_str());
+        if (band_) wrappedText("%s", bandLine_.c_str());
         ImGui::PopStyleColor();
         track("stats");
-        if (!debugDir_.empty()) layout_ += "text stats method " + fieldInfo_.method + (fieldInfo_.seconds >= 0 ? " baked" : " loaded") + "\n";
+        if (!debugDir_.empty()) {
+            layout_ += "text stats method " + fieldInfo_.method + (fieldInfo_.seconds >= 0 ? " baked" : " loaded") + "\n";
+            if (band_) layout_ += "text band " + bandLine_ + "\n";
+        }
     }
 }
 
@@ -153,7 +167,11 @@ void Viewer::collectGeneration() {
         if (result->checked) info.signSummary += " (" + result->signReason + ")\nmesh check: " + result->check.describe();
         if (!result->deviceReason.empty()) info.signSummary += "\ndevice: " + result->deviceReason;
         const std::string dims = std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z);
-        showField(std::move(result->field), info);
+        if (result->sparse.background > 0.0f) {
+            showBand(std::move(result->sparse), info);
+        } else {
+            showField(std::move(result->field), info);
+        }
         setMessage(fieldMessage_, Message::Level::Info, "");
         char text[160];
         std::snprintf(text, sizeof(text), "done: %s voxels in %.2f s", dims.c_str(), seconds);

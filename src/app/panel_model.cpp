@@ -36,6 +36,7 @@ void Viewer::openModels(const std::vector<std::string>& paths, bool add) {
     if (!add) {
         models_.clear();
         field_.reset();
+        band_.reset();
         fieldInfo_ = FieldInfo{};
         scene_.clearField();
         ++fieldVersion_;

@@ -40,7 +40,7 @@ float trilinear(const Field& field, const glm::dvec3& p, glm::vec3* gradient) {
     return float(lerp(y0, y1, f[2]));
 }
 
-ProbeResult probe(const glm::dvec3& p, const Field* field, const Model* model) {
+ProbeResult probe(const glm::dvec3& p, const Field* field, const Model* model, const SparseField* band) {
     ProbeResult result;
     result.point = p;
     if (field && !field->values.empty()) {
@@ -48,6 +48,7 @@ ProbeResult probe(const glm::dvec3& p, const Field* field, const Model* model) {
         const glm::dvec3 hi = lo + glm::dvec3(field->grid.dims) * double(field->grid.voxel);
         result.insideField = glm::all(glm::greaterThanEqual(p, lo)) && glm::all(glm::lessThanEqual(p, hi));
         result.fieldValue = trilinear(*field, p, &result.gradient);
+        if (band) result.fieldValue = band->sample(p);
     }
     if (model) {
         // The library's point query: the same search and tie rule as a bake, in world coordinates.

@@ -1,6 +1,7 @@
 #pragma once
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"
+#include "sdfgen/sparse_field.hpp"
 
 #include <glm/vec3.hpp>
 
@@ -27,7 +28,8 @@ struct ProbeResult {
 // and its gradient.
 float trilinear(const Field& field, const glm::dvec3& p, glm::vec3* gradient = nullptr);
 
-// Probes `field` and `model` (either may be null) at p (world coordinates).
-ProbeResult probe(const glm::dvec3& p, const Field* field, const Model* model);
+// Probes `field` and `model` (either may be null) at p (world coordinates). With `band` (the band
+// field `field` shows, resampled), the value is the band's own (SparseField::sample), not the resampling's.
+ProbeResult probe(const glm::dvec3& p, const Field* field, const Model* model, const SparseField* band = nullptr);
 
 } // namespace sdfgen::app

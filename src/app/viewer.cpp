@@ -369,7 +369,7 @@ void Viewer::probeAt(const FrameInput& input) {
     if (!scene_.surfaceAt(pixel, point)) return;
     // Pixels of the grid (the plane under the model, within depth precision) are not probed.
     if (scene_.views["grid"] && std::abs(point.y - scene_.gridHeight()) < 1e-4f * camera_.distance) return;
-    probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get());
+    probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get(), band_.get());
     probeValid_ = probeKept_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
     const float r = camera_.sceneRadius * 0.02f;

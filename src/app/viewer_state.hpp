@@ -12,6 +12,7 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/model.hpp"
+#include "sdfgen/sparse_field.hpp"
 #include "render/camera.hpp"
 #include "render/scene.hpp"
 
@@ -137,6 +138,7 @@ private:
     // panel_field.cpp
     void checkFieldAgainstScene();
     void showField(Field field, FieldInfo info);
+    void showBand(SparseField band, FieldInfo info);
     void loadSavedField(const std::string& meshPath);
     void loadFieldFile(const std::string& path);
     void fieldSection();
@@ -163,7 +165,9 @@ private:
     std::vector<SceneModel> models_;
     std::shared_ptr<const Mesh> sceneMesh_;
     std::unique_ptr<Model> probeModel_; // the scene mesh's, for the probe; built on first use
-    std::optional<Field> field_;
+    std::optional<Field> field_; // what the views show: for a band field, render::bandDisplay's field
+    std::shared_ptr<const SparseField> band_; // the band field shown, if it is one
+    std::string bandLine_;                    // render::BandDisplay::line of band_
     FieldInfo fieldInfo_;
     std::string fieldWarning_;
     Generation generation_;

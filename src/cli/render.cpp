@@ -7,8 +7,10 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/field_match.hpp"
+#include "sdfgen/sparse_field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
+#include "render/band_display.hpp"
 #include "render/egl_context.hpp"
 #include "render/scene.hpp"
 
@@ -98,10 +100,17 @@ void runRender(const RenderArgs& args) {
     const Model model(meshes.size() == 1 ? std::move(meshes[0]) : mergeScene(meshes, args.meshes), control);
     const Mesh& mesh = model.mesh();
     Field field;
+    SparseField band; // a band field's file, shown through render::bandDisplay once there is a context
     bool needField = false;
     for (const render::ViewType& type : render::viewTypes()) needField |= type.needsField && views[type.name];
     if (!args.sdf.empty()) {
-        field = loadField(args.sdf);
+        if (isSparseFieldFile(args.sdf)) {
+            band = loadSparseField(args.sdf);
+            field.source = band.source;
+            field.grid = band.grid;
+        } else {
+            field = loadField(args.sdf);
+        }
         if (const std::string mismatch = fieldMismatch(field, mesh); !mismatch.empty()) {
             control.warn(args.sdf + ": " + mismatch);
         }
@@ -137,6 +146,11 @@ void runRender(const RenderArgs& args) {
         std::vector<MeshInstance> parts;
         for (const Mesh& part : meshes) parts.push_back({&part, glm::dmat4(1.0)});
         scene.setMeshes(parts);
+    }
+    if (band.background > 0.0f) {
+        render::BandDisplay shown = render::bandDisplay(band, render::textureLimit3D(), control);
+        std::printf("%s: %s\n", args.sdf.c_str(), shown.line.c_str());
+        field = std::move(shown.field);
     }
     if (!field.values.empty()) scene.setField(field);
 

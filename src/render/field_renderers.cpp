@@ -34,6 +34,7 @@ void FieldTexture::upload(const Field& field) {
         glTextureParameteri(texture_, wrap, GL_CLAMP_TO_EDGE);
     }
     voxel_ = float(field.grid.voxel);
+    background_ = field.background;
     boxMin_ = glm::vec3(field.grid.origin);
     boxSize_ = glm::vec3(d) * voxel_;
 }
@@ -44,6 +45,7 @@ void FieldTexture::setUniforms(Program& program) const {
     program.set("boxMin", boxMin_);
     program.set("boxSize", boxSize_);
     program.set("voxel", voxel_);
+    program.set("background", background_);
 }
 
 namespace {
@@ -67,8 +69,10 @@ void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLu
     program_.set("density", density);
     program_.set("range", range);
     program_.set("colormap", colormap);
-    // The transfer function's length scale: the green shell is a few voxels thick.
-    program_.set("band", 2.5f * field.voxel());
+    // The transfer function's length scale: the green shell is a few voxels thick (within a band
+    // field's band).
+    const float shell = 2.5f * field.voxel();
+    program_.set("band", field.background() > 0.0f ? std::min(shell, 0.5f * field.background()) : shell);
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -84,6 +88,11 @@ void RaymarchRenderer::draw(const FrameInfo& frame, const FieldTexture& field, b
     program_.set("iso", iso);
     program_.set("cutPlane", cut);
     program_.set("capCut", capCut ? 1 : 0);
+    // Beyond a band field's band the value is only the background (a lower bound of the distance),
+    // so steps there are at most the background: enough of them to cross the box.
+    int steps = 512;
+    if (field.background() > 0.0f) steps += int(std::min(glm::length(field.boxSize()) / field.background(), 7680.0f));
+    program_.set("maxSteps", steps);
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }

@@ -94,11 +94,14 @@ public:
     glm::vec3 boxMin() const { return boxMin_; }
     glm::vec3 boxSize() const { return boxSize_; }
     float voxel() const { return voxel_; }
+    // Field::background: > 0 for a band field, whose values beyond the band only bound the distance.
+    float background() const { return background_; }
 
 private:
     GLuint texture_ = 0;
     glm::vec3 boxMin_{0.0f}, boxSize_{0.0f};
     float voxel_ = 1.0f;
+    float background_ = 0.0f;
 };
 
 // The colour volume: rays marched through the box accumulate colour front to back through a

@@ -82,6 +82,8 @@ void Scene::setMeshes(const std::vector<MeshInstance>& parts) {
 
 glm::vec2 Scene::effectiveRange(glm::vec2 range) const {
     if (range != glm::vec2(0.0f)) return range;
+    // A band field's values span the band only: its colours do too.
+    if (field_.background() > 0.0f) return glm::vec2(-field_.background(), field_.background());
     const glm::vec3 box = field_.boxSize();
     const float r = std::max(0.25f * std::max({box.x, box.y, box.z}), 1e-6f);
     return glm::vec2(-r, r);

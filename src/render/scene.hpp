@@ -70,7 +70,8 @@ public:
     bool colourBar = true;      // drawn when the slice or the volume is shown
     int colormap = 0;           // 0 diverging, 1 viridis, 2 grey (shaders/colormap.glsl)
     // The distances at which the colour map saturates inside (x < 0) and outside (y > 0), for the
-    // slice and the volume each; (0, 0): symmetric, a quarter of the box's longest side.
+    // slice and the volume each; (0, 0): symmetric, a quarter of the box's longest side (a band
+    // field's: its background).
     glm::vec2 sliceRange{0.0f}, volumeRange{0.0f};
     // The slice's plane (shown or not) cuts away the meshes and the ray-marched surface on one
     // side: 0 nothing, 1 the side its normal points to, -1 the other side.

@@ -124,6 +124,9 @@ for ext in npz vdb nrrd; do
 done
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.vdb" --res 8 --band 2
 expect 0 'band: 2 voxels each side' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2
+# render shows a band field file from its bricks and says how.
+vexpect 0 "^$work/band.vdb: band field [0-9]+x[0-9]+x[0-9]+ \(band 2 voxels\): shown at full resolution$" -- \
+  env ASAN_OPTIONS=detect_leaks=0 "$sdfgen" render "$work/tet.obj" --sdf "$work/band.vdb" --view slice,raymarch --size 32x24 -o "$work/band.png"
 expect 1 'the band must be a finite number of voxels, at least 1' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 0.5
 expect 1 'the narrow-band bake measures exact distances' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2 --method rays
 expect 1 '^sdfgen: --band with --channels applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npz" --res 8 --band 2 --channels gradient

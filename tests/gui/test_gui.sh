@@ -4,7 +4,8 @@
 # SDFGEN_SCREENSHOT_DIR set) and its report of where each panel widget is (widgets.txt, written
 # when the layout changes), so that clicks find their targets however the panel is laid out.
 # Checks: every control can be scrolled into view and Generate works; settings are validated
-# (resolution 0 and 100000 refused with the reason); a message appears right under the button that
+# (resolution 0 and 100000 refused with the reason); a band bake and a band field file show as band
+# fields, said in the panel; a message appears right under the button that
 # caused it; an idle viewer uses under 5% of a core; a list opened by a still click (no pointer
 # motion after it) is drawn; a .npz from Recent loads as a field; a long error is shown in full;
 # an 80 ms arrow tap turns 3 +- 1 degrees and a held arrow 90 per second; the view checkboxes flip
@@ -48,6 +49,7 @@ cp "$root/assets/bunny.obj" "$work/bunny.obj"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$work/tet.obj"
 "$sdfgen" bake "$work/tet.obj" -o "$work/tet.sdf" --res 8 >/dev/null
 "$sdfgen" bake "$work/bunny.obj" -o "$work/bunny.npz" --res 24 >/dev/null
+"$sdfgen" bake "$work/bunny.obj" -o "$work/band.npz" --res 24 --band 3 >/dev/null
 mkdir -p "$work/shots" "$work/config/sdfgen"
 echo "$work/bunny.npz" >"$work/config/sdfgen/recent.txt" # a field among the recent files
 
@@ -239,6 +241,17 @@ read -r _ msg_top _ _ _ <<<"$(widget '##generation_message')"
 [ "$msg_top" -ge "$gen_bottom" ] && [ "$msg_top" -le $((gen_bottom + 12)) ] || fail "the bake's message is not under Generate"
 until_ok grep -q "^text stats method exact baked" "$work/shots/widgets.txt" || fail "the panel does not show the bake's method"
 echo "Generate at 800x500: $(grep '^message generation info: done' "$work/log")"
+# --- a band bake (Band 2) shows as a band field, said in the panel; a band field file loads as one.
+type_into band 2
+click generate
+until_ok grep -q "^text band band field 32x[0-9]*x[0-9]* (band 2 voxels): shown at full resolution$" "$work/shots/widgets.txt" ||
+  fail "the band bake is not shown as a band field: $(grep '^text band' "$work/shots/widgets.txt")"
+echo "band bake: $(grep '^text band' "$work/shots/widgets.txt")"
+type_into band 0
+type_into field_path "$work/band.npz"
+until_ok grep -q "^text band band field 24x[0-9]*x[0-9]* (band 3 voxels): shown at full resolution$" "$work/shots/widgets.txt" ||
+  fail "the band field file is not shown as one: $(grep '^text band' "$work/shots/widgets.txt")"
+echo "band field file: $(grep '^text band' "$work/shots/widgets.txt")"
 # --- loading a model while a (long) bake runs asks first; the answer here cancels it and loads.
 type_into resolution 400
 click generate

@@ -12,6 +12,7 @@
 #include "core/bake/bake.hpp"
 #include "core/accel/bvh.hpp"
 #include "sdfgen/mesh.hpp"
+#include "render/band_display.hpp"
 #include "render/image.hpp"
 #include "render/egl_context.hpp"
 #include "render/osmesa_context.hpp"
@@ -56,9 +57,19 @@ protected:
         ring_ = new Mesh(test::torus(1.0f, 0.4f, 48, 24));
         ringPlace_ = glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(bunny.worldBounds().max.x + 3.0, 4.0, 0.0)), glm::dvec3(3.0));
         addModel("scene", mergeMeshes({{&bunny, glm::dmat4(1.0)}, {ring_, ringPlace_}}, "bunny+torus"), 96);
+        // The bunny as a band field of one voxel each side at res 512, shown under a texture limit
+        // of 128: resampled 4x coarser, where the band is a quarter of a shown voxel wide.
+        BakeSettings settings;
+        settings.res = 512;
+        settings.band = 1;
+        band_ = new SparseField(bake(bunny, Bvh(bunny), settings, RunControl{}).sparse);
+        bandShown_ = new BandDisplay(bandDisplay(*band_, 128));
+        (*models_)["bunny band"] = Model{bunny, bandShown_->field};
     }
     static void TearDownTestSuite() {
         delete models_;
+        delete bandShown_;
+        delete band_;
         delete ring_;
         delete scene_;
         delete context_;
@@ -104,6 +115,9 @@ protected:
     static Scene* scene_;
     static std::map<std::string, Model>* models_;
 
+    static SparseField* band_;
+    static BandDisplay* bandShown_;
+
 public:
     static Mesh* ring_;
     static glm::dmat4 ringPlace_;
@@ -112,6 +126,8 @@ GlContext* RenderTest::context_ = nullptr;
 Scene* RenderTest::scene_ = nullptr;
 std::map<std::string, Model>* RenderTest::models_ = nullptr;
 Mesh* RenderTest::ring_ = nullptr;
+SparseField* RenderTest::band_ = nullptr;
+BandDisplay* RenderTest::bandShown_ = nullptr;
 glm::dmat4 RenderTest::ringPlace_{1.0};
 
 Views only(const std::string& list) { return Views::parse(list); }
@@ -402,6 +418,84 @@ TEST_F(RenderTest, SliceCutRemovesOneSide) {
     }
     EXPECT_GT(rightChanged, pixelCount(whole) / 50);
     EXPECT_LT(leftChanged, pixelCount(whole) / 200);
+}
+
+// ---------------------------------------------------------------------------------------------
+// A band field, shown resampled.
+
+TEST_F(RenderTest, BandFieldIsResampledToFit) {
+    const glm::ivec3 d = band_->grid.dims, shown = bandShown_->field.grid.dims;
+    EXPECT_EQ(bandShown_->factor, 4);
+    EXPECT_EQ(shown, (d + 3) / 4);
+    EXPECT_EQ(bandShown_->line, "band field " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) +
+                                    " (band 1 voxels): shown resampled to " + std::to_string(shown.x) + "x" + std::to_string(shown.y) + "x" +
+                                    std::to_string(shown.z));
+    EXPECT_EQ(bandShown_->field.background, band_->background);
+    // The shown samples lie on the res-128 dense bake's: their sides agree but next to the surface.
+    const Field& dense = models_->at("bunny").field;
+    ASSERT_EQ(dense.grid.origin, bandShown_->field.grid.origin);
+    std::size_t differ = 0, compared = 0;
+    for (int k = 0; k < std::min(shown.z, dense.grid.dims.z); ++k)
+        for (int j = 0; j < std::min(shown.y, dense.grid.dims.y); ++j)
+            for (int i = 0; i < std::min(shown.x, dense.grid.dims.x); ++i) {
+                const float v = bandShown_->field.at(i, j, k);
+                ASSERT_LE(std::abs(v), band_->background);
+                if ((i + j + k) % 5 == 0) { // SparseField::sample's value, exactly (clamped to the background)
+                    const float sampled = band_->sample(bandShown_->field.grid.position(i, j, k));
+                    ASSERT_EQ(v, std::clamp(sampled, -band_->background, band_->background)) << i << " " << j << " " << k;
+                }
+                differ += std::abs(dense.at(i, j, k)) > float(dense.grid.voxel) && (v < 0.0f) != (dense.at(i, j, k) < 0.0f);
+                ++compared;
+            }
+    EXPECT_EQ(differ, 0u) << "of " << compared;
+    // The band's dense form where it fits.
+    const Mesh torus = test::torus(1.0f, 0.4f, 48, 24);
+    BakeSettings settings;
+    settings.res = 32;
+    settings.band = 2;
+    const SparseField small = bake(torus, Bvh(torus), settings, RunControl{}).sparse;
+    const BandDisplay full = bandDisplay(small, 128);
+    EXPECT_EQ(full.factor, 1);
+    EXPECT_EQ(full.field.values, small.toDense().values);
+    EXPECT_EQ(full.line.substr(full.line.find(':')), ": shown at full resolution");
+}
+
+// Beyond the band the values are only the background (a quarter of a shown voxel here): the sphere
+// tracer steps by it without overshooting and with enough steps to reach the surface, and the
+// colours span the band.
+TEST_F(RenderTest, BandFieldRaymarchMatchesMesh) {
+    const glm::vec3 black(0.0f);
+    for (const auto& [yaw, pitch] : std::vector<std::pair<float, float>>{{30, 20}, {210, 45}}) {
+        const std::vector<bool> mesh = coverage(draw("bunny band", only("mesh"), yaw, pitch, black, false));
+        const std::vector<bool> marched = coverage(draw("bunny band", only("raymarch"), yaw, pitch, black, false));
+        std::size_t both = 0, either = 0;
+        for (std::size_t i = 0; i < mesh.size(); ++i) {
+            both += mesh[i] && marched[i];
+            either += mesh[i] || marched[i];
+        }
+        ASSERT_GT(either, 1000u);
+        EXPECT_GE(double(both) / double(either), 0.95) << "camera yaw " << yaw << ", pitch " << pitch;
+    }
+    // Shadows and occlusion take nothing from the background (a bound, not a distance): the band
+    // field's surface is lit about as the dense field's is.
+    auto brightness = [](const Image& image) {
+        double sum = 0.0;
+        std::size_t lit = 0;
+        for (std::size_t i = 0; i < image.rgba.size(); i += 4) {
+            const int v = std::max({image.rgba[i], image.rgba[i + 1], image.rgba[i + 2]});
+            if (v > 0) sum += v, ++lit;
+        }
+        return lit ? sum / double(lit) : 0.0;
+    };
+    const double band = brightness(draw("bunny band", only("raymarch"), 30.0f, 20.0f, black, true));
+    const double dense = brightness(draw("bunny", only("raymarch"), 30.0f, 20.0f, black, true));
+    EXPECT_GT(band, 0.85 * dense) << "the band field's surface is darker than the dense field's";
+    draw("bunny band", only("slice"));
+    EXPECT_EQ(scene_->effectiveRange(glm::vec2(0.0f)), glm::vec2(-band_->background, band_->background));
+    const Image empty = draw("bunny band", only("none"));
+    for (const char* view : {"slice", "volume"}) {
+        EXPECT_GT(differingPixels(draw("bunny band", only(view)), empty, 8), pixelCount(empty) / 50) << view << " leaves the image (nearly) blank";
+    }
 }
 
 TEST_F(RenderTest, SlicePolygonCutsTheBox) {
