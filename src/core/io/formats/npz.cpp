@@ -433,7 +433,7 @@ SparseField loadSparseNpz(const std::string& path) {
     field.values = readBrickValues(archive, bricks, path);
     const std::vector<std::int32_t> boxes = readIntRows(archive, kInsideBoxes, 6, path);
     field.insideBoxes.resize(boxes.size() / 6);
-    std::memcpy(field.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));
+    if (!boxes.empty()) std::memcpy(field.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));
     checkSparseField(field, path);
     return field;
 }
