@@ -468,8 +468,20 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) con
     double gradient = 0.0;
     for (const Cap& cap : caps_) {
         const double d = glm::length(glm::max(glm::max(cap.lo - centre, centre - cap.hi), glm::dvec3(0.0))) - reach;
-        if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
-        gradient += std::abs(cap.weight) * cap.length / (4.0 * M_PI * d * d);
+        if (d > 0.0) {
+            gradient += std::abs(cap.weight) * cap.length / (4.0 * M_PI * d * d);
+            continue;
+        }
+        // The ball reaches the cap's box (a fan across a wide hole): its loop's edges one by one,
+        // each at its own distance (the chords between fans counted too, which only adds).
+        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+            const glm::dvec3 a = cap.loop[i], b = cap.loop[(i + 1) % cap.loop.size()], ab = b - a;
+            const double length = glm::length(ab);
+            const double t = length > 0.0 ? std::clamp(glm::dot(centre - a, ab) / (length * length), 0.0, 1.0) : 0.0;
+            const double e = glm::length(centre - (a + t * ab)) - reach;
+            if (!(e > 0.0)) return std::numeric_limits<double>::infinity();
+            gradient += std::abs(cap.weight) * length / (4.0 * M_PI * e * e);
+        }
     }
     return gradient * reach;
 }

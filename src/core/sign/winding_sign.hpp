@@ -105,7 +105,8 @@ public:
     // A bound on how far the mesh's winding number moves over the ball (centre, reach), which no
     // mesh triangle meets: its gradient is the field of the mesh's boundary loops (each cap's loop,
     // of length L at distance d from the ball, adds at most |weight| L / (4π d²) per unit of
-    // distance). Infinite when the ball reaches a cap's box.
+    // distance; a cap whose box the ball reaches counts each loop edge at its own distance).
+    // Infinite when the ball reaches a loop edge.
     double windingVariation(const glm::dvec3& centre, double reach) const;
 
 private:
