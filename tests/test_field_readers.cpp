@@ -416,9 +416,12 @@ TEST_F(VdbReader, FilesOfSeveralGridsWithOffsetsLoadAndOtherGridTypesAreRefused)
 }
 
 TEST_F(VdbReader, CompressedBlockSizesAreCheckedAgainstTheFile) {
-    // A banded grid's leaves are Blosc blocks, each after its byte count: claim 2^40 bytes.
-    Field field = sphereField(0.125);
-    saveField(field, path("band.vdb"), SaveOptions{2.0});
+    // io::File writes a level set's leaves as Blosc blocks (as Houdini does), each after its
+    // byte count: claim 2^40 bytes.
+    openvdb::initialize();
+    auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(1.0f, openvdb::Vec3f(0.0f), 0.125f, 2.0f);
+    sphere->setName("surface");
+    openvdb::io::File(path("band.vdb")).write({sphere});
     std::string bytes = readBytes(path("band.vdb"));
     // The last leaf's block is the last thing in the file; find its count by trying each
     // position from the end (a count is followed by exactly that many bytes up to the end).

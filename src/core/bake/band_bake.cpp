@@ -156,6 +156,9 @@ void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, c
 
     // 2. Their exact distances, as the dense bake measures them (samples past the grid's end: +background).
     start = Clock::now();
+    // Room for the fan bricks that bandWindingSigns may add: merged in place, never moved.
+    sides.bricks.reserve(sides.bricks.size() + sides.fanBricks.size());
+    sides.values.reserve((sides.bricks.size() + sides.fanBricks.size()) * SparseField::kBrickSamples);
     sides.values.assign(sides.bricks.size() * SparseField::kBrickSamples, field.background);
     const MeshTopology* pseudonormal = signBricks ? nullptr : &context.topology();
     computeExactBricks(mesh, context.wide(), grid, sides.bricks.data(), sides.bricks.size(), finder.band * (1.0 + 1e-5), pseudonormal, context.flipped,
