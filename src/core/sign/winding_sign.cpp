@@ -175,6 +175,52 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
     build(0, order, 0, order.size());
 }
 
+void WindingCaps::flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const {
+    constexpr double kEps = std::numeric_limits<double>::epsilon();
+    // Each fan triangle (loop[i + 1], loop[i], centre) with |weight| times its area (zero-area
+    // triangles see no solid angle), through f(a, b, c, weighted area, unnormalized normal).
+    auto forEachTriangle = [&](const auto& f) {
+        for (std::size_t n = begin; n < end; ++n) {
+            const Cap& cap = caps_[order[n]];
+            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+                const glm::dvec3& a = cap.loop[(i + 1) % cap.loop.size()];
+                const glm::dvec3& b = cap.loop[i];
+                const glm::dvec3 cross = glm::cross(b - a, cap.centre - a);
+                const double length = glm::length(cross);
+                if (length > 0.0) f(a, b, cap.centre, 0.5 * length * std::abs(cap.weight), cross / length, cross);
+            }
+        }
+    };
+    // n: the weighted normals summed, each turned to the largest triangle's side.
+    glm::dvec3 reference(0.0), sum(0.0);
+    double largest = 0.0, total = 0.0;
+    forEachTriangle([&](auto&, auto&, auto&, double area, const glm::dvec3& m, auto&) {
+        if (area > largest) largest = area, reference = m;
+    });
+    forEachTriangle([&](auto&, auto&, auto&, double area, const glm::dvec3& m, auto&) {
+        sum += (glm::dot(m, reference) < 0.0 ? -area : area) * m;
+        total += area;
+    });
+    const double length = glm::length(sum);
+    if (!(length > 0.0) || !(total > 0.0)) return; // no plane: tilt 2 keeps the plain bound
+    node.normal = sum / length;
+    const glm::dvec3 centre = 0.5 * (node.lo + node.hi);
+    double thickness = 0.0, tilt = 0.0;
+    forEachTriangle([&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double area, const glm::dvec3& m,
+                        const glm::dvec3& cross) {
+        const double farthest = std::max({std::fabs(glm::dot(node.normal, a - centre)), std::fabs(glm::dot(node.normal, b - centre)),
+                                          std::fabs(glm::dot(node.normal, c - centre))});
+        // m's rounding: a normalized cross product is off by about eps times the edges' product
+        // over the cross's length (large for slivers, whose area is small).
+        const double rounding = 16.0 * kEps * glm::length(b - a) * glm::length(c - a) / glm::length(cross) + 1e-12;
+        thickness += area * farthest;
+        tilt += area * (std::min(glm::length(m - node.normal), glm::length(m + node.normal)) + rounding);
+    });
+    // Upper bounds over their own rounding.
+    node.thickness = thickness / total * (1.0 + 1e-9) + 1e-12 * glm::length(node.hi - node.lo);
+    node.tilt = std::min(2.0, tilt / total * (1.0 + 1e-9));
+}
+
 void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) {
     Node node{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max()), 0.0, 0, false};
     glm::dvec3 centreLo = node.lo, centreHi = node.hi;
@@ -186,6 +232,7 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         centreHi = glm::max(centreHi, c.centre);
         node.area += std::abs(c.weight) * c.area;
     }
+    flatten(node, order, begin, end);
     if (end - begin == 1) {
         node.first = order[begin];
         node.leaf = true;

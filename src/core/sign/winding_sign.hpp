@@ -7,6 +7,7 @@
 #include "core/mesh/topology.hpp"
 
 #include <glm/geometric.hpp>
+#include <algorithm>
 #include <cmath>
 #include <array>
 #include <cstdint>
@@ -115,14 +116,29 @@ private:
         double area;         // the sum of |weight| * area below
         std::uint32_t first; // inner: first child (the second is first + 1); leaf: the cap
         bool leaf;
+        // The fans below as a near-flat sheet (see bound()): a unit normal n, the box's centre c,
+        // and area-weighted means of each triangle's farthest vertex from the plane (c, n) and of
+        // the distance of its normal from ±n. tilt 2 (the most it can be) when no plane fits.
+        glm::dvec3 normal{0.0};
+        double thickness = 0, tilt = 2;
     };
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    // Sets node's plane (normal, thickness, tilt) from the fans order[begin, end).
+    void flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const;
     // The winding-number bound of a node for every point within `reach` of p (infinite when the
-    // ball touches the node's box). Inline: the walks call it for every node they look at.
+    // ball touches the node's box). A triangle of area A, unit normal m, at distance r >= d from a
+    // point x sees it under a solid angle of at most A |m.(x - y)| / r³ (y its point nearest x,
+    // m.(x - y) the same over the whole plane), and |m.(x - y)| is at most x's height over the
+    // node's plane plus the triangle's farthest vertex from it plus |m ∓ n| r: seen from near the
+    // plane of a flat fan (a hole in a flat base, a sheet's border), far less than A / d². Inline:
+    // the walks call it for every node they look at.
     static double bound(const Node& node, const glm::dvec3& p, double reach) {
         const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0))) - reach;
-        return d > 0.0 ? node.area / (4.0 * M_PI * d * d) : std::numeric_limits<double>::infinity();
+        if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
+        const double height = std::fabs(glm::dot(node.normal, p - 0.5 * (node.lo + node.hi))) + reach;
+        const double flat = (height + node.thickness) / d + node.tilt;
+        return node.area / (4.0 * M_PI * d * d) * std::min(1.0, flat);
     }
 
     std::vector<Cap> caps_;
