@@ -39,10 +39,16 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
         // direction means the product passed -1.
         if (det > 0.0 && im >= 0.0 && nextIm < 0.0) ++turns;
         else if (det < 0.0 && im < 0.0 && nextIm >= 0.0) --turns;
-        const double scale = std::max(std::fabs(nextRe), std::fabs(nextIm));
+        re = nextRe;
+        im = nextIm;
+        // Only the product's angle counts: it is rescaled only when it leaves [2^-400, 2^400]
+        // (no division on the loop's critical path otherwise).
+        const double scale = std::max(std::fabs(re), std::fabs(im));
         if (scale == 0.0) return 0.0; // p lies on a fan edge: the angle is undefined there
-        re = nextRe / scale;
-        im = nextIm / scale;
+        if (scale < 0x1p-400 || scale > 0x1p400) {
+            re /= scale;
+            im /= scale;
+        }
         rb = ra;
         lb = la;
         bc = ac;
