@@ -56,8 +56,8 @@ void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, 
 // computeExactField for the samples of `count` bricks of 8³ (SparseField's): brick b's samples go to
 // values[512 b + ((k - 8 z) * 8 + (j - 8 y)) * 8 + (i - 8 x)], (x, y, z) = bricks[b]; samples past
 // the grid's end are not written. Each sample gets the value computeExactField gives it, bit for bit,
-// except in quarters of 4³ whose samples are all farther than `skipBeyond` (local units) from the
-// surface: those are not written (a band bake keeps only their side).
+// except those farther than `skipBeyond` (local units) from the surface, which may be left
+// unwritten (a band bake keeps only their side).
 void computeExactBricks(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const glm::ivec3* bricks, std::size_t count,
                         double skipBeyond, const MeshTopology* pseudonormal, bool flipped, float* values, const RunControl& control);
 
