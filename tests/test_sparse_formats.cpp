@@ -290,6 +290,34 @@ TEST_F(SparseFormats, VdbRoundTripIsExactAndALevelSetToOpenVdb) {
     expectSameSparse(loadSparseField(path("dense.vdb")), sparse_);
 }
 
+TEST_F(SparseFormats, AFieldGivenUpIsSavedAsTheSameFileAndLeftEmpty) {
+    // More bricks than the .vdb writer takes at a time (it hands their memory back chunk by chunk).
+    SparseField many;
+    many.source = "many.obj";
+    many.method = "exact";
+    many.grid.dims = {8 * 100, 8 * 100, 12};
+    many.grid.origin = {-1.0, -2.0, -3.0};
+    many.grid.voxel = 0.01;
+    many.background = 0.03f;
+    for (int y = 0; y < 100; ++y)
+        for (int x = 0; x < 100; x += 2) many.bricks.emplace_back(x, y, 1); // the brick cut at the grid's end
+    many.values.resize(many.bricks.size() * SparseField::kBrickSamples);
+    for (std::size_t n = 0; n < many.values.size(); ++n) {
+        const bool pastTheEnd = n % SparseField::kBrickSamples >= 4 * 64; // z 12 and on (past the grid's end) hold the background
+        many.values[n] = pastTheEnd ? many.background : many.background * float(std::sin(double(n) * 0.37));
+    }
+    many.insideBoxes.push_back({0, 0, 0, 8 * 100, 8, 8});
+    for (const char* extension : {".vdb", ".npz"}) {
+        const std::string kept = path(std::string("kept") + extension), givenUp = path(std::string("given-up") + extension);
+        saveSparseField(many, kept);
+        SparseField copy = many;
+        saveSparseField(std::move(copy), givenUp);
+        EXPECT_TRUE(copy.bricks.empty() && copy.values.empty()) << extension;
+        expectSameSparse(loadSparseField(givenUp), loadSparseField(kept));
+        expectSameSparse(loadSparseField(givenUp), many);
+    }
+}
+
 TEST_F(SparseFormats, VdbOfAGridTooLargeToBeDenseStaysSparse) {
     SparseField huge = sparse_;
     huge.grid.dims = {16384, 16384, 16384};

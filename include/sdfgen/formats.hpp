@@ -33,6 +33,9 @@ Field loadField(const std::string& path);
 // (.sdf, .npy, .nrrd) get SparseField::toDense, or an Error naming the reason and the sparse formats
 // when that would not fit in memory. Atomic, as saveField.
 void saveSparseField(const SparseField& field, const std::string& path);
+// The same, giving the field up: a .vdb's leaves take the bricks' memory as they are made (the
+// band is never held twice), and the field is left empty, saved or not.
+void saveSparseField(SparseField&& field, const std::string& path);
 // Loads a field as sparse: a sparse .npz or a .vdb level set as it is, a dense file through its
 // samples (bricks where a sample lies within `band` voxels of the surface; 3 when the file names no band).
 SparseField loadSparseField(const std::string& path);

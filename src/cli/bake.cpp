@@ -46,8 +46,20 @@ void runBake(BakeArgs args) {
         control.progress = bar.callback();
         result = model.bake(args.settings, control);
     }
-    if (args.settings.band > 0) saveSparseField(result.sparse, args.output);
-    else saveField(result.field, args.output, args.save);
+    std::string bandLine; // the band's figures, taken before the save gives its bricks up
+    if (args.settings.band > 0) {
+        const SparseField& sparse = result.sparse;
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes; "
+                      "tree and topology %.2f s, distances %.2f s, bricks and sides %.2f s\n",
+                      args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size(),
+                      result.setupSeconds, result.distanceSeconds, result.signSeconds);
+        bandLine = line;
+        saveSparseField(std::move(result.sparse), args.output);
+    } else {
+        saveField(result.field, args.output, args.save);
+    }
     const double seconds = total.seconds();
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const Grid& g = result.field.grid;
@@ -56,13 +68,7 @@ void runBake(BakeArgs args) {
                 (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
                 result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
     if (args.settings.channels.any()) std::printf("channels: %s\n", toString(args.settings.channels).c_str());
-    if (args.settings.band > 0) {
-        const SparseField& sparse = result.sparse;
-        std::printf("band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes; "
-                    "tree and topology %.2f s, distances %.2f s, bricks and sides %.2f s\n",
-                    args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size(),
-                    result.setupSeconds, result.distanceSeconds, result.signSeconds);
-    }
+    std::fputs(bandLine.c_str(), stdout);
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());
     if (!result.deviceReason.empty()) std::printf("device: %s\n", result.deviceReason.c_str());
 }

@@ -166,11 +166,14 @@ std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads,
                    ",\"dims\":null,\"origin\":null,\"voxel\":null,\"sign\":null,\"sign_reason\":null";
         device = "cpu"; // point queries
     } else {
-        const BakeResult result = model.bake(args.settings, control);
-        // A band bake's field is sparse: .vdb and .npz keep it so, the dense formats get its dense form where it fits.
+        BakeResult result = model.bake(args.settings, control);
+        // A band bake's field is sparse: .vdb and .npz keep it so, the dense formats get its dense
+        // form where it fits; the save gives its bricks up.
         const bool band = args.settings.band > 0;
+        const Grid g = band ? result.sparse.grid : result.field.grid;
+        const std::string sign = band ? result.sparse.parameter("sign") : result.field.parameter("sign");
         try {
-            if (band) saveSparseField(result.sparse, partial.string());
+            if (band) saveSparseField(std::move(result.sparse), partial.string());
             else saveField(result.field, partial.string());
         } catch (const Error& e) {
             // The writer names the hidden partial file; the user named the output.
@@ -178,8 +181,6 @@ std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads,
             for (std::size_t at; (at = message.find(partial.string())) != std::string::npos;) message.replace(at, partial.string().size(), task.output);
             throw Error(message);
         }
-        const Grid& g = band ? result.sparse.grid : result.field.grid;
-        const std::string sign = band ? result.sparse.parameter("sign") : result.field.parameter("sign");
         details += ",\"dims\":[" + std::to_string(g.dims.x) + "," + std::to_string(g.dims.y) + "," + std::to_string(g.dims.z) +
                    "],\"origin\":[" + jsonNumber(g.origin.x) + "," + jsonNumber(g.origin.y) + "," + jsonNumber(g.origin.z) +
                    "],\"voxel\":" + jsonNumber(g.voxel) + ",\"sign\":" + batch::jsonString(sign) +

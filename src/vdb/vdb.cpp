@@ -379,7 +379,9 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
 // A band field as a level-set FloatGrid named "surface" (the transform of fieldToGrid): each
 // brick a leaf, its samples in the band active; each inside box inactive -background tiles; the
 // rest the +background of the tree. Distances and grid scaled by 2^exponent. Initializes OpenVDB.
-openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent) {
+// `givenUp`: null, or the field itself when its owner gives it up: the memory of its brick values
+// goes back to the system as they become leaves, and they are emptied.
+openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, SparseField* givenUp = nullptr) {
     constexpr int B = SparseField::kBrick;
     openvdb::initialize();
     const float background = std::ldexp(field.background, exponent);
@@ -395,10 +397,15 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent) {
     }
     openvdb::tools::prune(tree);
     // The leaves are made in parallel (a brick's samples run x fastest, a leaf's z fastest) and
-    // then linked into the tree in order; the bricks are never in an inside box's tiles.
+    // then linked into the tree in order, a chunk at a time; the bricks are never in an inside
+    // box's tiles.
     using Leaf = openvdb::FloatTree::LeafNodeType;
-    std::vector<std::unique_ptr<Leaf>> leaves(field.bricks.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, field.bricks.size(), 256), [&](const tbb::blocked_range<std::size_t>& range) {
+    constexpr std::size_t kChunk = 1 << 12; // bricks (8 MB of values)
+    std::vector<std::unique_ptr<Leaf>> leaves(std::min(kChunk, field.bricks.size()));
+    openvdb::tree::ValueAccessor<openvdb::FloatTree> access(tree); // caches the path to the last leaf: bricks come in order
+    for (std::size_t first = 0; first < field.bricks.size(); first += kChunk) {
+    const std::size_t last = std::min(field.bricks.size(), first + kChunk);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 256), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             const glm::ivec3 lo = field.bricks[b] * B;
             const glm::ivec3 inGrid = glm::min(dims - lo, glm::ivec3(B)); // samples of the brick within the grid, per axis
@@ -415,11 +422,15 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent) {
                         if (std::fabs(v) < background && x < inGrid.x && y < inGrid.y && z < inGrid.z) active.setOn(offset);
                     }
             leaf->setValueMask(active);
-            leaves[b] = std::move(leaf);
+            leaves[b - first] = std::move(leaf);
         }
     });
-    openvdb::tree::ValueAccessor<openvdb::FloatTree> access(tree); // caches the path to the last leaf: bricks come in order
-    for (std::unique_ptr<Leaf>& leaf : leaves) access.addLeaf(leaf.release()); // the tree owns it
+    for (std::size_t b = first; b < last; ++b) access.addLeaf(leaves[b - first].release()); // the tree owns it
+    if (givenUp) {
+        releasePages(&givenUp->values[first * SparseField::kBrickSamples], (last - first) * SparseField::kBrickSamples * sizeof(float));
+    }
+    }
+    if (givenUp) givenUp->values = {}, givenUp->bricks = {};
     Grid scaled = field.grid;
     scaled.voxel = std::ldexp(scaled.voxel, exponent);
     for (int a = 0; a < 3; ++a) scaled.origin[a] = std::ldexp(scaled.origin[a], exponent);
@@ -517,7 +528,9 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
     writeGrids(grids, path);
 }
 
-void saveSparseVdbFile(const SparseField& field, const std::string& path) {
+// `givenUp`: null, or the field itself when the caller gives it up (its brick values are handed
+// back to the system as they become leaves).
+void writeSparseVdbFile(const SparseField& field, const std::string& path, SparseField* givenUp) {
     checkSparseField(field, path);
     if (!representableVoxel(field.grid.voxel)) {
         throw Error(path + ": voxel size " + std::to_string(field.grid.voxel) + " is below what an OpenVDB transform can hold (OpenVDB refuses voxels of volume under " +
@@ -525,12 +538,19 @@ void saveSparseVdbFile(const SparseField& field, const std::string& path) {
     }
     openvdb::FloatGrid::Ptr grid;
     try {
-        grid = sparseToGrid(field, 0);
+        grid = sparseToGrid(field, 0, givenUp);
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": OpenVDB cannot hold this grid (" + e.what() + ")");
     }
     insertSdfgenMetadata(*grid, field.grid, double(field.background) / field.grid.voxel, methodLine(field), field.source);
     writeGrids({grid}, path);
+}
+
+void saveSparseVdbFile(const SparseField& field, const std::string& path) { writeSparseVdbFile(field, path, nullptr); }
+
+void saveSparseVdbFileGivenUp(SparseField&& field, const std::string& path) {
+    SparseField mine = std::move(field);
+    writeSparseVdbFile(mine, path, &mine);
 }
 
 // The grid's sdfgen_* metadata, all or none of dims, origin and voxel (a partial or mistyped
@@ -898,7 +918,8 @@ void surfacePolygonsSparse(const SparseField& field, double iso, double adaptivi
 
 extern "C" __attribute__((visibility("default"))) const sdfgen::OpenVdbPlugin* sdfgen_openvdb_plugin() {
     namespace f = sdfgen::formats;
-    static const sdfgen::OpenVdbPlugin plugin{f::saveVdbFile,       f::loadVdbFile,     f::surfacePolygons,      f::saveSparseVdbFile,
-                                              f::loadSparseVdbFile, f::isSparseVdbFile, f::surfacePolygonsSparse};
+    static const sdfgen::OpenVdbPlugin plugin{f::saveVdbFile,       f::loadVdbFile,     f::surfacePolygons,
+                                              f::saveSparseVdbFile, f::loadSparseVdbFile, f::isSparseVdbFile,
+                                              f::saveSparseVdbFileGivenUp, f::surfacePolygonsSparse};
     return &plugin;
 }

@@ -41,6 +41,11 @@ void saveSparseVdb(const SparseField& field, const std::string& path) {
     openVdbPlugin().saveSparse(field, path);
 }
 
+void saveSparseVdbGivenUp(SparseField&& field, const std::string& path) {
+    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
+    openVdbPlugin().saveSparseGivenUp(std::move(field), path);
+}
+
 SparseField loadSparseVdb(const std::string& path) {
     if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
     return openVdbPlugin().loadSparse(path);

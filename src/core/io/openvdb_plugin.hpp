@@ -26,6 +26,7 @@ struct OpenVdbPlugin {
     void (*saveSparse)(const SparseField& field, const std::string& path);
     SparseField (*loadSparse)(const std::string& path);
     bool (*isSparse)(const std::string& path);
+    void (*saveSparseGivenUp)(SparseField&& field, const std::string& path); // saveSparseField(SparseField&&)
     void (*polygonsSparse)(const SparseField& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
                            std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads);
 };

@@ -16,6 +16,8 @@
 #include <string>
 #ifdef __GLIBC__
 #include <malloc.h>
+#include <sys/mman.h>
+#include <unistd.h>
 #endif
 
 namespace sdfgen {
@@ -36,6 +38,12 @@ std::optional<std::uint64_t> readBytes(const std::filesystem::path& path) {
 }
 
 } // namespace
+
+void releasePages(void* data, std::size_t bytes) {
+    const std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE));
+    const std::uintptr_t begin = (std::uintptr_t(data) + page - 1) / page * page, end = (std::uintptr_t(data) + bytes) / page * page;
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
+}
 
 std::string mebibytes(double bytes) { return std::to_string(std::llround(std::min(bytes / (1 << 20), 9e18))) + " MiB"; }
 

@@ -11,6 +11,10 @@ namespace sdfgen {
 
 class Bvh;
 
+// Hands the whole pages within [data, data + bytes) back to the system: memory whose contents
+// are no longer needed while its owner lives on a little (they read as zeros afterwards).
+void releasePages(void* data, std::size_t bytes);
+
 // Bytes of physical memory on this machine (0 when unknown).
 std::uint64_t physicalMemoryBytes();
 

@@ -38,6 +38,8 @@ struct FieldFormat {
     void (*saveSparse)(const SparseField& field, const std::string& path) = nullptr;
     SparseField (*loadSparse)(const std::string& path) = nullptr;
     bool (*isSparse)(const std::string& path) = nullptr;
+    // saveSparse for a field given up (saveSparseField(SparseField&&)); null where saveSparse needs no second copy.
+    void (*saveSparseGivenUp)(SparseField&& field, const std::string& path) = nullptr;
 };
 
 // Every registered format, in the order the help texts list them.
@@ -99,6 +101,7 @@ bool isSparseNpz(const std::string& path);
 void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadVdb(const std::string& path);
 void saveSparseVdb(const SparseField& field, const std::string& path);
+void saveSparseVdbGivenUp(SparseField&& field, const std::string& path);
 SparseField loadSparseVdb(const std::string& path);
 bool isSparseVdb(const std::string& path);
 void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);

@@ -22,7 +22,7 @@ const std::vector<FieldFormat>& fieldFormats() {
         {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source, and any channels; a band field as bricks",
          true, saveNpz, loadNpz, saveSparseNpz, loadSparseNpz, isSparseNpz},
         {".vdb", "OpenVDB FloatGrid 'surface', level set class, and any channels as grids of their names", true, saveVdb, loadVdb,
-         saveSparseVdb, loadSparseVdb, isSparseVdb},
+         saveSparseVdb, loadSparseVdb, isSparseVdb, saveSparseVdbGivenUp},
         {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadNrrd, nullptr, nullptr, nullptr},
     };
     return table;
@@ -81,6 +81,13 @@ void saveSparseField(const SparseField& field, const std::string& path) {
         throw Error(path + ": " + format.extension + " holds every sample, and " + e.what());
     }
     format.save(dense, path, {});
+}
+
+void saveSparseField(SparseField&& field, const std::string& path) {
+    const formats::FieldFormat& format = formats::formatOf(path);
+    SparseField mine = std::move(field); // empty whatever happens
+    if (format.saveSparseGivenUp) return format.saveSparseGivenUp(std::move(mine), path);
+    saveSparseField(mine, path);
 }
 
 SparseField loadSparseField(const std::string& path) {
