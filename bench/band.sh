@@ -68,7 +68,7 @@ for mesh in "${meshes[@]}"; do
     if [ "$res" -le 512 ]; then
       "$sdfgen" bake "$mesh" --res "$res" -o "$out/$name-dense.npz" >/dev/null
       measure "$out/openvdb.log" "$peer" "$mesh" --res "$res" --band "$band" -o "$out/$name-openvdb.vdb" --signs-against "$out/$name-dense.npz"
-      ours=$("$sdfgen" compare "$out/$name-sdfgen.vdb" "$out/$name-dense.npz" | grep -o 'sign[^,;]*' | head -n 1 || true)
+      ours=$("$sdfgen" compare "$out/$name-sdfgen.vdb" "$out/$name-dense.npz" | grep -o 'signs differ: .*' | sed 's/signs differ: //' || true)
       theirs=$(grep -o 'wrong signs: .*' "$out/openvdb.log" | sed 's/wrong signs: //')
       signs="$ours / $theirs"
     else
