@@ -609,7 +609,6 @@ struct BrickSigns {
     static constexpr double kExpandTarget = 0.01, kPointTarget = 0.05;
     static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 4;
     static constexpr int kMeasuredEdge = 2; // blocks of 2³ are measured sample by sample
-    const Grid& grid;
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
@@ -864,7 +863,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
         }
         SignOutput layout = output;
         layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
-        BrickSigns brick{grid, axes, caps, layout, 0, 0, {}};
+        BrickSigns brick{axes, caps, layout, 0, 0, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
@@ -916,7 +915,7 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
         std::vector<std::vector<Crossing>> rows(std::size_t(kEdge) * std::size_t(ny));
         scan.fill(bz, rows.data());
         std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex], sided = sidedStart[layerIndex];
-        BrickSigns signs{grid, axes, caps, {}, 0, 0, {}};
+        BrickSigns signs{axes, caps, {}, 0, 0, {}};
         int counts[kEdge * kEdge * kEdge];
         std::uint8_t flags[kEdge * kEdge * kEdge];
         std::size_t cursor[kEdge * kEdge];
