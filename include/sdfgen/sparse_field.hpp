@@ -37,6 +37,8 @@ struct SparseField {
     // Each box is a run of whole bricks along x in one row of bricks (lo a multiple of 8 on every
     // axis; hi.y = lo.y + 8 and hi.z = lo.z + 8, cut at the grid's end), ordered by z, y, x.
     std::vector<std::array<int, 6>> insideBoxes; // lo.x lo.y lo.z hi.x hi.y hi.z
+    // The inside box of bricks x0 to x1 - 1 of the brick row (y, z) on a grid of `dims` samples.
+    static std::array<int, 6> insideBox(const glm::ivec3& dims, int x0, int x1, int y, int z);
 
     // The value at sample (i, j, k) (0 <= i < dims.x, ...): looked up among the bricks, then the boxes.
     float at(int i, int j, int k) const;

@@ -780,8 +780,7 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const st
     for (std::size_t n = 0; n < runs.size();) {
         Run run = runs[n++];
         while (n < runs.size() && runs[n].z == run.z && runs[n].y == run.y && runs[n].x0 == run.x1) run.x1 = runs[n++].x1;
-        field.insideBoxes.push_back({run.x0 * B, run.y * B, run.z * B, std::min(run.x1 * B, dims.x), std::min(run.y * B + B, dims.y),
-                                     std::min(run.z * B + B, dims.z)});
+        field.insideBoxes.push_back(SparseField::insideBox(dims, run.x0, run.x1, run.y, run.z));
     }
     checkSparseField(field, path);
     return field;

@@ -103,6 +103,10 @@ std::string SparseField::parameter(const std::string& key) const {
     return "";
 }
 
+std::array<int, 6> SparseField::insideBox(const glm::ivec3& dims, int x0, int x1, int y, int z) {
+    return {x0 * kBrick, y * kBrick, z * kBrick, std::min(x1 * kBrick, dims.x), std::min(y * kBrick + kBrick, dims.y), std::min(z * kBrick + kBrick, dims.z)};
+}
+
 void SparseField::check(const std::string& path) const {
     auto fail = [&](const std::string& problem) { throw Error(path + ": " + problem); };
     if (!(background > 0.0f) || !std::isfinite(background)) fail("the band's background is not a positive finite number");

@@ -949,7 +949,7 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
             };
             int runStart = -1; // the first brick of the open run of inside bricks
             auto closeRun = [&](int end) {
-                if (runStart >= 0) layer.boxes.push_back({runStart * kEdge, j0, k0, std::min(nx, end * kEdge), j1, k1});
+                if (runStart >= 0) layer.boxes.push_back(SparseField::insideBox(grid.dims, runStart, end, by, bz));
                 runStart = -1;
             };
             for (int bx = 0; bx < brickDims.x; ++bx) {

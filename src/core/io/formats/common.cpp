@@ -138,8 +138,7 @@ SparseField sparseFromDense(const Field& field, float background) {
                 const bool inside = bx < bricks.x && !stored && negative;
                 if (inside && insideFrom < 0) insideFrom = bx;
                 if (!inside && insideFrom >= 0) {
-                    sparse.insideBoxes.push_back({insideFrom * B, by * B, bz * B, std::min(bx * B, dims.x), std::min(by * B + B, dims.y),
-                                                  std::min(bz * B + B, dims.z)});
+                    sparse.insideBoxes.push_back(SparseField::insideBox(dims, insideFrom, bx, by, bz));
                     insideFrom = -1;
                 }
                 if (stored) {
