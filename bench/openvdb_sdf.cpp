@@ -21,6 +21,7 @@
 // Prints `openvdb: <s> s (convert <s>, sample <s>)`: the whole process from the start of loading to
 // the end of saving, the conversion (including any retry) and the sampling.
 #include "peer_common.hpp"
+#include "core/distance/sample_positions.hpp"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
@@ -54,31 +55,38 @@ float cornerDistanceVoxels(const Mesh& mesh, const Grid& grid, const glm::vec3& 
     return farthest / voxel;
 }
 
-// The band mode: the level set alone, on sdfgen's grid (computed as makeGrid does, without its
-// check that a dense grid fits, since none is made).
+// The mesh in OpenVDB's types, in its local coordinates as sdfgen measures it (distances scaled by
+// mesh.unit when stored), and the transform whose voxel (i, j, k) has its centre at the grid's
+// sample (i, j, k): voxel size h (the grid's voxel in local units), shifted by half a voxel.
+struct OpenVdbMesh {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    double h;
+    glm::dvec3 origin; // the grid's, in local units
+    openvdb::math::Transform::Ptr transform;
+};
+OpenVdbMesh toOpenVdb(const Mesh& mesh, const Grid& grid) {
+    openvdb::initialize();
+    OpenVdbMesh out;
+    out.points.reserve(mesh.positions.size());
+    for (const glm::vec3& p : mesh.positions) out.points.emplace_back(p.x, p.y, p.z);
+    out.triangles.reserve(mesh.triangles.size());
+    for (const glm::uvec3& t : mesh.triangles) out.triangles.emplace_back(t.x, t.y, t.z);
+    out.h = grid.voxel / mesh.unit;
+    out.origin = mesh.toLocal(grid.origin);
+    out.transform = openvdb::math::Transform::createLinearTransform(out.h);
+    out.transform->postTranslate(openvdb::Vec3d(out.origin.x + 0.5 * out.h, out.origin.y + 0.5 * out.h, out.origin.z + 0.5 * out.h));
+    return out;
+}
+
+// The band mode: the level set alone, on sdfgen's grid (gridAround: makeGrid without its check
+// that a dense grid fits, since none is made).
 int runBand(const peer::Options& options, float band, const std::string& signsAgainst) {
     peer::Stopwatch clock;
     const Mesh mesh = loadMesh(options.mesh);
-    const WorldBounds bounds = mesh.worldBounds();
-    const glm::dvec3 extent = bounds.extent();
-    const double longest = std::max({extent.x, extent.y, extent.z});
-    const glm::dvec3 padded = extent + 2.0 * double(options.padding) * longest;
-    const double voxel = std::max({padded.x, padded.y, padded.z}) / options.res;
-    const glm::dvec3 gridOrigin = bounds.min - double(options.padding) * longest;
-
-    openvdb::initialize();
-    std::vector<openvdb::Vec3s> points;
-    points.reserve(mesh.positions.size());
-    for (const glm::vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
-    std::vector<openvdb::Vec3I> triangles;
-    triangles.reserve(mesh.triangles.size());
-    for (const glm::uvec3& t : mesh.triangles) triangles.emplace_back(t.x, t.y, t.z);
-    const double h = voxel / mesh.unit;
-    const glm::dvec3 origin = mesh.toLocal(gridOrigin);
-    openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(h);
-    transform->postTranslate(openvdb::Vec3d(origin.x + 0.5 * h, origin.y + 0.5 * h, origin.z + 0.5 * h));
+    const OpenVdbMesh vdb = toOpenVdb(mesh, gridAround(mesh.worldBounds(), options.res, options.padding));
     clock.lap();
-    const openvdb::FloatGrid::Ptr levelSet = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, band);
+    const openvdb::FloatGrid::Ptr levelSet = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*vdb.transform, vdb.points, vdb.triangles, band);
     const double convertSeconds = clock.lap();
     levelSet->setName("sdf");
     openvdb::io::File(options.output).write({levelSet});
@@ -103,27 +111,14 @@ int run(const peer::Options& options) {
     peer::Stopwatch clock;
     const Mesh mesh = loadMesh(options.mesh);
     const Grid grid = makeGrid(mesh.worldBounds(), options.res, options.padding);
-
-    openvdb::initialize();
-    std::vector<openvdb::Vec3s> points;
-    points.reserve(mesh.positions.size());
-    for (const glm::vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
-    std::vector<openvdb::Vec3I> triangles;
-    triangles.reserve(mesh.triangles.size());
-    for (const glm::uvec3& t : mesh.triangles) triangles.emplace_back(t.x, t.y, t.z);
+    const OpenVdbMesh vdb = toOpenVdb(mesh, grid);
     const std::vector<openvdb::Vec4I> quads;
-
-    // Everything in the mesh's local coordinates, as in sdfgen: the points are mesh.positions, the
-    // grid's origin and voxel are converted, the distances scaled by mesh.unit when stored.
-    const double h = grid.voxel / mesh.unit;
-    const glm::dvec3 origin = mesh.toLocal(grid.origin);
-    openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(h);
-    transform->postTranslate(openvdb::Vec3d(origin.x + 0.5 * h, origin.y + 0.5 * h, origin.z + 0.5 * h));
+    const double h = vdb.h;
 
     const glm::vec3 extent = mesh.bounds.extent();
     const float smallest = std::min(extent.x, std::min(extent.y, extent.z));
     const float interiorBand = std::ceil(0.5f * smallest / float(h)) + 2.0f;
-    float exteriorBand = std::ceil(cornerDistanceVoxels(mesh, grid, glm::vec3(origin), float(h))) + 2.0f;
+    float exteriorBand = std::ceil(cornerDistanceVoxels(mesh, grid, glm::vec3(vdb.origin), float(h))) + 2.0f;
     const float largestBand = 4.0f * std::ceil(glm::length(glm::vec3(grid.dims))) + 4.0f;
 
     clock.lap();
@@ -137,7 +132,7 @@ int run(const peer::Options& options) {
     field.values.assign(grid.sampleCount(), 0.0f);
     for (;;) {
         const openvdb::FloatGrid::Ptr sdf = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(
-            *transform, points, triangles, quads, exteriorBand, interiorBand);
+            *vdb.transform, vdb.points, vdb.triangles, quads, exteriorBand, interiorBand);
         convertSeconds += clock.lap();
 
         // One z-slice per task; each task has its own accessor (they cache tree nodes).
