@@ -74,6 +74,21 @@ protected:
         sparse_ = formats::sparseFromDense(dense_, formats::bandBackground(dense_));
     }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    // The band field saved with `extension` reads back bit for bit (loadField: its dense form,
+    // marked as a band field); a dense file of the format is not sparse and reads as the band
+    // field through its samples.
+    void expectRoundTrip(const std::string& extension) {
+        const std::string file = path("band" + extension), denseFile = path("dense" + extension);
+        saveSparseField(sparse_, file);
+        EXPECT_TRUE(isSparseFieldFile(file));
+        expectSameSparse(loadSparseField(file), sparse_);
+        const Field dense = loadField(file);
+        EXPECT_EQ(dense.background, sparse_.background);
+        EXPECT_EQ(dense.values, sparse_.toDense().values);
+        saveField(dense_, denseFile);
+        EXPECT_FALSE(isSparseFieldFile(denseFile));
+        expectSameSparse(loadSparseField(denseFile), sparse_);
+    }
 
     Field dense_;
     SparseField sparse_;
@@ -98,20 +113,7 @@ TEST_F(SparseFormats, FromDenseKeepsTheBandAndTheSides) {
     EXPECT_EQ(sparse_.activeCount(), inBand);
 }
 
-TEST_F(SparseFormats, NpzRoundTripIsExact) {
-    const std::string file = path("band.npz");
-    saveSparseField(sparse_, file);
-    EXPECT_TRUE(isSparseFieldFile(file));
-    expectSameSparse(loadSparseField(file), sparse_);
-    // loadField gives the dense form, marked as a band field.
-    const Field dense = loadField(file);
-    EXPECT_EQ(dense.background, sparse_.background);
-    EXPECT_EQ(dense.values, sparse_.toDense().values);
-    // A dense .npz is not sparse, and reads as a band field through its samples.
-    saveField(dense_, path("dense.npz"));
-    EXPECT_FALSE(isSparseFieldFile(path("dense.npz")));
-    expectSameSparse(loadSparseField(path("dense.npz")), sparse_);
-}
+TEST_F(SparseFormats, NpzRoundTripIsExact) { expectRoundTrip(".npz"); }
 
 TEST_F(SparseFormats, DenseFormatsHoldTheDenseFormAndReadBackAsTheBandField) {
     for (const char* name : {"band.sdf", "band.nrrd", "band.npy"}) {
@@ -252,13 +254,8 @@ TEST_F(SparseFormats, CompareTakesABandFieldByValueInItsBandAndBySignOutside) {
 #if SDFGEN_HAS_OPENVDB
 
 TEST_F(SparseFormats, VdbRoundTripIsExactAndALevelSetToOpenVdb) {
+    expectRoundTrip(".vdb");
     const std::string file = path("band.vdb");
-    saveSparseField(sparse_, file);
-    EXPECT_TRUE(isSparseFieldFile(file));
-    expectSameSparse(loadSparseField(file), sparse_);
-    const Field dense = loadField(file);
-    EXPECT_EQ(dense.background, sparse_.background);
-    EXPECT_EQ(dense.values, sparse_.toDense().values);
 
     // As OpenVDB reads it: a level set whose active voxels are the band's, whose leaves are the
     // bricks, whose inside is inactive -background tiles, valued as the field at every sample.
@@ -283,11 +280,6 @@ TEST_F(SparseFormats, VdbRoundTripIsExactAndALevelSetToOpenVdb) {
     const glm::dvec3 expected = sparse_.grid.position(3, 5, 7);
     EXPECT_NEAR(world.x(), expected.x, 1e-12);
     EXPECT_NEAR(world.z(), expected.z, 1e-12);
-
-    // A dense .vdb is not sparse, and reads as a band field through its samples.
-    saveField(dense_, path("dense.vdb"));
-    EXPECT_FALSE(isSparseFieldFile(path("dense.vdb")));
-    expectSameSparse(loadSparseField(path("dense.vdb")), sparse_);
 }
 
 TEST_F(SparseFormats, AFieldGivenUpIsSavedAsTheSameFileAndLeftEmpty) {
