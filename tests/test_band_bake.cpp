@@ -143,6 +143,8 @@ TEST(BandBake, RefusesWhatItCannotDo) {
     settings.channels.gradient = true;
     EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("dense bake only"), std::string::npos);
     settings.channels = {};
+    settings.sign = SignMethod::Rays; // a vote per sample: out of the band there is none
+    EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("--sign rays"), std::string::npos);
     settings.sign = SignMethod::Pseudonormal;
     EXPECT_NE(test::errorFrom([&] { test::bakeMesh(test::cup(false), settings); }).find("pseudonormal"), std::string::npos);
     // A resolution whose dense grid would never fit is fine for a band.

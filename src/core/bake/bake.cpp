@@ -90,7 +90,10 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         if (settings.channels.any()) {
             throw Error("channels " + toString(settings.channels).substr(4) + " come from the dense bake only; a band bake gives the distance (sdf)");
         }
-        if (signMethod(sign).castsRays) throw Error("the narrow-band bake signs by the winding number (or auto); --sign rays votes per sample");
+        if (signMethod(sign).band == BandSigning::Never) {
+            throw Error(std::string("the narrow-band bake signs by the winding number (or auto); --sign ") + signMethod(sign).name +
+                        " decides per sample, and most samples of a band are never measured");
+        }
     }
     const Channels& channels = settings.channels;
     if (channels.any()) {
@@ -156,11 +159,12 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
         methodContext.flipped = decision.flipped;
         methodContext.sign = sign;
     }
-    if (banded && sign == SignMethod::Pseudonormal && !result.checked && !context.check().closedAndClean()) {
+    if (banded && signMethod(sign).band == BandSigning::WhereProven && !result.checked && !context.check().closedAndClean()) {
         // Out of the band a sample has no distance pass to take a closest feature from: its side
         // is the winding sign's, which is the pseudonormal's only where the check proves it right.
-        throw Error("the narrow-band bake takes --sign pseudonormal only for meshes it is proven right on (closed, manifold, "
-                    "consistently oriented, without self-intersections); use --sign winding or auto");
+        throw Error(std::string("the narrow-band bake takes --sign ") + signMethod(sign).name +
+                    " only for meshes it is proven right on (closed, manifold, consistently oriented, without self-intersections); "
+                    "use --sign winding or auto");
     }
     const double checkSeconds = since(checkStart);
     releaseFreedMemory(); // the setup phases' scratch, before the field is allocated

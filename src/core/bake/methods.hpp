@@ -85,6 +85,13 @@ struct DistanceMethodInfo {
     double (*deviceMemory)(const MemoryTerms& terms, bool signing);
 };
 
+// Whether a sign can side a narrow-band bake's samples, most of which have no distance pass.
+enum class BandSigning {
+    Never,       // it decides per sample from that sample's own pass (ray votes)
+    Always,      // the winding number's sides (or, for auto and default, a sign settled to one that can)
+    WhereProven, // its sides are the winding number's only where the mesh check proves it right
+};
+
 struct SignMethodInfo {
     SignMethod id;
     const char* name;
@@ -96,6 +103,7 @@ struct SignMethodInfo {
     bool readsWideTree; // its pass searches the closest-point tree
     bool readsTopology; // its pass (or auto's mesh check) reads MeshTopology
     bool castsRays;     // casts BakeSettings::rays rays per sample (recorded in the field)
+    BandSigning band;
     // Bytes its pass holds at the peak besides the field, the per-sample buffers and the trees.
     double (*memory)(const MemoryTerms& terms);
     // Null where the compute device does not run it; else the host-side tables of its device pass.

@@ -105,15 +105,15 @@ const std::vector<SignMethodInfo>& signMethods() {
     // Auto first and default last: the order front ends list them in.
     static const std::vector<SignMethodInfo> methods = {
         {SignMethod::Auto, "auto", "pseudonormal when the mesh check proves it right, else winding", nullptr, true, false, true, false,
-         noMemory, nullptr},
+         BandSigning::Always, noMemory, nullptr},
         {SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly", windingSign, true, false, true, false,
-         windingMemory, windingDeviceMemory},
+         BandSigning::Always, windingMemory, windingDeviceMemory},
         {SignMethod::Pseudonormal, "pseudonormal", "angle-weighted pseudonormal of the closest feature", pseudonormalSign, true, true,
-         true, false, pseudonormalMemory, nullptr},
-        {SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays", raySign, false, false, false, true, noMemory,
-         nullptr},
+         true, false, BandSigning::WhereProven, pseudonormalMemory, nullptr},
+        {SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays", raySign, false, false, false, true,
+         BandSigning::Never, noMemory, nullptr},
         {SignMethod::Default, "default", "the method's own: rays for the rays method, auto otherwise", nullptr, false, false, false, false,
-         noMemory, nullptr},
+         BandSigning::Always, noMemory, nullptr},
     };
     return methods;
 }
