@@ -102,6 +102,17 @@ std::string partialPrefix(const fs::path& output, const std::string& host) {
     return "." + output.filename().string() + ".partial-" + host + "-";
 }
 
+// Whether process `pid` still runs: it exists and is not a zombie (a killed child whose parent
+// died too stays one until init reaps it, which a rerun started at once can beat).
+bool running(pid_t pid) {
+    if (!(kill(pid, 0) == 0 || errno == EPERM)) return false;
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    if (!std::getline(stat, line)) return true; // no /proc: trust kill()
+    const std::size_t end = line.rfind(')'); // "pid (name) state ...": the name may hold anything
+    return end == std::string::npos || end + 2 >= line.size() || line[end + 2] != 'Z';
+}
+
 // Removes partial files that children on this host left when they were killed, in the folders of
 // this shard's outputs. A partial whose child still runs (another batch on this host) is kept.
 void removeStalePartials(const std::vector<batch::Task>& tasks, const std::string& host) {
@@ -117,7 +128,7 @@ void removeStalePartials(const std::vector<batch::Task>& tasks, const std::strin
             const std::string& prefix = *--candidate;
             if (name.compare(0, prefix.size(), prefix) != 0) continue;
             const pid_t pid = pid_t(std::atol(name.c_str() + prefix.size()));
-            if (pid > 0 && (kill(pid, 0) == 0 || errno == EPERM)) continue; // still running
+            if (pid > 0 && running(pid)) continue;
             fs::remove(it->path(), ec);
         }
     }
