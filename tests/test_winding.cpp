@@ -217,6 +217,49 @@ TEST(WindingSign, FarFromEveryFanHoldsOnlyWhereTheFansCannotDecide) {
     }
 }
 
+// The fan tree's bounds hold where they are tightest: beside the fans, nearly in their plane (a
+// node's bound counts how flat its fans are). For balls beside random fans, the fans a cut leaves
+// far (the cut stopped at once, or as the bake makes it) sum to at most the cut's farSum at every
+// point of the ball. Fans along the border of a wavy sheet and of a crumpled one (bent, far from
+// planar), and over the holes of a sphere.
+TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
+    Mesh crumpled = heightfield(16, false);
+    {
+        std::vector<glm::dvec3> positions = crumpled.worldPositions();
+        for (glm::dvec3& v : positions) v.z += 0.15 * std::sin(23.0 * v.x + 7.0 * v.y) * std::cos(19.0 * v.y);
+        crumpled = buildMesh("crumpled sheet", positions, crumpled.triangles);
+    }
+    for (const Mesh& mesh : {heightfield(12, false), crumpled, withHoles(test::icosphere(1.0f, 3), 7)}) {
+        const MeshTopology topology(mesh);
+        const WindingCaps caps(topology);
+        ASSERT_FALSE(caps.empty());
+        std::mt19937 rng(9);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0), scale(0.0, 1.0);
+        WindingCaps::Cut cut;
+        std::size_t bounded = 0;
+        for (int n = 0; n < 2000; ++n) {
+            const Cap& cap = caps.caps()[std::size_t(rng() % caps.caps().size())];
+            const double size = glm::length(cap.hi - cap.lo);
+            // Beside the fan, along its loop's first edge, a little off its plane.
+            const glm::dvec3 along = cap.loop[1] - cap.loop[0], across = glm::cross(along, cap.centre - cap.loop[0]);
+            const glm::dvec3 normal = glm::length(across) > 0.0 ? glm::normalize(across) : glm::dvec3(0.0);
+            const glm::dvec3 centre = cap.loop[0] + along * (1.2 + 3.0 * scale(rng)) * (n % 2 ? 1.0 : -1.0) + normal * size * 0.05 * unit(rng);
+            const double reach = n % 3 == 0 ? 0.0 : size * 0.1 * scale(rng);
+            if (n % 2) caps.cut(centre, reach, 0.0, 0, false, cut); // stops at the first fan: the nearest stay far
+            else caps.cut(centre, reach, 0.05, 4, false, cut);
+            bounded += !cut.farNodes.empty();
+            for (int m = 0; m < 8; ++m) {
+                glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
+                if (glm::length(offset) > 1.0) offset /= glm::length(offset);
+                const glm::dvec3 p = centre + offset * reach;
+                const double far = -caps.winding(p, 0) - caps.nearWinding(p, cut) - caps.exactWinding(p, cut);
+                ASSERT_LE(std::fabs(far), cut.farSum * (1.0 + 1e-9) + 1e-12) << mesh.source << " at " << p.x << "," << p.y << "," << p.z;
+            }
+        }
+        EXPECT_GT(bounded, 1000u) << mesh.source;
+    }
+}
+
 // Near an open sheet every sample needs fans: there the blocks' first-order expansion of the near
 // fans decides, sample by sample exactly as WindingCaps::inside does, with about as many fans
 // measured as inside() measures sample by sample (the samples of 2³ blocks measure their few near
