@@ -400,35 +400,36 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, Spa
     // then linked into the tree in order, a chunk at a time; the bricks are never in an inside
     // box's tiles.
     using Leaf = openvdb::FloatTree::LeafNodeType;
+    auto makeLeaf = [&](std::size_t b) {
+        const glm::ivec3 lo = field.bricks[b] * B;
+        const glm::ivec3 inGrid = glm::min(dims - lo, glm::ivec3(B)); // samples of the brick within the grid, per axis
+        auto leaf = std::make_unique<Leaf>(openvdb::Coord(lo.x, lo.y, lo.z), background);
+        float* out = leaf->buffer().data();
+        openvdb::util::NodeMask<3> active;
+        const float* values = &field.values[b * SparseField::kBrickSamples];
+        for (int z = 0; z < B; ++z)
+            for (int y = 0; y < B; ++y)
+                for (int x = 0; x < B; ++x) {
+                    const float v = exponent == 0 ? values[(z * B + y) * B + x] : std::ldexp(values[(z * B + y) * B + x], exponent);
+                    const openvdb::Index offset = Leaf::coordToOffset(openvdb::Coord(x, y, z));
+                    out[offset] = v;
+                    if (std::fabs(v) < background && x < inGrid.x && y < inGrid.y && z < inGrid.z) active.setOn(offset);
+                }
+        leaf->setValueMask(active);
+        return leaf;
+    };
     constexpr std::size_t kChunk = 1 << 12; // bricks (8 MB of values)
     std::vector<std::unique_ptr<Leaf>> leaves(std::min(kChunk, field.bricks.size()));
     openvdb::tree::ValueAccessor<openvdb::FloatTree> access(tree); // caches the path to the last leaf: bricks come in order
     for (std::size_t first = 0; first < field.bricks.size(); first += kChunk) {
-    const std::size_t last = std::min(field.bricks.size(), first + kChunk);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 256), [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            const glm::ivec3 lo = field.bricks[b] * B;
-            const glm::ivec3 inGrid = glm::min(dims - lo, glm::ivec3(B)); // samples of the brick within the grid, per axis
-            auto leaf = std::make_unique<Leaf>(openvdb::Coord(lo.x, lo.y, lo.z), background);
-            float* out = leaf->buffer().data();
-            openvdb::util::NodeMask<3> active;
-            const float* values = &field.values[b * SparseField::kBrickSamples];
-            for (int z = 0; z < B; ++z)
-                for (int y = 0; y < B; ++y)
-                    for (int x = 0; x < B; ++x) {
-                        const float v = exponent == 0 ? values[(z * B + y) * B + x] : std::ldexp(values[(z * B + y) * B + x], exponent);
-                        const openvdb::Index offset = Leaf::coordToOffset(openvdb::Coord(x, y, z));
-                        out[offset] = v;
-                        if (std::fabs(v) < background && x < inGrid.x && y < inGrid.y && z < inGrid.z) active.setOn(offset);
-                    }
-            leaf->setValueMask(active);
-            leaves[b - first] = std::move(leaf);
+        const std::size_t last = std::min(field.bricks.size(), first + kChunk);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 256), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t b = range.begin(); b != range.end(); ++b) leaves[b - first] = makeLeaf(b);
+        });
+        for (std::size_t b = first; b < last; ++b) access.addLeaf(leaves[b - first].release()); // the tree owns it
+        if (givenUp) {
+            releasePages(&givenUp->values[first * SparseField::kBrickSamples], (last - first) * SparseField::kBrickSamples * sizeof(float));
         }
-    });
-    for (std::size_t b = first; b < last; ++b) access.addLeaf(leaves[b - first].release()); // the tree owns it
-    if (givenUp) {
-        releasePages(&givenUp->values[first * SparseField::kBrickSamples], (last - first) * SparseField::kBrickSamples * sizeof(float));
-    }
     }
     if (givenUp) givenUp->values = {}, givenUp->bricks = {};
     Grid scaled = field.grid;
