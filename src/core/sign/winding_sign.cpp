@@ -183,8 +183,8 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
 
 void WindingCaps::flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const {
     constexpr double kEps = std::numeric_limits<double>::epsilon();
-    // Each fan triangle (loop[i + 1], loop[i], centre) with |weight| times its area (zero-area
-    // triangles see no solid angle), through f(a, b, c, weighted area, unnormalized normal).
+    // Each fan triangle (loop[i + 1], loop[i], centre) as f(a, b, c, |weight| times its area,
+    // unit normal, cross product); zero-area triangles are left out (they see no solid angle).
     auto forEachTriangle = [&](const auto& f) {
         for (std::size_t n = begin; n < end; ++n) {
             const Cap& cap = caps_[order[n]];
