@@ -159,6 +159,7 @@ void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, c
     // Room for the fan bricks that bandWindingSigns may add: merged in place, never moved.
     sides.bricks.reserve(sides.bricks.size() + sides.fanBricks.size());
     sides.values.reserve((sides.bricks.size() + sides.fanBricks.size()) * SparseField::kBrickSamples);
+    populatePages(sides.values.data(), sides.bricks.size() * SparseField::kBrickSamples * sizeof(float), quiet(control));
     sides.values.assign(sides.bricks.size() * SparseField::kBrickSamples, field.background);
     const MeshTopology* pseudonormal = signBricks ? nullptr : &context.topology();
     computeExactBricks(mesh, context.wide(), grid, sides.bricks.data(), sides.bricks.size(), finder.band * (1.0 + 1e-5), pseudonormal, context.flipped,

@@ -39,6 +39,21 @@ std::optional<std::uint64_t> readBytes(const std::filesystem::path& path) {
 
 } // namespace
 
+void populatePages(void* data, std::size_t bytes, const RunControl& control) {
+#ifdef MADV_POPULATE_WRITE
+    const std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE));
+    const std::uintptr_t begin = (std::uintptr_t(data) + page - 1) / page * page, end = (std::uintptr_t(data) + bytes) / page * page;
+    if (end <= begin) return;
+    constexpr std::uintptr_t kChunk = std::uintptr_t(32) << 20;
+    parallelFor((end - begin + kChunk - 1) / kChunk, control, [&](std::size_t n) {
+        const std::uintptr_t from = begin + n * kChunk;
+        madvise(reinterpret_cast<void*>(from), std::min(kChunk, end - from), MADV_POPULATE_WRITE); // an old kernel: EINVAL, nothing done
+    });
+#else
+    (void)data, (void)bytes, (void)control;
+#endif
+}
+
 void releasePages(void* data, std::size_t bytes) {
     const std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE));
     const std::uintptr_t begin = (std::uintptr_t(data) + page - 1) / page * page, end = (std::uintptr_t(data) + bytes) / page * page;

@@ -15,6 +15,11 @@ class Bvh;
 // are no longer needed while its owner lives on a little (they read as zeros afterwards).
 void releasePages(void* data, std::size_t bytes);
 
+// Has the system back the whole pages within [data, data + bytes) with memory now, from
+// control.threads threads (a buffer's first touch, otherwise one page fault at a time on one
+// thread); where the system cannot, they are backed when first written, as usual.
+void populatePages(void* data, std::size_t bytes, const RunControl& control);
+
 // Bytes of physical memory on this machine (0 when unknown).
 std::uint64_t physicalMemoryBytes();
 
