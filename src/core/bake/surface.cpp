@@ -153,15 +153,21 @@ SurfaceMesh surfaceMesh(std::vector<glm::vec3>&& positions, const std::vector<gl
     return mesh;
 }
 
-} // namespace
-
-SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
+// The plugin's polygons of `field` (its polygons or polygonsSparse) as a checked surface mesh.
+template <class AnyField, class Polygons>
+SurfaceMesh polygonize(const AnyField& field, double iso, double adaptivity, Polygons polygons) {
     checkSurfaceCanClose(field, iso, adaptivity);
     std::vector<glm::vec3> positions;
     std::vector<glm::uvec3> triangles;
     std::vector<glm::uvec4> quads;
-    openVdbPlugin().polygons(field, iso, adaptivity, positions, triangles, quads);
+    polygons(field, iso, adaptivity, positions, triangles, quads);
     return surfaceMesh(std::move(positions), triangles, quads, field.grid, iso);
+}
+
+} // namespace
+
+SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
+    return polygonize(field, iso, adaptivity, openVdbPlugin().polygons);
 }
 
 SurfaceMesh extractSurface(const SparseField& field, double iso, double adaptivity) {
@@ -171,12 +177,7 @@ SurfaceMesh extractSurface(const SparseField& field, double iso, double adaptivi
                       iso, double(field.background));
         throw Error(message);
     }
-    checkSurfaceCanClose(field, iso, adaptivity);
-    std::vector<glm::vec3> positions;
-    std::vector<glm::uvec3> triangles;
-    std::vector<glm::uvec4> quads;
-    openVdbPlugin().polygonsSparse(field, iso, adaptivity, positions, triangles, quads);
-    return surfaceMesh(std::move(positions), triangles, quads, field.grid, iso);
+    return polygonize(field, iso, adaptivity, openVdbPlugin().polygonsSparse);
 }
 
 void saveSurface(const SurfaceMesh& mesh, const std::string& path) {
