@@ -2,6 +2,7 @@
 // coplanar overlaps. Signs must equal those of the reference winding number, sample by sample,
 // work must stay bounded by what is near, and point queries must agree with the bake.
 #include "core/accel/bvh.hpp"
+#include "core/distance/kernel.hpp"
 #include "core/distance/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/model.hpp"
@@ -252,12 +253,53 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
                 glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
                 if (glm::length(offset) > 1.0) offset /= glm::length(offset);
                 const glm::dvec3 p = centre + offset * reach;
-                const double far = -caps.winding(p, 0) - caps.nearWinding(p, cut) - caps.exactWinding(p, cut);
+                double exact = 0.0;
+                caps.fanWindings(cut.exactNodes, &p, 1, &exact);
+                const double far = -caps.winding(p, 0) - caps.nearWinding(p, cut) - exact;
                 ASSERT_LE(std::fabs(far), cut.farSum * (1.0 + 1e-9) + 1e-12) << mesh.source << " at " << p.x << "," << p.y << "," << p.z;
             }
         }
         EXPECT_GT(bounded, 1000u) << mesh.source;
     }
+}
+
+// The fan kernel (every fan's factors multiplied into one product per point, one atan2 at the end,
+// four points to a vector) agrees with the fans measured one by one, on each SIMD path: at points
+// around the fans of a sheet with holes and of two copies of it (fans of weight 2, measured apart),
+// and at a fan's own vertex, where a fan has no angle (that point is measured fan by fan).
+TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
+    const Mesh sheet = withHoles(heightfield(10, false), 9);
+    const SimdPath chosen = simdPath();
+    for (const Mesh& mesh : {sheet, combined("two copies", sheet, sheet)}) {
+        const MeshTopology topology(mesh);
+        const WindingCaps caps(topology);
+        bool weighted = false;
+        for (const Cap& cap : caps.caps()) weighted |= cap.weight != 1;
+        EXPECT_EQ(weighted, mesh.triangleCount() > sheet.triangleCount()) << mesh.source;
+        std::mt19937 rng(4);
+        std::uniform_real_distribution<double> unit(-1.2, 1.2);
+        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+            if (!simdPathAvailable(path)) continue;
+            setSimdPath(path);
+            WindingCaps::Cut cut;
+            for (int n = 0; n < 200; ++n) {
+                glm::dvec3 points[kFanPoints];
+                for (glm::dvec3& p : points) p = glm::dvec3(unit(rng), unit(rng), 0.4 * unit(rng));
+                if (n % 10 == 0) points[n % kFanPoints] = caps.caps()[std::size_t(n) % caps.caps().size()].loop[0];
+                const int count = 1 + n % kFanPoints;
+                caps.cut(points[0], 0.0, 0.0, std::size_t(-1), false, cut); // every fan near (but those of no area)
+                ASSERT_TRUE(cut.farNodes.empty());
+                ASSERT_GT(cut.nearNodes.size(), caps.caps().size() / 2);
+                double windings[kFanPoints];
+                caps.fanWindings(cut.nearNodes, points, count, windings);
+                for (int s = 0; s < count; ++s) {
+                    const double alone = caps.nearWinding(points[s], cut);
+                    ASSERT_NEAR(windings[s], alone, 1e-12) << mesh.source << ", " << toString(path) << ", point " << s << " of " << count;
+                }
+            }
+        }
+    }
+    setSimdPath(chosen);
 }
 
 // Near an open sheet every sample needs fans: there the blocks' first-order expansion of the near

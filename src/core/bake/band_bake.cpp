@@ -62,17 +62,15 @@ struct BrickFinder {
         if (outOfBand && caps.farFromEveryFan(centre, reach)) return;
         if (outOfBand) {
             // Near a fan but clear of the surface: the winding number is smooth here; where it stays
-            // off ±1/2 over the whole cube (its value at the centre, exact, and the bound on its
-            // change), every sample has that side, as the dense bake decides it sample by sample.
+            // off ±1/2 over the whole cube (its value at the centre, off ±1/2 by more than the bound on
+            // its change), every sample has that side, as the dense bake decides it sample by sample.
             const double variation = caps.windingVariation(centre, reach);
             if (variation < 0.25) {
-                const double w = caps.winding(centre, crossingsAhead(mesh, rows, caps, centre));
-                const double margin = std::fabs(std::fabs(w) - 0.5);
-                if (margin > variation * (1.0 + 1e-9) + 1e-6) {
-                    const std::uint8_t side = std::fabs(w) > 0.5;
+                const int side = caps.sideBeyond(centre, crossingsAhead(mesh, rows, caps, centre), variation * (1.0 + 1e-9) + 1e-6);
+                if (side >= 0) {
                     for (int z = lo.z; z < hi.z; ++z)
                         for (int y = lo.y; y < hi.y; ++y)
-                            for (int x = lo.x; x < hi.x; ++x) found.sided.emplace_back(glm::ivec3(x, y, z), side);
+                            for (int x = lo.x; x < hi.x; ++x) found.sided.emplace_back(glm::ivec3(x, y, z), std::uint8_t(side));
                     return;
                 }
             }

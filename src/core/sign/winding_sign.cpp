@@ -2,6 +2,7 @@
 #include "core/mesh/geometry.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/distance/sample_positions.hpp"
+#include "core/distance/kernel.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -449,17 +450,41 @@ double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3*
     return w;
 }
 
-double WindingCaps::exactWinding(const glm::dvec3& p, const Cut& cut) const {
-    double w = 0.0;
-    for (std::uint32_t node : cut.exactNodes) w += fanWinding(p, caps_[nodes_[node].first]);
-    return w;
+void WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const {
+    // Fans of weight 1 go to the kernel, the others (copies of open triangles, rare) are measured one by one.
+    const Cap* unit[64];
+    std::size_t units = 0;
+    for (int s = 0; s < n; ++s) windings[s] = 0.0;
+    auto flush = [&] {
+        if (units == 0) return;
+        double part[kFanPoints];
+        kernel::active().fanWindings(unit, units, points, n, part);
+        for (int s = 0; s < n; ++s) {
+            if (std::isnan(part[s])) { // a point on a fan's edge: each fan as inside() measures it (0 for that fan)
+                part[s] = 0.0;
+                for (std::size_t f = 0; f < units; ++f) part[s] += fanWinding(points[s], *unit[f]);
+            }
+            windings[s] += part[s];
+        }
+        units = 0;
+    };
+    for (std::uint32_t node : leaves) {
+        const Cap& cap = caps_[nodes_[node].first];
+        if (cap.weight != 1) {
+            for (int s = 0; s < n; ++s) windings[s] += fanWinding(points[s], cap);
+            continue;
+        }
+        unit[units++] = &cap;
+        if (units == std::size(unit)) flush();
+    }
+    flush();
 }
 
-bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
+bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
-    Search search{*this, p, kDecisionMargin, double(ahead), pending};
-    for (std::uint32_t node : cut.nearNodes) search.measure(nodes_[node].first);
+    Search search{*this, p, kDecisionMargin, double(ahead) - near, pending};
+    search.measured = cut.nearNodes.size();
     search.farSum = cut.farSum;
     bool decided = !search.doubtful();
     if (!decided) { // the point's own bounds are tighter than the ball's, loosest first
@@ -515,6 +540,15 @@ double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
     double w = double(ahead);
     for (const Cap& cap : caps_) w -= fanWinding(p, cap);
     return w;
+}
+
+int WindingCaps::sideBeyond(const glm::dvec3& p, int ahead, double margin) const {
+    thread_local std::vector<Pending> pending;
+    pending.clear();
+    Search search{*this, p, margin, double(ahead), pending};
+    if (!nodes_.empty()) search.add(0);
+    if (search.doubtful()) search.refine();
+    return search.doubtful() ? -1 : std::fabs(search.w) > 0.5;
 }
 
 double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) const {
@@ -670,16 +704,32 @@ struct BrickSigns {
             return;
         }
         WindingCaps::Cut& cut = cuts[level];
-        if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
-            caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
+        // The block's undecided samples, a batch of up to kFanPoints at a time: their fans are measured together.
+        glm::dvec3 points[kFanPoints];
+        glm::ivec3 at[kFanPoints];
+        int batch = 0;
+        auto forEachBatch = [&](const auto& decideBatch) {
             for (int k = ka; k < ke; ++k)
                 for (int j = ja; j < je; ++j)
                     for (int i = ia; i < ie; ++i) {
-                        const std::uint64_t b = bit(i - i0, j - j0);
-                        if (!(row(k) & b)) continue;
-                        output.set(output.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), cut, cuts[3], &evaluations));
-                        row(k) &= ~b;
+                        if (!(row(k) & bit(i - i0, j - j0))) continue;
+                        points[batch] = axes.position(i, j, k), at[batch] = glm::ivec3(i, j, k);
+                        if (++batch == kFanPoints) decideBatch(), batch = 0;
                     }
+            if (batch > 0) decideBatch(), batch = 0;
+        };
+        if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
+            static_assert(kMeasuredEdge * kMeasuredEdge * kMeasuredEdge <= kFanPoints, "a measured block is one batch");
+            caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
+            forEachBatch([&] {
+                double near[kFanPoints];
+                caps.fanWindings(cut.nearNodes, points, batch, near);
+                for (int s = 0; s < batch; ++s) {
+                    const glm::ivec3& q = at[s];
+                    output.set(output.index(q.x, q.y, q.z), caps.insideNear(points[s], count(q.x, q.y, q.z), near[s], cut, cuts[3], &evaluations));
+                    row(q.z) &= ~bit(q.x - i0, q.y - j0);
+                }
+            });
             return;
         }
         caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut, within);
@@ -687,27 +737,27 @@ struct BrickSigns {
             glm::dvec3 gradient;
             const double near = caps.nearWinding(centre, cut, &gradient);
             evaluations += cut.nearNodes.size();
-            for (int k = ka; k < ke; ++k)
-                for (int j = ja; j < je; ++j)
-                    for (int i = ia; i < ie; ++i) {
-                        const std::uint64_t b = bit(i - i0, j - j0);
-                        if (!(row(k) & b)) continue;
-                        const glm::dvec3 p = axes.position(i, j, k), offset = p - centre;
-                        double fans = near + glm::dot(gradient, offset);
-                        if (!cut.exactNodes.empty()) {
-                            fans += caps.exactWinding(p, cut);
-                            evaluations += cut.exactNodes.size();
-                        }
-                        // |w| - 1/2: its distance from 0 bounds w's from both 1/2 and -1/2.
-                        const double x = std::fabs(double(count(i, j, k)) - fans) - 0.5;
-                        const double distance = glm::length(offset);
-                        const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
-                        if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
-                            output.set(output.index(i, j, k), x > 0.0);
-                            row(k) &= ~b;
-                            exactDecided += !cut.exactNodes.empty();
-                        }
+            forEachBatch([&] {
+                double exact[kFanPoints] = {};
+                if (!cut.exactNodes.empty()) {
+                    caps.fanWindings(cut.exactNodes, points, batch, exact);
+                    evaluations += std::size_t(batch) * cut.exactNodes.size();
+                }
+                for (int s = 0; s < batch; ++s) {
+                    const glm::ivec3& q = at[s];
+                    const glm::dvec3 offset = points[s] - centre;
+                    const double fans = near + glm::dot(gradient, offset) + exact[s];
+                    // |w| - 1/2: its distance from 0 bounds w's from both 1/2 and -1/2.
+                    const double x = std::fabs(double(count(q.x, q.y, q.z)) - fans) - 0.5;
+                    const double distance = glm::length(offset);
+                    const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
+                    if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
+                        output.set(output.index(q.x, q.y, q.z), x > 0.0);
+                        row(q.z) &= ~bit(q.x - i0, q.y - j0);
+                        exactDecided += !cut.exactNodes.empty();
                     }
+                }
+            });
             if (!anyUndecided()) return;
         }
         const int half = edge / 2;

@@ -27,6 +27,21 @@ struct Cap {
     int weight = 1;    // equal loops (copies of open triangles) share one cap
 };
 
+// The fan kernel's compiled copies (core/sign/fan_kernel.inc), reached through the SIMD dispatch
+// table of core/distance/kernel.hpp: windings[s] = the summed winding number of `count` fans of
+// weight 1 at points[s], s < n <= kFanPoints, or NaN where a point lies on a fan's edge (no angle).
+constexpr int kFanPoints = 8;
+namespace fans {
+namespace baseline {
+void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
+}
+#if defined(__x86_64__) || defined(__i386__)
+namespace avx2 {
+void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
+}
+#endif
+} // namespace fans
+
 // The fans that close a mesh's boundary, and a bounding-box hierarchy over them that bounds their
 // winding number from afar: seen from a point at distance d > 0 from a node's box, everything
 // under the node has |winding number| <= area / (4π d²) (a surface's solid angle is at most its
@@ -85,24 +100,29 @@ public:
     // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
     // than splitting the block.
     static constexpr std::size_t kMaxExactFans = 4;
-    // The exact fans' winding number at p.
-    double exactWinding(const glm::dvec3& p, const Cut& cut) const;
+    // The winding number of the fans of `leaves` (a cut's near or exact nodes) at each of n <=
+    // kFanPoints points, measured together by the fan kernel.
+    void fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const;
     // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
     double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
-    // inside() for a point of the ball that `cut` was made for: the near fans measured, then the
-    // far nodes bounded (the ball's bounds; then, loosest first, each far node bounded at the point
-    // and opened as inside() opens nodes) while
-    // |w| is within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside()
-    // decides. Deciding only outside that margin, it answers as inside() does (their doubles of
-    // w differ by rounding, far below the margin), with the tree's top walked once per block.
+    // inside() for a point of the ball that `cut` was made for, given `near`, the near fans'
+    // winding number there (fanWindings): the far nodes bounded (the ball's bounds; then, loosest
+    // first, each far node bounded at the point and opened as inside() opens nodes) while |w| is
+    // within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside() decides. Deciding
+    // only outside that margin, it answers as inside() does (their doubles of w differ by
+    // rounding, far below the margin), with the tree's top walked once per block.
     static constexpr double kDecisionMargin = 1e-7;
     // `scratch` is any Cut's: its heap is borrowed. Most points are decided by the ball's bounds
     // alone; the first that is not sorts the cut's far nodes (loosest first), for every later one.
-    bool insideNear(const glm::dvec3& p, int ahead, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
+    bool insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
     // The caps and their tree for a compute device (WindingFans).
     WindingFans flattened() const;
     // The exact winding number at p given `ahead`: every fan measured.
     double winding(const glm::dvec3& p, int ahead) const;
+    // The side at p (1 inside, 0 outside) where |w| is farther than `margin` from 1/2, else -1:
+    // fans measured lazily, loosest node first, as inside() measures them, until the bounds of the
+    // rest decide or every fan is measured.
+    int sideBeyond(const glm::dvec3& p, int ahead, double margin) const;
     // A bound on how far the mesh's winding number moves over the ball (centre, reach), which no
     // mesh triangle meets: its gradient is the field of the mesh's boundary loops (each cap's loop,
     // of length L at distance d from the ball, adds at most |weight| L / (4π d²) per unit of
