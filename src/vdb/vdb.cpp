@@ -29,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <set>
+#include <sstream>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -376,6 +377,39 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
     return grid;
 }
 
+// A FloatGrid whose leaf buffers are written in parallel: OpenVDB's own LeafNode::writeBuffers,
+// run a chunk of leaves at a time on every thread into memory (a stream with the file stream's
+// settings: compression, background), then written in the tree's leaf order, as
+// Tree::writeBuffers writes them one by one on one thread: the same bytes.
+class ParallelBuffersGrid final : public openvdb::FloatGrid {
+public:
+    using openvdb::FloatGrid::Grid;
+    void writeBuffers(std::ostream& os) const override {
+        if (hasMultiPassIO()) return openvdb::FloatGrid::writeBuffers(os);
+        using Leaf = openvdb::FloatTree::LeafNodeType;
+        std::vector<const Leaf*> leaves;
+        leaves.reserve(tree().leafCount());
+        tree().getNodes(leaves); // depth first, children in order: the order of Tree::writeBuffers
+        constexpr std::size_t kChunk = 512, kBatch = 32; // leaves per chunk (1 MB); chunks held at once
+        const bool half = saveFloatAsHalf();
+        std::vector<std::string> chunks(kBatch);
+        for (std::size_t first = 0; first < leaves.size(); first += kChunk * kBatch) {
+            const std::size_t count = std::min(kBatch, (leaves.size() - first + kChunk - 1) / kChunk);
+            tbb::parallel_for(std::size_t(0), count, [&](std::size_t c) {
+                std::ostringstream chunk;
+                chunk.copyfmt(os); // OpenVDB's settings live in the stream's iword/pword slots
+                const std::size_t begin = first + c * kChunk, end = std::min(leaves.size(), begin + kChunk);
+                for (std::size_t n = begin; n < end; ++n) leaves[n]->writeBuffers(chunk, half);
+                chunks[c] = std::move(chunk).str();
+            });
+            for (std::size_t c = 0; c < count; ++c) {
+                os.write(chunks[c].data(), std::streamsize(chunks[c].size()));
+                chunks[c] = std::string();
+            }
+        }
+    }
+};
+
 // A band field as a level-set FloatGrid named "surface" (the transform of fieldToGrid): each
 // brick a leaf, its samples in the band active; each inside box inactive -background tiles; the
 // rest the +background of the tree. Distances and grid scaled by 2^exponent. Initializes OpenVDB.
@@ -385,7 +419,7 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, Spa
     constexpr int B = SparseField::kBrick;
     openvdb::initialize();
     const float background = std::ldexp(field.background, exponent);
-    const openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+    const openvdb::FloatGrid::Ptr grid = std::make_shared<ParallelBuffersGrid>(background);
     openvdb::FloatTree& tree = grid->tree();
     const glm::ivec3 dims = field.grid.dims;
     // Whole bricks (a box cut at the grid's end reaches on to its brick's end), so that fill makes
