@@ -167,14 +167,6 @@ void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, c
     // 3. Sides: the band's samples and every other brick's.
     start = Clock::now();
     bandWindingSigns(mesh, context.topology(), caps, grid, sides, control.phase(0.75, 1.0));
-    // Out of the band only the side is kept.
-    const float background = field.background;
-    parallelFor(sides.bricks.size(), quiet(control), [&](std::size_t b) {
-        float* values = &sides.values[b * SparseField::kBrickSamples];
-        for (int n = 0; n < SparseField::kBrickSamples; ++n) {
-            if (!(std::fabs(values[n]) < background)) values[n] = std::signbit(values[n]) ? -background : background;
-        }
-    });
     result.signSeconds += since(start);
     field.bricks = std::move(sides.bricks);
     field.values = std::move(sides.values);

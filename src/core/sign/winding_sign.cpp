@@ -628,6 +628,12 @@ struct SampleAxes {
     SampleAxes(const Mesh& mesh, const Grid& grid)
         : all(sampleAxes(mesh, grid)), x(all.data()), y(x + grid.dims.x), z(y + grid.dims.y) {}
     glm::dvec3 position(int i, int j, int k) const { return {x[i], y[j], z[k]}; }
+    // Whether no fan can move the winding number of the samples [i0, i1) x [j0, j1) x [k0, k1)
+    // across ±1/2 (a ball around them far from every fan): their counts decide.
+    bool clearOfFans(const WindingCaps& caps, int i0, int j0, int k0, int i1, int j1, int k1) const {
+        const glm::dvec3 lo = position(i0, j0, k0), hi = position(i1 - 1, j1 - 1, k1 - 1);
+        return caps.farFromEveryFan(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) * (1.0 + 1e-9));
+    }
 };
 
 // The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
@@ -683,10 +689,7 @@ struct BrickSigns {
             return false;
         };
         if (!anyUndecided()) return;
-        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
-        const glm::dvec3 centre = 0.5 * (lo + hi);
-        const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
-        if (caps.farFromEveryFan(centre, reach)) { // the counts decide (as insideNear() would)
+        if (axes.clearOfFans(caps, ia, ja, ka, ie, je, ke)) { // the counts decide (as insideNear() would)
             const SignOutput out = output; // a local copy: its pointers stay in registers across the stores
             for (int k = ka; k < ke; ++k) {
                 const std::uint64_t open = row(k) & mine;
@@ -703,6 +706,9 @@ struct BrickSigns {
             }
             return;
         }
+        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
+        const glm::dvec3 centre = 0.5 * (lo + hi);
+        const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
         WindingCaps::Cut& cut = cuts[level];
         // The block's undecided samples, a batch of up to kFanPoints at a time: their fans are measured together.
         glm::dvec3 points[kFanPoints];
@@ -1008,7 +1014,18 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                 int side; // 1 inside, 0 outside, -1 both
                 if (stored < storedStart[layerIndex + 1] && band.bricks[stored] == brick) {
                     float* values = &band.values[stored * std::size_t(SparseField::kBrickSamples)];
-                    if (band.signBricks) {
+                    const int i0 = bx * kEdge, i1 = std::min(nx, i0 + kEdge);
+                    if (band.signBricks && axes.clearOfFans(caps, i0, j0, k0, i1, j1, k1)) {
+                        // Clear of the fans (most of the band): negated where the count is not 0, as BrickSigns decides.
+                        for (int k = k0; k < k1; ++k)
+                            for (int j = j0; j < j1; ++j) {
+                                const int r = (j - j0) + kEdge * (k - k0);
+                                float* row = values + r * kEdge;
+                                for (int i = i0; i < i1; ++i) {
+                                    if (aheadAt(r, i) != 0) row[i - i0] = -row[i - i0];
+                                }
+                            }
+                    } else if (band.signBricks) {
                         decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge});
                     } else {
                         // Signed as measured, but for the samples the distance pass skipped (out of the
@@ -1018,6 +1035,10 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                         for (int n = 0; n < SparseField::kBrickSamples; ++n) {
                             if (flags[n] == 1 && values[n] == background) values[n] = -background;
                         }
+                    }
+                    // Out of the band only the side is kept.
+                    for (int n = 0; n < SparseField::kBrickSamples; ++n) {
+                        if (!(std::fabs(values[n]) < background)) values[n] = std::signbit(values[n]) ? -background : background;
                     }
                     ++stored;
                     side = -1;

@@ -201,7 +201,8 @@ struct BandSides {
     float background = 0;
     // In: the bricks in the band (ordered by z, y, x) and their 512 samples each (unsigned
     // distances, or signed already when signBricks is false); out: their samples negated where
-    // inside, and the fan bricks whose samples are on both sides added (±background).
+    // inside, those beyond the band (|value| >= background) set to ±background, and the fan bricks
+    // whose samples are on both sides added (±background).
     std::vector<glm::ivec3> bricks;
     std::vector<float> values;
     bool signBricks = true;
