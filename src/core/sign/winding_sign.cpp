@@ -1021,8 +1021,16 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                             for (int j = j0; j < j1; ++j) {
                                 const int r = (j - j0) + kEdge * (k - k0);
                                 float* row = values + r * kEdge;
-                                for (int i = i0; i < i1; ++i) {
-                                    if (aheadAt(r, i) != 0) row[i - i0] = -row[i - i0];
+                                const std::vector<Crossing>& crossings = rows[std::size_t(k - k0) * std::size_t(ny) + std::size_t(j)];
+                                for (int i = i0; i < i1;) { // by runs of samples with no crossing between them
+                                    const bool inside = aheadAt(r, i) != 0;
+                                    const double next = cursor[r] < crossings.size() ? crossings[cursor[r]].x : std::numeric_limits<double>::infinity();
+                                    int end = i + 1;
+                                    while (end < i1 && next > axes.x[end]) ++end;
+                                    if (inside) {
+                                        for (int n = i; n < end; ++n) row[n - i0] = -row[n - i0];
+                                    }
+                                    i = end;
                                 }
                             }
                     } else if (band.signBricks) {
@@ -1037,8 +1045,8 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                         }
                     }
                     // Out of the band only the side is kept.
-                    for (int n = 0; n < SparseField::kBrickSamples; ++n) {
-                        if (!(std::fabs(values[n]) < background)) values[n] = std::signbit(values[n]) ? -background : background;
+                    for (int n = 0; n < SparseField::kBrickSamples; ++n) { // a select, so that it vectorizes
+                        values[n] = std::fabs(values[n]) < background ? values[n] : std::copysign(background, values[n]);
                     }
                     ++stored;
                     side = -1;
