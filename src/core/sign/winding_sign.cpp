@@ -450,18 +450,20 @@ double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3*
     return w;
 }
 
-void WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const {
+std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const {
     // Fans of weight 1 go to the kernel, the others (copies of open triangles, rare) are measured one by one.
     const Cap* unit[64];
-    std::size_t units = 0;
+    std::size_t units = 0, measured = 0;
     for (int s = 0; s < n; ++s) windings[s] = 0.0;
     auto flush = [&] {
         if (units == 0) return;
         double part[kFanPoints];
         kernel::active().fanWindings(unit, units, points, n, part);
+        measured += units * std::size_t((n + 3) / 4);
         for (int s = 0; s < n; ++s) {
             if (std::isnan(part[s])) { // a point on a fan's edge: each fan as inside() measures it (0 for that fan)
                 part[s] = 0.0;
+                measured += units;
                 for (std::size_t f = 0; f < units; ++f) part[s] += fanWinding(points[s], *unit[f]);
             }
             windings[s] += part[s];
@@ -472,19 +474,20 @@ void WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, const gl
         const Cap& cap = caps_[nodes_[node].first];
         if (cap.weight != 1) {
             for (int s = 0; s < n; ++s) windings[s] += fanWinding(points[s], cap);
+            measured += std::size_t(n);
             continue;
         }
         unit[units++] = &cap;
         if (units == std::size(unit)) flush();
     }
     flush();
+    return measured;
 }
 
 bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
     Search search{*this, p, kDecisionMargin, double(ahead) - near, pending};
-    search.measured = cut.nearNodes.size();
     search.farSum = cut.farSum;
     bool decided = !search.doubtful();
     if (!decided) { // the point's own bounds are tighter than the ball's, loosest first
@@ -645,9 +648,10 @@ struct SampleAxes {
 struct BrickSigns {
     static constexpr int kEdge = 8;
     // The cuts' targets (sums of far bounds) and their most fans: expanded once per block, or
-    // measured at every sample of a 2³ block (tuned on open sheets and meshes with many holes).
-    static constexpr double kExpandTarget = 0.01, kPointTarget = 0.05;
-    static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 4;
+    // measured at every sample of a 2³ block by the fan kernel (tuned on open sheets, meshes with
+    // many holes and the band beside the holes of a scan).
+    static constexpr double kExpandTarget = 0.01, kPointTarget = 0.01;
+    static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 12;
     static constexpr int kMeasuredEdge = 2; // blocks of 2³ are measured sample by sample
     const SampleAxes& axes;
     const WindingCaps& caps;
@@ -729,7 +733,7 @@ struct BrickSigns {
             caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
             forEachBatch([&] {
                 double near[kFanPoints];
-                caps.fanWindings(cut.nearNodes, points, batch, near);
+                evaluations += caps.fanWindings(cut.nearNodes, points, batch, near);
                 for (int s = 0; s < batch; ++s) {
                     const glm::ivec3& q = at[s];
                     output.set(output.index(q.x, q.y, q.z), caps.insideNear(points[s], count(q.x, q.y, q.z), near[s], cut, cuts[3], &evaluations));
@@ -746,8 +750,7 @@ struct BrickSigns {
             forEachBatch([&] {
                 double exact[kFanPoints] = {};
                 if (!cut.exactNodes.empty()) {
-                    caps.fanWindings(cut.exactNodes, points, batch, exact);
-                    evaluations += std::size_t(batch) * cut.exactNodes.size();
+                    evaluations += caps.fanWindings(cut.exactNodes, points, batch, exact);
                 }
                 for (int s = 0; s < batch; ++s) {
                     const glm::ivec3& q = at[s];

@@ -101,8 +101,9 @@ public:
     // than splitting the block.
     static constexpr std::size_t kMaxExactFans = 4;
     // The winding number of the fans of `leaves` (a cut's near or exact nodes) at each of n <=
-    // kFanPoints points, measured together by the fan kernel.
-    void fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const;
+    // kFanPoints points, measured together by the fan kernel. Returns the fan measurements made
+    // (WindingStats::fanEvaluations).
+    std::size_t fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const;
     // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
     double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
     // inside() for a point of the ball that `cut` was made for, given `near`, the near fans'
@@ -114,6 +115,7 @@ public:
     static constexpr double kDecisionMargin = 1e-7;
     // `scratch` is any Cut's: its heap is borrowed. Most points are decided by the ball's bounds
     // alone; the first that is not sorts the cut's far nodes (loosest first), for every later one.
+    // `evaluations` counts the fans measured beyond the near ones.
     bool insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
     // The caps and their tree for a compute device (WindingFans).
     WindingFans flattened() const;
@@ -172,7 +174,9 @@ int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, c
 // What the winding sign did, for tests and benchmarks.
 struct WindingStats {
     std::size_t caps = 0;           // fans closing the boundary (equal loops share one, long ones are split)
-    std::size_t fanEvaluations = 0; // fan solid angles measured, over all samples
+    // Fan measurements over all samples: a fan's solid angle at one point, or at up to four at once
+    // (one vector of the fan kernel).
+    std::size_t fanEvaluations = 0;
     std::size_t exactFanSamples = 0; // samples decided by a block's expansion with its exact fans measured at each
 };
 
