@@ -1,9 +1,12 @@
 #include "sdfgen/sparse_field.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/memory.hpp"
+#include "core/runtime/parallel.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>
+#include <atomic>
+#include <functional>
 #include <cmath>
 #include <tuple>
 
@@ -13,6 +16,15 @@ namespace {
 
 // Bricks and boxes are ordered by z, then y, then x.
 bool before(const glm::ivec3& a, const glm::ivec3& b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); }
+
+// Runs body(chunk, first, last) over the bricks [0, count) in chunks of kChunk, on every thread
+// (a band's values are hundreds of megabytes).
+constexpr std::size_t kChunk = 4096; // bricks (8 MB of values)
+void forEachChunk(std::size_t count, const std::function<void(std::size_t, std::size_t, std::size_t)>& body) {
+    parallelFor((count + kChunk - 1) / kChunk, RunControl{}, [&](std::size_t chunk) {
+        body(chunk, chunk * kChunk, std::min(count, (chunk + 1) * kChunk));
+    });
+}
 
 } // namespace
 
@@ -52,16 +64,22 @@ float SparseField::sample(const glm::dvec3& position) const {
 }
 
 std::size_t SparseField::activeCount() const {
+    std::vector<std::size_t> counts((bricks.size() + kChunk - 1) / kChunk);
+    forEachChunk(bricks.size(), [&](std::size_t chunk, std::size_t first, std::size_t last) {
+        std::size_t count = 0;
+        for (std::size_t b = first; b < last; ++b) {
+            const glm::ivec3 lo = bricks[b] * kBrick, hi = glm::min(lo + kBrick, grid.dims);
+            for (int k = lo.z; k < hi.z; ++k)
+                for (int j = lo.y; j < hi.y; ++j)
+                    for (int i = lo.x; i < hi.x; ++i) {
+                        const float v = values[b * kBrickSamples + std::size_t(((k - lo.z) * kBrick + (j - lo.y)) * kBrick + (i - lo.x))];
+                        count += std::fabs(v) < background;
+                    }
+        }
+        counts[chunk] = count;
+    });
     std::size_t count = 0;
-    for (std::size_t b = 0; b < bricks.size(); ++b) {
-        const glm::ivec3 lo = bricks[b] * kBrick, hi = glm::min(lo + kBrick, grid.dims);
-        for (int k = lo.z; k < hi.z; ++k)
-            for (int j = lo.y; j < hi.y; ++j)
-                for (int i = lo.x; i < hi.x; ++i) {
-                    const float v = values[b * kBrickSamples + std::size_t(((k - lo.z) * kBrick + (j - lo.y)) * kBrick + (i - lo.x))];
-                    count += std::fabs(v) < background;
-                }
-    }
+    for (const std::size_t c : counts) count += c;
     return count;
 }
 
@@ -123,8 +141,12 @@ void SparseField::check(const std::string& path) const {
         }
         if (b > 0 && !before(bricks[b - 1], brick)) fail("the bricks are not in z, y, x order or repeat one");
     }
-    bool bad = false; // no early exit: the loop vectorizes (NaN fails the comparison)
-    for (const float v : values) bad |= !(std::fabs(v) <= background);
+    std::atomic<bool> bad{false};
+    forEachChunk(bricks.size(), [&](std::size_t, std::size_t first, std::size_t last) {
+        bool chunkBad = false; // no early exit: the loop vectorizes (NaN fails the comparison)
+        for (std::size_t n = first * kBrickSamples; n < last * kBrickSamples; ++n) chunkBad |= !(std::fabs(values[n]) <= background);
+        if (chunkBad) bad = true;
+    });
     if (bad) fail("a brick value is not finite or exceeds the background");
     for (std::size_t n = 0; n < insideBoxes.size(); ++n) {
         const auto& box = insideBoxes[n];
