@@ -640,24 +640,25 @@ struct SampleAxes {
 };
 
 // The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
-// ahead, coarse to fine (8³, 4³): in a block, the near fans that its ball misses have their
-// winding number expanded to first order at its centre, the few it may meet (a big fan across a
-// sheet) are measured at each sample, and every sample whose w the bounds (the far nodes' over
-// the ball, the expansion's rest) keep off ±1/2 is decided; the rest are split into octants, and
-// the samples of 2³ blocks are decided by WindingCaps::insideNear.
+// ahead, coarse to fine: in the brick, the near fans that its ball misses have their winding
+// number expanded to first order at its centre, the few it may meet (a big fan across a sheet)
+// are measured at each sample, and every sample whose w the bounds (the far nodes' over the
+// ball, the expansion's rest) keep off ±1/2 is decided; the rest are split into octants, blocks
+// of 4³ whose samples measure their block's near fans (the fan kernel, eight samples at a time)
+// and are decided by WindingCaps::insideNear.
 struct BrickSigns {
     static constexpr int kEdge = 8;
     // The cuts' targets (sums of far bounds) and their most fans: expanded once per block, or
-    // measured at every sample of a 2³ block by the fan kernel (tuned on open sheets, meshes with
-    // many holes and the band beside the holes of a scan).
+    // measured at every sample of a 4³ block by the fan kernel (tuned by time on open sheets,
+    // meshes with many holes and the band beside the holes of a scan).
     static constexpr double kExpandTarget = 0.01, kPointTarget = 0.01;
     static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 12;
-    static constexpr int kMeasuredEdge = 2; // blocks of 2³ are measured sample by sample
+    static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
     std::size_t evaluations = 0, exactDecided = 0;
-    WindingCaps::Cut cuts[4]; // per level: 8³, 4³, 2³ (measured); scratch
+    WindingCaps::Cut cuts[2], scratch; // per level: 8³ (expanded), 4³ (measured); insideNear's heap
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
     // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
     // of undecided[k - k0]).
@@ -729,14 +730,14 @@ struct BrickSigns {
             if (batch > 0) decideBatch(), batch = 0;
         };
         if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
-            static_assert(kMeasuredEdge * kMeasuredEdge * kMeasuredEdge <= kFanPoints, "a measured block is one batch");
+
             caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
             forEachBatch([&] {
                 double near[kFanPoints];
                 evaluations += caps.fanWindings(cut.nearNodes, points, batch, near);
                 for (int s = 0; s < batch; ++s) {
                     const glm::ivec3& q = at[s];
-                    output.set(output.index(q.x, q.y, q.z), caps.insideNear(points[s], count(q.x, q.y, q.z), near[s], cut, cuts[3], &evaluations));
+                    output.set(output.index(q.x, q.y, q.z), caps.insideNear(points[s], count(q.x, q.y, q.z), near[s], cut, scratch, &evaluations));
                     row(q.z) &= ~bit(q.x - i0, q.y - j0);
                 }
             });
@@ -922,7 +923,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
         }
         SignOutput layout = output;
         layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
-        BrickSigns brick{axes, caps, layout, 0, 0, {}};
+        BrickSigns brick{axes, caps, layout, 0, 0, {}, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
@@ -974,7 +975,7 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
         std::vector<std::vector<Crossing>> rows(std::size_t(kEdge) * std::size_t(ny));
         scan.fill(bz, rows.data());
         std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex], sided = sidedStart[layerIndex];
-        BrickSigns signs{axes, caps, {}, 0, 0, {}};
+        BrickSigns signs{axes, caps, {}, 0, 0, {}, {}};
         int counts[kEdge * kEdge * kEdge];
         std::uint8_t flags[kEdge * kEdge * kEdge];
         std::size_t cursor[kEdge * kEdge];
