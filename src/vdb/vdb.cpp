@@ -437,18 +437,23 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, Spa
     auto makeLeaf = [&](std::size_t b) {
         const glm::ivec3 lo = field.bricks[b] * B;
         const glm::ivec3 inGrid = glm::min(dims - lo, glm::ivec3(B)); // samples of the brick within the grid, per axis
-        auto leaf = std::make_unique<Leaf>(openvdb::Coord(lo.x, lo.y, lo.z), background);
+        auto leaf = std::make_unique<Leaf>(openvdb::PartialCreate(), openvdb::Coord(lo.x, lo.y, lo.z), background);
+        leaf->allocate(); // not filled: every value is written below
         float* out = leaf->buffer().data();
         openvdb::util::NodeMask<3> active;
         const float* values = &field.values[b * SparseField::kBrickSamples];
-        for (int z = 0; z < B; ++z)
+        // A leaf's offset is 64 x + 8 y + z: word x of its mask holds bit 8 y + z.
+        static_assert(B == 8 && Leaf::DIM == 8, "a brick is a leaf");
+        for (int x = 0; x < B; ++x) {
+            std::uint64_t word = 0;
             for (int y = 0; y < B; ++y)
-                for (int x = 0; x < B; ++x) {
+                for (int z = 0; z < B; ++z) {
                     const float v = exponent == 0 ? values[(z * B + y) * B + x] : std::ldexp(values[(z * B + y) * B + x], exponent);
-                    const openvdb::Index offset = Leaf::coordToOffset(openvdb::Coord(x, y, z));
-                    out[offset] = v;
-                    if (std::fabs(v) < background && x < inGrid.x && y < inGrid.y && z < inGrid.z) active.setOn(offset);
+                    out[(x * B + y) * B + z] = v;
+                    word |= std::uint64_t(std::fabs(v) < background && x < inGrid.x && y < inGrid.y && z < inGrid.z) << (y * B + z);
                 }
+            active.getWord<std::uint64_t>(openvdb::Index(x)) = word;
+        }
         leaf->setValueMask(active);
         return leaf;
     };
