@@ -730,7 +730,6 @@ struct BrickSigns {
             if (batch > 0) decideBatch(), batch = 0;
         };
         if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
-
             caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
             forEachBatch([&] {
                 double near[kFanPoints];
