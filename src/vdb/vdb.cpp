@@ -361,26 +361,11 @@ void nameLevelSet(openvdb::FloatGrid& grid, const Grid& g) {
     grid.setTransform(transform);
 }
 
-// A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
-// h, translation origin + h/2), every sample an active voxel. Initializes OpenVDB.
-openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
-    openvdb::initialize();
-    // The background is just beyond the largest distance, so that no sample equals it
-    // (copyFromDense makes samples equal to the background inactive).
-    float largest = 0.0f;
-    for (const float v : field.values) largest = std::max(largest, std::fabs(v));
-    const openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(std::nextafter(largest, std::numeric_limits<float>::infinity()));
-    // copyFromDense only reads the dense array; Dense has no const view.
-    const DenseField dense(indexBox(field.grid), const_cast<float*>(field.values.data()));
-    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-    nameLevelSet(*grid, field.grid);
-    return grid;
-}
-
 // A FloatGrid whose leaf buffers are written in parallel: OpenVDB's own LeafNode::writeBuffers,
 // run a chunk of leaves at a time on every thread into memory (a stream with the file stream's
 // settings: compression, background), then written in the tree's leaf order, as
-// Tree::writeBuffers writes them one by one on one thread: the same bytes.
+// Tree::writeBuffers writes them one by one on one thread: the same bytes. The surface grids of
+// dense and band fields alike are made as these.
 class ParallelBuffersGrid final : public openvdb::FloatGrid {
 public:
     using openvdb::FloatGrid::Grid;
@@ -409,6 +394,22 @@ public:
         }
     }
 };
+
+// A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
+// h, translation origin + h/2), every sample an active voxel. Initializes OpenVDB.
+openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
+    openvdb::initialize();
+    // The background is just beyond the largest distance, so that no sample equals it
+    // (copyFromDense makes samples equal to the background inactive).
+    float largest = 0.0f;
+    for (const float v : field.values) largest = std::max(largest, std::fabs(v));
+    const openvdb::FloatGrid::Ptr grid = std::make_shared<ParallelBuffersGrid>(std::nextafter(largest, std::numeric_limits<float>::infinity()));
+    // copyFromDense only reads the dense array; Dense has no const view.
+    const DenseField dense(indexBox(field.grid), const_cast<float*>(field.values.data()));
+    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+    nameLevelSet(*grid, field.grid);
+    return grid;
+}
 
 // A band field as a level-set FloatGrid named "surface" (the transform of fieldToGrid): each
 // brick a leaf, its samples in the band active; each inside box inactive -background tiles; the

@@ -14,10 +14,10 @@
 #include <cmath>
 #include <fstream>
 #include <string>
-#ifdef __GLIBC__
-#include <malloc.h>
 #include <sys/mman.h>
 #include <unistd.h>
+#ifdef __GLIBC__
+#include <malloc.h>
 #endif
 
 namespace sdfgen {
@@ -37,12 +37,17 @@ std::optional<std::uint64_t> readBytes(const std::filesystem::path& path) {
     return std::uint64_t(value);
 }
 
+// The whole pages within [data, data + bytes), as addresses [begin, end) (empty: end <= begin).
+std::pair<std::uintptr_t, std::uintptr_t> wholePages(void* data, std::size_t bytes) {
+    const std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE));
+    return {(std::uintptr_t(data) + page - 1) / page * page, (std::uintptr_t(data) + bytes) / page * page};
+}
+
 } // namespace
 
 void populatePages(void* data, std::size_t bytes, const RunControl& control) {
 #ifdef MADV_POPULATE_WRITE
-    const std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE));
-    const std::uintptr_t begin = (std::uintptr_t(data) + page - 1) / page * page, end = (std::uintptr_t(data) + bytes) / page * page;
+    const auto [begin, end] = wholePages(data, bytes);
     if (end <= begin) return;
     constexpr std::uintptr_t kChunk = std::uintptr_t(32) << 20;
     parallelFor((end - begin + kChunk - 1) / kChunk, control, [&](std::size_t n) {
@@ -55,8 +60,7 @@ void populatePages(void* data, std::size_t bytes, const RunControl& control) {
 }
 
 void releasePages(void* data, std::size_t bytes) {
-    const std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE));
-    const std::uintptr_t begin = (std::uintptr_t(data) + page - 1) / page * page, end = (std::uintptr_t(data) + bytes) / page * page;
+    const auto [begin, end] = wholePages(data, bytes);
     if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
 }
 

@@ -341,15 +341,18 @@ struct WindingCaps::Search {
     }
 };
 
-bool WindingCaps::inside(const glm::dvec3& p, int ahead, std::size_t* evaluations) const {
-    if (nodes_.empty()) return ahead != 0; // a closed surface: w is the integer count
+std::pair<double, bool> WindingCaps::walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations) const {
     thread_local std::vector<Pending> pending;
     pending.clear();
-    Search search{*this, p, 1e-15, double(ahead), pending};
-    search.add(0);
-    if (search.doubtful()) search.refine(); // most samples are decided at once; the others refine, loosest node first
+    Search search{*this, p, margin, double(ahead), pending};
+    if (!nodes_.empty()) search.add(0); // none: a closed surface, w is the integer count
+    if (search.doubtful()) search.refine(); // most points are decided at once; the others refine, loosest node first
     if (evaluations) *evaluations += search.measured;
-    return std::fabs(search.w) > 0.5;
+    return {search.w, search.doubtful()};
+}
+
+bool WindingCaps::inside(const glm::dvec3& p, int ahead, std::size_t* evaluations) const {
+    return std::fabs(walk(p, ahead, 1e-15, evaluations).first) > 0.5;
 }
 
 void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
@@ -546,12 +549,8 @@ double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
 }
 
 int WindingCaps::sideBeyond(const glm::dvec3& p, int ahead, double margin) const {
-    thread_local std::vector<Pending> pending;
-    pending.clear();
-    Search search{*this, p, margin, double(ahead), pending};
-    if (!nodes_.empty()) search.add(0);
-    if (search.doubtful()) search.refine();
-    return search.doubtful() ? -1 : std::fabs(search.w) > 0.5;
+    const auto [w, doubtful] = walk(p, ahead, margin, nullptr);
+    return doubtful ? -1 : std::fabs(w) > 0.5;
 }
 
 double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) const {

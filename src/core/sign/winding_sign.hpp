@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace sdfgen {
@@ -145,6 +146,9 @@ private:
         double thickness = 0, tilt = 2;
     };
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
+    // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
+    // from 1/2 or every fan is measured: w as measured, and whether it is still in doubt.
+    std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations) const;
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
     // Sets node's plane (normal, thickness, tilt) from the fans order[begin, end).
     void flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const;
