@@ -47,7 +47,8 @@ std::pair<std::uintptr_t, std::uintptr_t> wholePages(void* data, std::size_t byt
 
 void populatePages(void* data, std::size_t bytes, const RunControl& control) {
 #ifdef MADV_POPULATE_WRITE
-    const auto [begin, end] = wholePages(data, bytes);
+    const std::pair<std::uintptr_t, std::uintptr_t> pages = wholePages(data, bytes);
+    const std::uintptr_t begin = pages.first, end = pages.second; // not a structured binding: the lambda below captures them
     if (end <= begin) return;
     constexpr std::uintptr_t kChunk = std::uintptr_t(32) << 20;
     parallelFor((end - begin + kChunk - 1) / kChunk, control, [&](std::size_t n) {
