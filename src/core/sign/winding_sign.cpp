@@ -240,6 +240,26 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         node.area += std::abs(c.weight) * c.area;
     }
     flatten(node, order, begin, end);
+    // The dipole: the triangles (loop[i + 1], loop[i], centre) as fanSolidAngle measures them.
+    double weightedArea = 0.0;
+    for (std::size_t i = begin; i < end; ++i) {
+        const Cap& c = caps_[order[i]];
+        for (std::size_t v = 0; v < c.loop.size(); ++v) {
+            const glm::dvec3& a = c.loop[(v + 1) % c.loop.size()];
+            const glm::dvec3 cross = glm::cross(c.loop[v] - a, c.centre - a);
+            const double area = 0.5 * glm::length(cross) * std::abs(c.weight);
+            node.vectorArea += 0.5 * double(c.weight) * cross;
+            node.centroid += area * (a + c.loop[v] + c.centre) / 3.0;
+            weightedArea += area;
+        }
+    }
+    node.centroid = weightedArea > 0.0 ? glm::clamp(node.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
+    for (std::size_t i = begin; i < end; ++i) {
+        const Cap& c = caps_[order[i]];
+        node.radius = std::max(node.radius, glm::length(c.centre - node.centroid));
+        for (const glm::dvec3& v : c.loop) node.radius = std::max(node.radius, glm::length(v - node.centroid));
+    }
+    node.radius *= 1.0 + 1e-12;
     if (end - begin == 1) {
         node.first = order[begin];
         node.leaf = true;
@@ -264,6 +284,23 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
 }
 
 
+WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach) {
+    BallDipole out;
+    const double d = glm::length(glm::max(glm::max(node.lo - centre, centre - node.hi), glm::dvec3(0.0))) - reach;
+    if (!(d > 0.0)) return out;
+    const glm::dvec3 r = node.centroid - centre;
+    const double length = glm::length(r), inverse3 = 1.0 / (length * length * length);
+    const double dr = glm::dot(node.vectorArea, r);
+    constexpr double k = 1.0 / (4.0 * M_PI);
+    out.value = dr * inverse3 * k;
+    out.gradient = (3.0 * dr * inverse3 / (length * length) * r - inverse3 * node.vectorArea) * k;
+    const double near = std::min(length - reach, d) * (1.0 - 1e-12);
+    out.curvature = 3.0 * glm::length(node.vectorArea) * k / (near * near * near * near) * (1.0 + 1e-9);
+    // The value's and gradient's rounding: a 1e-12 share of the plain bound (a few ulps of each term).
+    out.error = node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area * k / (d * d) * (1.0 + reach / d);
+    return out;
+}
+
 // The lazy walk for one point p: w = ahead minus the fans measured so far; every node not yet
 // opened waits in `pending` with its bound, and while their sum leaves |w| within `margin` of 1/2
 // plus that sum (w that near 1/2 or -1/2), the loosest is opened. The same steps for the same p,
@@ -277,6 +314,9 @@ struct WindingCaps::Search {
     std::vector<Pending>& pending;
     double farSum = 0.0;
     std::size_t measured = 0;
+    // Whether a waiting node counts as its dipole where that bounds it more tightly (the bake's
+    // samples in doubt; inside(), the reference, counts waiting nodes as 0).
+    bool dipoles = false;
 
     void measure(std::uint32_t cap) {
         w -= fanWinding(p, caps.caps_[cap]);
@@ -290,10 +330,19 @@ struct WindingCaps::Search {
         while (top > 0) {
             const std::uint32_t index = stack[--top];
             const Node& node = caps.nodes_[index];
-            const double b = caps.bound(node, p, 0.0);
+            double b = caps.bound(node, p, 0.0);
             if (b <= 0.0) continue; // no area
             if (std::isfinite(b)) {
-                pending.push_back({b, index});
+                double estimate = 0.0;
+                if (dipoles) {
+                    const auto [e, error] = dipole(node, p);
+                    if (error < b) {
+                        estimate = e;
+                        b = error;
+                        w -= e;
+                    }
+                }
+                pending.push_back({b, index, estimate});
                 farSum += b;
             } else if (node.leaf) {
                 measure(node.first);
@@ -310,6 +359,10 @@ struct WindingCaps::Search {
     // ball's bound and cost a trip through the heap).
     const Pending* ballNext = nullptr;
     const Pending* ballEnd = nullptr;
+    // The cut they come from: a far node bounded as a dipole counts as its expansion at the
+    // ball's centre (p at `offset` from it), until it is opened.
+    const Cut* ball = nullptr;
+    glm::dvec3 offset{0.0};
 
     // A leaf is measured; an inner node's children are bounded at p and join the heap.
     void open(std::uint32_t index) {
@@ -335,7 +388,14 @@ struct WindingCaps::Search {
                 loosest = pending.back();
                 pending.pop_back();
             }
-            farSum -= loosest.bound;
+            if (loosest.dipole) { // a ball's far node: its expansion and its bound at p, as the cut summed them
+                const BallDipole dipole = dipoleOverBall(caps.nodes_[loosest.node], ball->centre, ball->reach);
+                w += dipole.value + glm::dot(dipole.gradient, offset);
+                farSum -= dipole.error + dipole.curvature * glm::dot(offset, offset);
+            } else {
+                farSum -= loosest.bound;
+                w += loosest.estimate;
+            }
             open(loosest.node);
         }
     }
@@ -365,6 +425,10 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.smooth = true;
     out.curvature = 0.0;
     out.slack = 0.0;
+    out.farValue = 0.0;
+    out.farGradient = glm::dvec3(0.0);
+    out.centre = centre;
+    out.reach = reach;
     if (nodes_.empty()) return;
     // Nodes bounded by less than a twentieth of the target are not worth opening: they go to the
     // far nodes at once, and a smaller ball keeps the bounds they have in `within` (bounds over a
@@ -374,15 +438,23 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     pending.clear();
     double sum = 0.0; // of the finite bounds, far and pending, running (farSum is summed afresh at the end)
     int touching = 0; // pending nodes whose box the ball touches (infinite bound)
+    // A node's bound over the ball: as a dipole expanded at the centre where that is tighter.
     auto push = [&](std::uint32_t index) {
-        const double b = bound(nodes_[index], centre, reach);
+        const Node& node = nodes_[index];
+        double b = bound(node, centre, reach);
         if (b <= 0.0) return; // no area
+        bool asDipole = false;
+        if (std::isfinite(b)) {
+            const BallDipole dipole = dipoleOverBall(node, centre, reach);
+            const double spread = dipole.error + dipole.curvature * reach * reach;
+            if (spread < b) b = spread, asDipole = true;
+        }
         if (b <= small) {
-            out.farNodes.push_back({b, index});
+            out.farNodes.push_back({b, index, 0.0, asDipole});
             sum += b;
             return;
         }
-        pending.push_back({b, index});
+        pending.push_back({b, index, 0.0, asDipole});
         if (std::isfinite(b)) sum += b;
         else ++touching;
     };
@@ -390,7 +462,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         for (std::uint32_t index : within->nearNodes) push(index);
         for (std::uint32_t index : within->exactNodes) push(index);
         for (const Pending& far : within->farNodes) {
-            if (far.bound <= small) {
+            if (far.bound <= small && !far.dipole) { // a dipole is expanded afresh at this ball's centre
                 out.farNodes.push_back(far);
                 sum += far.bound;
             } else {
@@ -439,7 +511,17 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
     out.farNodes.insert(out.farNodes.end(), pending.begin(), pending.end());
-    for (const Pending& far : out.farNodes) out.farSum += far.bound;
+    for (const Pending& far : out.farNodes) {
+        if (far.dipole) {
+            const BallDipole dipole = dipoleOverBall(nodes_[far.node], centre, reach);
+            out.farValue += dipole.value;
+            out.farGradient += dipole.gradient;
+            out.curvature += dipole.curvature;
+            out.farSum += dipole.error;
+        } else {
+            out.farSum += far.bound;
+        }
+    }
 }
 
 double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient) const {
@@ -490,19 +572,24 @@ std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, c
 bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
-    Search search{*this, p, kDecisionMargin, double(ahead) - near, pending};
-    search.farSum = cut.farSum;
-    bool decided = !search.doubtful();
-    if (!decided) { // the point's own bounds are tighter than the ball's, loosest first
+    // The cut's far nodes as the ball bounds them (dipoles expanded at its centre), opened loosest
+    // first; their children are bounded at p, as dipoles where that is tighter.
+    const glm::dvec3 offset = p - cut.centre;
+    Search search{*this, p, kDecisionMargin, double(ahead) - near - (cut.farValue + glm::dot(cut.farGradient, offset)), pending};
+    search.farSum = cut.farSum + cut.curvature * glm::dot(offset, offset);
+    search.dipoles = true;
+    if (search.doubtful()) {
         if (!cut.farSorted) {
             std::sort(cut.farNodes.begin(), cut.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
             cut.farSorted = true;
         }
         search.ballNext = cut.farNodes.data();
         search.ballEnd = cut.farNodes.data() + cut.farNodes.size();
+        search.ball = &cut;
+        search.offset = offset;
         search.refine();
-        decided = !search.doubtful();
     }
+    const bool decided = !search.doubtful();
     if (evaluations) *evaluations += search.measured;
     if (!decided) return inside(p, ahead, evaluations); // |w| within the margin of 1/2: inside()'s own steps
     return std::fabs(search.w) > 0.5;
@@ -651,13 +738,13 @@ struct BrickSigns {
     // measured at every sample of a 4³ block by the fan kernel (tuned by time on open sheets,
     // meshes with many holes and the band beside the holes of a scan).
     static constexpr double kExpandTarget = 0.01, kPointTarget = 0.01;
-    static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 12;
+    static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 12, kMoreMeasuredFans = 96;
     static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
     std::size_t evaluations = 0, exactDecided = 0;
-    WindingCaps::Cut cuts[2], scratch; // per level: 8³ (expanded), 4³ (measured); insideNear's heap
+    WindingCaps::Cut cuts[3], scratch; // per level: 8³ (expanded), 4³ (measured, twice); insideNear's heap
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
     // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
     // of undecided[k - k0]).
@@ -679,6 +766,26 @@ struct BrickSigns {
             for (int i = 0; i < ie - ib; ++i) layer |= bit(i, j);
         for (int k = 0; k < kEdge; ++k) undecided[k] = k < ke - kb ? layer : 0;
         block(i0, j0, k0, kEdge, 0, nullptr);
+    }
+
+    // Decides sample q where the fans' winding number there, estimated as `fans` by the cut's
+    // expansions at offset `distance` from its centre, keeps |w| off 1/2 by more than its bounds.
+    bool settle(const glm::ivec3& q, double fans, double distance, const WindingCaps::Cut& cut) {
+        // |w| - 1/2: its distance from 0 bounds w's from both 1/2 and -1/2.
+        const double x = std::fabs(double(count(q.x, q.y, q.z)) - fans) - 0.5;
+        const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
+        if (!(std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin)) return false;
+        output.set(output.index(q.x, q.y, q.z), x > 0.0);
+        row(q.z) &= ~bit(q.x - i0, q.y - j0);
+        return true;
+    }
+
+    int undecidedIn(int ia, int ja, int ka, int ie, int je, int ke) {
+        int n = 0;
+        for (int k = ka; k < ke; ++k)
+            for (int j = ja; j < je; ++j)
+                for (int i = ia; i < ie; ++i) n += (row(k) & bit(i - i0, j - j0)) != 0;
+        return n;
     }
 
     void block(int ia, int ja, int ka, int edge, int level, const WindingCaps::Cut* within) {
@@ -729,22 +836,51 @@ struct BrickSigns {
             if (batch > 0) decideBatch(), batch = 0;
         };
         if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
+            // First the nearest few fans; the samples they leave in doubt walk the tree on their
+            // own. Where the first walks cost more than measuring more fans at every sample would
+            // (a block among many parts), the samples left measure those first.
+            double nearAt[kMeasuredEdge * kMeasuredEdge * kMeasuredEdge];
+            auto local = [&](const glm::ivec3& q) { return (q.x - ia) + kMeasuredEdge * ((q.y - ja) + kMeasuredEdge * (q.z - ka)); };
+            auto measure = [&](WindingCaps::Cut& measured) {
+                forEachBatch([&] {
+                    double near[kFanPoints];
+                    evaluations += caps.fanWindings(measured.nearNodes, points, batch, near);
+                    for (int s = 0; s < batch; ++s) {
+                        nearAt[local(at[s])] = near[s];
+                        const glm::dvec3 offset = points[s] - centre;
+                        settle(at[s], near[s] + measured.farValue + glm::dot(measured.farGradient, offset), glm::length(offset), measured);
+                    }
+                });
+            };
             caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
-            forEachBatch([&] {
-                double near[kFanPoints];
-                evaluations += caps.fanWindings(cut.nearNodes, points, batch, near);
-                for (int s = 0; s < batch; ++s) {
-                    const glm::ivec3& q = at[s];
-                    output.set(output.index(q.x, q.y, q.z), caps.insideNear(points[s], count(q.x, q.y, q.z), near[s], cut, scratch, &evaluations));
-                    row(q.z) &= ~bit(q.x - i0, q.y - j0);
-                }
-            });
+            measure(cut);
+            WindingCaps::Cut* measured = &cut;
+            std::size_t walks = 0, walked = 0;
+            for (int k = ka; k < ke; ++k)
+                for (int j = ja; j < je; ++j)
+                    for (int i = ia; i < ie; ++i) {
+                        if (!(row(k) & bit(i - i0, j - j0))) continue;
+                        if (measured == &cut && walks == kFanPoints && walked > 8 * kFanPoints &&
+                            undecidedIn(ia, ja, ka, ie, je, ke) >= kFanPoints) {
+                            measured = &cuts[level + 1];
+                            caps.cut(centre, reach, kPointTarget, kMoreMeasuredFans, false, *measured, &cut);
+                            measure(*measured);
+                            if (!(row(k) & bit(i - i0, j - j0))) continue;
+                        }
+                        const std::size_t before = evaluations;
+                        const glm::ivec3 q(i, j, k);
+                        output.set(output.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), nearAt[local(q)], *measured, scratch, &evaluations));
+                        row(k) &= ~bit(i - i0, j - j0);
+                        ++walks;
+                        walked += evaluations - before;
+                    }
             return;
         }
         caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut, within);
         if (cut.smooth) {
             glm::dvec3 gradient;
-            const double near = caps.nearWinding(centre, cut, &gradient);
+            const double near = caps.nearWinding(centre, cut, &gradient) + cut.farValue;
+            gradient += cut.farGradient;
             evaluations += cut.nearNodes.size();
             forEachBatch([&] {
                 double exact[kFanPoints] = {};
@@ -752,16 +888,8 @@ struct BrickSigns {
                     evaluations += caps.fanWindings(cut.exactNodes, points, batch, exact);
                 }
                 for (int s = 0; s < batch; ++s) {
-                    const glm::ivec3& q = at[s];
                     const glm::dvec3 offset = points[s] - centre;
-                    const double fans = near + glm::dot(gradient, offset) + exact[s];
-                    // |w| - 1/2: its distance from 0 bounds w's from both 1/2 and -1/2.
-                    const double x = std::fabs(double(count(q.x, q.y, q.z)) - fans) - 0.5;
-                    const double distance = glm::length(offset);
-                    const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
-                    if (std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin) {
-                        output.set(output.index(q.x, q.y, q.z), x > 0.0);
-                        row(q.z) &= ~bit(q.x - i0, q.y - j0);
+                    if (settle(at[s], near + glm::dot(gradient, offset) + exact[s], glm::length(offset), cut)) {
                         exactDecided += !cut.exactNodes.empty();
                     }
                 }

@@ -73,6 +73,8 @@ public:
     struct Pending {
         double bound;
         std::uint32_t node;
+        double estimate = 0; // what the walk counted for the node while it waits (its dipole term, or 0)
+        bool dipole = false; // in a cut: bounded as a dipole expanded at the ball's centre (Cut::farValue)
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
     // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
@@ -86,9 +88,16 @@ public:
         std::vector<Pending> farNodes; // with their bounds over the ball
         bool farSorted = false; // farNodes loosest first (insideNear sorts them when it first needs them)
         double farSum = 0; // the sum of the far nodes' bounds over the ball
+        // The far nodes bounded as dipoles: their winding number at the ball's centre and its
+        // gradient (their rest over the ball is in farSum, their expansion's in curvature).
+        double farValue = 0;
+        glm::dvec3 farGradient{0.0};
+        glm::dvec3 centre{0.0}; // the ball
+        double reach = 0;
         // The ball misses every near fan, and at most kMaxExactFans are exact: the near fans'
         // winding number is harmonic over it, and differs from its first-order expansion at the
-        // centre (nearWinding with the gradient) by at most (curvature * |d| + slack) * |d| at offset d.
+        // centre (nearWinding with the gradient) by at most (curvature * |d| + slack) * |d| at
+        // offset d. curvature also bounds the far dipoles' expansion (with or without `expand`).
         bool smooth = true;
         double curvature = 0, slack = 0;
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
@@ -108,14 +117,15 @@ public:
     // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
     double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
     // inside() for a point of the ball that `cut` was made for, given `near`, the near fans'
-    // winding number there (fanWindings): the far nodes bounded (the ball's bounds; then, loosest
-    // first, each far node bounded at the point and opened as inside() opens nodes) while |w| is
-    // within kDecisionMargin of 1/2 plus the bounds; still in doubt, inside() decides. Deciding
+    // winding number there (fanWindings): the far nodes bounded (the ball's bounds, far dipoles
+    // counted as their expansion; then, loosest first, each far node opened and its children
+    // bounded at the point, as dipoles where that is tighter) while |w| is within
+    // kDecisionMargin of 1/2 plus the bounds; still in doubt, inside() decides. Deciding
     // only outside that margin, it answers as inside() does (their doubles of w differ by
     // rounding, far below the margin), with the tree's top walked once per block.
     static constexpr double kDecisionMargin = 1e-7;
-    // `scratch` is any Cut's: its heap is borrowed. Most points are decided by the ball's bounds
-    // alone; the first that is not sorts the cut's far nodes (loosest first), for every later one.
+    // `scratch` is any Cut's: its heap is borrowed. The first point that the ball's bounds leave
+    // in doubt sorts the cut's far nodes (loosest first), for every later one.
     // `evaluations` counts the fans measured beyond the near ones.
     bool insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
     // The caps and their tree for a compute device (WindingFans).
@@ -144,6 +154,11 @@ private:
         // the distance of its normal from ±n. tilt 2 (the most it can be) when no plane fits.
         glm::dvec3 normal{0.0};
         double thickness = 0, tilt = 2;
+        // The fans below as one dipole (see dipole()): their vector area (each triangle's area
+        // times its unit normal, times its weight) at their area-weighted centroid, and the
+        // farthest of their vertices from that centroid.
+        glm::dvec3 vectorArea{0.0}, centroid{0.0};
+        double radius = 0;
     };
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
@@ -165,6 +180,33 @@ private:
         const double height = std::fabs(glm::dot(node.normal, p - 0.5 * (node.lo + node.hi))) + reach;
         const double flat = (height + node.thickness) / d + node.tilt;
         return node.area / (4.0 * M_PI * d * d) * std::min(1.0, flat);
+    }
+
+    // The node's winding number at p as a dipole, and a bound on that estimate's error: each fan
+    // triangle's solid angle is the integral of K(y) = m.(y - p) / |y - p|³ over it, |grad_y K| <=
+    // 4 / |y - p|³, and y and the centroid both lie in the node's box (d from p), so replacing K(y)
+    // by K(centroid) errs by at most 4 radius / d³ per unit of area: area radius / (π d³) in
+    // winding numbers, where the plain bound has area / (4π d²). Tighter beyond 4 radii, and it
+    // shrinks as 1/d³. Infinite error where p touches the box.
+    // The node as a dipole over a ball that misses its box: its error there (as dipole()'s, d
+    // the ball's distance from the box), and its first-order expansion at the centre o, whose rest
+    // at o + δ is at most curvature |δ|²: the dipole's potential is D.grad(1/|c - p|), whose
+    // third derivatives are at most 3! / r⁴ in every direction, so its Hessian is at most 6 |D| / r⁴
+    // (r >= |c - o| - reach along the way). Error infinite where the ball reaches the box.
+    struct BallDipole {
+        double value = 0, error = std::numeric_limits<double>::infinity(), curvature = 0;
+        glm::dvec3 gradient{0.0};
+    };
+    static BallDipole dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach);
+    static std::pair<double, double> dipole(const Node& node, const glm::dvec3& p) {
+        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0)));
+        if (!(d > 0.0)) return {0.0, std::numeric_limits<double>::infinity()};
+        const glm::dvec3 r = node.centroid - p;
+        const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
+        const double estimate = glm::dot(node.vectorArea, r) * inverse / (4.0 * M_PI);
+        // Its rounding: a few ulps of each term, far below a 1e-12 share of the plain bound.
+        const double error = node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area / (4.0 * M_PI * d * d);
+        return {estimate, error};
     }
 
     std::vector<Cap> caps_;
