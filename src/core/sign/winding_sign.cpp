@@ -681,9 +681,9 @@ int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, c
     tree.forEachOverlap(ray, [&](std::uint32_t t) {
         count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), int(tree.copies(t)));
     });
-    for (const Cap& cap : caps.caps()) {
+    caps.forEachCapOnRow(p, [&](const Cap& cap) {
         for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight);
-    }
+    });
     return ahead;
 }
 

@@ -128,6 +128,26 @@ public:
     // in doubt sorts the cut's far nodes (loosest first), for every later one.
     // `evaluations` counts the fans measured beyond the near ones.
     bool insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations = nullptr) const;
+    // Calls f(cap) for every cap whose box holds p's row (y and z within the box): the only caps
+    // whose triangles the row's line can cross (a point outside a triangle's (y, z) box is
+    // outside it, whatever the tie-breaking; the boxes bound their points exactly, in double).
+    template <class F>
+    void forEachCapOnRow(const glm::dvec3& p, F&& f) const {
+        if (nodes_.empty()) return;
+        std::uint32_t stack[128];
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = nodes_[stack[--top]];
+            if (p.y < node.lo.y || p.y > node.hi.y || p.z < node.lo.z || p.z > node.hi.z) continue;
+            if (node.leaf) {
+                f(caps_[node.first]);
+            } else {
+                stack[top++] = node.first + 1;
+                stack[top++] = node.first;
+            }
+        }
+    }
     // The caps and their tree for a compute device (WindingFans).
     WindingFans flattened() const;
     // The exact winding number at p given `ahead`: every fan measured.
