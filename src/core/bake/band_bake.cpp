@@ -42,19 +42,56 @@ struct BrickFinder {
         std::vector<glm::ivec3> inBand, nearFans;
         std::vector<std::pair<glm::ivec3, std::uint8_t>> sided;
     };
+    static constexpr int kTop = 16; // bricks per edge of the cubes searched in parallel
+
+    // The corners of the cubes of kTop bricks that visit() must search: the others, found from
+    // the grid's whole cube down, lie in a larger cube whose every point is farther than the band
+    // by twice its ball's radius and whose doubled ball is clear of the fans (a cube of kTop
+    // bricks inside has its ball within that, so its own tests would find nothing: empty space
+    // costs nothing, in grids of any size).
+    std::vector<glm::ivec3> topCubes() const {
+        int size = kTop;
+        while (size < brickDims.x || size < brickDims.y || size < brickDims.z) size *= 2;
+        std::vector<glm::ivec3> tops;
+        collect(glm::ivec3(0), size, tops);
+        return tops;
+    }
+    void collect(const glm::ivec3& lo, int size, std::vector<glm::ivec3>& tops) const {
+        const glm::ivec3 hi = glm::min(lo + size, brickDims);
+        if (glm::any(glm::lessThanEqual(hi, lo))) return;
+        if (size == kTop) {
+            tops.push_back(lo);
+            return;
+        }
+        const auto [centre, reach] = ball(lo, hi);
+        const double d = nearestDistance(centre);
+        const double magnitude = std::max({std::fabs(centre.x), std::fabs(centre.y), std::fabs(centre.z)}) + 4.0 * reach + d;
+        if (d - 2.0 * reach - 3e-5 * magnitude > band * (1.0 + 1e-5) && caps.farFromEveryFan(centre, 2.0 * reach)) return;
+        const int half = size / 2;
+        for (int dz = 0; dz < size; dz += half)
+            for (int dy = 0; dy < size; dy += half)
+                for (int dx = 0; dx < size; dx += half) collect(lo + glm::ivec3(dx, dy, dz), half, tops);
+    }
+    // The ball around the samples of the bricks [lo, hi).
+    std::pair<glm::dvec3, double> ball(const glm::ivec3& lo, const glm::ivec3& hi) const {
+        const glm::ivec3 first = lo * kBrick, last = glm::min(hi * kBrick, grid.dims) - 1;
+        const glm::dvec3 p0 = localPosition(mesh, grid, first.x, first.y, first.z), p1 = localPosition(mesh, grid, last.x, last.y, last.z);
+        return {0.5 * (p0 + p1), 0.5 * glm::length(p1 - p0) * (1.0 + 1e-9)};
+    }
+    // The distance from p to the triangle the float search finds nearest (it may be a rounding
+    // farther than the true nearest triangle: callers allow for that).
+    double nearestDistance(const glm::dvec3& p) const {
+        std::uint32_t hint = WideBvh::kEmpty;
+        const std::uint32_t t = nearestTriangle(tree, glm::vec3(p), hint);
+        return std::sqrt(closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)))
+                             .distanceSquared);
+    }
     void visit(const glm::ivec3& lo, int size, bool outOfBand, Found& found) const {
         const glm::ivec3 hi = glm::min(lo + size, brickDims);
         if (glm::any(glm::lessThanEqual(hi, lo))) return;
-        const glm::ivec3 first = lo * kBrick, last = glm::min(hi * kBrick, grid.dims) - 1;
-        const glm::dvec3 p0 = localPosition(mesh, grid, first.x, first.y, first.z), p1 = localPosition(mesh, grid, last.x, last.y, last.z);
-        const glm::dvec3 centre = 0.5 * (p0 + p1);
-        const double reach = 0.5 * glm::length(p1 - p0) * (1.0 + 1e-9);
+        const auto [centre, reach] = ball(lo, hi);
         if (!outOfBand) {
-            std::uint32_t hint = WideBvh::kEmpty;
-            const std::uint32_t t = nearestTriangle(tree, glm::vec3(centre), hint);
-            const double d = std::sqrt(closestPointOnTriangle(centre, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
-                                                              glm::dvec3(mesh.vertex(t, 2)))
-                                           .distanceSquared);
+            const double d = nearestDistance(centre);
             // The float search's answer may be a rounding farther than the true nearest triangle.
             const double magnitude = std::max({std::fabs(centre.x), std::fabs(centre.y), std::fabs(centre.z)}) + reach + d;
             outOfBand = d - reach - 1e-5 * magnitude > band * (1.0 + 1e-5);
@@ -129,15 +166,9 @@ void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, c
     Clock::time_point start = Clock::now();
     const WindingCaps caps(context.topology());
     const BrickFinder finder{mesh, context.wide(), caps, grid, brickDims, band * grid.voxel / mesh.unit, context.tree};
-    constexpr int kTop = 16; // bricks per edge of the cubes searched in parallel
-    const glm::ivec3 tops = (brickDims + (kTop - 1)) / kTop;
-    const std::size_t topCount = std::size_t(tops.x) * std::size_t(tops.y) * std::size_t(tops.z);
-    std::vector<BrickFinder::Found> found(topCount);
-    parallelFor(topCount, control.phase(0.0, 0.05), [&](std::size_t n) {
-        const glm::ivec3 top(int(n % std::size_t(tops.x)), int(n / std::size_t(tops.x) % std::size_t(tops.y)),
-                             int(n / (std::size_t(tops.x) * std::size_t(tops.y))));
-        finder.visit(top * kTop, kTop, false, found[n]);
-    });
+    const std::vector<glm::ivec3> tops = finder.topCubes();
+    std::vector<BrickFinder::Found> found(tops.size());
+    parallelFor(tops.size(), control.phase(0.0, 0.05), [&](std::size_t n) { finder.visit(tops[n], BrickFinder::kTop, false, found[n]); });
     BandSides sides;
     sides.background = field.background;
     sides.signBricks = signBricks;

@@ -959,6 +959,8 @@ public:
         }
     }
     int groups() const { return groups_; }
+    // Whether no scan triangle reaches group g's planes: their rows cross nothing.
+    bool crossesNothing(int g) const { return groupStart_[std::size_t(g)] == groupStart_[std::size_t(g) + 1]; }
     // Appends the crossings of the rows of group g's planes k to rows[(k - g * planes) * ny + j].
     void fill(int g, std::vector<Crossing>* rows) const {
         const int ny = grid_.dims.y;
@@ -1098,9 +1100,15 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
     parallelFor(std::size_t(brickDims.z), control.phase(0.1, 1.0), [&](std::size_t layerIndex) {
         const int bz = int(layerIndex), k0 = bz * kEdge, k1 = std::min(nz, k0 + kEdge);
         Layer& layer = layers[layerIndex];
+        std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex], sided = sidedStart[layerIndex];
+        // A layer that no triangle reaches and that holds no brick of the lists is outside
+        // everywhere (every count 0): nothing to record, so empty space costs nothing.
+        if (scan.crossesNothing(bz) && stored == storedStart[layerIndex + 1] && fan == fanStart[layerIndex + 1] &&
+            sided == sidedStart[layerIndex + 1]) {
+            return;
+        }
         std::vector<std::vector<Crossing>> rows(std::size_t(kEdge) * std::size_t(ny));
         scan.fill(bz, rows.data());
-        std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex], sided = sidedStart[layerIndex];
         BrickSigns signs{axes, caps, {}, 0, 0, {}, {}};
         int counts[kEdge * kEdge * kEdge];
         std::uint8_t flags[kEdge * kEdge * kEdge];
@@ -1108,11 +1116,19 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
         int behind[kEdge * kEdge], total[kEdge * kEdge];
         for (int by = 0; by < brickDims.y; ++by) {
             const int j0 = by * kEdge, j1 = std::min(ny, j0 + kEdge);
-            // The brick row's rows, crossings in ascending x: ahead of x is the total minus those at or behind x.
+            // The brick row's bricks of the lists (each list's next brick, if in this row).
+            auto inRow = [&](const glm::ivec3& b) { return b.y == by && b.z == bz; };
+            const bool listed = (stored < storedStart[layerIndex + 1] && inRow(band.bricks[stored])) ||
+                                (sided < sidedStart[layerIndex + 1] && inRow(sidedCoordinates[sided])) ||
+                                (fan < fanStart[layerIndex + 1] && inRow(band.fanBricks[fan]));
+            const std::vector<Crossing>& firstRow = rows[std::size_t(j0)]; // (j0, k0): the other bricks' sides
+            if (!listed && firstRow.empty()) continue; // outside throughout
+            // The brick row's rows, crossings in ascending x: ahead of x is the total minus those at
+            // or behind x. Without bricks of the lists, only the first row decides.
             for (int r = 0; r < kEdge * kEdge; ++r) {
                 cursor[r] = 0, behind[r] = 0, total[r] = 0;
                 const int j = j0 + r % kEdge, k = k0 + r / kEdge;
-                if (j >= j1 || k >= k1) continue;
+                if (j >= j1 || k >= k1 || (r > 0 && !listed)) continue;
                 std::vector<Crossing>& row = rows[std::size_t(k - k0) * std::size_t(ny) + std::size_t(j)];
                 std::sort(row.begin(), row.end(), [](const Crossing& l, const Crossing& r) { return l.x < r.x; });
                 for (const Crossing& c : row) total[r] += c.sign;
@@ -1139,6 +1155,33 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                 runStart = -1;
             };
             for (int bx = 0; bx < brickDims.x; ++bx) {
+                // Up to the next brick of the lists, the bricks are out of the band and clear of
+                // the fans: the surface is nowhere in them, so every sample has its first sample's
+                // count and, the fans' winding number being below 0.45 there, is inside when that
+                // count is not 0 (as the dense bake decides). That count changes only where the
+                // first row crosses the surface: the bricks between two crossings go as one run.
+                int next = brickDims.x;
+                if (stored < storedStart[layerIndex + 1] && inRow(band.bricks[stored])) next = std::min(next, band.bricks[stored].x);
+                if (sided < sidedStart[layerIndex + 1] && inRow(sidedCoordinates[sided])) next = std::min(next, sidedCoordinates[sided].x);
+                if (fan < fanStart[layerIndex + 1] && inRow(band.fanBricks[fan])) next = std::min(next, band.fanBricks[fan].x);
+                if (bx < next) {
+                    const bool inside = aheadAt(0, bx * kEdge) != 0;
+                    int end = next;
+                    if (cursor[0] < firstRow.size()) { // the first brick whose first sample is at or past the next crossing
+                        const double x = firstRow[cursor[0]].x;
+                        int lo = bx + 1, hi = next;
+                        while (lo < hi) {
+                            const int mid = lo + (hi - lo) / 2;
+                            if (axes.x[std::size_t(mid) * kEdge] >= x) hi = mid;
+                            else lo = mid + 1;
+                        }
+                        end = lo;
+                    }
+                    if (!inside) closeRun(bx);
+                    else if (runStart < 0) runStart = bx;
+                    bx = end - 1;
+                    continue;
+                }
                 const glm::ivec3 brick(bx, by, bz);
                 const std::ptrdiff_t local = -(std::ptrdiff_t(bx) * kEdge + std::ptrdiff_t(j0) * kEdge + std::ptrdiff_t(k0) * kEdge * kEdge);
                 int side; // 1 inside, 0 outside, -1 both
@@ -1182,7 +1225,7 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                     side = -1;
                 } else if (sided < sidedStart[layerIndex + 1] && sidedCoordinates[sided] == brick) {
                     side = band.sidedBricks[sided++].second;
-                } else if (fan < fanStart[layerIndex + 1] && band.fanBricks[fan] == brick) {
+                } else { // the fan list's brick (one of the lists has a brick at bx)
                     ++fan;
                     std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side
                     decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
@@ -1193,11 +1236,6 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                         layer.mixed.push_back(brick);
                         for (const std::uint8_t f : flags) layer.values.push_back(f == 1 ? -background : background);
                     }
-                } else {
-                    // Out of the band and clear of the fans: the surface is nowhere in the brick, so
-                    // every sample has its first sample's count and, the fans' winding number being
-                    // below 0.45 there, is inside when that count is not 0 (as the dense bake decides).
-                    side = aheadAt(0, bx * kEdge) != 0;
                 }
                 if (side == 1) {
                     if (runStart < 0) runStart = bx;
