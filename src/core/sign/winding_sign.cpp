@@ -444,7 +444,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         double b = bound(node, centre, reach);
         if (b <= 0.0) return; // no area
         bool asDipole = false;
-        if (std::isfinite(b)) {
+        if (std::isfinite(b) && b > small) { // below that, not worth the dipole's work
             const BallDipole dipole = dipoleOverBall(node, centre, reach);
             const double spread = dipole.error + dipole.curvature * reach * reach;
             if (spread < b) b = spread, asDipole = true;
@@ -738,7 +738,7 @@ struct BrickSigns {
     // measured at every sample of a 4³ block by the fan kernel (tuned by time on open sheets,
     // meshes with many holes and the band beside the holes of a scan).
     static constexpr double kExpandTarget = 0.01, kPointTarget = 0.01;
-    static constexpr std::size_t kExpandedFans = 16, kMeasuredFans = 12, kMoreMeasuredFans = 96;
+    static constexpr std::size_t kExpandedFans = 64, kMeasuredFans = 12, kMoreMeasuredFans = 96;
     static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
     const SampleAxes& axes;
     const WindingCaps& caps;
