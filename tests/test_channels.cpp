@@ -4,7 +4,7 @@
 #include "core/mesh/geometry.hpp"
 #include "core/distance/kernel.hpp"
 #include "core/runtime/memory.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/model.hpp"

@@ -4,7 +4,7 @@
 // force for the winding numbers; the real GPU device is tested in tests/gpu.
 #include "core/distance/exact.hpp"
 #include "core/mesh/geometry.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "sdfgen/device.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"

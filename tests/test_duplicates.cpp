@@ -5,7 +5,7 @@
 #include "core/mesh/triangle_copies.hpp"
 #include "core/distance/exact.hpp"
 #include "core/runtime/memory.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "core/mesh/topology.hpp"
 #include "sdfgen/model.hpp"

@@ -4,7 +4,7 @@
 #include "sdfgen/error.hpp"
 #include "core/bake/bake.hpp"
 #include "core/distance/ray_generator.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "support/checks.hpp"
 #include "support/binary_rays.hpp"
 #include "support/shapes.hpp"

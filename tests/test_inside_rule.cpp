@@ -4,7 +4,7 @@
 // and the mesh check still says so), and copies facing opposite ways (where they overlap the two
 // cancel: w = 0, outside). Every bake is compared sample by sample with the winding number summed
 // here triangle by triangle in double, and point queries with the baked grid.
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "sdfgen/model.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"

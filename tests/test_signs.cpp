@@ -1,7 +1,7 @@
 // The sign methods against the brute-force reference and the reference winding number.
 #include "sdfgen/compare.hpp"
 #include "core/distance/exact.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "core/mesh/topology.hpp"
 #include "support/broken_meshes.hpp"

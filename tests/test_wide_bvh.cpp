@@ -5,7 +5,7 @@
 #include "core/distance/exact.hpp"
 #include "core/mesh/geometry.hpp"
 #include "core/distance/kernel.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/mesh/topology.hpp"
 #include "core/accel/wide_bvh.hpp"
 #include "sdfgen/grid.hpp"

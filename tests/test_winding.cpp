@@ -2,8 +2,8 @@
 // coplanar overlaps. Signs must equal those of the reference winding number, sample by sample,
 // work must stay bounded by what is near, and point queries must agree with the bake.
 #include "core/accel/bvh.hpp"
-#include "core/distance/kernel.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/simd/path.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/model.hpp"
 #include "core/mesh/topology.hpp"

@@ -1,7 +1,7 @@
 // `sdfgen info`: the SIMD path of the CPU kernel, the OpenGL driver the GPU device would use, and
 // what --device auto would pick.
 #include "cli/commands.hpp"
-#include "core/distance/kernel.hpp"
+#include "core/simd/path.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 

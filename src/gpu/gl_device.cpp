@@ -4,7 +4,7 @@
 #include "render/gl.hpp"
 #include "render/shader.hpp"
 #include "sdfgen/error.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>

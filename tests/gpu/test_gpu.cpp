@@ -5,7 +5,7 @@
 // MESA_GL_VERSION_OVERRIDE=3.3 (tests/CMakeLists.txt), since Mesa reads that once per process.
 #include "core/bake/bake.hpp"
 #include "core/distance/exact.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "core/mesh/topology.hpp"
 #include "gpu/gl_device.hpp"

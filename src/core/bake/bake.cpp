@@ -1,6 +1,6 @@
 #include "core/bake/bake.hpp"
 #include "core/bake/band_bake.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"

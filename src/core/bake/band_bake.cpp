@@ -5,7 +5,7 @@
 #include "core/mesh/geometry.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/error.hpp"
 

@@ -1,7 +1,7 @@
 #include "sdfgen/grid.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/memory.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 
 #include <glm/common.hpp>
 #include <algorithm>

@@ -2,7 +2,7 @@
 // queries over them.
 #include "sdfgen/model.hpp"
 #include "core/bake/bake.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/accel/bvh.hpp"
 #include "core/distance/exact.hpp"
 #include "core/mesh/geometry.hpp"

@@ -3,7 +3,7 @@
 #include "core/bake/methods.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/distance/ray_generator.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 

@@ -4,71 +4,23 @@
 #include "core/mesh/geometry.hpp"
 #include "core/distance/kernel.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <string>
 
 namespace sdfgen {
 
-namespace {
-
-const kernel::Table* tableOf(SimdPath path) {
-#if defined(__x86_64__) || defined(__i386__)
-    if (path == SimdPath::Avx2) {
-        __builtin_cpu_init(); // in case the first use runs in another library's static constructor
-        return __builtin_cpu_supports("avx2") ? &kernel::avx2::table : nullptr;
-    }
-#endif
-    return path == SimdPath::Baseline ? &kernel::baseline::table : nullptr;
-}
-
-// AVX2 where the CPU has it, unless SDFGEN_SIMD names a path (an unknown or unavailable one is
-// an error at first use, not silently another path).
-const kernel::Table* chooseTable() {
-    const char* forced = std::getenv("SDFGEN_SIMD");
-    if (forced && *forced) {
-        const std::string name = forced;
-        const kernel::Table* table = name == "baseline" ? tableOf(SimdPath::Baseline) : name == "avx2" ? tableOf(SimdPath::Avx2) : nullptr;
-        if (!table) throw Error("SDFGEN_SIMD=" + name + ": not a SIMD path this binary and CPU can run (baseline or avx2)");
-        return table;
-    }
-    const kernel::Table* avx2 = tableOf(SimdPath::Avx2);
-    return avx2 ? avx2 : tableOf(SimdPath::Baseline);
-}
-
-std::atomic<const kernel::Table*> chosen{nullptr};
-
-} // namespace
-
-const char* toString(SimdPath path) { return path == SimdPath::Avx2 ? "avx2" : "baseline"; }
-
-bool simdPathAvailable(SimdPath path) { return tableOf(path) != nullptr; }
-
-void setSimdPath(SimdPath path) {
-    const kernel::Table* table = tableOf(path);
-    if (!table) throw Error(std::string("SIMD path ") + toString(path) + " is not available on this CPU or in this binary");
-    chosen.store(table);
-}
-
-SimdPath simdPath() { return kernel::active().path; }
-
 const kernel::Table& kernel::active() {
-    const Table* table = chosen.load(std::memory_order_acquire);
-    if (!table) {
-        static const Table* const first = chooseTable();
-        const Table* expected = nullptr;
-        chosen.compare_exchange_strong(expected, first);
-        table = chosen.load();
-    }
-    return *table;
+#if defined(__x86_64__) || defined(__i386__)
+    if (simdPath() == SimdPath::Avx2) return avx2::table;
+#endif
+    return baseline::table;
 }
 
 NearestField computeNearest(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const RunControl& control) {

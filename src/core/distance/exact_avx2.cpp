@@ -5,7 +5,7 @@
 #include "core/mesh/geometry.hpp"
 #include "core/distance/kernel.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 #include "core/mesh/topology.hpp"
 
 #include <glm/common.hpp>

@@ -4,7 +4,7 @@
 #include "core/accel/ray_tree.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 
 #include <glm/geometric.hpp>
 #include <chrono>

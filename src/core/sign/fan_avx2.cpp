@@ -1,5 +1,6 @@
 // The fan kernel's AVX2 copy (see core/sign/fan_kernel.inc): compiled for AVX2 (core/simd/avx2_begin.inc).
 #if defined(__x86_64__) || defined(__i386__)
+#include "core/sign/fan_kernel.hpp"
 #include "core/sign/winding_sign.hpp"
 
 #include <immintrin.h>

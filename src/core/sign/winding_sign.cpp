@@ -1,8 +1,8 @@
 #include "core/sign/winding_sign.hpp"
 #include "core/mesh/geometry.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/sample_positions.hpp"
-#include "core/distance/kernel.hpp"
+#include "core/mesh/sample_positions.hpp"
+#include "core/sign/fan_kernel.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -543,7 +543,7 @@ std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, c
     auto flush = [&] {
         if (units == 0) return;
         double part[kFanPoints];
-        kernel::active().fanWindings(unit, units, points, n, part);
+        fans::active()(unit, units, points, n, part);
         measured += units * std::size_t((n + 3) / 4);
         for (int s = 0; s < n; ++s) {
             if (std::isnan(part[s])) { // a point on a fan's edge: each fan as inside() measures it (0 for that fan)

@@ -1,6 +1,5 @@
 #pragma once
 #include "core/accel/bvh.hpp"
-#include "core/distance/exact.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
@@ -28,20 +27,8 @@ struct Cap {
     int weight = 1;    // equal loops (copies of open triangles) share one cap
 };
 
-// The fan kernel's compiled copies (core/sign/fan_kernel.inc), reached through the SIMD dispatch
-// table of core/distance/kernel.hpp: windings[s] = the summed winding number of `count` fans of
-// weight 1 at points[s], s < n <= kFanPoints, or NaN where a point lies on a fan's edge (no angle).
+// The points the fan kernel (core/sign/fan_kernel.hpp) measures at once.
 constexpr int kFanPoints = 8;
-namespace fans {
-namespace baseline {
-void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
-}
-#if defined(__x86_64__) || defined(__i386__)
-namespace avx2 {
-void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
-}
-#endif
-} // namespace fans
 
 // The fans that close a mesh's boundary, and a bounding-box hierarchy over them that bounds their
 // winding number from afar: seen from a point at distance d > 0 from a node's box, everything

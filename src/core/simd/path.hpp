@@ -1,0 +1,21 @@
+#pragma once
+// Which compiled copy of the SIMD kernels runs. Each stage's kernels (the distance and ray kernels
+// in distance/, the fan kernel in sign/) are compiled twice, for AVX2 and for baseline x86-64
+// (SSE2), both without fused multiply-adds, so that the two give bit-identical answers; each stage
+// keeps its own table of copies and runs the one for simdPath(). The path is chosen once per
+// process from the CPU (AVX2 where it has it); the environment variable SDFGEN_SIMD=baseline (or
+// avx2) forces one, and setSimdPath does the same from code (tests, benchmarks).
+namespace sdfgen {
+
+enum class SimdPath { Baseline, Avx2 };
+const char* toString(SimdPath path);
+
+// The path the kernels run now (chosen at first use when not set).
+SimdPath simdPath();
+// Whether this binary has the path and this CPU can run it.
+bool simdPathAvailable(SimdPath path);
+// Runs the kernels on `path` from now on; throws Error when it is not available. Not to be called
+// while a kernel runs on another thread.
+void setSimdPath(SimdPath path);
+
+} // namespace sdfgen
