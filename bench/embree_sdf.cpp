@@ -27,7 +27,7 @@
 #include "peer_common.hpp"
 
 #include "core/distance/directions.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>

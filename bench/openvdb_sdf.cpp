@@ -21,7 +21,7 @@
 // Prints `openvdb: <s> s (convert <s>, sample <s>)`: the whole process from the start of loading to
 // the end of saving, the conversion (including any retry) and the sampling.
 #include "peer_common.hpp"
-#include "core/distance/sample_positions.hpp"
+#include "core/mesh/sample_positions.hpp"
 
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>

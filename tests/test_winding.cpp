@@ -2,6 +2,7 @@
 // coplanar overlaps. Signs must equal those of the reference winding number, sample by sample,
 // work must stay bounded by what is near, and point queries must agree with the bake.
 #include "core/accel/bvh.hpp"
+#include "core/accel/wide_bvh.hpp"
 #include "core/simd/path.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
@@ -308,6 +309,41 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
         }
     }
     setSimdPath(chosen);
+}
+
+// The count of crossings ahead through the wide tree's walk (point queries) equals the binary
+// tree's (the bake's reference) at points on vertices, edges and faces of the mesh and its fans as
+// well as off them: a holed sphere, copies of an open sheet (a weighted fan, copies counted once)
+// and an axis-aligned box, whose faces hold many points' rows.
+TEST(WindingSign, CrossingsAheadAgreeOnEitherTree) {
+    const Mesh sheet = heightfield(12, false);
+    for (const Mesh& mesh : {withHoles(test::icosphere(1.0f, 3), 7), combined("two copies", sheet, sheet), test::box({0.5f, 0.5f, 0.5f})}) {
+        const MeshTopology topology(mesh);
+        const WindingCaps caps(topology);
+        const Bvh tree(mesh);
+        const WideBvh wide(mesh, tree);
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<double> unit(-1.3, 1.3), weight(0.0, 1.0);
+        std::vector<glm::dvec3> points;
+        const std::vector<glm::dvec3> positions = mesh.worldPositions();
+        for (int n = 0; n < 3000; ++n) points.push_back(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+        for (std::size_t t = 0; t < mesh.triangleCount(); t += 3) {
+            const glm::uvec3& f = mesh.triangles[t];
+            const double u = weight(rng), v = weight(rng) * (1.0 - u);
+            points.push_back(positions[f.x]);
+            points.push_back(0.5 * (positions[f.x] + positions[f.y]));
+            points.push_back(positions[f.x] + u * (positions[f.y] - positions[f.x]) + v * (positions[f.z] - positions[f.x]));
+        }
+        for (const Cap& cap : caps.caps()) points.push_back(cap.centre);
+        std::size_t nonzero = 0;
+        for (const glm::dvec3& world : points) {
+            const glm::dvec3 p = mesh.toLocal(world);
+            const int binary = crossingsAhead(mesh, tree, caps, p);
+            ASSERT_EQ(crossingsAhead(mesh, wide, tree, caps, p), binary) << mesh.source << " at " << p.x << "," << p.y << "," << p.z;
+            nonzero += binary != 0;
+        }
+        EXPECT_GT(nonzero, points.size() / 25) << mesh.source;
+    }
 }
 
 // Near an open sheet every sample needs fans: there the bricks' first-order expansion of the near

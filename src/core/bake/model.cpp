@@ -236,7 +236,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     if (sign == SignMethod::Pseudonormal) {
                         inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                     } else {
-                        inside = m.caps().inside(p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                        inside = m.caps().inside(p, crossingsAhead(mesh, *wide, m.tree, m.caps(), p));
                     }
                     if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
                     if (out.gradient) {

@@ -662,12 +662,16 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) con
     return gradient * reach;
 }
 
-int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
+namespace {
+
+// crossingsAhead over the triangles that forEachCandidate(x, y, z, visit) hands on: at least
+// every triangle whose box the row through p meets at or ahead of p.
+template <class ForEachCandidate>
+int countAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p, ForEachCandidate&& forEachCandidate) {
     // The same line and the same predicates as insideByWinding's row through p, so that a query at a
     // sample's position counts exactly the crossings its row scan counts ahead of it.
     // The row through p is the line at p's own (y, z), in double, as the row scan has it; its float
     // rounding only bounds the tree's walk (a triangle whose float box holds (y, z) holds its rounding).
-    const glm::vec3 line(p);
     int ahead = 0;
     auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
         int orientation;
@@ -675,16 +679,28 @@ int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, c
         if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
         if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
     };
-    Bounds ray;
-    ray.min = glm::vec3(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), line.y, line.z);
-    ray.max = glm::vec3(std::numeric_limits<float>::infinity(), line.y, line.z);
-    tree.forEachOverlap(ray, [&](std::uint32_t t) {
+    forEachCandidate(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), float(p.y), float(p.z), [&](std::uint32_t t) {
         count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), int(tree.copies(t)));
     });
     caps.forEachCapOnRow(p, [&](const Cap& cap) {
         for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight);
     });
     return ahead;
+}
+
+} // namespace
+
+int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
+    return countAhead(mesh, tree, caps, p, [&](float x, float y, float z, const auto& visit) {
+        Bounds ray;
+        ray.min = glm::vec3(x, y, z);
+        ray.max = glm::vec3(std::numeric_limits<float>::infinity(), y, z);
+        tree.forEachOverlap(ray, visit);
+    });
+}
+
+int crossingsAhead(const Mesh& mesh, const WideBvh& wide, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
+    return countAhead(mesh, tree, caps, p, [&](float x, float y, float z, const auto& visit) { wide.forEachOnRow(x, y, z, visit); });
 }
 
 double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
