@@ -14,7 +14,11 @@
 # reframes and a click still toggles; the surface exports and a field compares with itself as
 # equal; a field opened without a model is framed, and Shift+F frames it again; a resized window
 # keeps the framing (a narrower one moves the camera back so that the scene stays in view); the
-# window's title names what it shows; Ctrl+Q exits with status 0. Every wait
+# window's title names what it shows; and (issue 40) the panel stays put under a still pointer,
+# Scale works about the centre, Ctrl+Z / Ctrl+Shift+Z undo and redo removal, transforms, settings
+# and a bake, Save and Export ask before replacing, a band's own memory estimate, keys in Recent
+# and the file dialog, the cut following the slice, errors under the Model box, an empty view's
+# hint; Ctrl+Q exits with status 0. Every wait
 # polls with a deadline.
 #
 # Usage: tests/gui/test_gui.sh SDFGEN_BINARY REPO_ROOT   (ctest runs it under xvfb-run)
