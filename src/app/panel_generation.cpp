@@ -60,7 +60,8 @@ void choiceCombo(const char* label, Id& value, const std::vector<Choice<Id>>& ch
 // (estimateBandBakeBytes against the available memory), a dense one makeGrid's.
 std::string Viewer::validateSettings(Grid& grid, double& bytes) const {
     bytes = 0.0;
-    if (settings_.res < 1 || settings_.res > 65536) return "Resolution must be 1 to 65536 (voxels along the longest side)";
+    if (settings_.res < 1) return "Resolution must be at least 1 (voxels along the longest side)";
+    if (settings_.res > 65536) return "Resolution must be at most 65536 (as sdfgen bake --res)";
     if (!(settings_.band == 0.0 || (settings_.band >= 1.0 && settings_.band <= 1e9))) return "Band must be 0 (a dense field) or 1 to 1000000000 voxels";
     const bool banded = settings_.band > 0;
     if (banded) {

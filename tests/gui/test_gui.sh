@@ -163,10 +163,11 @@ xdotool click 1
 sleep 1
 grep -q "^recent_1 .* 1$" "$work/shots/widgets.txt" || fail "the Recent list opened by a still click is not drawn: $(grep '^recent_' "$work/shots/widgets.txt" | tr '\n' ' ')"
 echo "Recent opened by a still click: drawn"
-# --- a .npz picked from Recent loads as a field (not as a mesh).
+# --- a .npz picked from Recent loads as a field (not as a mesh), said under Model where it was picked.
 click recent_1
-until_ok grep -q "^message field info: loaded $work/bunny.npz" "$work/log" || fail "the .npz from Recent did not load as a field"
-echo "a .npz from Recent: $(grep '^message field info: loaded .*npz' "$work/log")"
+until_ok grep -q "^message model info: loaded $work/bunny.npz" "$work/log" || fail "the .npz from Recent did not load as a field"
+until_ok grep -q "^text stats method .* loaded" "$work/shots/widgets.txt" || fail "the panel does not show the .npz's figures"
+echo "a .npz from Recent: $(grep '^message model info: loaded .*npz' "$work/log")"
 
 # --- a long error is shown in full: wrapped, every word of it on screen.
 long="$work/a-folder-with-a-rather-long-name-to-make-the-message-wrap/and-another-one-inside-it/missing-field.npz"
@@ -228,7 +229,7 @@ echo "message under Load: $(message '##model_message')"
 type_into resolution 0
 until_ok grep -q "^text validation Resolution must be at least 1" "$work/shots/widgets.txt" || fail "resolution 0 was not refused"
 type_into resolution 100000
-until_ok grep -qE "^text validation Resolution must be 1 to 65536" "$work/shots/widgets.txt" || fail "resolution 100000 was not refused"
+until_ok grep -qE "^text validation Resolution must be at most 65536" "$work/shots/widgets.txt" || fail "resolution 100000 was not refused"
 click generate
 sleep 0.3
 ! grep -q "^message generation info: generating" "$work/log" || fail "Generate ran with resolution 100000"
