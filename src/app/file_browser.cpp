@@ -91,7 +91,10 @@ bool FileBrowser::draw() {
     if (!typing) {
         if (ImGui::IsKeyPressed(GLFW_KEY_DOWN)) selected_ = std::min(selected_ + 1, count - 1), keyMoved = true;
         if (ImGui::IsKeyPressed(GLFW_KEY_UP)) selected_ = std::max(selected_ - 1, 0), keyMoved = true;
-        if (ImGui::IsKeyPressed(GLFW_KEY_ENTER) || ImGui::IsKeyPressed(GLFW_KEY_KP_ENTER)) activate = selected_ >= 0;
+        if (ImGui::IsKeyPressed(GLFW_KEY_ENTER) || ImGui::IsKeyPressed(GLFW_KEY_KP_ENTER)) {
+            activate = selected_ >= 0;
+            chose = selected_ < 0 && name_[0] != '\0'; // nothing selected: the name's file, as the button does
+        }
         if (keyMoved && selected_ > int(folders_.size())) std::snprintf(name_, sizeof(name_), "%s", entry(selected_).c_str());
     }
     const bool escape = ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);

@@ -108,7 +108,7 @@ void onKey(GLFWwindow* w, int key, int scancode, int action, int mods) {
     if (action == GLFW_PRESS && key == GLFW_KEY_Q && (mods & GLFW_MOD_CONTROL)) s.quit = true;
     // Ctrl+Z undoes a scene edit, Ctrl+Shift+Z (or Ctrl+Y) redoes it; in a text box they are the box's.
     const bool ctrlOnly = (mods & GLFW_MOD_CONTROL) && !(mods & (GLFW_MOD_ALT | GLFW_MOD_SUPER));
-    if (action != GLFW_RELEASE && ctrlOnly && !in.textInput) {
+    if (action != GLFW_RELEASE && ctrlOnly && !in.textInput && !in.listKeys) { // not behind a dialog
         if (key == GLFW_KEY_Z) ++((mods & GLFW_MOD_SHIFT) ? s.redoRequests : s.undoRequests);
         if (key == GLFW_KEY_Y) ++s.redoRequests;
     }
