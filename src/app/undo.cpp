@@ -5,7 +5,10 @@
 // the step that replaced it, so undoing a load or a bake costs no copy of the field.
 #include "app/viewer_state.hpp"
 
+#include "core/runtime/memory.hpp"
+
 #include <imgui.h>
+#include <algorithm>
 #include <filesystem>
 
 namespace sdfgen::app {
@@ -13,21 +16,41 @@ namespace sdfgen::app {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr std::size_t kMaxSteps = 64;      // steps kept
-constexpr std::size_t kMaxFieldSteps = 4;  // steps that hold a field (the oldest go first)
+constexpr std::size_t kMaxSteps = 64;     // steps kept
+constexpr std::size_t kMaxFieldSteps = 4; // steps that hold a field (the oldest go first)
+
+// The memory the fields kept for undoing may hold: an eighth of the machine's, at most 2 GiB.
+double fieldBudget() {
+    const double memory = double(physicalMemoryBytes());
+    return memory > 0.0 ? std::min(memory / 8.0, 2.0 * 1024 * 1024 * 1024) : 512.0 * 1024 * 1024;
+}
+
+double fieldBytes(const UndoEntry& e) {
+    double bytes = 0.0;
+    if (e.field) bytes += 4.0 * double(e.field->values.size() + e.field->gradient.size() + e.field->closest.size() + e.field->triangle.size());
+    if (e.band) bytes += 4.0 * double(e.band->values.size()) + 12.0 * double(e.band->bricks.size());
+    return bytes;
+}
 
 bool sameSettings(const BakeSettings& a, const BakeSettings& b) {
     return a.res == b.res && a.padding == b.padding && a.method == b.method && a.sign == b.sign && a.rays == b.rays &&
            a.device == b.device && a.band == b.band;
 }
 
-void trim(std::vector<UndoEntry>& steps) {
-    std::size_t fields = 0;
-    for (const UndoEntry& e : steps) fields += e.hasField;
-    while (!steps.empty() && (steps.size() > kMaxSteps || fields > kMaxFieldSteps)) {
+// Drops the oldest steps (each step undoes the one after it, so only from the front) beyond the
+// limits. Returns how many were dropped.
+std::size_t trim(std::vector<UndoEntry>& steps) {
+    std::size_t fields = 0, dropped = 0;
+    double bytes = 0.0;
+    for (const UndoEntry& e : steps) fields += e.hasField, bytes += fieldBytes(e);
+    const double budget = fieldBudget();
+    while (!steps.empty() && (steps.size() > kMaxSteps || fields > kMaxFieldSteps || bytes > budget)) {
         fields -= steps.front().hasField;
+        bytes -= fieldBytes(steps.front());
         steps.erase(steps.begin());
+        ++dropped;
     }
+    return dropped;
 }
 } // namespace
 
@@ -82,7 +105,10 @@ void Viewer::commitEdits() {
     step.settings = committedSettings_;
     step.threads = committedThreads_;
     undo_.push_back(std::move(step));
-    trim(undo_);
+    if (trim(undo_) > 0 && undo_.empty()) {
+        // The field replaced was too large to keep: this step cannot be undone.
+        setMessage(modelMessage_, Message::Level::Info, "the field replaced was too large to keep for Undo");
+    }
     redo_.clear();
     committedModels_ = models_;
     committedSettings_ = settings_;
