@@ -41,7 +41,9 @@ void Viewer::checkFieldAgainstScene() {
 
 void Viewer::showField(Field field, FieldInfo info) {
     // The field it replaces goes into the undo step (a load or a bake, undone as one).
-    fieldChanging(info.origin == "baked" ? "bake" : ("load " + fs::path(info.origin.substr(info.origin.find(' ') + 1)).filename().string().substr(0, 200)).c_str());
+    const std::string loadedFrom = "loaded from ";
+    const std::string source = info.origin.compare(0, loadedFrom.size(), loadedFrom) == 0 ? info.origin.substr(loadedFrom.size()) : info.origin;
+    fieldChanging(info.origin == "baked" ? "bake" : ("load " + fs::path(source).filename().string()).c_str());
     scene_.setField(field);
     field_ = std::move(field);
     band_.reset();

@@ -101,7 +101,7 @@ std::string Viewer::validateSettings(Grid& grid, double& bytes) const {
     }
     bytes = cached.bytes;
     if (cached.available > 0.0 && cached.bytes > cached.available) {
-        return "a band of " + formatNumber(settings_.band) + " voxels on grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) +
+        return "A band of " + formatNumber(settings_.band) + " voxels on grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) +
                "x" + std::to_string(grid.dims.z) + " needs about " + mebibytes(cached.bytes) + " but only " + mebibytes(cached.available) +
                " of memory is available";
     }
@@ -211,7 +211,6 @@ void Viewer::collectGeneration() {
         return;
     }
     try {
-        fieldChanging("bake");
         const Grid& g = result->field.grid;
         FieldInfo info{"baked", result->field.method, seconds, double(g.sampleCount()) / std::max(seconds, 1e-9), signSummaryOf(result->field)};
         if (result->checked) info.signSummary += " (" + result->signReason + ")\nmesh check: " + result->check.describe();
