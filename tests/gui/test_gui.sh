@@ -620,5 +620,15 @@ xdotool mousemove --window "$window" 790 490
 shoot
 grep "^screenshot $((shots - 1)):" "$work/log" | grep -q "Slice=1 .*cut=1 " || fail "the cut did not come back with the slice"
 echo "the cut follows the slice; an empty view says why"
+# Adding a model is undone too.
+set_text model_path "$work/tet.obj"
+click model_add
+until_ok grep -q "^undo step: add tet.obj" "$work/log" || fail "Add to scene made no undo step"
+until_ok grep -q "^model_1 " "$work/shots/widgets.txt" || fail "the second model is not listed"
+xdotool mousemove --window "$window" 790 490
+xdotool key ctrl+z
+until_ok grep -q "^message model info: undone: add tet.obj" "$work/log" || fail "Ctrl+Z did not undo Add to scene"
+until_ok eval '! grep -q "^model_1 " "$work/shots/widgets.txt"' || fail "the added model is still listed"
+echo "Add to scene undone"
 stop
 echo "GUI test passed"
