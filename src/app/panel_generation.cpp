@@ -143,12 +143,15 @@ void Viewer::generationSection() {
         track("validation");
         if (!debugDir_.empty()) layout_ += "text validation " + problem + "\n";
     } else if (sceneMesh_) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         if (settings_.band > 0) {
-            ImGui::TextDisabled("grid %dx%dx%d, band of %g voxels each side, about %s", grid.dims.x, grid.dims.y, grid.dims.z,
-                                settings_.band, formatBytes(bytes).c_str());
+            // The band bake's own estimate (estimateBandBakeBytes, as bake checks it), wrapped.
+            wrappedText("grid %dx%dx%d, band of %g voxels each side, about %s", grid.dims.x, grid.dims.y, grid.dims.z, settings_.band,
+                        formatBytes(bytes).c_str());
         } else {
-            ImGui::TextDisabled("grid %dx%dx%d, %s", grid.dims.x, grid.dims.y, grid.dims.z, formatBytes(bytes).c_str());
+            wrappedText("grid %dx%dx%d, %s", grid.dims.x, grid.dims.y, grid.dims.z, formatBytes(bytes).c_str());
         }
+        ImGui::PopStyleColor();
         track("validation");
         if (!debugDir_.empty()) {
             char line[160];
