@@ -480,6 +480,10 @@ xdotool key Escape
 until_ok eval '! grep -q "^browse_name " "$work/shots/widgets.txt"' || fail "Escape did not close the file dialog"
 click model_browse
 until_ok is_visible browse_name || fail "the file dialog did not open again"
+shoot
+xdotool key Left Right Down Up
+shoot
+[ "$(camera_of $((shots - 2)))" = "$(camera_of $((shots - 1)))" ] || fail "arrows in the dialog turned the camera"
 sub=3 # ../ config/ shots/ sub/
 click "browse_entry_$sub"
 until_ok grep -q "^browse_entry_${sub}_selected " "$work/shots/widgets.txt" || fail "a click did not select the folder sub/"
