@@ -2,6 +2,7 @@
 #include "app/wrapped_text.hpp"
 #include "core/io/file_extension.hpp"
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <algorithm>
 #include <cctype>
@@ -24,6 +25,7 @@ void FileBrowser::open(const std::string& title, const std::string& start, std::
     confirm_ = confirm;
     open_ = justOpened_ = true;
     chosen_.clear();
+    selected_ = -1;
     list();
 }
 
@@ -48,6 +50,25 @@ void FileBrowser::list() {
     std::sort(files_.begin(), files_.end());
 }
 
+// One entry of the list: "../", the folders, then the files.
+std::string FileBrowser::entry(int i) const {
+    if (i == 0) return "../";
+    if (i <= int(folders_.size())) return folders_[std::size_t(i - 1)] + "/";
+    return files_[std::size_t(i - 1) - folders_.size()];
+}
+
+// Opens entry i: a folder is entered, a file chosen. Returns true for a file.
+bool FileBrowser::activate(int i) {
+    if (i < 0 || i > int(folders_.size() + files_.size())) return false;
+    if (i <= int(folders_.size())) {
+        folder_ = (i == 0 ? fs::path(folder_).parent_path() : fs::path(folder_) / folders_[std::size_t(i - 1)]).lexically_normal().string();
+        list();
+        return false;
+    }
+    std::snprintf(name_, sizeof(name_), "%s", entry(i).c_str());
+    return true;
+}
+
 bool FileBrowser::draw() {
     if (!open_) return false;
     if (justOpened_) {
@@ -62,24 +83,42 @@ bool FileBrowser::draw() {
         open_ = false;
         return false;
     }
+    // Keys (while the name box is not being typed in): up and down move the selection, Enter opens
+    // it (enters a folder, chooses a file); Escape closes the dialog, also from the name box.
+    const int count = 1 + int(folders_.size() + files_.size());
+    const bool typing = ImGui::GetIO().WantTextInput;
+    bool keyMoved = false, activate = false;
+    if (!typing) {
+        if (ImGui::IsKeyPressed(GLFW_KEY_DOWN)) selected_ = std::min(selected_ + 1, count - 1), keyMoved = true;
+        if (ImGui::IsKeyPressed(GLFW_KEY_UP)) selected_ = std::max(selected_ - 1, 0), keyMoved = true;
+        if (ImGui::IsKeyPressed(GLFW_KEY_ENTER) || ImGui::IsKeyPressed(GLFW_KEY_KP_ENTER)) {
+            activate = selected_ >= 0;
+            chose = selected_ < 0 && name_[0] != '\0'; // nothing selected: the name's file, as the button does
+        }
+        if (keyMoved && selected_ > int(folders_.size())) std::snprintf(name_, sizeof(name_), "%s", entry(selected_).c_str());
+    }
+    const bool escape = ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
     wrappedText("%s", folder_.c_str());
     const float footer = ImGui::GetFrameHeightWithSpacing() * 2.0f + ImGui::GetTextLineHeightWithSpacing();
     ImGui::BeginChild("##entries", ImVec2(0, -footer), true);
-    std::string enter;
-    if (ImGui::Selectable("../")) enter = fs::path(folder_).parent_path().string();
-    for (const std::string& f : folders_) {
-        if (ImGui::Selectable((f + "/").c_str())) enter = (fs::path(folder_) / f).string();
-    }
-    for (const std::string& f : files_) {
-        if (ImGui::Selectable(f.c_str(), f == name_, ImGuiSelectableFlags_AllowDoubleClick)) {
-            std::snprintf(name_, sizeof(name_), "%s", f.c_str());
-            if (ImGui::IsMouseDoubleClicked(0)) chose = true;
+    // A click selects, a double click opens.
+    int open = -1;
+    for (int i = 0; i < count; ++i) {
+        const std::string label = entry(i);
+        if (ImGui::Selectable(label.c_str(), i == selected_, ImGuiSelectableFlags_AllowDoubleClick)) {
+            selected_ = i;
+            if (i > int(folders_.size())) std::snprintf(name_, sizeof(name_), "%s", label.c_str());
+            if (ImGui::IsMouseDoubleClicked(0)) open = i;
         }
+        if (keyMoved && i == selected_) ImGui::SetScrollHereY();
+        if (onItem) onItem("browse_entry_" + std::to_string(i) + (i == selected_ ? "_selected" : ""));
     }
     ImGui::EndChild();
-    if (!enter.empty()) {
-        folder_ = fs::path(enter).lexically_normal().string();
-        list();
+    if (activate) open = selected_;
+    if (open >= 0) {
+        const std::string before = folder_;
+        chose = this->activate(open);
+        if (folder_ != before) selected_ = -1; // a new folder: nothing selected yet
     }
     if (!error_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.35f, 1.0f), "%s", error_.c_str());
     else {
@@ -89,13 +128,23 @@ bool FileBrowser::draw() {
     }
     ImGui::SetNextItemWidth(-1.0f);
     if (ImGui::InputText("##name", name_, sizeof(name_), ImGuiInputTextFlags_EnterReturnsTrue)) chose = true;
-    if (ImGui::Button(confirm_.c_str())) chose = true;
+    if (onItem) onItem("browse_name");
+    if (ImGui::Button(confirm_.c_str())) {
+        // A folder selected: enter it; otherwise the name's file.
+        if (selected_ >= 0 && selected_ <= int(folders_.size())) {
+            this->activate(selected_);
+            selected_ = -1;
+        } else {
+            chose = true;
+        }
+    }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel")) {
+    if (ImGui::Button("Cancel") || escape) {
         open_ = false;
+        chose = false;
         ImGui::CloseCurrentPopup();
     }
-    if (chose && name_[0] != '\0') {
+    if (chose && open_ && name_[0] != '\0') {
         chosen_ = (fs::path(folder_) / name_).string();
         open_ = false;
         ImGui::CloseCurrentPopup();

@@ -8,6 +8,7 @@
 #include "sdfgen/field_match.hpp"
 #include "sdfgen/formats.hpp"
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <cstdio>
 #include <filesystem>
@@ -39,6 +40,10 @@ void Viewer::checkFieldAgainstScene() {
 }
 
 void Viewer::showField(Field field, FieldInfo info) {
+    // The field it replaces goes into the undo step (a load or a bake, undone as one).
+    const std::string loadedFrom = "loaded from ";
+    const std::string source = info.origin.compare(0, loadedFrom.size(), loadedFrom) == 0 ? info.origin.substr(loadedFrom.size()) : info.origin;
+    fieldChanging(info.origin == "baked" ? "bake" : ("load " + fs::path(source).filename().string()).c_str());
     scene_.setField(field);
     field_ = std::move(field);
     band_.reset();
@@ -89,7 +94,11 @@ void Viewer::loadSavedField(const std::string& meshPath) {
     }
 }
 
-void Viewer::loadFieldFile(const std::string& path) {
+void Viewer::loadFieldFile(const std::string& path, Message* slot) {
+    // Said where the load was asked for (the Model box or Recent: under Model; else under Field);
+    // an error left in the other slot by an earlier try is stale once this one is said.
+    Message& here = slot ? *slot : fieldMessage_;
+    Message& other = &here == &fieldMessage_ ? modelMessage_ : fieldMessage_;
     try {
         bool noGrid = false;
         fieldWarning_.clear();
@@ -106,15 +115,73 @@ void Viewer::loadFieldFile(const std::string& path) {
         }
         rememberRecent(path);
         setMessage(generationMessage_, Message::Level::Info, ""); // the last bake is no longer shown
+        if (other.level == Message::Level::Error) setMessage(other, Message::Level::Info, "");
+        if (&here != &fieldMessage_) setMessage(fieldMessage_, Message::Level::Info, ""); // what was said of the last field
         if (noGrid) {
-            setMessage(fieldMessage_, Message::Level::Warning,
+            setMessage(here, Message::Level::Warning,
                        "loaded " + path + ", which has no grid (a .npy holds only the values): shown with unit voxels from the origin; "
                        "save fields as .npz, .sdf, .vdb or .nrrd to keep their place");
         } else if (!fieldWarning_.empty()) {
-            setMessage(fieldMessage_, Message::Level::Warning, "loaded " + path + ", but " + fieldWarning_);
+            setMessage(here, Message::Level::Warning, "loaded " + path + ", but " + fieldWarning_);
         } else {
-            setMessage(fieldMessage_, Message::Level::Info, "loaded " + path);
+            setMessage(here, Message::Level::Info, "loaded " + path);
         }
+    } catch (const std::exception& e) {
+        setMessage(here, Message::Level::Error, e.what());
+    }
+}
+
+// Save and Export ask before they replace a file (a modal question; `action` 1 saves the field,
+// 2 exports the surface).
+void Viewer::askOverwrite(const std::string& path, int action) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) {
+        if (action == 1) saveFieldNow();
+        else exportSurface();
+        return;
+    }
+    overwritePath_ = path;
+    overwriteAction_ = action;
+    askOverwrite_ = true;
+}
+
+void Viewer::overwriteQuestion() {
+    const char* title = "Replace the file?";
+    if (askOverwrite_) {
+        ImGui::OpenPopup(title);
+        askOverwrite_ = false;
+    }
+    if (!ImGui::BeginPopupModal(title, nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove)) return;
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);
+    ImGui::TextWrapped("%s already exists. Replace it with the %s?", overwritePath_.c_str(), overwriteAction_ == 1 ? "field" : "surface");
+    ImGui::PopTextWrapPos();
+    bool replace = ImGui::Button("Replace");
+    track("overwrite_replace");
+    ImGui::SameLine();
+    bool keep = ImGui::Button("Cancel");
+    track("overwrite_cancel");
+    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) keep = true;
+    if (replace) {
+        ImGui::CloseCurrentPopup();
+        if (overwriteAction_ == 1) saveFieldNow();
+        else exportSurface();
+    } else if (keep) {
+        ImGui::CloseCurrentPopup();
+        setMessage(fieldMessage_, Message::Level::Info, "not saved: " + overwritePath_ + " is kept as it was");
+    }
+    ImGui::EndPopup();
+}
+
+void Viewer::saveFieldNow() {
+    try {
+        if (!field_) throw Error("no field to save: Generate one first");
+        if (band_) {
+            saveSparseField(*band_, fieldPath_); // not the resampling shown
+        } else {
+            saveField(*field_, fieldPath_);
+        }
+        rememberRecent(fieldPath_);
+        setMessage(fieldMessage_, Message::Level::Info, std::string("saved ") + fieldPath_);
     } catch (const std::exception& e) {
         setMessage(fieldMessage_, Message::Level::Error, e.what());
     }
@@ -160,18 +227,8 @@ void Viewer::fieldSection() {
     if (ImGui::Button("Browse...##field")) fileBrowser_.open("Choose a field file", fieldPath_, fieldFormatExtensions(), "Choose");
     track("field_browse");
     if (ImGui::Button("Save")) {
-        try {
-            if (!field_) throw Error("no field to save: Generate one first");
-            if (band_) {
-                saveSparseField(*band_, fieldPath_); // not the resampling shown
-            } else {
-                saveField(*field_, fieldPath_);
-            }
-            rememberRecent(fieldPath_);
-            setMessage(fieldMessage_, Message::Level::Info, std::string("saved ") + fieldPath_);
-        } catch (const std::exception& e) {
-            setMessage(fieldMessage_, Message::Level::Error, e.what());
-        }
+        if (field_) askOverwrite(fieldPath_, 1);
+        else saveFieldNow(); // says there is nothing to save
     }
     track("field_save");
     ImGui::SameLine();
@@ -187,7 +244,7 @@ void Viewer::fieldSection() {
     ImGui::InputText("##surface", surfacePath_, sizeof(surfacePath_));
     track("surface_path");
     ImGui::SameLine();
-    if (ImGui::Button("Export")) exportSurface();
+    if (ImGui::Button("Export")) askOverwrite(surfacePath_, 2);
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Save the surface at the Iso level as OBJ or PLY");
     track("surface_export");
     ImGui::SetNextItemWidth(-browseWidth);

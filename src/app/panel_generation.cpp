@@ -2,6 +2,11 @@
 // progress, the field's figures, and the question asked when loading during a bake.
 #include "app/viewer_state.hpp"
 #include "sdfgen/error.hpp"
+#include "sdfgen/run_control.hpp"
+#include "core/bake/band_bake.hpp"
+#include "core/bake/methods.hpp"
+#include "core/distance/sample_positions.hpp"
+#include "core/runtime/memory.hpp"
 
 #include <imgui.h>
 #include <algorithm>
@@ -25,6 +30,11 @@ std::string formatBytes(double bytes) {
     std::snprintf(text, sizeof(text), "%.3g %s", bytes, units[u]);
     return text;
 }
+std::string formatNumber(double value) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", value);
+    return text;
+}
 // A combo of a registry's choices (sdfgen/bake.hpp), each with its description as tooltip; the
 // chosen entry's id goes into `value`.
 template <class Id>
@@ -44,24 +54,56 @@ void choiceCombo(const char* label, Id& value, const std::vector<Choice<Id>>& ch
 }
 } // namespace
 
-// The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they describe.
-std::string Viewer::validateSettings(Grid& grid) const {
+// The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they
+// describe and `bytes` the bake's memory estimate. The same rules as `sdfgen bake` (its option
+// ranges and bake()'s checks): a band bake gets the band's own grid and memory estimate
+// (estimateBandBakeBytes against the available memory), a dense one makeGrid's.
+std::string Viewer::validateSettings(Grid& grid, double& bytes) const {
+    bytes = 0.0;
     if (settings_.res < 1) return "Resolution must be at least 1 (voxels along the longest side)";
-    if (!(settings_.band == 0.0 || (settings_.band >= 1.0 && settings_.band <= 1e6))) return "Band must be 0 (a dense field) or 1 to 1000000 voxels";
-    if (settings_.band > 0 && settings_.method != DistanceMethod::Exact) return "Band needs the exact method";
+    if (settings_.res > 65536) return "Resolution must be at most 65536 (as sdfgen bake --res)";
+    if (!(settings_.band == 0.0 || (settings_.band >= 1.0 && settings_.band <= 1e9))) return "Band must be 0 (a dense field) or 1 to 1000000000 voxels";
+    const bool banded = settings_.band > 0;
+    if (banded) {
+        if (!distanceMethod(settings_.method).measuresBand) {
+            return std::string("A band bake measures exact distances: method ") + toString(settings_.method) + " makes dense fields only";
+        }
+        const SignMethod sign = settings_.sign == SignMethod::Default ? distanceMethod(settings_.method).defaultSign : settings_.sign;
+        if (signMethod(sign).band == BandSigning::Never) {
+            return std::string("A band bake signs by the winding number (or auto); sign ") + toString(sign) + " decides per sample";
+        }
+        if (settings_.device == Device::Gpu) return "A band bake runs on the CPU only: choose device cpu or auto";
+    }
     // A band field is shown resampled to fit (render::bandDisplay); a dense one as it is.
-    if (settings_.band == 0 && settings_.res > textureLimit_) {
+    if (!banded && settings_.res > textureLimit_) {
         return "Resolution " + std::to_string(settings_.res) + " is above this OpenGL driver's 3D texture limit of " +
-               std::to_string(textureLimit_) + ", so the field could not be shown";
+               std::to_string(textureLimit_) + ", so the field could not be shown (a band field can be)";
     }
     if (settings_.rays < 1 || settings_.rays > 65536) return "Rays must be 1 to 65536";
-    if (!(settings_.padding >= 0.0f && settings_.padding <= 100.0f)) return "Padding must be 0 to 100 (a fraction of the longest side)";
-    if (threads_ < 0 || threads_ > 1024) return "Threads must be 0 (all cores) to 1024";
+    if (!(settings_.padding >= 0.0 && settings_.padding <= 100.0)) return "Padding must be 0 to 100 (a fraction of the longest side)";
+    if (threads_ < 0 || threads_ > kMaxThreads) return "Threads must be 0 (all cores) to " + std::to_string(kMaxThreads);
     if (!sceneMesh_) return "";
     try {
-        grid = makeGrid(sceneMesh_->worldBounds(), settings_.res, settings_.padding);
+        if (!banded) {
+            grid = makeGrid(sceneMesh_->worldBounds(), settings_.res, settings_.padding);
+            bytes = 4.0 * double(grid.sampleCount());
+            return "";
+        }
+        grid = gridAround(sceneMesh_->worldBounds(), settings_.res, settings_.padding);
     } catch (const std::exception& e) {
         return e.what();
+    }
+    // The band's estimate reads every triangle: kept for the scene and settings it was made for.
+    BandEstimate& cached = bandEstimate_;
+    if (cached.meshVersion != meshVersion_ || cached.res != settings_.res || cached.padding != settings_.padding || cached.band != settings_.band) {
+        cached = BandEstimate{meshVersion_, settings_.res, settings_.padding, settings_.band,
+                              double(estimateBandBakeBytes(*sceneMesh_, grid, settings_.band)), double(availableMemoryBytes())};
+    }
+    bytes = cached.bytes;
+    if (cached.available > 0.0 && cached.bytes > cached.available) {
+        return "A band of " + formatNumber(settings_.band) + " voxels on grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) +
+               "x" + std::to_string(grid.dims.z) + " needs about " + mebibytes(cached.bytes) + " but only " + mebibytes(cached.available) +
+               " of memory is available";
     }
     return "";
 }
@@ -91,7 +133,8 @@ void Viewer::generationSection() {
     ImGui::EndDisabled();
 
     Grid grid;
-    const std::string problem = validateSettings(grid);
+    double bytes = 0.0;
+    const std::string problem = validateSettings(grid, bytes);
     // The grid the settings make, or why they cannot be used (only once there is a model to bake).
     if (!problem.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.4f, 0.35f, 1.0f));
@@ -100,12 +143,21 @@ void Viewer::generationSection() {
         track("validation");
         if (!debugDir_.empty()) layout_ += "text validation " + problem + "\n";
     } else if (sceneMesh_) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         if (settings_.band > 0) {
-            ImGui::TextDisabled("grid %dx%dx%d, band of %g voxels each side", grid.dims.x, grid.dims.y, grid.dims.z, settings_.band);
+            // The band bake's own estimate (estimateBandBakeBytes, as bake checks it), wrapped.
+            wrappedText("grid %dx%dx%d, band of %g voxels each side, about %s", grid.dims.x, grid.dims.y, grid.dims.z, settings_.band,
+                        formatBytes(bytes).c_str());
         } else {
-            ImGui::TextDisabled("grid %dx%dx%d, %s", grid.dims.x, grid.dims.y, grid.dims.z, formatBytes(4.0 * double(grid.sampleCount())).c_str());
+            wrappedText("grid %dx%dx%d, %s", grid.dims.x, grid.dims.y, grid.dims.z, formatBytes(bytes).c_str());
         }
+        ImGui::PopStyleColor();
         track("validation");
+        if (!debugDir_.empty()) {
+            char line[160];
+            std::snprintf(line, sizeof(line), "text grid %dx%dx%d band %g bytes %.0f\n", grid.dims.x, grid.dims.y, grid.dims.z, settings_.band, bytes);
+            layout_ += line;
+        }
     }
 
     const float buttonWidth = ImGui::CalcTextSize("Generate").x + ImGui::GetStyle().FramePadding.x * 2.0f;

@@ -2,7 +2,9 @@
 // placement, colour and visibility, and the recent files.
 #include "app/viewer_state.hpp"
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -34,6 +36,7 @@ void Viewer::openModels(const std::vector<std::string>& paths, bool add) {
         return;
     }
     if (!add) {
+        fieldChanging(("load " + describePaths(paths)).c_str()); // undoing the load brings the field back too
         models_.clear();
         field_.reset();
         band_.reset();
@@ -59,6 +62,17 @@ void Viewer::openModels(const std::vector<std::string>& paths, bool add) {
     std::snprintf(meshPath_, sizeof(meshPath_), "%s", paths.back().c_str());
     std::snprintf(fieldPath_, sizeof(fieldPath_), "%s", fs::path(paths.back()).replace_extension(".sdf").string().c_str());
     if (!add && paths.size() == 1) loadSavedField(paths[0]);
+}
+
+// A path typed into the Model box, or picked from Recent: a model, or a field by its extension;
+// either way what goes wrong is said under the Model box, where the action was taken.
+void Viewer::openPathFromModel(const std::string& path) {
+    if (isFieldPath(path)) {
+        std::snprintf(fieldPath_, sizeof(fieldPath_), "%s", path.c_str());
+        loadFieldFile(path, &modelMessage_);
+    } else {
+        openModels({path}, false);
+    }
 }
 
 void Viewer::rememberRecent(const std::string& path) {
@@ -109,7 +123,7 @@ void Viewer::modelSection() {
     ImGui::SameLine();
     if (ImGui::Button("Browse...##mesh")) fileBrowser_.open("Open a model", meshPath_, meshFormatExtensions(), "Open");
     track("model_browse");
-    if (ImGui::Button("Load") || enter) openPaths({meshPath_}, false);
+    if (ImGui::Button("Load") || enter) openPathFromModel(meshPath_);
     track("model_load");
     ImGui::SameLine();
     if (ImGui::Button("Add to scene")) openModels({meshPath_}, true);
@@ -117,20 +131,30 @@ void Viewer::modelSection() {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(-1.0f);
     if (ImGui::BeginCombo("##recent", "Recent", ImGuiComboFlags_HeightLarge)) {
-        for (std::size_t i = 0; i < recent_.paths().size(); ++i) {
-            const std::string path = recent_.paths()[i];
-            if (ImGui::Selectable(path.c_str())) {
-                if (isFieldPath(path)) {
-                    std::snprintf(fieldPath_, sizeof(fieldPath_), "%s", path.c_str());
-                    loadFieldFile(path);
-                } else {
-                    std::snprintf(meshPath_, sizeof(meshPath_), "%s", path.c_str());
-                    openModels({path}, false);
-                }
-            }
+        // Keys: up and down move the selection, Enter opens it, Escape closes the list.
+        const int count = int(recent_.paths().size());
+        if (ImGui::IsWindowAppearing()) recentSelected_ = -1;
+        bool moved = false;
+        if (ImGui::IsKeyPressed(GLFW_KEY_DOWN) && count > 0) recentSelected_ = std::min(recentSelected_ + 1, count - 1), moved = true;
+        if (ImGui::IsKeyPressed(GLFW_KEY_UP) && count > 0) recentSelected_ = std::max(recentSelected_ - 1, 0), moved = true;
+        int open = -1;
+        if ((ImGui::IsKeyPressed(GLFW_KEY_ENTER) || ImGui::IsKeyPressed(GLFW_KEY_KP_ENTER)) && recentSelected_ >= 0 && recentSelected_ < count) {
+            open = recentSelected_;
+        }
+        for (int i = 0; i < count; ++i) {
+            if (ImGui::Selectable(recent_.paths()[std::size_t(i)].c_str(), i == recentSelected_)) open = i;
+            if (moved && i == recentSelected_) ImGui::SetScrollHereY();
             track(("recent_" + std::to_string(i)).c_str());
         }
         if (recent_.paths().empty()) ImGui::TextDisabled("(none yet)");
+        if (open >= 0) {
+            const std::string path = recent_.paths()[std::size_t(open)];
+            ImGui::CloseCurrentPopup();
+            if (!isFieldPath(path)) std::snprintf(meshPath_, sizeof(meshPath_), "%s", path.c_str());
+            openPathFromModel(path);
+        } else if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) {
+            ImGui::CloseCurrentPopup();
+        }
         ImGui::EndCombo();
     }
     track("model_recent");
@@ -154,18 +178,25 @@ void Viewer::modelSection() {
         const bool open = ImGui::TreeNode("##model", "%s", label.c_str());
         track(("model_" + std::to_string(i)).c_str());
         if (open) {
-            const float step = std::max(glm::length(m.mesh->bounds.extent()), 1e-6f) * 0.005f;
+            const float step = float(std::max(glm::length(m.mesh->bounds.extent()) * m.mesh->unit, 1e-6)) * 0.005f; // world units
             moved |= ImGui::DragFloat3("Move", &m.move.x, step);
             moved |= ImGui::DragFloat3("Rotate", &m.rotate.x, 0.5f, -360.0f, 360.0f, "%.1f");
             moved |= ImGui::DragFloat("Scale", &m.scale, 0.005f, 1e-3f, 1e3f, "%.3f", ImGuiSliderFlags_Logarithmic);
+            track(("model_scale_" + std::to_string(i)).c_str());
             m.scale = std::max(m.scale, 1e-3f);
             if (ImGui::SmallButton("Remove from scene")) remove = int(i);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("Ctrl+Z (Undo) brings it back");
+            track(("model_remove_" + std::to_string(i)).c_str());
             ImGui::TreePop();
         }
         ImGui::PopID();
     }
     ImGui::EndDisabled();
-    if (remove >= 0) models_.erase(models_.begin() + remove);
+    if (remove >= 0) {
+        const std::string name = fs::path(models_[std::size_t(remove)].mesh->source).filename().string();
+        models_.erase(models_.begin() + remove);
+        setMessage(modelMessage_, Message::Level::Info, "removed " + name + " from the scene: Undo (Ctrl+Z) brings it back");
+    }
     if (moved || remove >= 0) {
         rebuildScene(false);
     } else if (styled) {
@@ -189,6 +220,7 @@ void Viewer::modelSection() {
         wrappedText("no model: type a path, Browse, or drop mesh files on the window");
         ImGui::PopStyleColor();
     }
+    undoButtons();
 }
 
 } // namespace sdfgen::app

@@ -93,10 +93,24 @@ void Viewer::viewSection() {
         }
         track(names[a]);
     }
-    int cut = scene_.sliceCut == 0 ? 0 : scene_.sliceCut > 0 ? 1 : 2;
-    ImGui::Combo("Cut away", &cut, "nothing\0the normal's side\0the other side\0");
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The slice's plane cuts the model and the ray-marched surface away on one side");
-    scene_.sliceCut = cut == 0 ? 0 : cut == 1 ? 1 : -1;
+    // The cut follows the slice: hidden, it cuts nothing (the choice is kept for when it is shown).
+    int cut = sliceCut_ == 0 ? 0 : sliceCut_ > 0 ? 1 : 2;
+    const char* cuts[] = {"nothing", "the normal's side", "the other side"};
+    ImGui::BeginDisabled(!v["slice"]);
+    if (ImGui::BeginCombo("Cut away", cuts[cut])) {
+        for (int c = 0; c < 3; ++c) {
+            if (ImGui::Selectable(cuts[c], c == cut)) cut = c;
+            track(("slice_cut_" + std::to_string(c)).c_str());
+        }
+        ImGui::EndCombo();
+    }
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
+        ImGui::SetTooltip(v["slice"] ? "The slice's plane cuts the model and the ray-marched surface away on one side"
+                                     : "Show the slice to cut away with its plane");
+    }
+    sliceCut_ = cut == 0 ? 0 : cut == 1 ? 1 : -1;
+    scene_.sliceCut = v["slice"] ? sliceCut_ : 0;
     track("slice_cut");
     const glm::vec3 n = scene_.sliceNormal;
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
@@ -112,9 +126,9 @@ void Viewer::viewSection() {
     if (ImGui::Button("Screenshot")) saveScreenshot();
     track("screenshot");
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(-1.0f);
-    ImGui::InputInt2("##screenshot_size", screenshotSize_);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Width and height in pixels; 0 0: the size of the scene's area");
+    ImGui::TextDisabled("0 0: the scene's size");
+    ImGui::InputInt2("Width, height", screenshotSize_);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The screenshot's width and height in pixels; 0 0: the size of the scene's area");
     track("screenshot_size");
     messageLine("##screenshot_message", screenshotMessage_);
 }
@@ -169,7 +183,7 @@ void Viewer::probeSection() {
         wrappedText("gradient (%.3f %.3f %.3f)", double(p.gradient.x), double(p.gradient.y), double(p.gradient.z));
     }
     if (p.haveMesh) {
-        wrappedText("mesh: distance %.5g (exact)", p.meshDistance);
+        wrappedText("mesh: unsigned distance %.5g (exact)", p.meshDistance);
         wrappedText("nearest (%.4g %.4g %.4g)", p.nearest.x, p.nearest.y, p.nearest.z);
     }
     track("probe_values");

@@ -40,8 +40,10 @@ std::string widgetName(const std::string& label) {
 }
 
 glm::dmat4 SceneModel::transform() const {
-    // About the mesh's own centre, so that rotating and scaling keep it in place.
-    const glm::dvec3 centre = 0.5 * (glm::dvec3(mesh->bounds.min) + glm::dvec3(mesh->bounds.max));
+    // About the mesh's own centre in world coordinates (its bounds are local), so that rotating
+    // and scaling keep it in place.
+    const WorldBounds bounds = mesh->worldBounds();
+    const glm::dvec3 centre = 0.5 * (bounds.min + bounds.max);
     glm::dmat4 m = glm::translate(glm::dmat4(1.0), centre + glm::dvec3(move));
     m = glm::rotate(m, glm::radians(double(rotate.z)), glm::dvec3(0, 0, 1));
     m = glm::rotate(m, glm::radians(double(rotate.y)), glm::dvec3(0, 1, 0));
@@ -104,6 +106,12 @@ void onKey(GLFWwindow* w, int key, int scancode, int action, int mods) {
     // Shift and Caps Lock do not change what a shortcut does; Ctrl, Alt and Super do.
     const bool plain = (mods & (GLFW_MOD_CONTROL | GLFW_MOD_ALT | GLFW_MOD_SUPER)) == 0;
     if (action == GLFW_PRESS && key == GLFW_KEY_Q && (mods & GLFW_MOD_CONTROL)) s.quit = true;
+    // Ctrl+Z undoes a scene edit, Ctrl+Shift+Z (or Ctrl+Y) redoes it; in a text box they are the box's.
+    const bool ctrlOnly = (mods & GLFW_MOD_CONTROL) && !(mods & (GLFW_MOD_ALT | GLFW_MOD_SUPER));
+    if (action != GLFW_RELEASE && ctrlOnly && !in.textInput && !in.listKeys) { // not behind a dialog
+        if (key == GLFW_KEY_Z) ++((mods & GLFW_MOD_SHIFT) ? s.redoRequests : s.undoRequests);
+        if (key == GLFW_KEY_Y) ++s.redoRequests;
+    }
     const int arrows[4] = {GLFW_KEY_LEFT, GLFW_KEY_RIGHT, GLFW_KEY_UP, GLFW_KEY_DOWN};
     for (int a = 0; a < 4; ++a) {
         if (key != arrows[a] || action == GLFW_REPEAT) continue;
@@ -111,12 +119,12 @@ void onKey(GLFWwindow* w, int key, int scancode, int action, int mods) {
         if (action == GLFW_RELEASE) {
             s.turnHeld(a, now); // up to the release, however late the next frame
             s.arrowPressedAt[a] = -1.0;
-        } else if (!in.textInput && plain) {
+        } else if (!in.textInput && !in.listKeys && plain) {
             s.arrowPressedAt[a] = s.arrowTurnedUntil[a] = now;
             s.arrowTurn[a / 2] += a % 2 ? kArrowTapDegrees : -kArrowTapDegrees;
         }
     }
-    if (in.textInput) return;
+    if (in.textInput || in.listKeys) return;
     if (action == GLFW_PRESS && key == GLFW_KEY_F && plain) ++s.frameRequests;
 }
 void onDrop(GLFWwindow* w, int count, const char** paths) {
@@ -158,6 +166,12 @@ Viewer::Viewer(GlfwContext& context, Inbox& inbox) : context_(context), inbox_(i
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &limit);
     textureLimit_ = limit;
     scene_.views["box"] = true;
+    if (!debugDir_.empty()) {
+        fileBrowser_.onItem = [this](const std::string& name) {
+            track(name.c_str());
+            if (name == "browse_name") layout_ += "text browse_folder " + fileBrowser_.folder() + "\n";
+        };
+    }
 }
 
 void Viewer::openPaths(const std::vector<std::string>& paths, bool add) {
@@ -192,6 +206,11 @@ bool Viewer::imguiSettling() {
 
 int Viewer::run() {
     GLFWwindow* window = context_.window();
+    // What the command line opened is where undoing stops.
+    committedModels_ = models_;
+    committedSettings_ = settings_;
+    committedThreads_ = threads_;
+    fieldStep_.reset();
     while (!glfwWindowShouldClose(window)) {
         // Sleep until something happens; while a bake runs, wake ten times a second for its progress.
         const bool busy = !inbox_.input.empty() || inbox_.wake > 0 || inbox_.shortcuts.arrowsHeld();
@@ -208,10 +227,14 @@ int Viewer::run() {
         const FrameInput input = inbox_.input.apply(window, inbox_.cursorInside);
         ImGui::NewFrame();
         sceneInput(input);
+        for (; inbox_.shortcuts.undoRequests > 0; --inbox_.shortcuts.undoRequests) undoStep(false);
+        for (; inbox_.shortcuts.redoRequests > 0; --inbox_.shortcuts.redoRequests) undoStep(true);
         panel();
+        sceneHint();
         probeOverlay();
         ImGui::Render();
         inbox_.textInput = ImGui::GetIO().WantTextInput;
+        inbox_.listKeys = fileBrowser_.isOpen() || ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId);
 
         drawScene();
         if (input.screenshot && !debugDir_.empty()) debugScreenshot(true);
@@ -383,7 +406,9 @@ std::string Viewer::probeText(const char* separator) const {
     char text[160];
     int n = 0;
     if (field_) n += std::snprintf(text, sizeof(text), "field %.5g%s", double(probe_.fieldValue), probe_.insideField ? "" : " (clamped)");
-    if (probe_.haveMesh) n += std::snprintf(text + n, sizeof(text) - std::size_t(n), "%smesh %.5g", n ? separator : "", probe_.meshDistance);
+    if (probe_.haveMesh) {
+        n += std::snprintf(text + n, sizeof(text) - std::size_t(n), "%smesh %.5g (unsigned)", n ? separator : "", probe_.meshDistance);
+    }
     return std::string(text, std::size_t(n));
 }
 
@@ -403,6 +428,28 @@ void Viewer::probeOverlay() {
     draw->AddText(at, IM_COL32(255, 240, 120, 255), text.c_str());
 }
 
+// A line in the scene's area when models are loaded but no view draws them (Coloured Model and
+// Polygon off, or every model hidden) and no field view is shown: an empty picture says why.
+void Viewer::sceneHint() {
+    const render::Views& v = scene_.views;
+    if (!sceneMesh_) return;
+    bool anyVisible = false;
+    for (const SceneModel& m : models_) anyVisible |= m.visible;
+    const bool modelShown = anyVisible && (v["mesh"] || v["wire"]);
+    const bool fieldShown = field_ && (v["slice"] || v["raymarch"] || v["volume"]);
+    if (modelShown || fieldShown) return;
+    const char* text = !anyVisible ? "every model is hidden: tick a model's checkbox in Model to show it"
+                                   : "Coloured Model and Polygon are off: tick one in View to see the model";
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const float width = std::max(display.x - panelWidth_ - 40.0f, 100.0f);
+    const ImVec2 size = ImGui::CalcTextSize(text, nullptr, false, width);
+    const ImVec2 at(panelWidth_ + std::max(20.0f, 0.5f * (display.x - panelWidth_ - size.x)), 0.5f * (display.y - size.y));
+    ImDrawList* draw = ImGui::GetBackgroundDrawList();
+    draw->AddRectFilled(ImVec2(at.x - 6.0f, at.y - 4.0f), ImVec2(at.x + size.x + 6.0f, at.y + size.y + 4.0f), IM_COL32(20, 22, 26, 200), 3.0f);
+    draw->AddText(nullptr, 0.0f, at, IM_COL32(230, 230, 230, 255), text, nullptr, width);
+    if (!debugDir_.empty()) layout_ += std::string("text scene_hint ") + text + "\n";
+}
+
 void Viewer::panel() {
     const ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
@@ -416,12 +463,18 @@ void Viewer::panel() {
                          ImGui::GetStyle().ScrollbarSize + ImGui::GetStyle().WindowPadding.x;
 
     // The probe's reading, pinned above the scrolling sections (the last one, greyed, while the
-    // pointer is elsewhere).
-    if (probeOn_ && probeKept_) {
-        if (!probeValid_) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-        wrappedText("probe: %s", probeText(", ").c_str());
-        if (!probeValid_) ImGui::PopStyleColor();
+    // pointer is elsewhere). Its two lines are always there, reading or not, so that nothing below
+    // moves under a still pointer when a reading comes or goes (a bake, a load, a new scene).
+    {
+        const float top = ImGui::GetCursorPosY();
+        const float reserved = 2.0f * ImGui::GetTextLineHeight() + ImGui::GetStyle().ItemSpacing.y;
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[probeValid_ ? ImGuiCol_Text : ImGuiCol_TextDisabled]);
+        if (!probeOn_) ImGui::TextUnformatted("probe: off");
+        else if (probeKept_) ImGui::TextWrapped("probe: %s", probeText(", ").c_str());
+        else ImGui::TextUnformatted("probe: point at the scene");
+        ImGui::PopStyleColor();
         track("probe_pinned");
+        if (ImGui::GetCursorPosY() < top + reserved) ImGui::SetCursorPosY(top + reserved);
         ImGui::Separator();
     }
     ImGui::BeginChild("##sections");
@@ -443,7 +496,9 @@ void Viewer::panel() {
     ImGui::PopItemWidth();
     ImGui::EndChild();
     ImGui::End();
+    commitEdits();
     bakeQuestion();
+    overwriteQuestion();
     if (fileBrowser_.draw()) fileChosen();
 }
 

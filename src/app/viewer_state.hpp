@@ -33,6 +33,7 @@ constexpr float kArrowDegreesPerSecond = 90.0f;
 // Shortcuts handled in GLFW's key callback itself, so that a tap shorter than a frame still acts.
 struct Shortcuts {
     int frameRequests = 0;
+    int undoRequests = 0, redoRequests = 0; // Ctrl+Z, Ctrl+Shift+Z (or Ctrl+Y) outside text boxes
     bool quit = false;
     double arrowPressedAt[4] = {-1.0, -1.0, -1.0, -1.0}; // left, right, up, down: glfwGetTime of the press; < 0 released
     double arrowTurnedUntil[4] = {0.0, 0.0, 0.0, 0.0};   // held turning applied up to this time
@@ -49,6 +50,7 @@ struct Inbox {
     Shortcuts shortcuts;
     std::vector<std::string> drops;
     bool textInput = false; // a text box has the keyboard (last frame): F and arrows are typing
+    bool listKeys = false;  // a list (Recent, the file dialog) has the keyboard: arrows move its selection
     bool cursorInside = true;
     int wake = 2;           // frames still to draw (ImGui settles a frame or two after an event)
 };
@@ -70,6 +72,10 @@ struct SceneModel {
     bool visible = true;
 
     bool identity() const { return move == glm::vec3(0.0f) && rotate == glm::vec3(0.0f) && scale == 1.0f; }
+    bool operator==(const SceneModel& o) const {
+        return mesh == o.mesh && move == o.move && rotate == o.rotate && scale == o.scale && colour == o.colour && visible == o.visible;
+    }
+    bool operator!=(const SceneModel& o) const { return !(*this == o); }
     glm::dmat4 transform() const;
 };
 
@@ -94,6 +100,21 @@ struct RangeChoice {
     glm::vec4 valuesPlane{0.0f};
 };
 
+// One step of the undo stack: the scene's models and the bake's settings as they were, and the
+// field shown (moved here, not copied) when the step changed it. Undoing swaps it with the
+// viewer's own, so the same entry then redoes the step.
+struct UndoEntry {
+    std::string what; // "remove bunny.obj", "move", "settings", "load field"...
+    std::vector<SceneModel> models;
+    BakeSettings settings;
+    int threads = 0;
+    bool hasField = false;
+    std::optional<Field> field;
+    std::shared_ptr<const SparseField> band;
+    std::string bandLine;
+    FieldInfo info;
+};
+
 bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
 std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
 std::string signSummaryOf(const Field& field);    // "sign: " and how the field's signs were decided
@@ -112,6 +133,7 @@ private:
     void dragSlice(float dx, float dy);
     void probeAt(const FrameInput& input);
     void probeOverlay();
+    void sceneHint();
     std::string probeText(const char* separator) const;
     void panel();
     void drawScene();
@@ -125,12 +147,20 @@ private:
     // panel_model.cpp
     void openModels(const std::vector<std::string>& paths, bool add);
     void rememberRecent(const std::string& path);
+    void openPathFromModel(const std::string& path);
     void rebuildScene(bool reframe);
+    void undoButtons();
+
+    // undo.cpp: the undo stack of scene edits.
+    void fieldChanging(const char* what);
+    void commitEdits();
+    void undoStep(bool redo);
+    std::string describeEdit() const;
     void handleDrops();
     void modelSection();
 
     // panel_generation.cpp
-    std::string validateSettings(Grid& grid) const;
+    std::string validateSettings(Grid& grid, double& bytes) const;
     void generationSection();
     void collectGeneration();
     void bakeQuestion();
@@ -140,7 +170,11 @@ private:
     void showField(Field field, FieldInfo info);
     void showBand(SparseField band, FieldInfo info);
     void loadSavedField(const std::string& meshPath);
-    void loadFieldFile(const std::string& path);
+    // Loads a field file; its messages go to `slot` (the section the action was taken in).
+    void loadFieldFile(const std::string& path, Message* slot = nullptr);
+    void askOverwrite(const std::string& path, int action);
+    void overwriteQuestion();
+    void saveFieldNow();
     void fieldSection();
     void exportSurface();
     void compareWith(const std::string& path);
@@ -182,6 +216,26 @@ private:
     RecentFiles recent_;
     FileBrowser fileBrowser_;
     std::vector<std::string> pendingPaths_;
+    // Undo: the steps back and forward, the state the last step left (edits are compared with it
+    // once no widget is active), and the field a step in progress replaced.
+    std::vector<UndoEntry> undo_, redo_;
+    std::vector<SceneModel> committedModels_;
+    BakeSettings committedSettings_;
+    int committedThreads_ = 0;
+    std::optional<UndoEntry> fieldStep_;
+    bool replaying_ = false;
+    // Overwrite confirmation: the file and the action (1 save the field, 2 export the surface).
+    std::string overwritePath_;
+    int overwriteAction_ = 0;
+    bool askOverwrite_ = false;
+    int recentSelected_ = -1;
+    // The band bake's memory estimate for the scene and settings it was made for.
+    struct BandEstimate {
+        int meshVersion = -1, res = 0;
+        double padding = 0.0, band = 0.0, bytes = 0.0, available = 0.0;
+    };
+    mutable BandEstimate bandEstimate_;
+    int sliceCut_ = 0; // the user's cut-away choice; applied while the slice is shown
     bool pendingAdd_ = false, askAboutBake_ = false;
     bool userChoseViews_ = false;
     bool sceneDrag_[3] = {false, false, false};

@@ -14,7 +14,11 @@
 # reframes and a click still toggles; the surface exports and a field compares with itself as
 # equal; a field opened without a model is framed, and Shift+F frames it again; a resized window
 # keeps the framing (a narrower one moves the camera back so that the scene stays in view); the
-# window's title names what it shows; Ctrl+Q exits with status 0. Every wait
+# window's title names what it shows; and (issue 40) the panel stays put under a still pointer,
+# Scale works about the centre, Ctrl+Z / Ctrl+Shift+Z undo and redo removal, transforms, settings
+# and a bake, Save and Export ask before replacing, a band's own memory estimate, keys in Recent
+# and the file dialog, the cut following the slice, errors under the Model box, an empty view's
+# hint; Ctrl+Q exits with status 0. Every wait
 # polls with a deadline.
 #
 # Usage: tests/gui/test_gui.sh SDFGEN_BINARY REPO_ROOT   (ctest runs it under xvfb-run)
@@ -159,10 +163,11 @@ xdotool click 1
 sleep 1
 grep -q "^recent_1 .* 1$" "$work/shots/widgets.txt" || fail "the Recent list opened by a still click is not drawn: $(grep '^recent_' "$work/shots/widgets.txt" | tr '\n' ' ')"
 echo "Recent opened by a still click: drawn"
-# --- a .npz picked from Recent loads as a field (not as a mesh).
+# --- a .npz picked from Recent loads as a field (not as a mesh), said under Model where it was picked.
 click recent_1
-until_ok grep -q "^message field info: loaded $work/bunny.npz" "$work/log" || fail "the .npz from Recent did not load as a field"
-echo "a .npz from Recent: $(grep '^message field info: loaded .*npz' "$work/log")"
+until_ok grep -q "^message model info: loaded $work/bunny.npz" "$work/log" || fail "the .npz from Recent did not load as a field"
+until_ok grep -q "^text stats method .* loaded" "$work/shots/widgets.txt" || fail "the panel does not show the .npz's figures"
+echo "a .npz from Recent: $(grep '^message model info: loaded .*npz' "$work/log")"
 
 # --- a long error is shown in full: wrapped, every word of it on screen.
 long="$work/a-folder-with-a-rather-long-name-to-make-the-message-wrap/and-another-one-inside-it/missing-field.npz"
@@ -224,7 +229,7 @@ echo "message under Load: $(message '##model_message')"
 type_into resolution 0
 until_ok grep -q "^text validation Resolution must be at least 1" "$work/shots/widgets.txt" || fail "resolution 0 was not refused"
 type_into resolution 100000
-until_ok grep -qE "^text validation (Resolution 100000 is above|grid .* needs)" "$work/shots/widgets.txt" || fail "resolution 100000 was not refused"
+until_ok grep -qE "^text validation Resolution must be at most 65536" "$work/shots/widgets.txt" || fail "resolution 100000 was not refused"
 click generate
 sleep 0.3
 ! grep -q "^message generation info: generating" "$work/log" || fail "Generate ran with resolution 100000"
@@ -316,8 +321,8 @@ for name in Grid Polygon Coloured_Model SDF_volume Ray-marched Slice; do
   click "$name"
   xdotool mousemove --window "$window" 790 490 # off the model: no probe marker in the picture
   shoot
-  before=$(grep "^screenshot $previous:" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=')
-  after=$(grep "^screenshot $((shots - 1)):" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=')
+  before=$(grep "^screenshot $previous:" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=' -e '^cut=')
+  after=$(grep "^screenshot $((shots - 1)):" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=' -e '^cut=')
   flipped=$(diff <(echo "$before") <(echo "$after") | grep '^>' | cut -d' ' -f2 | cut -d= -f1 || true)
   [ "$flipped" = "$name" ] || fail "clicking $name flipped '${flipped}' instead"
   if cmp -s "$work/shots/scene-$previous.png" "$work/shots/scene-$((shots - 1)).png"; then
@@ -439,5 +444,195 @@ resize 560 500
 shoot
 same_camera "$(camera_of 6)" "$(camera_of 7)" || fail "a zoomed view resized and back changed ($(camera_of 6), then $(camera_of 7))"
 echo "resizing keeps the framing: at 800x500 $(camera_of 0), at 560x500 $(camera_of 4), zoomed $(camera_of 6) -> $(camera_of 7)"
+stop
+
+# --- work is never lost by one click (issue 40): the panel does not move under a still pointer
+# (the probe's line is always reserved), Scale works about the model's centre, removal and every
+# scene edit can be undone (Ctrl+Z) and redone (Ctrl+Shift+Z), Save and Export ask before
+# replacing a file, the band's own memory estimate, keys in Recent and the file dialog, the cut
+# following the slice, errors under the section the action was taken in, a hint for an empty view.
+mkdir -p "$work/sub"
+cp "$work/tet.obj" "$work/sub/tet.obj"
+start
+sections() { grep '^sections ' "$work/shots/widgets.txt" | cut -d' ' -f2; }
+top=$(sections)
+xdotool mousemove --window "$window" 547 262
+until_ok grep -q "^probe .* pointer=547,262$" "$work/log" || fail "no probe reading over the model"
+[ "$(sections)" = "$top" ] || fail "a probe reading moved the panel ($top -> $(sections))"
+xdotool mousemove --window "$window" 790 490
+# Keys in Recent: Escape closes it; Down and Enter open its first entry (the bunny).
+click model_recent
+until_ok grep -q "^recent_0 .* 1$" "$work/shots/widgets.txt" || fail "Recent did not open"
+xdotool key Escape
+until_ok eval '! grep -q "^recent_0 " "$work/shots/widgets.txt"' || fail "Escape did not close Recent"
+loads=$(grep -c "^message model info: loaded bunny.obj" "$work/log")
+click model_recent
+until_ok grep -q "^recent_0 .* 1$" "$work/shots/widgets.txt" || fail "Recent did not open again"
+xdotool key Down Return
+until_ok eval '[ "$(grep -c "^message model info: loaded bunny.obj" "$work/log")" -gt "$loads" ]' || fail "Down and Enter in Recent opened nothing"
+[ "$(sections)" = "$top" ] || fail "loading a model moved the panel ($top -> $(sections))"
+echo "Recent: Escape closes it, Down and Enter open its first entry"
+# Keys in the file dialog: Escape closes it; a click selects a folder without entering it; Enter
+# enters it; Down and Enter open a file; a double click on ../ goes up.
+click model_browse
+until_ok is_visible browse_name || fail "the file dialog did not open"
+xdotool key Escape
+until_ok eval '! grep -q "^browse_name " "$work/shots/widgets.txt"' || fail "Escape did not close the file dialog"
+click model_browse
+until_ok is_visible browse_name || fail "the file dialog did not open again"
+shoot
+xdotool key Left Right Down Up
+shoot
+[ "$(camera_of $((shots - 2)))" = "$(camera_of $((shots - 1)))" ] || fail "arrows in the dialog turned the camera"
+sub=3 # ../ config/ shots/ sub/
+click "browse_entry_$sub"
+until_ok grep -q "^browse_entry_${sub}_selected " "$work/shots/widgets.txt" || fail "a click did not select the folder sub/"
+grep -qx "text browse_folder $work" "$work/shots/widgets.txt" || fail "one click entered a folder: $(grep browse_folder "$work/shots/widgets.txt")"
+xdotool key Return
+until_ok grep -qx "text browse_folder $work/sub" "$work/shots/widgets.txt" || fail "Enter did not enter the selected folder"
+xdotool key Down Down Return
+until_ok grep -q "^message model info: loaded tet.obj" "$work/log" || fail "Down, Down, Enter in the dialog did not open tet.obj"
+click model_browse
+until_ok grep -qx "text browse_folder $work/sub" "$work/shots/widgets.txt" || fail "the dialog did not open at the model's folder"
+read -r x0 y0 x1 y1 _ <<<"$(widget browse_entry_0)"
+xdotool mousemove --window "$window" $((x0 + 20)) $(((y0 + y1) / 2)) click --repeat 2 --delay 80 1
+until_ok grep -qx "text browse_folder $work" "$work/shots/widgets.txt" || fail "a double click on ../ did not go up"
+xdotool key Escape
+until_ok eval '! grep -q "^browse_name " "$work/shots/widgets.txt"' || fail "Escape did not close the file dialog"
+echo "file dialog: Escape closes, a click selects, Enter and a double click open, arrows move"
+# A field path typed into the Model box: its error is said under Model, not under Field.
+type_into model_path "$work/missing.npz"
+until_ok grep -q "^message model error: .*missing.npz" "$work/log" || fail "the missing field typed into Model gave no error under Model"
+! grep -q "^message field error: .*missing.npz" "$work/log" || fail "the error of the Model box was said under Field"
+type_into model_path bunny.obj
+until_ok eval '[ "$(grep -c "^message model info: loaded bunny.obj" "$work/log")" -gt "$((loads + 1))" ]' || fail "the bunny did not load again"
+[ "$(sections)" = "$top" ] || fail "the panel moved ($top -> $(sections))"
+
+# Scale 2 typed in (Ctrl+click, Enter): about the model's centre, nothing moves under the pointer.
+click model_0
+until_ok is_visible model_scale_0 || fail "the model's placement did not open"
+bounds() { grep '^text scene_bounds ' "$work/shots/widgets.txt" | cut -d' ' -f3-; }
+bounds0=$(bounds)
+remove0=$(widget model_remove_0)
+read -r x0 y0 x1 y1 _ <<<"$(widget model_scale_0)"
+xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2)) keydown ctrl click 1 keyup ctrl
+xdotool key ctrl+a
+xdotool type --delay 20 2
+xdotool key Return
+until_ok grep -q "^undo step: scale" "$work/log" || fail "Scale 2 made no undo step"
+bounds1=$(bounds)
+[ "$(widget model_remove_0)" = "$remove0" ] || fail "Scale moved Remove from scene ($remove0 -> $(widget model_remove_0))"
+[ "$(sections)" = "$top" ] || fail "Scale moved the panel"
+/usr/bin/python3 - "$bounds0" "$bounds1" <<'PY' || fail "Scale 2 did not scale about the centre ($bounds0 -> $bounds1)"
+import sys
+a = [float(v) for v in sys.argv[1].split()]
+b = [float(v) for v in sys.argv[2].split()]
+for i in range(3):
+    ca, cb = (a[i] + a[i + 3]) / 2, (b[i] + b[i + 3]) / 2
+    ea, eb = a[i + 3] - a[i], b[i + 3] - b[i]
+    if abs(ca - cb) > 1e-3 * ea or abs(eb - 2 * ea) > 1e-3 * ea:
+        sys.exit(f"axis {i}: centre {ca} -> {cb}, extent {ea} -> {eb}")
+print(f"scaled about the centre: {sys.argv[1]} -> {sys.argv[2]}")
+PY
+# Undo and redo the scale; Remove, then Ctrl+Z brings the model back (as scaled).
+xdotool mousemove --window "$window" 790 490
+xdotool key ctrl+z
+until_ok grep -q "^message model info: undone: scale" "$work/log" || fail "Ctrl+Z did not undo the scale"
+until_ok eval '[ "$(bounds)" = "$bounds0" ]' || fail "Ctrl+Z did not give the bounds back: $(bounds)"
+xdotool key ctrl+shift+z
+until_ok grep -q "^message model info: redone: scale" "$work/log" || fail "Ctrl+Shift+Z did not redo the scale"
+until_ok eval '[ "$(bounds)" = "$bounds1" ]' || fail "Ctrl+Shift+Z did not scale again: $(bounds)"
+click model_remove_0
+until_ok grep -q "^message model info: removed bunny.obj from the scene" "$work/log" || fail "Remove did not remove the model"
+until_ok eval '! grep -q "^model_0 " "$work/shots/widgets.txt"' || fail "the model is still listed"
+xdotool mousemove --window "$window" 790 490
+xdotool key ctrl+z
+until_ok grep -q "^message model info: undone: remove bunny.obj" "$work/log" || fail "Ctrl+Z did not undo the removal"
+until_ok eval '[ "$(bounds)" = "$bounds1" ]' || fail "the model came back elsewhere: $(bounds)"
+xdotool key ctrl+z
+until_ok eval '[ "$(bounds)" = "$bounds0" ]' || fail "a second Ctrl+Z did not undo the scale: $(bounds)"
+echo "Scale 2 about the centre, Remove, both undone with Ctrl+Z: $(bounds)"
+# Settings and a bake are undone too.
+grid_line() { grep '^text grid ' "$work/shots/widgets.txt" | cut -d' ' -f3-; }
+grid0=$(grid_line)
+type_into resolution 32
+until_ok grep -q "^text grid 32x" "$work/shots/widgets.txt" || fail "resolution 32 not taken"
+click generate
+until_ok grep -q "^text stats method exact baked" "$work/shots/widgets.txt" || fail "the bake did not finish"
+[ "$(sections)" = "$top" ] || fail "the bake moved the panel ($top -> $(sections))"
+xdotool mousemove --window "$window" 790 490
+xdotool key ctrl+z
+until_ok grep -q "^message model info: undone: bake" "$work/log" || fail "Ctrl+Z did not undo the bake"
+until_ok grep -q "^text stats method exact loaded" "$work/shots/widgets.txt" || fail "undoing the bake did not bring the loaded field back"
+xdotool key ctrl+z
+until_ok eval '[ "$(grid_line)" = "$grid0" ]' || fail "Ctrl+Z did not undo the resolution ($(grid_line), was $grid0)"
+echo "settings and bake undone: $(grid_line)"
+
+# Save and Export ask before replacing a file; Cancel (or Escape) keeps it.
+set_text field_path "$work/bunny.sdf"
+before=$(stat -c %Y.%s "$work/bunny.sdf")
+sleep 1
+click field_save
+until_ok is_visible overwrite_cancel || fail "Save did not ask before replacing bunny.sdf"
+click overwrite_cancel
+until_ok grep -q "^message field info: not saved: $work/bunny.sdf is kept" "$work/log" || fail "Cancel did not keep the file"
+[ "$(stat -c %Y.%s "$work/bunny.sdf")" = "$before" ] || fail "Cancel changed the file"
+click field_save
+until_ok is_visible overwrite_replace || fail "Save did not ask again"
+click overwrite_replace
+until_ok grep -q "^message field info: saved $work/bunny.sdf" "$work/log" || fail "Replace did not save"
+rm -f "$work/bunny.surface.obj"
+click surface_export
+until_ok grep -q "^message field info: saved the surface .*bunny.surface.obj" "$work/log" || fail "Export of a new file asked or failed"
+click surface_export
+until_ok is_visible overwrite_cancel || fail "Export did not ask before replacing the surface"
+xdotool key Escape
+until_ok grep -q "^message field info: not saved: .*bunny.surface.obj is kept" "$work/log" || fail "Escape did not keep the surface"
+echo "Save and Export ask before replacing a file"
+
+# The band's own estimate: res 4096 with band 3 is offered (the CLI bakes it in under 1 GB).
+type_into resolution 4096
+type_into band 3
+until_ok grep -q "^text grid 4096x[0-9]*x[0-9]* band 3 bytes " "$work/shots/widgets.txt" || fail "res 4096 band 3 was refused: $(message validation)"
+# The estimate is estimateBandBakeBytes' (the one `bake` checks), far below the dense grid's.
+read -r dims _ _ _ band_bytes <<<"$(grep '^text grid ' "$work/shots/widgets.txt" | cut -d' ' -f3-)"
+dense_bytes=$(echo "$dims" | awk -Fx '{ printf "%.0f", 4 * $1 * $2 * $3 }')
+awk -v b="$band_bytes" -v d="$dense_bytes" 'BEGIN { exit !(b > 0 && b < d / 8) }' || fail "the band's estimate is $band_bytes bytes (dense $dense_bytes)"
+! grep -q "^text validation" "$work/shots/widgets.txt" || fail "Generate is not offered for res 4096 band 3: $(message validation)"
+echo "res 4096, band 3: $(grep '^text grid ' "$work/shots/widgets.txt")"
+type_into band 0
+type_into resolution 64
+
+# The cut away follows the slice: hidden, nothing is cut; shown again, the choice is back.
+click slice_cut
+until_ok is_visible slice_cut_1 || fail "the Cut away list did not open"
+click slice_cut_1
+xdotool mousemove --window "$window" 790 490
+shoot
+grep "^screenshot $((shots - 1)):" "$work/log" | grep -q "Slice=1 .*cut=1 " || fail "the cut was not set: $(grep "^screenshot $((shots - 1)):" "$work/log")"
+click Slice
+xdotool mousemove --window "$window" 790 490
+shoot
+grep "^screenshot $((shots - 1)):" "$work/log" | grep -q "Slice=0 .*cut=0 " || fail "the cut stayed with the slice hidden: $(grep "^screenshot $((shots - 1)):" "$work/log")"
+# With Coloured Model off too, nothing shows the model: the view says why.
+click Coloured_Model
+until_ok grep -q "^text scene_hint Coloured Model and Polygon are off" "$work/shots/widgets.txt" || fail "no hint in an empty view"
+click Coloured_Model
+until_ok eval '! grep -q "^text scene_hint" "$work/shots/widgets.txt"' || fail "the hint stayed"
+click Slice
+xdotool mousemove --window "$window" 790 490
+shoot
+grep "^screenshot $((shots - 1)):" "$work/log" | grep -q "Slice=1 .*cut=1 " || fail "the cut did not come back with the slice"
+echo "the cut follows the slice; an empty view says why"
+# Adding a model is undone too.
+set_text model_path "$work/tet.obj"
+click model_add
+until_ok grep -q "^undo step: add tet.obj" "$work/log" || fail "Add to scene made no undo step"
+until_ok grep -q "^model_1 " "$work/shots/widgets.txt" || fail "the second model is not listed"
+xdotool mousemove --window "$window" 790 490
+xdotool key ctrl+z
+until_ok grep -q "^message model info: undone: add tet.obj" "$work/log" || fail "Ctrl+Z did not undo Add to scene"
+until_ok eval '! grep -q "^model_1 " "$work/shots/widgets.txt"' || fail "the added model is still listed"
+echo "Add to scene undone"
 stop
 echo "GUI test passed"
