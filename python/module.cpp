@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -155,6 +156,63 @@ py::dict checkToDict(const MeshCheck& c) {
 struct PyMesh {
     std::shared_ptr<const Model> model;
 };
+
+// Pickling (pickle, copy.deepcopy, torch.save, DataLoader workers): the mesh as it was built, its
+// local-frame float positions, frame, triangles, normals and bounds byte for byte, so that the
+// unpickled mesh's tree and every query are bit-identical (nothing is measured again).
+constexpr int kMeshStateVersion = 1;
+
+template <class T>
+py::bytes bytesOf(const std::vector<T>& values) {
+    return py::bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+template <class T>
+std::vector<T> vectorOf(const py::bytes& bytes, const char* what) {
+    const std::string data = bytes;
+    if (data.size() % sizeof(T) != 0) throw py::value_error(std::string("Mesh state: ") + what + " has a partial element");
+    std::vector<T> values(data.size() / sizeof(T));
+    if (!values.empty()) std::memcpy(values.data(), data.data(), data.size());
+    return values;
+}
+
+py::tuple meshState(const PyMesh& m) {
+    const Mesh& mesh = m.model->mesh();
+    return py::make_tuple(kMeshStateVersion, mesh.source, py::make_tuple(mesh.origin.x, mesh.origin.y, mesh.origin.z), mesh.unit,
+                          bytesOf(mesh.positions), bytesOf(mesh.triangles), bytesOf(mesh.faceNormals),
+                          bytesOf(std::vector<glm::vec3>{mesh.bounds.min, mesh.bounds.max}), mesh.droppedDegenerate, mesh.warnings);
+}
+
+PyMesh meshFromState(const py::tuple& state) {
+    if (state.size() != 10 || state[0].cast<int>() != kMeshStateVersion) {
+        throw py::value_error("not a pickled sdfgen.Mesh of this version (state version " + std::to_string(kMeshStateVersion) + ")");
+    }
+    Mesh mesh;
+    mesh.source = state[1].cast<std::string>();
+    const auto origin = state[2].cast<std::array<double, 3>>();
+    mesh.origin = glm::dvec3(origin[0], origin[1], origin[2]);
+    mesh.unit = state[3].cast<double>();
+    mesh.positions = vectorOf<glm::vec3>(state[4], "positions");
+    mesh.triangles = vectorOf<glm::uvec3>(state[5], "triangles");
+    mesh.faceNormals = vectorOf<glm::vec3>(state[6], "normals");
+    const std::vector<glm::vec3> bounds = vectorOf<glm::vec3>(state[7], "bounds");
+    mesh.droppedDegenerate = state[8].cast<std::size_t>();
+    mesh.warnings = state[9].cast<std::vector<std::string>>();
+    if (bounds.size() != 2 || mesh.faceNormals.size() != mesh.triangles.size() || mesh.triangles.empty()) {
+        throw py::value_error("Mesh state: inconsistent sizes");
+    }
+    mesh.bounds = {bounds[0], bounds[1]};
+    for (const glm::uvec3& t : mesh.triangles) {
+        for (int c = 0; c < 3; ++c) {
+            if (t[c] >= mesh.positions.size()) throw py::value_error("Mesh state: a vertex index out of range");
+        }
+    }
+    PyMesh result;
+    // The mesh's warnings were issued when it was first built; they stay in Mesh.warnings only.
+    py::gil_scoped_release release;
+    result.model = std::make_shared<const Model>(std::move(mesh));
+    return result;
+}
 
 // Points as a C-contiguous float64 (P, 3) array, from any (..., 3) array; `shape` gets the leading dims.
 py::array_t<double, py::array::c_style> pointsFrom(const py::array& input, std::vector<py::ssize_t>& shape) {
@@ -434,6 +492,7 @@ PYBIND11_MODULE(_sdfgen, m) {
                 return query<double>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::windingNumber, 1);
             },
             py::arg("points"), py::arg("threads") = 0, "Generalized winding numbers (exact), float64 of shape (...)")
+        .def(py::pickle([](const PyMesh& m) { return meshState(m); }, [](const py::tuple& state) { return meshFromState(state); }))
         .def("__repr__", [](const PyMesh& m) {
             return "<sdfgen.Mesh " + m.model->mesh().source + ": " + std::to_string(m.model->mesh().triangleCount()) + " triangles>";
         });
