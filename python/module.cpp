@@ -492,6 +492,15 @@ PYBIND11_MODULE(_sdfgen, m) {
                 return query<double>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::windingNumber, 1);
             },
             py::arg("points"), py::arg("threads") = 0, "Generalized winding numbers (exact), float64 of shape (...)")
+        .def(
+            "normalization",
+            [](const PyMesh& m) {
+                const NormalizedFrame frame = normalizedFrame(m.model->mesh());
+                return py::make_tuple(tuple3(frame.centre), frame.radius);
+            },
+            "DeepSDF's normalization (centre, scale): normalized = (world - centre) / scale, with centre the bounding box's centre "
+            "and scale 1.03 x the farthest vertex's distance from it (the mesh in the unit sphere with a 3% buffer); the units "
+            "of sample()'s variances and of sample(normalize=True)")
         .def(py::pickle([](const PyMesh& m) { return meshState(m); }, [](const py::tuple& state) { return meshFromState(state); }))
         .def("__repr__", [](const PyMesh& m) {
             return "<sdfgen.Mesh " + m.model->mesh().source + ": " + std::to_string(m.model->mesh().triangleCount()) + " triangles>";
@@ -796,17 +805,35 @@ PYBIND11_MODULE(_sdfgen, m) {
 
     m.def(
         "sample",
-        [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double nearVariance, double farVariance,
-           double padding, const std::string& sign, int threads, const py::object& channels) {
+        [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double wideVariance, double narrowVariance,
+           double padding, const std::string& sign, int threads, const py::object& channels, bool normalize,
+           std::optional<double> nearVariance, std::optional<double> farVariance) {
+            // The old names (near_variance was the wider scale, far_variance the narrower): still taken.
+            for (const auto& [old, now] : {std::pair{"near_variance", "wide_variance"}, std::pair{"far_variance", "narrow_variance"}}) {
+                if ((std::string(old) == "near_variance" ? nearVariance : farVariance).has_value()) {
+                    const std::string message = std::string("sdfgen.sample: ") + old + " is now " + now + " (the same scale)";
+                    if (PyErr_WarnEx(PyExc_DeprecationWarning, message.c_str(), 1) != 0) throw py::error_already_set();
+                }
+            }
             SampleSettings settings;
             settings.channels = channelsFrom(channels);
             settings.seed = seed;
             settings.surfaceFraction = surfaceFraction;
-            settings.nearVariance = nearVariance;
-            settings.farVariance = farVariance;
+            settings.nearVariance = nearVariance.value_or(wideVariance);
+            settings.farVariance = farVariance.value_or(narrowVariance);
             settings.padding = padding;
             settings.sign = signFrom(sign);
             Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads);
+            if (normalize) {
+                // DeepSDF's units: (world - centre) / radius, the distances / radius, from the world samples in double.
+                const NormalizedFrame frame = normalizedFrame(mesh.model->mesh());
+                auto toFrame = [&frame](std::vector<float>& xyz) {
+                    for (std::size_t i = 0; i < xyz.size(); ++i) xyz[i] = float((double(xyz[i]) - frame.centre[int(i % 3)]) / frame.radius);
+                };
+                toFrame(samples.points);
+                if (!samples.closest.empty()) toFrame(samples.closest);
+                for (float& d : samples.sdf) d = float(double(d) / frame.radius);
+            }
             py::list arrays;
             arrays.append(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}));
             arrays.append(toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
@@ -815,11 +842,13 @@ PYBIND11_MODULE(_sdfgen, m) {
             if (settings.channels.triangle) arrays.append(toNumpy(std::move(samples.triangle), {py::ssize_t(n)}));
             return py::tuple(arrays);
         },
-        py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("near_variance") = 0.0025,
-        py::arg("far_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
-        py::arg("channels") = "sdf",
-        "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32). Defaults are DeepSDF's: 47/50 near the surface "
-        "(half with each variance, in units of the mesh normalized to the unit sphere), the rest uniform in the padded box. "
+        py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("wide_variance") = 0.0025,
+        py::arg("narrow_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
+        py::arg("channels") = "sdf", py::arg("normalize") = false, py::arg("near_variance") = py::none(), py::arg("far_variance") = py::none(),
+        "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32), in world units, or with normalize=True in DeepSDF's "
+        "(Mesh.normalization(): (points - centre) / scale, sdf / scale; the mesh in the unit sphere). Defaults are DeepSDF's: "
+        "47/50 near the surface (half with each variance, wide_variance then narrow_variance, in the normalized units; "
+        "near_variance and far_variance are their old names), the rest uniform in the padded box. "
         "channels ('sdf' or a list adding gradient, closest, triangle) appends, in that order, gradient (n, 3) float32, "
-        "closest (n, 3) float32 and triangle (n,) int32 to the tuple.");
+        "closest (n, 3) float32 (normalized too) and triangle (n,) int32 to the tuple.");
 }
