@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Python point queries and sampling throughput:
     PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py [MESH] [--points 1000000] [--samples 500000] [--threads 0]
-        [--torch-repeats 5]
-Prints the settings and, for each call, seconds and points (or samples) per second. Then, when torch
+        [--torch-repeats 5] [--small-calls 5]
+Prints the settings and, for each call, seconds and points (or samples) per second; then 1,000 calls
+of 100 points against one call of the same 100,000 points (the per-call overhead). Then, when torch
 is installed, sdfgen.torch.signed_distance on the same points (forward with gradients kept, and the
 backward pass) against the numpy call and Open3D's RaycastingScene.compute_signed_distance (when
 python3-open3d is installed): the calls alternate, repeated, and the medians are compared."""
@@ -21,6 +22,8 @@ parser.add_argument("--points", type=int, default=1_000_000)
 parser.add_argument("--samples", type=int, default=500_000)
 parser.add_argument("--threads", type=int, default=0)
 parser.add_argument("--torch-repeats", type=int, default=5, help="rounds of the alternating torch comparison (0: skip it)")
+parser.add_argument("--small-calls", type=int, default=5, metavar="ROUNDS",
+                    help="rounds of 1,000 calls of 100 points against one call of 100,000 (0: skip it)")
 args = parser.parse_args()
 
 start = time.perf_counter()
@@ -45,6 +48,26 @@ timed("unsigned_distance", lambda: mesh.unsigned_distance(points, threads=args.t
 timed("closest_points", lambda: mesh.closest_points(points, threads=args.threads), args.points)
 timed("winding_number", lambda: mesh.winding_number(points, threads=args.threads), args.points)
 timed(f"sample (n={args.samples})", lambda: sdfgen.sample(mesh, args.samples, threads=args.threads), args.samples)
+
+if args.small_calls > 0:
+    # Many small calls (a training loop's batches) against one large one with the same points:
+    # the per-call overhead, best of the rounds (the calls alternate, so load affects both alike).
+    rng = np.random.default_rng(1)
+    large = rng.uniform(lo - pad, hi + pad, size=(100_000, 3))
+    batches = large.reshape(1000, 100, 3)
+    best_small, best_large = float("inf"), float("inf")
+    for _ in range(args.small_calls):
+        start = time.perf_counter()
+        for batch in batches:
+            mesh.signed_distance(batch, threads=args.threads)
+        best_small = min(best_small, time.perf_counter() - start)
+        start = time.perf_counter()
+        mesh.signed_distance(large, threads=args.threads)
+        best_large = min(best_large, time.perf_counter() - start)
+    ratio = best_small / best_large
+    print(f"small calls, best of {args.small_calls}: 1,000 x signed_distance(100 points) {best_small:.4f} s"
+          f" ({best_small * 1e3:.0f} µs a call), 1 x signed_distance(100,000 points) {best_large:.4f} s:"
+          f" {ratio:.2f}x ({'within' if ratio <= 2 else 'OVER'} 2x)")
 
 try:
     import torch

@@ -35,18 +35,44 @@ namespace {
 // sdfgen.Warning, the category of every warning the module gives (set when the module loads).
 PyObject* warningClass = nullptr;
 
+// Point calls (queries, samples) of fewer points than this are small: with threads=0 they run on
+// the calling thread alone (the GIL released), with no watcher thread and no worker pool to wake,
+// which for 100 points costs more than the work (bench/python_bench.py --small-calls). The one
+// place that decides it; results never depend on the thread count.
+constexpr std::size_t kSmallCallPoints = 2048;
+
 // Runs work(control) on another thread with the GIL released. Ctrl+C (or an exception from the
 // progress callback) raises the cancel flag, waits for the work to stop and re-raises in Python.
 // The warnings the work gives (RunControl::warn) are issued as sdfgen.Warning when it is done.
+// `points`: the call's size, for point calls (small ones run inline on one thread, see above).
 template <class Work>
-auto runReleased(Work&& work, int threads, const py::object& progress = py::none()) {
+auto runReleased(Work&& work, int threads, const py::object& progress = py::none(),
+                 std::size_t points = std::numeric_limits<std::size_t>::max()) {
     // Checked here as the command line checks --threads, before any thread pool is set up.
     if (threads < 0 || threads > kMaxThreads) {
         throw Error("threads must be from 0 (all cores) to " + std::to_string(kMaxThreads) + ", not " + std::to_string(threads));
     }
+    std::vector<std::string> warnings; // written by the worker, read once it is done
+    auto issueWarnings = [&warnings] {
+        for (const std::string& warning : warnings) {
+            if (PyErr_WarnEx(warningClass, warning.c_str(), 1) != 0) throw py::error_already_set(); // a filter made it an error
+        }
+    };
+    if (points < kSmallCallPoints && progress.is_none()) {
+        RunControl control;
+        control.threads = threads == 0 ? 1 : threads;
+        control.warn = [&warnings](const std::string& warning) { warnings.push_back(warning); };
+        using Result = decltype(work(control));
+        std::optional<Result> value;
+        {
+            py::gil_scoped_release release;
+            value.emplace(work(control));
+        }
+        issueWarnings();
+        return std::move(*value);
+    }
     std::atomic<bool> cancel{false};
     std::atomic<double> fraction{0.0};
-    std::vector<std::string> warnings; // written by the worker, read once it is done
     RunControl control;
     control.threads = threads;
     control.cancel = &cancel;
@@ -91,9 +117,7 @@ auto runReleased(Work&& work, int threads, const py::object& progress = py::none
         throw py::error_already_set();
     }
     Result value = result.get(); // rethrows the work's Error, translated below
-    for (const std::string& warning : warnings) {
-        if (PyErr_WarnEx(warningClass, warning.c_str(), 1) != 0) throw py::error_already_set(); // a filter made it an error
-    }
+    issueWarnings();
     if (!progress.is_none()) progress(1.0);
     return value;
 }
@@ -239,7 +263,7 @@ py::array_t<T> query(const PyMesh& mesh, const py::array& input, SignMethod sign
             mesh.model->query(data, count, outputs, sign, control);
             return 0;
         },
-        threads);
+        threads, py::none(), count);
     if (components > 1) shape.push_back(components);
     return toNumpy(std::move(out), shape);
 }
@@ -544,7 +568,7 @@ PYBIND11_MODULE(_sdfgen, m) {
             runReleased([&](const RunControl& control) {
                 measureNearest(*mesh.model, data, count, coordinates, method, out, control);
                 return 0;
-            }, threads);
+            }, threads, py::none(), count);
             const py::ssize_t n = py::ssize_t(count);
             auto optional = [n](auto&& values, py::ssize_t per) -> py::object {
                 if (values.empty() && n > 0) return py::none();
@@ -715,7 +739,7 @@ PYBIND11_MODULE(_sdfgen, m) {
                         });
                         return 0;
                     },
-                    threads);
+                    threads, py::none(), count);
                 return toNumpy(std::move(out), shape);
             },
             py::arg("points"), py::arg("threads") = 0,
@@ -823,7 +847,7 @@ PYBIND11_MODULE(_sdfgen, m) {
             settings.farVariance = farVariance.value_or(narrowVariance);
             settings.padding = padding;
             settings.sign = signFrom(sign);
-            Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads);
+            Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads, py::none(), n);
             if (normalize) {
                 // DeepSDF's units: (world - centre) / radius, the distances / radius, from the world samples in double.
                 const NormalizedFrame frame = normalizedFrame(mesh.model->mesh());
