@@ -22,6 +22,12 @@ CMAKE_BUILD = ROOT / "build-python"
 
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
+        try:
+            import numpy  # noqa: F401
+        except ImportError:
+            raise SystemExit(f"sdfgen: {sys.executable} has no numpy, which the module needs (nothing is fetched from PyPI). "
+                             "Make the venv from Debian's interpreter, whose python3-numpy it then sees: "
+                             "/usr/bin/python3 -m venv --system-site-packages ENV") from None
         package_root = Path(self.get_ext_fullpath(ext.name)).resolve().parent.parent  # the folder holding sdfgen/
         configure = ["cmake", "-S", str(ROOT), "-B", str(CMAKE_BUILD), "-DCMAKE_BUILD_TYPE=Release", "-DSDFGEN_VIEWER=OFF",
                      "-DSDFGEN_BUILD_TESTS=OFF", "-DSDFGEN_PYTHON=ON", "-DSDFGEN_PYTHON_WHEEL=ON",

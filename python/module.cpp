@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -34,18 +35,44 @@ namespace {
 // sdfgen.Warning, the category of every warning the module gives (set when the module loads).
 PyObject* warningClass = nullptr;
 
+// Point calls (queries, samples) of fewer points than this are small: with threads=0 they run on
+// the calling thread alone (the GIL released), with no watcher thread and no worker pool to wake,
+// which for 100 points costs more than the work (bench/python_bench.py --small-calls). The one
+// place that decides it; results never depend on the thread count.
+constexpr std::size_t kSmallCallPoints = 2048;
+
 // Runs work(control) on another thread with the GIL released. Ctrl+C (or an exception from the
 // progress callback) raises the cancel flag, waits for the work to stop and re-raises in Python.
 // The warnings the work gives (RunControl::warn) are issued as sdfgen.Warning when it is done.
+// `points`: the call's size, for point calls (small ones run inline on one thread, see above).
 template <class Work>
-auto runReleased(Work&& work, int threads, const py::object& progress = py::none()) {
+auto runReleased(Work&& work, int threads, const py::object& progress = py::none(),
+                 std::size_t points = std::numeric_limits<std::size_t>::max()) {
     // Checked here as the command line checks --threads, before any thread pool is set up.
     if (threads < 0 || threads > kMaxThreads) {
         throw Error("threads must be from 0 (all cores) to " + std::to_string(kMaxThreads) + ", not " + std::to_string(threads));
     }
+    std::vector<std::string> warnings; // written by the worker, read once it is done
+    auto issueWarnings = [&warnings] {
+        for (const std::string& warning : warnings) {
+            if (PyErr_WarnEx(warningClass, warning.c_str(), 1) != 0) throw py::error_already_set(); // a filter made it an error
+        }
+    };
+    if (points < kSmallCallPoints && progress.is_none()) {
+        RunControl control;
+        control.threads = threads == 0 ? 1 : threads;
+        control.warn = [&warnings](const std::string& warning) { warnings.push_back(warning); };
+        using Result = decltype(work(control));
+        std::optional<Result> value;
+        {
+            py::gil_scoped_release release;
+            value.emplace(work(control));
+        }
+        issueWarnings();
+        return std::move(*value);
+    }
     std::atomic<bool> cancel{false};
     std::atomic<double> fraction{0.0};
-    std::vector<std::string> warnings; // written by the worker, read once it is done
     RunControl control;
     control.threads = threads;
     control.cancel = &cancel;
@@ -90,9 +117,7 @@ auto runReleased(Work&& work, int threads, const py::object& progress = py::none
         throw py::error_already_set();
     }
     Result value = result.get(); // rethrows the work's Error, translated below
-    for (const std::string& warning : warnings) {
-        if (PyErr_WarnEx(warningClass, warning.c_str(), 1) != 0) throw py::error_already_set(); // a filter made it an error
-    }
+    issueWarnings();
     if (!progress.is_none()) progress(1.0);
     return value;
 }
@@ -156,6 +181,63 @@ struct PyMesh {
     std::shared_ptr<const Model> model;
 };
 
+// Pickling (pickle, copy.deepcopy, torch.save, DataLoader workers): the mesh as it was built, its
+// local-frame float positions, frame, triangles, normals and bounds byte for byte, so that the
+// unpickled mesh's tree and every query are bit-identical (nothing is measured again).
+constexpr int kMeshStateVersion = 1;
+
+template <class T>
+py::bytes bytesOf(const std::vector<T>& values) {
+    return py::bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+template <class T>
+std::vector<T> vectorOf(const py::bytes& bytes, const char* what) {
+    const std::string data = bytes;
+    if (data.size() % sizeof(T) != 0) throw py::value_error(std::string("Mesh state: ") + what + " has a partial element");
+    std::vector<T> values(data.size() / sizeof(T));
+    if (!values.empty()) std::memcpy(values.data(), data.data(), data.size());
+    return values;
+}
+
+py::tuple meshState(const PyMesh& m) {
+    const Mesh& mesh = m.model->mesh();
+    return py::make_tuple(kMeshStateVersion, mesh.source, py::make_tuple(mesh.origin.x, mesh.origin.y, mesh.origin.z), mesh.unit,
+                          bytesOf(mesh.positions), bytesOf(mesh.triangles), bytesOf(mesh.faceNormals),
+                          bytesOf(std::vector<glm::vec3>{mesh.bounds.min, mesh.bounds.max}), mesh.droppedDegenerate, mesh.warnings);
+}
+
+PyMesh meshFromState(const py::tuple& state) {
+    if (state.size() != 10 || state[0].cast<int>() != kMeshStateVersion) {
+        throw py::value_error("not a pickled sdfgen.Mesh of this version (state version " + std::to_string(kMeshStateVersion) + ")");
+    }
+    Mesh mesh;
+    mesh.source = state[1].cast<std::string>();
+    const auto origin = state[2].cast<std::array<double, 3>>();
+    mesh.origin = glm::dvec3(origin[0], origin[1], origin[2]);
+    mesh.unit = state[3].cast<double>();
+    mesh.positions = vectorOf<glm::vec3>(state[4], "positions");
+    mesh.triangles = vectorOf<glm::uvec3>(state[5], "triangles");
+    mesh.faceNormals = vectorOf<glm::vec3>(state[6], "normals");
+    const std::vector<glm::vec3> bounds = vectorOf<glm::vec3>(state[7], "bounds");
+    mesh.droppedDegenerate = state[8].cast<std::size_t>();
+    mesh.warnings = state[9].cast<std::vector<std::string>>();
+    if (bounds.size() != 2 || mesh.faceNormals.size() != mesh.triangles.size() || mesh.triangles.empty()) {
+        throw py::value_error("Mesh state: inconsistent sizes");
+    }
+    mesh.bounds = {bounds[0], bounds[1]};
+    for (const glm::uvec3& t : mesh.triangles) {
+        for (int c = 0; c < 3; ++c) {
+            if (t[c] >= mesh.positions.size()) throw py::value_error("Mesh state: a vertex index out of range");
+        }
+    }
+    PyMesh result;
+    // The mesh's warnings were issued when it was first built; they stay in Mesh.warnings only.
+    py::gil_scoped_release release;
+    result.model = std::make_shared<const Model>(std::move(mesh));
+    return result;
+}
+
 // Points as a C-contiguous float64 (P, 3) array, from any (..., 3) array; `shape` gets the leading dims.
 py::array_t<double, py::array::c_style> pointsFrom(const py::array& input, std::vector<py::ssize_t>& shape) {
     auto points = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(input);
@@ -181,7 +263,7 @@ py::array_t<T> query(const PyMesh& mesh, const py::array& input, SignMethod sign
             mesh.model->query(data, count, outputs, sign, control);
             return 0;
         },
-        threads);
+        threads, py::none(), count);
     if (components > 1) shape.push_back(components);
     return toNumpy(std::move(out), shape);
 }
@@ -434,6 +516,16 @@ PYBIND11_MODULE(_sdfgen, m) {
                 return query<double>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::windingNumber, 1);
             },
             py::arg("points"), py::arg("threads") = 0, "Generalized winding numbers (exact), float64 of shape (...)")
+        .def(
+            "normalization",
+            [](const PyMesh& m) {
+                const NormalizedFrame frame = normalizedFrame(m.model->mesh());
+                return py::make_tuple(tuple3(frame.centre), frame.radius);
+            },
+            "DeepSDF's normalization (centre, scale): normalized = (world - centre) / scale, with centre the bounding box's centre "
+            "and scale 1.03 x the farthest vertex's distance from it (the mesh in the unit sphere with a 3% buffer); the units "
+            "of sample()'s variances and of sample(normalize=True)")
+        .def(py::pickle([](const PyMesh& m) { return meshState(m); }, [](const py::tuple& state) { return meshFromState(state); }))
         .def("__repr__", [](const PyMesh& m) {
             return "<sdfgen.Mesh " + m.model->mesh().source + ": " + std::to_string(m.model->mesh().triangleCount()) + " triangles>";
         });
@@ -476,7 +568,7 @@ PYBIND11_MODULE(_sdfgen, m) {
             runReleased([&](const RunControl& control) {
                 measureNearest(*mesh.model, data, count, coordinates, method, out, control);
                 return 0;
-            }, threads);
+            }, threads, py::none(), count);
             const py::ssize_t n = py::ssize_t(count);
             auto optional = [n](auto&& values, py::ssize_t per) -> py::object {
                 if (values.empty() && n > 0) return py::none();
@@ -647,7 +739,7 @@ PYBIND11_MODULE(_sdfgen, m) {
                         });
                         return 0;
                     },
-                    threads);
+                    threads, py::none(), count);
                 return toNumpy(std::move(out), shape);
             },
             py::arg("points"), py::arg("threads") = 0,
@@ -737,17 +829,35 @@ PYBIND11_MODULE(_sdfgen, m) {
 
     m.def(
         "sample",
-        [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double nearVariance, double farVariance,
-           double padding, const std::string& sign, int threads, const py::object& channels) {
+        [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double wideVariance, double narrowVariance,
+           double padding, const std::string& sign, int threads, const py::object& channels, bool normalize,
+           std::optional<double> nearVariance, std::optional<double> farVariance) {
+            // The old names (near_variance was the wider scale, far_variance the narrower): still taken.
+            for (const auto& [old, now] : {std::pair{"near_variance", "wide_variance"}, std::pair{"far_variance", "narrow_variance"}}) {
+                if ((std::string(old) == "near_variance" ? nearVariance : farVariance).has_value()) {
+                    const std::string message = std::string("sdfgen.sample: ") + old + " is now " + now + " (the same scale)";
+                    if (PyErr_WarnEx(PyExc_DeprecationWarning, message.c_str(), 1) != 0) throw py::error_already_set();
+                }
+            }
             SampleSettings settings;
             settings.channels = channelsFrom(channels);
             settings.seed = seed;
             settings.surfaceFraction = surfaceFraction;
-            settings.nearVariance = nearVariance;
-            settings.farVariance = farVariance;
+            settings.nearVariance = nearVariance.value_or(wideVariance);
+            settings.farVariance = farVariance.value_or(narrowVariance);
             settings.padding = padding;
             settings.sign = signFrom(sign);
-            Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads);
+            Samples samples = runReleased([&](const RunControl& control) { return sampleSdf(*mesh.model, n, settings, control); }, threads, py::none(), n);
+            if (normalize) {
+                // DeepSDF's units: (world - centre) / radius, the distances / radius, from the world samples in double.
+                const NormalizedFrame frame = normalizedFrame(mesh.model->mesh());
+                auto toFrame = [&frame](std::vector<float>& xyz) {
+                    for (std::size_t i = 0; i < xyz.size(); ++i) xyz[i] = float((double(xyz[i]) - frame.centre[int(i % 3)]) / frame.radius);
+                };
+                toFrame(samples.points);
+                if (!samples.closest.empty()) toFrame(samples.closest);
+                for (float& d : samples.sdf) d = float(double(d) / frame.radius);
+            }
             py::list arrays;
             arrays.append(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}));
             arrays.append(toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
@@ -756,11 +866,13 @@ PYBIND11_MODULE(_sdfgen, m) {
             if (settings.channels.triangle) arrays.append(toNumpy(std::move(samples.triangle), {py::ssize_t(n)}));
             return py::tuple(arrays);
         },
-        py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("near_variance") = 0.0025,
-        py::arg("far_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
-        py::arg("channels") = "sdf",
-        "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32). Defaults are DeepSDF's: 47/50 near the surface "
-        "(half with each variance, in units of the mesh normalized to the unit sphere), the rest uniform in the padded box. "
+        py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("wide_variance") = 0.0025,
+        py::arg("narrow_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
+        py::arg("channels") = "sdf", py::arg("normalize") = false, py::arg("near_variance") = py::none(), py::arg("far_variance") = py::none(),
+        "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32), in world units, or with normalize=True in DeepSDF's "
+        "(Mesh.normalization(): (points - centre) / scale, sdf / scale; the mesh in the unit sphere). Defaults are DeepSDF's: "
+        "47/50 near the surface (half with each variance, wide_variance then narrow_variance, in the normalized units; "
+        "near_variance and far_variance are their old names), the rest uniform in the padded box. "
         "channels ('sdf' or a list adding gradient, closest, triangle) appends, in that order, gradient (n, 3) float32, "
-        "closest (n, 3) float32 and triangle (n,) int32 to the tuple.");
+        "closest (n, 3) float32 (normalized too) and triangle (n,) int32 to the tuple.");
 }

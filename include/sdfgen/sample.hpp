@@ -21,6 +21,8 @@ namespace sdfgen {
 struct SampleSettings {
     std::uint64_t seed = 0;
     double surfaceFraction = 47.0 / 50.0; // share of samples near the surface (rounded to a count)
+    // The two scales: "near" is the first (the wider, DeepSDF's `variance`), "far" the second (the
+    // narrower, its `second_variance`); the command line and Python call them wide and narrow.
     double nearVariance = 0.0025;         // DeepSDF paper: 0.0025 (std 0.05 of the radius)
     double farVariance = 0.00025;         // and 0.00025 (std 0.0158)
     // The uniform samples fill the mesh's bounding box padded on every side by padding x its longest
@@ -29,6 +31,16 @@ struct SampleSettings {
     SignMethod sign = SignMethod::Auto; // for the distances, as Model::query
     Channels channels;                  // per-sample outputs besides the distance (see Channels)
 };
+
+// DeepSDF's normalization of a mesh: normalized = (world - centre) / radius, with `centre` the
+// centre of the bounding box of the vertices that triangles use and `radius` 1.03 x the farthest
+// such vertex's distance from it, so that the mesh lies in the unit sphere with a 3% buffer. The
+// unit of SampleSettings' variances.
+struct NormalizedFrame {
+    glm::dvec3 centre{0.0};
+    double radius = 1.0;
+};
+NormalizedFrame normalizedFrame(const Mesh& mesh);
 
 // n points (x y z interleaved, world coordinates, float32) and their signed distances.
 // Order: the near-surface points of the first scale, then of the second, then the uniform ones.

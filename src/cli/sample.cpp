@@ -49,12 +49,17 @@ void addSampleOptions(CLI::App& command, SampleSettings& settings) {
     command.add_option("--surface-fraction", settings.surfaceFraction, "Share of samples near the surface (DeepSDF: 47/50); the rest are uniform in the padded box")
         ->check(finiteRange(0.0, 1.0))
         ->capture_default_str();
-    command.add_option("--near-variance", settings.nearVariance, "Variance of the first noise scale, in DeepSDF's normalized units (unit sphere)")
+    command.add_option("--wide-variance", settings.nearVariance,
+                       "Variance of the wider noise scale (DeepSDF's variance), in DeepSDF's normalized units (unit sphere)")
         ->check(finiteRange(0.0, 1e6))
         ->capture_default_str();
-    command.add_option("--far-variance", settings.farVariance, "Variance of the second noise scale, in the same units")
+    command.add_option("--narrow-variance", settings.farVariance,
+                       "Variance of the narrower noise scale (DeepSDF's second_variance), in the same units")
         ->check(finiteRange(0.0, 1e6))
         ->capture_default_str();
+    // Their earlier names (the "far" scale was the narrower one), still taken.
+    command.add_option("--near-variance", settings.nearVariance, "The old name of --wide-variance")->check(finiteRange(0.0, 1e6));
+    command.add_option("--far-variance", settings.farVariance, "The old name of --narrow-variance")->check(finiteRange(0.0, 1e6));
 }
 
 void addSampleCommand(CLI::App& app) {

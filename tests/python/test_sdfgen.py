@@ -174,7 +174,7 @@ def test_sample_distribution_follows_deepsdf(box):
     pad = 0.1 * 2.0
     assert np.all(uniform >= -half - pad - 1e-6) and np.all(uniform <= half + pad + 1e-6)
     assert np.all(uniform.max(axis=0) > half + pad * 0.9)
-    everything_near, _ = sdfgen.sample(mesh, 100, surface_fraction=1.0, near_variance=0.0, far_variance=0.0)
+    everything_near, _ = sdfgen.sample(mesh, 100, surface_fraction=1.0, wide_variance=0.0, narrow_variance=0.0)
     assert np.max(np.abs(box_distance(everything_near.astype(np.float64), half))) < 1e-6
 
 

@@ -65,6 +65,18 @@ SampleCounts sampleCounts(std::size_t n, const SampleSettings& settings) {
     return counts;
 }
 
+NormalizedFrame normalizedFrame(const Mesh& mesh) {
+    const WorldBounds box = mesh.worldBounds();
+    NormalizedFrame frame;
+    frame.centre = (box.min + box.max) * 0.5;
+    double farthest = 0.0;
+    for (const glm::uvec3& tri : mesh.triangles) {
+        for (int c = 0; c < 3; ++c) farthest = std::max(farthest, glm::length(mesh.toWorld(glm::dvec3(mesh.positions[tri[c]])) - frame.centre));
+    }
+    frame.radius = 1.03 * farthest; // DeepSDF's normalization: the unit sphere with a 3% buffer
+    return frame;
+}
+
 Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& settings, const RunControl& control) {
     checkSettings(settings);
     const Mesh& mesh = model.mesh();
@@ -92,12 +104,7 @@ Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& setti
         cumulativeArea[t] = total;
     }
     const WorldBounds box = mesh.worldBounds();
-    const glm::dvec3 centre = (box.min + box.max) * 0.5;
-    double farthest = 0.0;
-    for (const glm::uvec3& tri : mesh.triangles) {
-        for (int c = 0; c < 3; ++c) farthest = std::max(farthest, glm::length(mesh.toWorld(glm::dvec3(mesh.positions[tri[c]])) - centre));
-    }
-    const double radius = 1.03 * farthest; // DeepSDF's normalization: the unit sphere with a 3% buffer
+    const double radius = normalizedFrame(mesh).radius;
     const double sigma[2] = {std::sqrt(settings.nearVariance) * radius, std::sqrt(settings.farVariance) * radius};
     const glm::dvec3 extent = box.extent();
     const double pad = settings.padding * std::max({extent.x, extent.y, extent.z});
