@@ -156,6 +156,11 @@ wait $reader
 expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/piped.npz"
 expect 0 '10 samples' -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/ch-samples.npz" --channels gradient,triangle
 expect 1 "^sdfgen: unknown channel 'normals'" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/x.npz" --channels normals
+# Samples are an .npz: any other name is refused before sampling, and nothing is written.
+for name in s.vdb s.npy s; do
+  expect 1 "^sdfgen: $work/$name: samples are written as .npz only; name the output \*.npz" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/$name"
+  expect 1 '' -- test -e "$work/$name"
+done
 printf 'not numpy' >"$work/bad.npy"
 expect 1 "^sdfgen: $work/bad.npy: not a NumPy .npy file" -- "$sdfgen" compare "$work/bad.npy" "$work/tet.npy"
 # Meshes in other formats (assimp-utils writes them when installed).
