@@ -210,11 +210,6 @@ void scanChunk(const std::string& path, Chunk& chunk, ObjScan& scan) {
 
 } // namespace
 
-std::string_view withoutByteOrderMark(std::string_view text) {
-    if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-    return text;
-}
-
 ObjScan scanObj(const std::string& path, std::string_view text, std::size_t chunkBytes) {
     // Two parallel passes over pieces split after a \n (so that no \r\n is cut): the first counts
     // each piece's lines, vertices and faces, the second reads each piece straight into its place
