@@ -272,6 +272,25 @@ TEST(ObjScan, RefusesWhatTinyobjloaderWouldMisread) {
     EXPECT_CONTAINS(scanError(tri + "f 1 2 3/a\n"), "m.obj:4: face vertex '3/a' is not of the form");
 }
 
+TEST(Printable, EscapesEveryByteThatIsNotValidUtf8) {
+    // Valid sequences of 2, 3 and 4 bytes are kept.
+    EXPECT_EQ(printable("caf\xC3\xA9 \xE4\xB8\xAD \xF0\x9F\x98\x80 \xF4\x8F\xBF\xBF"), "caf\xC3\xA9 \xE4\xB8\xAD \xF0\x9F\x98\x80 \xF4\x8F\xBF\xBF");
+    // Overlong forms, surrogates, code points past U+10FFFF, stray and cut sequences: \xNN, byte by byte.
+    EXPECT_EQ(printable("a\xC0\x80z"), "a\\xc0\\x80z");
+    EXPECT_EQ(printable("\xC1\xBF"), "\\xc1\\xbf");
+    EXPECT_EQ(printable("\xE0\x80\x80"), "\\xe0\\x80\\x80");
+    EXPECT_EQ(printable("\xED\xA0\x80"), "\\xed\\xa0\\x80");
+    EXPECT_EQ(printable("\xF0\x80\x80\x80"), "\\xf0\\x80\\x80\\x80");
+    EXPECT_EQ(printable("\xF4\x90\x80\x80"), "\\xf4\\x90\\x80\\x80");
+    EXPECT_EQ(printable("\xF5\x80\x80\x80"), "\\xf5\\x80\\x80\\x80");
+    EXPECT_EQ(printable("\x80\xE4\xB8"), "\\x80\\xe4\\xb8");
+}
+
+TEST(ObjScan, QuotesTheFileThroughPrintable) {
+    EXPECT_EQ(errorFrom([] { scanObj("m.obj", "v 0 0 \xC0\x80\n"); }), "m.obj:1: vertex coordinate '\\xc0\\x80' is not a decimal number");
+    EXPECT_EQ(errorFrom([] { scanObj("m.obj", "v 0 0 0\nf 1 2 \xFF\n"); }), "m.obj:2: face vertex '\\xff' is not a whole number");
+}
+
 TEST(ObjScan, ReadsWhatIsValid) {
     const ObjScan scan = scanObj("m.obj", "# c\nv 0.1 +2 -3e-2\r\nvn 0 0 1\rv 1e-400 .5 7 1\nv 1 1 1\nf 1//1 2/1 -1\nl 1 2\nf 3 2 1 2\n");
     ASSERT_EQ(scan.vertices.size(), 3u);
