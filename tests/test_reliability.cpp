@@ -17,11 +17,13 @@
 #include <glm/geometric.hpp>
 
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <thread>
@@ -200,6 +202,92 @@ TEST_F(AtomicFile, SignalsRemoveTheTemporary) {
         EXPECT_EQ(readAll(path), "old");
         EXPECT_TRUE(strays({"f.txt"}).empty()) << "signal " << signal;
     }
+}
+
+TEST_F(AtomicFile, PipeBehindAProcLinkIsWrittenDirectly) {
+    // /dev/stdout on a pipe: /proc/self/fd/N, a link to "pipe:[...]" (not a path).
+    for (const bool atPath : {false, true}) {
+        int fds[2];
+        ASSERT_EQ(pipe(fds), 0);
+        const std::string path = "/proc/self/fd/" + std::to_string(fds[1]);
+        if (atPath) writeFileAtomicallyAt(path, [](const std::string& at) { std::ofstream(at) << "through the pipe"; });
+        else writeFileAtomically(path, text("through the pipe"));
+        close(fds[1]);
+        char buffer[64] = {};
+        EXPECT_EQ(read(fds[0], buffer, sizeof buffer - 1), 16);
+        EXPECT_STREQ(buffer, "through the pipe");
+        close(fds[0]);
+        EXPECT_TRUE(strays({}).empty());
+    }
+}
+
+void limitFileSize(rlim_t bytes) {
+    rlimit size{};
+    size.rlim_cur = size.rlim_max = bytes;
+    setrlimit(RLIMIT_FSIZE, &size);
+    rlimit core{};
+    setrlimit(RLIMIT_CORE, &core);
+}
+
+TEST_F(AtomicFile, FileSizeLimitRemovesTheTemporary) {
+    // Killed by SIGXFSZ (ulimit -f) mid-write: the old file stays, and no temporary is left.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const std::string path = write("f.txt", "old");
+    EXPECT_EXIT(
+        {
+            std::signal(SIGXFSZ, SIG_DFL);
+            limitFileSize(50000); // no core dump either (SIGXFSZ dumps core by default)
+            writeFileAtomically(path, text(std::string(200000, 'p')));
+        },
+        ::testing::KilledBySignal(SIGXFSZ), "");
+    EXPECT_EQ(readAll(path), "old");
+    EXPECT_TRUE(strays({"f.txt"}).empty());
+}
+
+TEST_F(AtomicFile, NamesOfEveryValidLengthAreWritten) {
+    // The temporary's name is cut short so that it fits where the target's name does.
+    for (const std::size_t length : {200, 224, 240, 255}) {
+        const std::string name = std::string(length - 4, 'n') + ".sdf";
+        const std::string path = (dir_ / name).string();
+        writeFileAtomically(path, text("x"));
+        EXPECT_EQ(readAll(path), "x") << length;
+        writeFileAtomicallyAt(path, [](const std::string& temporary) { std::ofstream(temporary) << "y"; });
+        EXPECT_EQ(readAll(path), "y") << length;
+        EXPECT_TRUE(strays({name}).empty()) << length;
+        fs::remove(path);
+    }
+}
+
+// ---- Out of memory ---------------------------------------------------------------------------
+
+// The process's address space now (VmSize), in bytes.
+rlim_t addressSpaceBytes() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line)) {
+        if (line.rfind("VmSize:", 0) == 0) return rlim_t(std::stoull(line.substr(7))) * 1024;
+    }
+    return 0;
+}
+
+class OutOfMemory : public test::ScratchFolderTest {};
+
+TEST_F(OutOfMemory, ErrorsNameTheFile) {
+    // An allocation that fails (the address space limited to 16 MiB more than is in use: the 64 MiB
+    // files cannot be read) is an Error naming the file, not a bare std::bad_alloc.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const std::string field = write("big.sdf", std::string(64 << 20, ' '));
+    const std::string mesh = write("big.obj", std::string(64 << 20, ' '));
+    const auto namesBoth = [&] {
+        rlimit space{};
+        space.rlim_cur = space.rlim_max = addressSpaceBytes() + (16 << 20);
+        setrlimit(RLIMIT_AS, &space);
+        const std::string a = errorFrom([&] { loadField(field); });
+        const std::string b = errorFrom([&] { loadMesh(mesh); });
+        std::fprintf(stderr, "%s\n%s\n", a.c_str(), b.c_str());
+        return a == field + ": out of memory while reading it" && b == mesh + ": out of memory while reading it";
+    };
+    EXPECT_EXIT(std::_Exit(namesBoth() ? 0 : 1), ::testing::ExitedWithCode(0), "");
 }
 
 // ---- Reading input ------------------------------------------------------------------------------

@@ -334,6 +334,23 @@ for sig in TERM INT HUP; do
   expect 0 '' -- test $rc -eq $((128 + $(kill -l $sig)))
   expect 1 '' -- compgen -G "$work/killed.sdf.tmp-*"
 done
+# Killed by the file-size limit (SIGXFSZ, ulimit -f in KiB) while the field is written: the old
+# file stays, and no temporary is left.
+"$sdfgen" bake "$work/tet.obj" -o "$work/limited.sdf" --res 8 >/dev/null
+cp "$work/limited.sdf" "$work/limited-old.sdf"
+(ulimit -c 0; ulimit -f 64; exec "$sdfgen" bake "$bunny" -o "$work/limited.sdf" --res 64 >/dev/null 2>&1)
+rc=$?
+expect 0 '' -- test $rc -eq $((128 + $(kill -l XFSZ)))
+expect 0 '' -- cmp "$work/limited.sdf" "$work/limited-old.sdf"
+expect 1 '' -- compgen -G "$work/limited.sdf.tmp-*"
+# An output name of 255 bytes (the longest a file name may be): its temporary's name is shortened to fit.
+long=$(printf 'n%.0s' $(seq 1 251)).sdf
+expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/$long" --res 8
+expect 0 '^sdfgen-text 1$' -- head -1 "$work/$long"
+# Standard output on a pipe is written directly (the summary line follows the field), through a
+# link that names the format (/dev/stdout there leads to /proc/self/fd/1, a link to "pipe:[N]").
+ln -s /dev/stdout "$work/stdout.sdf"
+expect 0 '^sdfgen-text 1$' -- bash -c "'$sdfgen' bake '$work/tet.obj' -o '$work/stdout.sdf' --res 8 | head -1"
 # A full disk (a 64 KiB tmpfs, where mounting is allowed): the old file stays, exit non-zero.
 full=$work/full
 mkdir "$full"
