@@ -10,13 +10,20 @@
 
 namespace sdfgen {
 
-// work(); a std::bad_alloc from it becomes Error("PATH: out of memory while DOING").
+// The Error an allocation that failed becomes: its own type, so that a caller that set the limit
+// (batch's --memory) can say which limit it was.
+class OutOfMemoryError : public Error {
+public:
+    using Error::Error;
+};
+
+// work(); a std::bad_alloc from it becomes OutOfMemoryError("PATH: out of memory while DOING").
 template <class Work>
 decltype(auto) namingOutOfMemory(const std::string& path, const char* doing, Work&& work) {
     try {
         return std::forward<Work>(work)();
     } catch (const std::bad_alloc&) {
-        throw Error(path + ": out of memory while " + doing);
+        throw OutOfMemoryError(path + ": out of memory while " + doing);
     }
 }
 
