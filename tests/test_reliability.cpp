@@ -185,9 +185,17 @@ TEST_F(AtomicFile, PathWritersGetATemporaryAndTheSameGuarantees) {
 
 // A signal while the temporary is being written: the process dies of that signal, the old file
 // is intact and the temporary is gone.
+// The path a death test's child is to write: the parent's. A "threadsafe" death test runs the
+// whole test again in a new process, whose scratch folder is its own: without this, the child
+// would write there and the parent would check a folder nothing was written to.
+std::string parentsPath(const std::string& path) {
+    setenv("SDFGEN_TEST_PARENT_PATH", path.c_str(), /*overwrite=*/0); // the child inherits the parent's
+    return std::getenv("SDFGEN_TEST_PARENT_PATH");
+}
+
 TEST_F(AtomicFile, SignalsRemoveTheTemporary) {
     GTEST_FLAG_SET(death_test_style, "threadsafe");
-    const std::string path = write("f.txt", "old");
+    const std::string path = parentsPath(write("f.txt", "old"));
     for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
         EXPECT_EXIT(
             {
@@ -202,6 +210,7 @@ TEST_F(AtomicFile, SignalsRemoveTheTemporary) {
         EXPECT_EQ(readAll(path), "old");
         EXPECT_TRUE(strays({"f.txt"}).empty()) << "signal " << signal;
     }
+    unsetenv("SDFGEN_TEST_PARENT_PATH");
 }
 
 TEST_F(AtomicFile, PipeBehindAProcLinkIsWrittenDirectly) {
@@ -232,7 +241,7 @@ void limitFileSize(rlim_t bytes) {
 TEST_F(AtomicFile, FileSizeLimitRemovesTheTemporary) {
     // Killed by SIGXFSZ (ulimit -f) mid-write: the old file stays, and no temporary is left.
     GTEST_FLAG_SET(death_test_style, "threadsafe");
-    const std::string path = write("f.txt", "old");
+    const std::string path = parentsPath(write("f.txt", "old"));
     EXPECT_EXIT(
         {
             std::signal(SIGXFSZ, SIG_DFL);
@@ -242,6 +251,7 @@ TEST_F(AtomicFile, FileSizeLimitRemovesTheTemporary) {
         ::testing::KilledBySignal(SIGXFSZ), "");
     EXPECT_EQ(readAll(path), "old");
     EXPECT_TRUE(strays({"f.txt"}).empty());
+    unsetenv("SDFGEN_TEST_PARENT_PATH");
 }
 
 TEST_F(AtomicFile, NamesOfEveryValidLengthAreWritten) {
