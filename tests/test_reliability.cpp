@@ -472,6 +472,20 @@ bool sameField(const Field& a, const Field& b) {
 
 class FieldTextAgreement : public test::ScratchFolderTest {};
 
+TEST_F(FieldTextAgreement, ByteOrderMarkIsSkipped) {
+    Field field;
+    field.source = "m.obj";
+    field.method = "exact";
+    field.grid.dims = {2, 1, 1};
+    field.values = {-1.0f, 2.0f};
+    const std::string path = (dir_ / "f.sdf").string();
+    saveFieldText(field, path);
+    const std::string marked = write("bom.sdf", "\xEF\xBB\xBF" + readAll(path));
+    const Field read = loadFieldText(marked);
+    EXPECT_EQ(read.values, field.values);
+    EXPECT_EQ(read.source, "m.obj");
+}
+
 TEST_F(FieldTextAgreement, WhatOneAcceptsTheOtherDoes) {
     std::mt19937 random(8);
     const std::string pieces[] = {"a", "b", "x1", " ", "\t", "=", "\r", "\n", std::string(1, '\0'), "\xC3\xA9", "/", "-", ""};
