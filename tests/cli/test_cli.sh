@@ -32,6 +32,18 @@ expect 0 'max [0-9.e-]+ \([0-9.e-]+ voxels\)' -- "$sdfgen" compare "$work/brute.
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/coarse.sdf" --res 6
 expect 1 'different grids' -- "$sdfgen" compare "$work/brute.sdf" "$work/coarse.sdf"
 expect 1 "$work/missing.sdf: cannot open" -- "$sdfgen" compare "$work/brute.sdf" "$work/missing.sdf"
+# A band field whose dims multiply to 2^64 (each axis below 2^31): refused on reading, never
+# compared as "0 of 0 samples" (the count wrapped to 0) or crashed on.
+if /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
+  /usr/bin/python3 - "$work/wrap.npz" <<'PY'
+import sys, numpy as np
+np.savez(sys.argv[1], brick_origins=np.zeros((0, 3), np.int32), brick_values=np.zeros((8, 8, 8, 0), np.float32, order="F"),
+         inside_boxes=np.zeros((0, 6), np.int32), background=np.float32(1.5), dims=np.array([4194304, 2097152, 2097152]),
+         origin=np.zeros(3), voxel_size=np.float64(1e-6), method=np.array("exact"), source=np.array("wrap"))
+PY
+  expect 1 "^sdfgen: $work/wrap.npz: grid 4194304x2097152x2097152 has more than 2\\^58 samples$" -- "$sdfgen" compare "$work/wrap.npz" "$work/wrap.npz"
+  expect 1 "^sdfgen: $work/wrap.npz: grid 4194304x2097152x2097152 has more than 2\\^58 samples$" -- "$sdfgen" surface "$work/wrap.npz" -o "$work/x.obj"
+fi
 expect fail 'sign' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --sign sideways
 expect fail 'method' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method magic
 expect 1 'brute method signs by the exact winding number' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method brute --sign rays
