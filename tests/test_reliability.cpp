@@ -51,7 +51,8 @@ protected:
     // Files in the folder other than the given ones (left-over temporaries).
     std::vector<std::string> strays(const std::vector<std::string>& expected) {
         std::vector<std::string> found;
-        for (const auto& entry : fs::directory_iterator(dir_)) {
+        std::error_code ec; // none when a death test's child removed its folder (parentsPath)
+        for (const auto& entry : fs::directory_iterator(dir_, ec)) {
             const std::string name = entry.path().filename().string();
             if (std::find(expected.begin(), expected.end(), name) == expected.end()) found.push_back(name);
         }
@@ -188,9 +189,12 @@ TEST_F(AtomicFile, PathWritersGetATemporaryAndTheSameGuarantees) {
 // The path a death test's child is to write: the parent's. A "threadsafe" death test runs the
 // whole test again in a new process, whose scratch folder is its own: without this, the child
 // would write there and the parent would check a folder nothing was written to.
+// The child's own folder is removed (it is killed before its TearDown).
 std::string parentsPath(const std::string& path) {
     setenv("SDFGEN_TEST_PARENT_PATH", path.c_str(), /*overwrite=*/0); // the child inherits the parent's
-    return std::getenv("SDFGEN_TEST_PARENT_PATH");
+    const std::string parents = std::getenv("SDFGEN_TEST_PARENT_PATH");
+    if (parents != path) fs::remove_all(fs::path(path).parent_path());
+    return parents;
 }
 
 TEST_F(AtomicFile, SignalsRemoveTheTemporary) {
@@ -295,6 +299,7 @@ TEST_F(OutOfMemory, ErrorsNameTheFile) {
         const std::string a = errorFrom([&] { loadField(field); });
         const std::string b = errorFrom([&] { loadMesh(mesh); });
         std::fprintf(stderr, "%s\n%s\n", a.c_str(), b.c_str());
+        fs::remove_all(dir_); // the child's own folder (it ends before its TearDown)
         return a == field + ": out of memory while reading it" && b == mesh + ": out of memory while reading it";
     };
     EXPECT_EXIT(std::_Exit(namesBoth() ? 0 : 1), ::testing::ExitedWithCode(0), "");

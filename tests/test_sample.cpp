@@ -117,18 +117,19 @@ TEST(Sample, SamplesBeyondSinglePrecisionAreErrors) {
     EXPECT_CONTAINS(errorFrom([&] { sampleSdf(model, 100, {}); }), "huge.obj: the samples' coordinates are beyond single precision");
 }
 
-TEST(Sample, SavedOnlyUnderTheExtensionWritten) {
+class SampleFiles : public test::ScratchFolderTest {};
+
+TEST_F(SampleFiles, SavedOnlyUnderTheExtensionWritten) {
     const Model model(test::icosphere(1.0f, 1));
     const Samples samples = sampleSdf(model, 10, {});
-    const std::string dir = ::testing::TempDir();
     for (const char* name : {"s.vdb", "s.npy", "s", "s.npz.tmp"}) {
-        const std::string path = dir + "/" + name;
+        const std::string path = (dir_ / name).string();
         const std::string message = errorFrom([&] { saveSamples(samples, path); });
         EXPECT_EQ(message.rfind(path + ": samples are written as .npz only", 0), 0u) << message;
         EXPECT_FALSE(std::filesystem::exists(path)) << path;
     }
-    saveSamples(samples, dir + "/s.NPZ");
-    EXPECT_TRUE(std::filesystem::exists(dir + "/s.NPZ"));
+    saveSamples(samples, (dir_ / "s.NPZ").string());
+    EXPECT_TRUE(std::filesystem::exists(dir_ / "s.NPZ"));
 }
 
 } // namespace
