@@ -238,8 +238,20 @@ PyMesh meshFromState(const py::tuple& state) {
     return result;
 }
 
-// Points as a C-contiguous float64 (P, 3) array, from any (..., 3) array; `shape` gets the leading dims.
+// ValueError unless `array` holds real numbers: a float or integer dtype. A cast to float64 would
+// silently drop a complex number's imaginary part, and read bools or strings as numbers.
+void checkReal(const py::array& array, const char* what) {
+    const char kind = array.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u') {
+        throw py::value_error(std::string(what) + " must be real numbers (a float or integer array), not " +
+                              py::str(array.dtype()).cast<std::string>());
+    }
+}
+
+// Points as a C-contiguous float64 (P, 3) array, from any (..., 3) array of real numbers; `shape`
+// gets the leading dims.
 py::array_t<double, py::array::c_style> pointsFrom(const py::array& input, std::vector<py::ssize_t>& shape) {
+    checkReal(input, "points");
     auto points = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(input);
     if (!points || points.ndim() < 1 || points.shape(points.ndim() - 1) != 3) {
         throw py::value_error("points must be an array of shape (P, 3) (or (..., 3)) of numbers");
@@ -270,6 +282,7 @@ py::array_t<T> query(const PyMesh& mesh, const py::array& input, SignMethod sign
 
 PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
     if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
+    checkReal(vertices, "vertices");
     if (faces.ndim() != 2 || faces.shape(1) != 3) throw py::value_error("faces must have shape (M, 3)");
     if (!py::isinstance<py::array_t<std::int64_t>>(faces) && faces.dtype().kind() != 'i' && faces.dtype().kind() != 'u') {
         throw py::value_error("faces must be an integer array");
@@ -729,6 +742,10 @@ PYBIND11_MODULE(_sdfgen, m) {
                 const std::size_t count = std::size_t(points.size() / 3);
                 std::vector<float> out(count);
                 const double* data = points.data();
+                // As Mesh's queries: a NaN would reach an undefined conversion to a sample index.
+                for (std::size_t i = 0; i < 3 * count; ++i) {
+                    if (!std::isfinite(data[i])) throw Error("query point " + std::to_string(i / 3) + " has a non-finite coordinate");
+                }
                 runReleased(
                     [&](const RunControl& control) {
                         constexpr std::size_t kBlock = 4096;

@@ -416,6 +416,54 @@ std::string glbTriangle() {
     return glb;
 }
 
+TEST_F(MeshReaders, PlyWithTwoVertexElementsIsRefused) {
+    // The second element's vertices would silently replace the first's.
+    const std::string element = "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    EXPECT_CONTAINS(loadError("two.ply", "ply\nformat ascii 1.0\n" + element + element +
+                                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                             "0 0 0\n1 0 0\n0 1 0\n5 5 5\n6 5 5\n5 6 5\n3 0 1 2\n"),
+                    "two.ply: the header declares more than one vertex element");
+}
+
+TEST_F(MeshReaders, CoordinatesBeyondSinglePrecisionAreNamed) {
+    // Not "all triangles have zero area" (the other vertices lost in the huge one's rounding).
+    const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty double z\n"
+                               "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    EXPECT_CONTAINS(loadError("huge.ply", header + "0 0 0\n1 0 1e300\n0 1 0\n3 0 1 2\n"),
+                    "huge.ply:11: vertex coordinate '1e+300' is beyond single precision's range (3.4e+38) in vertex 2 of 3");
+    std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+                         "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    for (double v : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -1e39, 0.0}) append(binary, v, false);
+    append(binary, std::uint8_t(3), false);
+    for (std::int32_t i : {0, 1, 2}) append(binary, i, false);
+    EXPECT_CONTAINS(loadError("huge-binary.ply", binary), "vertex coordinate '-1e+39' is beyond single precision's range (3.4e+38) in vertex 3 of 3");
+    EXPECT_CONTAINS(loadError("huge.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1e300 0\n3 0 1 2\n"),
+                    "huge.off:5: vertex coordinate '1e300' is beyond single precision's range");
+    EXPECT_CONTAINS(loadError("huge.stl", "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1e300 0 0\n"
+                                          "   vertex 0 1 0\n  endloop\n endfacet\nendsolid t\n"),
+                    "huge.stl:5: vertex coordinate '1e+300' is beyond single precision's range");
+}
+
+TEST_F(MeshReaders, ByteOrderMarkIsSkippedInEveryTextFormat) {
+    const std::string bom = "\xEF\xBB\xBF";
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const std::string stl = "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n"
+                            " endfacet\nendsolid t\n";
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+             {"bom.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+             {"bom.ply", ply},
+             {"bom.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+             {"bom.stl", stl},
+             {"bom.gltf", gltfTriangle(2)}}) {
+        const Mesh mesh = loadMesh(write(name, bom + text));
+        EXPECT_EQ(mesh.triangleCount(), 1u) << name;
+        EXPECT_EQ(mesh.positions.size(), 3u) << name;
+    }
+    // Line numbers still count from the first line.
+    EXPECT_CONTAINS(loadError("bad.off", bom + "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"), "bad.off:6:");
+}
+
 TEST_F(MeshReaders, GlbChunkLengthsAreChecked) {
     const std::string glb = glbTriangle();
     EXPECT_EQ(loadMesh(write("good.glb", glb)).triangleCount(), 1u);

@@ -17,11 +17,13 @@
 #include <glm/geometric.hpp>
 
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>
 #include <thread>
@@ -49,7 +51,8 @@ protected:
     // Files in the folder other than the given ones (left-over temporaries).
     std::vector<std::string> strays(const std::vector<std::string>& expected) {
         std::vector<std::string> found;
-        for (const auto& entry : fs::directory_iterator(dir_)) {
+        std::error_code ec; // none when a death test's child removed its folder (parentsPath)
+        for (const auto& entry : fs::directory_iterator(dir_, ec)) {
             const std::string name = entry.path().filename().string();
             if (std::find(expected.begin(), expected.end(), name) == expected.end()) found.push_back(name);
         }
@@ -183,9 +186,20 @@ TEST_F(AtomicFile, PathWritersGetATemporaryAndTheSameGuarantees) {
 
 // A signal while the temporary is being written: the process dies of that signal, the old file
 // is intact and the temporary is gone.
+// The path a death test's child is to write: the parent's. A "threadsafe" death test runs the
+// whole test again in a new process, whose scratch folder is its own: without this, the child
+// would write there and the parent would check a folder nothing was written to.
+// The child's own folder is removed (it is killed before its TearDown).
+std::string parentsPath(const std::string& path) {
+    setenv("SDFGEN_TEST_PARENT_PATH", path.c_str(), /*overwrite=*/0); // the child inherits the parent's
+    const std::string parents = std::getenv("SDFGEN_TEST_PARENT_PATH");
+    if (parents != path) fs::remove_all(fs::path(path).parent_path());
+    return parents;
+}
+
 TEST_F(AtomicFile, SignalsRemoveTheTemporary) {
     GTEST_FLAG_SET(death_test_style, "threadsafe");
-    const std::string path = write("f.txt", "old");
+    const std::string path = parentsPath(write("f.txt", "old"));
     for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
         EXPECT_EXIT(
             {
@@ -200,6 +214,95 @@ TEST_F(AtomicFile, SignalsRemoveTheTemporary) {
         EXPECT_EQ(readAll(path), "old");
         EXPECT_TRUE(strays({"f.txt"}).empty()) << "signal " << signal;
     }
+    unsetenv("SDFGEN_TEST_PARENT_PATH");
+}
+
+TEST_F(AtomicFile, PipeBehindAProcLinkIsWrittenDirectly) {
+    // /dev/stdout on a pipe: /proc/self/fd/N, a link to "pipe:[...]" (not a path).
+    for (const bool atPath : {false, true}) {
+        int fds[2];
+        ASSERT_EQ(pipe(fds), 0);
+        const std::string path = "/proc/self/fd/" + std::to_string(fds[1]);
+        if (atPath) writeFileAtomicallyAt(path, [](const std::string& at) { std::ofstream(at) << "through the pipe"; });
+        else writeFileAtomically(path, text("through the pipe"));
+        close(fds[1]);
+        char buffer[64] = {};
+        EXPECT_EQ(read(fds[0], buffer, sizeof buffer - 1), 16);
+        EXPECT_STREQ(buffer, "through the pipe");
+        close(fds[0]);
+        EXPECT_TRUE(strays({}).empty());
+    }
+}
+
+void limitFileSize(rlim_t bytes) {
+    rlimit size{};
+    size.rlim_cur = size.rlim_max = bytes;
+    setrlimit(RLIMIT_FSIZE, &size);
+    rlimit core{};
+    setrlimit(RLIMIT_CORE, &core);
+}
+
+TEST_F(AtomicFile, FileSizeLimitRemovesTheTemporary) {
+    // Killed by SIGXFSZ (ulimit -f) mid-write: the old file stays, and no temporary is left.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const std::string path = parentsPath(write("f.txt", "old"));
+    EXPECT_EXIT(
+        {
+            std::signal(SIGXFSZ, SIG_DFL);
+            limitFileSize(50000); // no core dump either (SIGXFSZ dumps core by default)
+            writeFileAtomically(path, text(std::string(200000, 'p')));
+        },
+        ::testing::KilledBySignal(SIGXFSZ), "");
+    EXPECT_EQ(readAll(path), "old");
+    EXPECT_TRUE(strays({"f.txt"}).empty());
+    unsetenv("SDFGEN_TEST_PARENT_PATH");
+}
+
+TEST_F(AtomicFile, NamesOfEveryValidLengthAreWritten) {
+    // The temporary's name is cut short so that it fits where the target's name does.
+    for (const std::size_t length : {200, 224, 240, 255}) {
+        const std::string name = std::string(length - 4, 'n') + ".sdf";
+        const std::string path = (dir_ / name).string();
+        writeFileAtomically(path, text("x"));
+        EXPECT_EQ(readAll(path), "x") << length;
+        writeFileAtomicallyAt(path, [](const std::string& temporary) { std::ofstream(temporary) << "y"; });
+        EXPECT_EQ(readAll(path), "y") << length;
+        EXPECT_TRUE(strays({name}).empty()) << length;
+        fs::remove(path);
+    }
+}
+
+// ---- Out of memory ---------------------------------------------------------------------------
+
+// The process's address space now (VmSize), in bytes.
+rlim_t addressSpaceBytes() {
+    std::ifstream status("/proc/self/status");
+    std::string line;
+    while (std::getline(status, line)) {
+        if (line.rfind("VmSize:", 0) == 0) return rlim_t(std::stoull(line.substr(7))) * 1024;
+    }
+    return 0;
+}
+
+class OutOfMemory : public test::ScratchFolderTest {};
+
+TEST_F(OutOfMemory, ErrorsNameTheFile) {
+    // An allocation that fails (the address space limited to 16 MiB more than is in use: the 64 MiB
+    // files cannot be read) is an Error naming the file, not a bare std::bad_alloc.
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const std::string field = write("big.sdf", std::string(64 << 20, ' '));
+    const std::string mesh = write("big.obj", std::string(64 << 20, ' '));
+    const auto namesBoth = [&] {
+        rlimit space{};
+        space.rlim_cur = space.rlim_max = addressSpaceBytes() + (16 << 20);
+        setrlimit(RLIMIT_AS, &space);
+        const std::string a = errorFrom([&] { loadField(field); });
+        const std::string b = errorFrom([&] { loadMesh(mesh); });
+        std::fprintf(stderr, "%s\n%s\n", a.c_str(), b.c_str());
+        fs::remove_all(dir_); // the child's own folder (it ends before its TearDown)
+        return a == field + ": out of memory while reading it" && b == mesh + ": out of memory while reading it";
+    };
+    EXPECT_EXIT(std::_Exit(namesBoth() ? 0 : 1), ::testing::ExitedWithCode(0), "");
 }
 
 // ---- Reading input ------------------------------------------------------------------------------
@@ -270,6 +373,25 @@ TEST(ObjScan, RefusesWhatTinyobjloaderWouldMisread) {
     EXPECT_CONTAINS(scanError(tri + "f\t1\n"), "m.obj:4: face has 1 vertex");
     EXPECT_CONTAINS(scanError(tri + "f 1 2 x\n"), "m.obj:4: face vertex 'x' is not a whole number");
     EXPECT_CONTAINS(scanError(tri + "f 1 2 3/a\n"), "m.obj:4: face vertex '3/a' is not of the form");
+}
+
+TEST(Printable, EscapesEveryByteThatIsNotValidUtf8) {
+    // Valid sequences of 2, 3 and 4 bytes are kept.
+    EXPECT_EQ(printable("caf\xC3\xA9 \xE4\xB8\xAD \xF0\x9F\x98\x80 \xF4\x8F\xBF\xBF"), "caf\xC3\xA9 \xE4\xB8\xAD \xF0\x9F\x98\x80 \xF4\x8F\xBF\xBF");
+    // Overlong forms, surrogates, code points past U+10FFFF, stray and cut sequences: \xNN, byte by byte.
+    EXPECT_EQ(printable("a\xC0\x80z"), "a\\xc0\\x80z");
+    EXPECT_EQ(printable("\xC1\xBF"), "\\xc1\\xbf");
+    EXPECT_EQ(printable("\xE0\x80\x80"), "\\xe0\\x80\\x80");
+    EXPECT_EQ(printable("\xED\xA0\x80"), "\\xed\\xa0\\x80");
+    EXPECT_EQ(printable("\xF0\x80\x80\x80"), "\\xf0\\x80\\x80\\x80");
+    EXPECT_EQ(printable("\xF4\x90\x80\x80"), "\\xf4\\x90\\x80\\x80");
+    EXPECT_EQ(printable("\xF5\x80\x80\x80"), "\\xf5\\x80\\x80\\x80");
+    EXPECT_EQ(printable("\x80\xE4\xB8"), "\\x80\\xe4\\xb8");
+}
+
+TEST(ObjScan, QuotesTheFileThroughPrintable) {
+    EXPECT_EQ(errorFrom([] { scanObj("m.obj", "v 0 0 \xC0\x80\n"); }), "m.obj:1: vertex coordinate '\\xc0\\x80' is not a decimal number");
+    EXPECT_EQ(errorFrom([] { scanObj("m.obj", "v 0 0 0\nf 1 2 \xFF\n"); }), "m.obj:2: face vertex '\\xff' is not a whole number");
 }
 
 TEST(ObjScan, ReadsWhatIsValid) {
@@ -354,6 +476,20 @@ bool sameField(const Field& a, const Field& b) {
 }
 
 class FieldTextAgreement : public test::ScratchFolderTest {};
+
+TEST_F(FieldTextAgreement, ByteOrderMarkIsSkipped) {
+    Field field;
+    field.source = "m.obj";
+    field.method = "exact";
+    field.grid.dims = {2, 1, 1};
+    field.values = {-1.0f, 2.0f};
+    const std::string path = (dir_ / "f.sdf").string();
+    saveFieldText(field, path);
+    const std::string marked = write("bom.sdf", "\xEF\xBB\xBF" + readAll(path));
+    const Field read = loadFieldText(marked);
+    EXPECT_EQ(read.values, field.values);
+    EXPECT_EQ(read.source, "m.obj");
+}
 
 TEST_F(FieldTextAgreement, WhatOneAcceptsTheOtherDoes) {
     std::mt19937 random(8);

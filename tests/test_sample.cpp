@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numeric>
 
 namespace sdfgen {
@@ -114,6 +115,21 @@ TEST(Sample, SamplesBeyondSinglePrecisionAreErrors) {
     for (glm::dvec3& p : huge) p *= 1e39; // beyond float's 3.4e38
     const Model model(buildMesh("huge.obj", huge, sphere.triangles));
     EXPECT_CONTAINS(errorFrom([&] { sampleSdf(model, 100, {}); }), "huge.obj: the samples' coordinates are beyond single precision");
+}
+
+class SampleFiles : public test::ScratchFolderTest {};
+
+TEST_F(SampleFiles, SavedOnlyUnderTheExtensionWritten) {
+    const Model model(test::icosphere(1.0f, 1));
+    const Samples samples = sampleSdf(model, 10, {});
+    for (const char* name : {"s.vdb", "s.npy", "s", "s.npz.tmp"}) {
+        const std::string path = (dir_ / name).string();
+        const std::string message = errorFrom([&] { saveSamples(samples, path); });
+        EXPECT_EQ(message.rfind(path + ": samples are written as .npz only", 0), 0u) << message;
+        EXPECT_FALSE(std::filesystem::exists(path)) << path;
+    }
+    saveSamples(samples, (dir_ / "s.NPZ").string());
+    EXPECT_TRUE(std::filesystem::exists(dir_ / "s.NPZ"));
 }
 
 } // namespace

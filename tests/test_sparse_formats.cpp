@@ -201,6 +201,27 @@ TEST_F(HostileSparseNpz, CountsAreCheckedAgainstTheBytes) {
     expectRefused(writeWith("type.npz", {"inside_boxes.npy", formats::npyHeader("<f4", false, {0, 6}), nullptr, 0}), "is not int32 or int64");
 }
 
+TEST_F(HostileSparseNpz, DimsWhoseProductPassesTwoToThe64AreRefused) {
+    // Each axis below 2^31, their product exactly 2^64 (a size_t product wraps to 0).
+    expectRefused(writeWith("wrap.npz", {"dims.npy", formats::npyInt64Array({4194304, 2097152, 2097152})}), "more than 2^58 samples");
+    expectRefused(writeWith("past.npz", {"dims.npy", formats::npyInt64Array({2147483647, 2147483647, 2147483647})}), "more than 2^58 samples");
+    // The one check every front end meets: the field itself, its dense form, a save.
+    SparseField huge = sparse_;
+    huge.grid.dims = {4194304, 2097152, 2097152};
+    huge.insideBoxes.clear();
+    EXPECT_CONTAINS(errorFrom([&] { huge.check("huge"); }), "more than 2^58 samples");
+    EXPECT_CONTAINS(errorFrom([&] { huge.toDense(); }), "no dense form");
+    for (const char* name : {"huge.npz", "huge.npy", "huge.sdf"}) {
+        const std::string message = errorFrom([&] { saveSparseField(huge, path(name)); });
+        EXPECT_EQ(message.rfind(path(name), 0), 0u) << message;
+        EXPECT_FALSE(std::filesystem::exists(path(name)));
+    }
+    Field dense;
+    dense.grid.dims = {4194304, 2097152, 2097152};
+    dense.grid.voxel = 1e-6;
+    EXPECT_CONTAINS(errorFrom([&] { saveField(dense, path("dense.npy")); }), "more than 2^58 samples");
+}
+
 TEST_F(HostileSparseNpz, FieldsThatAreNotBandFieldsAreRefused) {
     std::vector<std::int32_t> origins;
     for (const glm::ivec3& b : sparse_.bricks) origins.insert(origins.end(), {8 * b.x, 8 * b.y, 8 * b.z});
@@ -319,6 +340,23 @@ TEST_F(SparseFormats, VdbOfAGridTooLargeToBeDenseStaysSparse) {
     const std::string message = errorFrom([&] { loadField(path("huge.vdb")); });
     EXPECT_EQ(message.rfind(path("huge.vdb"), 0), 0u) << message;
     EXPECT_CONTAINS(message, "keep it sparse");
+}
+
+TEST_F(SparseFormats, VdbWhoseDimsMultiplyPastTwoToThe64IsRefused) {
+    saveSparseField(sparse_, path("band.vdb"));
+    openvdb::initialize();
+    openvdb::io::File in(path("band.vdb"));
+    in.open();
+    const openvdb::GridPtrVecPtr grids = in.getGrids();
+    in.close();
+    (*grids)[0]->removeMeta("sdfgen_dims");
+    (*grids)[0]->insertMeta("sdfgen_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(4194304, 2097152, 2097152)));
+    openvdb::io::File(path("wrap.vdb")).write(*grids);
+    for (const bool sparse : {true, false}) {
+        const std::string message = errorFrom([&] { sparse ? (void)loadSparseField(path("wrap.vdb")) : (void)loadField(path("wrap.vdb")); });
+        EXPECT_EQ(message.rfind(path("wrap.vdb"), 0), 0u) << message;
+        EXPECT_CONTAINS(message, "more than 2^58 samples");
+    }
 }
 
 TEST_F(SparseFormats, VdbWithActiveTilesIsRefused) {

@@ -3,6 +3,7 @@
 
 #include <glm/vec3.hpp>
 #include <cstddef>
+#include <cstdint>
 
 namespace sdfgen {
 
@@ -13,6 +14,19 @@ struct Grid {
     double voxel = 1.0;     // edge of the cubic voxels
     glm::ivec3 dims{0};
 
+    // The most samples a grid may have (2^58): the bytes of its values and of every channel (32 per
+    // sample) stay far from 64 bits, so no count or size computed from a valid grid wraps.
+    static constexpr std::uint64_t kMaxSamples = std::uint64_t(1) << 58;
+    // dims.x * dims.y * dims.z computed without overflow; 0 when a dimension is below 1 or the
+    // count exceeds kMaxSamples (what every reader, writer and front end checks, through checkGrid
+    // and SparseField::check, before counting samples or bytes).
+    static std::uint64_t checkedSampleCount(const glm::ivec3& dims) {
+        if (dims.x < 1 || dims.y < 1 || dims.z < 1) return 0;
+        const std::uint64_t xy = std::uint64_t(dims.x) * std::uint64_t(dims.y); // < 2^62
+        if (xy > kMaxSamples / std::uint64_t(dims.z)) return 0;
+        return xy * std::uint64_t(dims.z);
+    }
+    // The sample count of a valid grid (see checkedSampleCount).
     std::size_t sampleCount() const { return std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z); }
     std::size_t index(int i, int j, int k) const {
         return (std::size_t(k) * std::size_t(dims.y) + std::size_t(j)) * std::size_t(dims.x) + std::size_t(i);

@@ -69,7 +69,9 @@ SampleCounts sampleCounts(std::size_t n, const SampleSettings& settings);
 
 // Writes `points` as (n, 3) float32 and `sdf` as (n,) float32 into an .npz, atomically, and the
 // channels present: gradient and closest (n, 3) float32, triangle (n,) int32. Throws Error naming
-// `path`.
+// `path`, also when `path` does not end in .npz (checkSamplesPath).
 void saveSamples(const Samples& samples, const std::string& path);
+// Throws saveSamples' Error for a path whose extension is not .npz (any case), before any work.
+void checkSamplesPath(const std::string& path);
 
 } // namespace sdfgen

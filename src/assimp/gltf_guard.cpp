@@ -129,7 +129,14 @@ class GltfGuard {
 public:
     GltfGuard(const std::string& path, bool binary) : path_(path), file_(path, path) {
         if (binary) readContainer();
-        else json_ = readInputFile(path, InputKind::Binary);
+        else {
+            json_ = readInputFile(path, InputKind::Binary);
+            // Skipped, and Assimp (which would refuse it) reads the JSON without it.
+            if (withoutByteOrderMark(json_).size() != json_.size()) {
+                json_.erase(0, 3);
+                byteOrderMark_ = true;
+            }
+        }
     }
 
     GltfCheck check() {
@@ -150,7 +157,7 @@ public:
         checkAccessors();
         checkMeshes();
         checkNodes();
-        if (bounded_) result_.replacement = rewritten();
+        if (bounded_ || byteOrderMark_) result_.replacement = rewritten();
         return result_;
     }
 
@@ -570,6 +577,7 @@ private:
     std::vector<Accessor> accessors_;
     std::vector<std::uint64_t> meshTriangles_, meshVertices_;
     bool bounded_ = false;
+    bool byteOrderMark_ = false; // the .gltf started with a UTF-8 byte-order mark (skipped)
     GltfCheck result_;
 };
 

@@ -5,6 +5,7 @@
 #include "cli/progress.hpp"
 #include "cli/batch_plan.hpp"
 #include "core/runtime/memory.hpp"
+#include "core/runtime/out_of_memory.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
@@ -249,6 +250,10 @@ void limitAddressSpace(double budgetMiB) {
     } catch (const std::bad_alloc&) {
         report = "failed\nout of memory: over the budget of " + std::to_string(std::llround(memoryMiB)) + " MiB (--memory)\n" +
                  warningLines(warnings);
+        code = 1;
+    } catch (const OutOfMemoryError& e) { // the file named
+        report = std::string("failed\n") + e.what() + ": over the budget of " + std::to_string(std::llround(memoryMiB)) +
+                 " MiB (--memory)\n" + warningLines(warnings);
         code = 1;
     } catch (const Error& e) {
         report = std::string("failed\n") + e.what() + "\n" + warningLines(warnings);

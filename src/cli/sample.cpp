@@ -23,6 +23,7 @@ struct SampleArgs {
 void runSample(SampleArgs args) {
     Stopwatch clock;
     refuseOverwritingInput(args.output, {args.mesh});
+    checkSamplesPath(args.output);
     RunControl control = commandControl(args.threads);
     args.settings.channels = parseChannels(args.channels);
     const Model model = Model::load(args.mesh, control);

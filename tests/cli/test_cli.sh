@@ -32,6 +32,18 @@ expect 0 'max [0-9.e-]+ \([0-9.e-]+ voxels\)' -- "$sdfgen" compare "$work/brute.
 expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/coarse.sdf" --res 6
 expect 1 'different grids' -- "$sdfgen" compare "$work/brute.sdf" "$work/coarse.sdf"
 expect 1 "$work/missing.sdf: cannot open" -- "$sdfgen" compare "$work/brute.sdf" "$work/missing.sdf"
+# A band field whose dims multiply to 2^64 (each axis below 2^31): refused on reading, never
+# compared as "0 of 0 samples" (the count wrapped to 0) or crashed on.
+if /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
+  /usr/bin/python3 - "$work/wrap.npz" <<'PY'
+import sys, numpy as np
+np.savez(sys.argv[1], brick_origins=np.zeros((0, 3), np.int32), brick_values=np.zeros((8, 8, 8, 0), np.float32, order="F"),
+         inside_boxes=np.zeros((0, 6), np.int32), background=np.float32(1.5), dims=np.array([4194304, 2097152, 2097152]),
+         origin=np.zeros(3), voxel_size=np.float64(1e-6), method=np.array("exact"), source=np.array("wrap"))
+PY
+  expect 1 "^sdfgen: $work/wrap.npz: grid 4194304x2097152x2097152 has more than 2\\^58 samples$" -- "$sdfgen" compare "$work/wrap.npz" "$work/wrap.npz"
+  expect 1 "^sdfgen: $work/wrap.npz: grid 4194304x2097152x2097152 has more than 2\\^58 samples$" -- "$sdfgen" surface "$work/wrap.npz" -o "$work/x.obj"
+fi
 expect fail 'sign' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --sign sideways
 expect fail 'method' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method magic
 expect 1 'brute method signs by the exact winding number' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method brute --sign rays
@@ -156,6 +168,11 @@ wait $reader
 expect 0 'max 0 \(0 voxels\).*' -- "$sdfgen" compare "$work/tet.sdf" "$work/piped.npz"
 expect 0 '10 samples' -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/ch-samples.npz" --channels gradient,triangle
 expect 1 "^sdfgen: unknown channel 'normals'" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/x.npz" --channels normals
+# Samples are an .npz: any other name is refused before sampling, and nothing is written.
+for name in s.vdb s.npy s; do
+  expect 1 "^sdfgen: $work/$name: samples are written as .npz only; name the output \*.npz" -- "$sdfgen" sample "$work/tet.obj" -n 10 -o "$work/$name"
+  expect 1 '' -- test -e "$work/$name"
+done
 printf 'not numpy' >"$work/bad.npy"
 expect 1 "^sdfgen: $work/bad.npy: not a NumPy .npy file" -- "$sdfgen" compare "$work/bad.npy" "$work/tet.npy"
 # Meshes in other formats (assimp-utils writes them when installed).
@@ -329,6 +346,23 @@ for sig in TERM INT HUP; do
   expect 0 '' -- test $rc -eq $((128 + $(kill -l $sig)))
   expect 1 '' -- compgen -G "$work/killed.sdf.tmp-*"
 done
+# Killed by the file-size limit (SIGXFSZ, ulimit -f in KiB) while the field is written: the old
+# file stays, and no temporary is left.
+"$sdfgen" bake "$work/tet.obj" -o "$work/limited.sdf" --res 8 >/dev/null
+cp "$work/limited.sdf" "$work/limited-old.sdf"
+(ulimit -c 0; ulimit -f 64; exec "$sdfgen" bake "$bunny" -o "$work/limited.sdf" --res 64 >/dev/null 2>&1)
+rc=$?
+expect 0 '' -- test $rc -eq $((128 + $(kill -l XFSZ)))
+expect 0 '' -- cmp "$work/limited.sdf" "$work/limited-old.sdf"
+expect 1 '' -- compgen -G "$work/limited.sdf.tmp-*"
+# An output name of 255 bytes (the longest a file name may be): its temporary's name is shortened to fit.
+long=$(printf 'n%.0s' $(seq 1 251)).sdf
+expect 0 'voxels/s' -- "$sdfgen" bake "$work/tet.obj" -o "$work/$long" --res 8
+expect 0 '^sdfgen-text 1$' -- head -1 "$work/$long"
+# Standard output on a pipe is written directly (the summary line follows the field), through a
+# link that names the format (/dev/stdout there leads to /proc/self/fd/1, a link to "pipe:[N]").
+ln -s /dev/stdout "$work/stdout.sdf"
+expect 0 '^sdfgen-text 1$' -- bash -c "'$sdfgen' bake '$work/tet.obj' -o '$work/stdout.sdf' --res 8 | head -1"
 # A full disk (a 64 KiB tmpfs, where mounting is allowed): the old file stays, exit non-zero.
 full=$work/full
 mkdir "$full"

@@ -361,3 +361,42 @@ def test_ctrl_c_cancels_a_bake():
     words = run.stdout.split()
     assert words[:2] == ["interrupted", "after"], run.stdout
     assert float(words[2]) < 3.0
+
+
+def test_points_and_vertices_must_be_real_numbers(bunny):
+    # A cast to float64 would drop the imaginary part, or read bools as 0 and 1.
+    for dtype in (np.complex128, np.bool_):
+        with pytest.raises(ValueError, match="points must be real numbers"):
+            bunny.signed_distance(np.zeros((2, 3), dtype))
+        with pytest.raises(ValueError, match="vertices must be real numbers"):
+            sdfgen.Mesh(TET_VERTICES.astype(dtype), TET_FACES)
+    with pytest.raises(ValueError, match="points must be real numbers"):
+        bunny.closest_points(np.array([[1 + 2j, 0, 0]]))
+    with pytest.raises(ValueError, match="points must be real numbers"):
+        bunny.signed_distance(np.array([["a", "b", "c"]]))
+    # Integers are numbers, as documented: the same answers as floats.
+    assert np.array_equal(bunny.signed_distance(np.array([[0, 0, 0], [1, 2, 3]])),
+                          bunny.signed_distance(np.array([[0.0, 0, 0], [1, 2, 3]])))
+    ints = sdfgen.Mesh(TET_VERTICES.astype(np.int32), TET_FACES)
+    assert ints.signed_distance(np.array([[0.25, 0.25, 0.25]]))[0] < 0
+
+
+def test_argument_errors_are_one_line(bunny):
+    for call in (lambda: sdfgen.bake(bunny, res="high"), lambda: sdfgen.bake(bunny, 8, bogus=1),
+                 lambda: bunny.signed_distance(np.zeros((1, 3)), threads="all"), lambda: sdfgen.Mesh.load(42),
+                 lambda: sdfgen.Mesh(np.zeros((3, 3)), TET_FACES, name=7), lambda: sdfgen.load_field(None)):
+        with pytest.raises(TypeError) as error:
+            call()
+        message = str(error.value)
+        assert "\n" not in message, message
+        assert "do not match" in message and "sdfgen." in message, message
+    with pytest.raises(TypeError, match=r"^sdfgen.bake\(\): the arguments \(.*'high'.*\) do not match \(mesh: sdfgen.Mesh"):
+        sdfgen.bake(bunny, res="high")
+
+
+def test_messages_escape_bytes_that_are_not_utf8(tmp_path):
+    # An overlong NUL (C0 80) and a surrogate (ED A0 80): escaped, so that the message decodes.
+    bad = tmp_path / "bad.ply"
+    bad.write_bytes(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty fl\xc0\x80\xed\xa0\x80 x\nend_header\n")
+    with pytest.raises(sdfgen.Error, match=r"bad.ply:4: unknown property type 'fl\\xc0\\x80\\xed\\xa0\\x80'"):
+        sdfgen.Mesh.load(str(bad))

@@ -205,3 +205,23 @@ def test_a_field_too_large_for_its_dense_form_stays_sparse(tmp_path):
     assert not os.path.exists(tmp_path / "huge.npy")
     field.save(str(tmp_path / "again.npz"))
     assert np.array_equal(sdfgen.load_field(str(tmp_path / "again.npz")).brick_values, field.brick_values)
+
+
+def test_dims_whose_product_passes_2_to_the_64_are_refused(tmp_path):
+    # Each axis below 2^31, their product exactly 2^64: refused on loading, never wrapped to 0 samples.
+    path = str(tmp_path / "wrap.npz")
+    np.savez(path, brick_origins=np.zeros((0, 3), np.int32), brick_values=np.zeros((8, 8, 8, 0), np.float32, order="F"),
+             inside_boxes=np.zeros((0, 6), np.int32), background=np.float32(1.5), dims=np.array([4194304, 2097152, 2097152]),
+             origin=np.zeros(3), voxel_size=np.float64(1e-6), method=np.array("exact"), source=np.array("wrap"))
+    for load in (sdfgen.load_field, sdfgen.SparseField.load):
+        with pytest.raises(sdfgen.Error, match=r"wrap.npz: grid 4194304x2097152x2097152 has more than 2\^58 samples"):
+            load(path)
+
+
+def test_sample_at_non_finite_points_raises_as_mesh_queries_do(sparse, bunny):
+    for bad in (np.nan, np.inf, -np.inf):
+        points = np.array([[0.0, 0, 0], [bad, 0, 0]])
+        with pytest.raises(sdfgen.Error, match="query point 1 has a non-finite coordinate"):
+            sparse.sample(points)
+        with pytest.raises(sdfgen.Error, match="query point 1 has a non-finite coordinate"):
+            bunny.signed_distance(points)

@@ -4,6 +4,7 @@
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
+#include "core/runtime/out_of_memory.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>
@@ -63,7 +64,8 @@ std::string toString(const Channels& channels) {
     return list;
 }
 
-BakeResult bake(const BakeContext& context, const RunControl& control) {
+namespace {
+BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     const BakeSettings& settings = context.settings;
     if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
     const DistanceMethodInfo& method = distanceMethod(settings.method);
@@ -231,6 +233,14 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
     field.method = method.name;
     field.parameters = parameters(result.sign);
     return result;
+}
+
+} // namespace
+
+BakeResult bake(const BakeContext& context, const RunControl& control) {
+    const Grid& g = context.grid;
+    const std::string grid = std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z);
+    return namingOutOfMemory(context.mesh.source, ("baking its " + grid + " grid").c_str(), [&] { return bakeContext(context, control); });
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {

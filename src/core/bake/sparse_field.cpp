@@ -84,7 +84,12 @@ std::size_t SparseField::activeCount() const {
 }
 
 Field SparseField::toDense() const {
-    const double bytes = double(grid.sampleCount()) * sizeof(float);
+    const std::uint64_t samples = Grid::checkedSampleCount(grid.dims);
+    if (samples == 0) {
+        throw Error("this " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" + std::to_string(grid.dims.z) +
+                    " band field has no dense form: its grid has no samples or more than 2^58");
+    }
+    const double bytes = double(samples) * sizeof(float);
     const std::uint64_t available = availableMemoryBytes();
     if (available > 0 && bytes > double(available)) {
         throw Error("the dense form of this " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" +
@@ -129,6 +134,10 @@ void SparseField::check(const std::string& path) const {
     auto fail = [&](const std::string& problem) { throw Error(path + ": " + problem); };
     if (!(background > 0.0f) || !std::isfinite(background)) fail("the band's background is not a positive finite number");
     if (grid.dims.x < 1 || grid.dims.y < 1 || grid.dims.z < 1) fail("the grid has no samples");
+    if (Grid::checkedSampleCount(grid.dims) == 0) {
+        fail("the grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" + std::to_string(grid.dims.z) +
+             " has more than 2^58 samples");
+    }
     const glm::ivec3 brickDims = (grid.dims + (kBrick - 1)) / kBrick;
     if (values.size() / kBrickSamples != bricks.size() || values.size() % kBrickSamples != 0) {
         fail("the brick values do not match the bricks (" + std::to_string(values.size()) + " values for " +

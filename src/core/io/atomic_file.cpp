@@ -43,7 +43,8 @@ extern "C" void removeTempFilesAndDie(int signal) {
 void installSignalHandlers() {
     static std::once_flag once;
     std::call_once(once, [] {
-        for (int signal : {SIGINT, SIGTERM, SIGHUP}) {
+        // SIGXFSZ: a write past the file-size limit (ulimit -f) kills the process the same way.
+        for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ}) {
             struct sigaction current {};
             // Only a default action is replaced: an ignored SIGHUP (nohup) or a program's own
             // handler stays as it is.
@@ -192,6 +193,15 @@ Target inspect(const std::string& path) {
     if (path.empty()) throw Error("the output path is empty");
     installSignalHandlers();
     Target target;
+    // What is not a regular file is written through the path as given: /dev/stdout on a pipe
+    // leads to /proc/self/fd/1, a link to "pipe:[N]", which names no file to resolve.
+    struct stat status {};
+    if (stat(path.c_str(), &status) == 0 && !S_ISREG(status.st_mode) && !S_ISDIR(status.st_mode)) {
+        target.path = path;
+        target.exists = true;
+        target.status = status;
+        return target;
+    }
     target.path = resolveLinks(path);
     target.exists = stat(target.path.c_str(), &target.status) == 0;
     if (target.exists && S_ISDIR(target.status.st_mode)) throw Error(path + ": is a directory");
@@ -221,6 +231,20 @@ std::string uniqueSuffix() {
     return text;
 }
 
+// The temporary's name for `target`: its name + ".tmp-" + `suffix`, the name cut short where the
+// whole would exceed the longest file name (NAME_MAX, 255 bytes), so that every valid output name
+// has a temporary.
+std::string temporaryName(const std::string& target, const std::string& suffix) {
+    const std::size_t slash = target.rfind('/');
+    const std::size_t nameStart = slash == std::string::npos ? 0 : slash + 1;
+    const std::string tail = ".tmp-" + suffix;
+    std::size_t nameMax = 255;
+    const long limit = pathconf(nameStart == 0 ? "." : target.substr(0, nameStart).c_str(), _PC_NAME_MAX);
+    if (limit > 0) nameMax = std::size_t(limit);
+    const std::size_t keep = nameMax > tail.size() ? nameMax - tail.size() : 1;
+    return target.substr(0, nameStart) + target.substr(nameStart, keep) + tail;
+}
+
 // A temporary file beside the target, removed (and unregistered from the signal handler) when
 // this goes out of scope before commit().
 class Temporary {
@@ -229,7 +253,7 @@ public:
     // landing at any moment after creation finds it; mkstemp would leave a window in between.
     Temporary(const std::string& path, const Target& target) : path_(path), target_(target) {
         for (int attempt = 0; fd_ < 0; ++attempt) {
-            name_ = target.path + ".tmp-" + uniqueSuffix();
+            name_ = temporaryName(target.path, uniqueSuffix());
             registration_ = std::make_unique<TempRegistration>(name_);
             fd_ = ::open(name_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
             if (fd_ >= 0) break;

@@ -18,8 +18,11 @@ namespace sdfgen {
 //   0666 minus the umask, like any file the user creates;
 // - a target that exists but is not a regular file (/dev/stdout, a FIFO, a terminal) is written
 //   directly, since it cannot be replaced: nothing to keep, and no atomicity either;
-// - SIGINT, SIGTERM and SIGHUP (when their action is the default) remove the temporary files
-//   still being written, then terminate the process as the signal would have;
+// - SIGINT, SIGTERM, SIGHUP and SIGXFSZ (the file-size limit; when their action is the default)
+//   remove the temporary files still being written, then terminate the process as the signal
+//   would have;
+// - the temporary is named after the target (NAME.tmp-...), its name shortened where needed so
+//   that a target name of any valid length (up to 255 bytes) can be written;
 // - two processes writing one path at once both succeed, and the file is the complete output of
 //   whichever renamed last (never a mixture);
 // - a file with several hard links gets a new inode: the other names keep the old content.

@@ -2,6 +2,7 @@
 // the field formats' .npz writer (stored zip members, written atomically).
 #include "core/io/formats/format.hpp"
 #include "core/io/formats/npy.hpp"
+#include "core/io/file_extension.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/sample.hpp"
 
@@ -10,7 +11,16 @@
 
 namespace sdfgen {
 
+void checkSamplesPath(const std::string& path) {
+    const std::string extension = lowerExtension(path);
+    if (extension != ".npz") {
+        throw Error(path + ": samples are written as .npz only; name the output *.npz" +
+                    (extension.empty() ? std::string(" (it has no extension)") : " (not " + printable(extension) + ")"));
+    }
+}
+
 void saveSamples(const Samples& samples, const std::string& path) {
+    checkSamplesPath(path);
     const std::size_t n = samples.size();
     if (samples.points.size() != 3 * n) {
         throw Error(path + ": samples have " + std::to_string(samples.points.size()) + " coordinates for " + std::to_string(n) + " points");

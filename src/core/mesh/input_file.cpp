@@ -30,6 +30,11 @@ std::uint64_t maxInputBytes() {
     return std::uint64_t(4) << 30;
 }
 
+std::string_view withoutByteOrderMark(std::string_view text) {
+    if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+    return text;
+}
+
 std::size_t lineNumberAt(const std::string& text, std::size_t offset) {
     std::size_t line = 1;
     for (std::size_t i = 0; i < offset && i < text.size(); ++i) {

@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace sdfgen {
 
@@ -15,6 +16,10 @@ enum class InputKind { Binary, Text };
 // maxBytes (checked before reading for a regular file, while reading otherwise). For Text, a NUL
 // byte is refused as it arrives ("PATH:LINE: NUL byte ...").
 std::string readInputFile(const std::string& path, InputKind kind, std::uint64_t maxBytes = maxInputBytes());
+
+// `text` without a leading UTF-8 byte-order mark: what every reader of a text format (OBJ, PLY's
+// header, OFF, ASCII STL, glTF's JSON, the sdfgen-text field) skips.
+std::string_view withoutByteOrderMark(std::string_view text);
 
 // The number of the line (from 1) that byte `offset` of `text` lies on; \n, \r\n and a lone \r
 // each end a line.

@@ -3,6 +3,7 @@
 #include "core/mesh/assimp_reader.hpp"
 #include "core/mesh/mesh_readers.hpp"
 #include "sdfgen/error.hpp"
+#include "core/runtime/out_of_memory.hpp"
 #include "core/io/file_extension.hpp"
 
 #include <algorithm>
@@ -72,7 +73,8 @@ std::vector<std::string> meshFormatExtensions() {
     return extensions;
 }
 
-Mesh loadMesh(const std::string& path) {
+namespace {
+Mesh readMesh(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a mesh file");
     std::string extension = lowerExtension(path);
@@ -103,5 +105,8 @@ Mesh loadMesh(const std::string& path) {
     warnAboutUnusedVertices(mesh);
     return mesh;
 }
+} // namespace
+
+Mesh loadMesh(const std::string& path) { return namingOutOfMemory(path, "reading it", [&] { return readMesh(path); }); }
 
 } // namespace sdfgen

@@ -9,7 +9,10 @@
 #include "core/io/printable.hpp"
 #include "sdfgen/mesh.hpp"
 
+#include <charconv>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,6 +45,21 @@ bool addPolygon(const std::vector<std::int64_t>& corners, std::uint64_t vertexCo
         triangles.emplace_back(unsigned(corners[0]), unsigned(corners[c]), unsigned(corners[c + 1]));
     }
     return true;
+}
+
+// "" when a vertex coordinate read as `value` (from the text `token`, or written from the value
+// when empty) fits single precision, as meshes are stored (OBJ's scan refuses the same); else the
+// problem, for the reader to report where it read it: "vertex coordinate '1e300' is beyond
+// single precision's range (3.4e+38)".
+inline std::string coordinateProblem(double value, std::string_view token = {}) {
+    if (std::fabs(value) <= double(std::numeric_limits<float>::max())) return "";
+    std::string text(token);
+    if (text.empty()) {
+        char buffer[32];
+        text.assign(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+    }
+    return "vertex coordinate '" + printable(text, 40) + "' is " +
+           (std::isfinite(value) ? "beyond single precision's range (3.4e+38)" : "not a finite number");
 }
 
 // Warning text for `count` faces of fewer than 3 vertices that were skipped (empty when none).

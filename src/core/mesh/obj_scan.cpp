@@ -1,4 +1,5 @@
 #include "core/mesh/obj_scan.hpp"
+#include "core/io/printable.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
 
@@ -53,10 +54,10 @@ double parseCoordinate(ObjLine& line, std::string_view token) {
         // Underflow reads as (nearly) zero, as it should; overflow is reported below.
         value = std::strtod(std::string(token).c_str(), nullptr);
     } else if (ec != std::errc() || end != last) {
-        line.fail("vertex coordinate '" + std::string(token) + "' is not a decimal number");
+        line.fail("vertex coordinate '" + printable(token, 40) + "' is not a decimal number");
     }
     if (!std::isfinite(value) || std::fabs(value) > double(std::numeric_limits<float>::max())) {
-        line.fail("vertex coordinate '" + std::string(token) + "' is not a finite number");
+        line.fail("vertex coordinate '" + printable(token, 40) + "' is not a finite number");
     }
     return value;
 }
@@ -177,10 +178,10 @@ void scanChunk(const std::string& path, Chunk& chunk, ObjScan& scan) {
                 std::uint64_t index = 0;
                 const auto [last, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), index);
                 if (digits.empty() || last != digits.data() + digits.size() || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
-                    line.fail("face vertex '" + std::string(token) + "' is not a whole number");
+                    line.fail("face vertex '" + printable(token, 40) + "' is not a whole number");
                 }
                 if (!plainCharacters) {
-                    line.fail("face vertex '" + std::string(token) + "' is not of the form v, v/vt, v//vn or v/vt/vn");
+                    line.fail("face vertex '" + printable(token, 40) + "' is not of the form v, v/vt, v//vn or v/vt/vn");
                 }
                 if (ec == std::errc::result_out_of_range || index > std::uint64_t(std::numeric_limits<int>::max())) {
                     line.fail("face refers to vertex " + std::string(vertexPart) + ", beyond any vertex count this reader supports");
@@ -209,11 +210,6 @@ void scanChunk(const std::string& path, Chunk& chunk, ObjScan& scan) {
 }
 
 } // namespace
-
-std::string_view withoutByteOrderMark(std::string_view text) {
-    if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
-    return text;
-}
 
 ObjScan scanObj(const std::string& path, std::string_view text, std::size_t chunkBytes) {
     // Two parallel passes over pieces split after a \n (so that no \r\n is cut): the first counts

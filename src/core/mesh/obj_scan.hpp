@@ -29,7 +29,4 @@ struct ObjScan {
 // about `chunkBytes` (split after a \n) in parallel; the result does not depend on the size.
 ObjScan scanObj(const std::string& path, std::string_view text, std::size_t chunkBytes = std::size_t(1) << 20);
 
-// `text` without a leading UTF-8 byte-order mark.
-std::string_view withoutByteOrderMark(std::string_view text);
-
 } // namespace sdfgen

@@ -75,6 +75,7 @@ public:
         } else if (ec != std::errc() || end != last) {
             fail("vertex coordinate '" + printable(t, 40) + "' is not a number");
         }
+        if (const std::string problem = coordinateProblem(value, t); !problem.empty()) fail(problem);
         return value;
     }
 
@@ -107,7 +108,7 @@ private:
 
 Mesh loadOff(const std::string& path) {
     const std::string content = readInputFile(path, InputKind::Text);
-    OffLines lines(path, content);
+    OffLines lines(path, withoutByteOrderMark(content));
     if (!lines.next()) throw Error(path + ": empty file (an OFF file starts with OFF)");
     const std::string keyword(lines.token());
     const std::size_t off = keyword.rfind("OFF");

@@ -296,13 +296,16 @@ void readList(DataReader& data, const Property& p, bool strip, std::vector<std::
 
 Mesh loadPly(const std::string& path) {
     const std::string content = readInputFile(path, InputKind::Binary);
-    const std::string_view text = content;
+    const std::string_view text = withoutByteOrderMark(content);
     const Header header = readHeader(path, text);
     DataReader data(path, text, header);
 
     const Element* vertexElement = nullptr;
     for (const Element& e : header.elements) {
-        if (e.name == "vertex") vertexElement = &e;
+        if (e.name != "vertex") continue;
+        // A second would silently replace the first's vertices.
+        if (vertexElement) throw Error(path + ": the header declares more than one vertex element");
+        vertexElement = &e;
     }
     if (!vertexElement) throw Error(path + ": the file has no vertex element");
     // Every element's declared instances must fit into the bytes after the header, all together.
@@ -354,7 +357,9 @@ Mesh loadPly(const std::string& path) {
                 if (isVertex && !p.list) {
                     const double v = data.value(p.type);
                     for (int axis = 0; axis < 3; ++axis) {
-                        if (axisOf[axis] == int(k)) positions[std::size_t(i)][axis] = v;
+                        if (axisOf[axis] != int(k)) continue;
+                        if (const std::string problem = coordinateProblem(v); !problem.empty()) data.fail(problem + " in " + data.where());
+                        positions[std::size_t(i)][axis] = v;
                     }
                 } else if (&p == indices) {
                     readList(data, p, element.name == "tristrips", items);

@@ -157,7 +157,10 @@ Mesh loadAscii(const std::string& path, std::string_view text) {
         for (word = words.next(); StlWords::is(word, "vertex"); word = words.next(), ++corners) {
             if (corners == 3) words.fail("a facet has more than 3 vertices (an STL facet has 3)");
             glm::dvec3 p;
-            for (int axis = 0; axis < 3; ++axis) p[axis] = words.number();
+            for (int axis = 0; axis < 3; ++axis) {
+                p[axis] = words.number();
+                if (const std::string problem = coordinateProblem(p[axis]); !problem.empty()) words.fail(problem);
+            }
             triangle[corners] = welder.add(p);
         }
         if (corners != 3) words.fail("a facet has " + std::to_string(corners) + " vertices (an STL facet has 3)");
@@ -177,10 +180,11 @@ Mesh loadStl(const std::string& path) {
         std::memcpy(&count, content.data() + 80, 4);
         if (84 + 50 * std::uint64_t(count) == content.size()) return loadBinary(path, content, count);
     }
+    const std::string_view ascii = withoutByteOrderMark(content);
     std::size_t start = 0;
-    while (start < content.size() && isSpace(content[start])) ++start;
+    while (start < ascii.size() && isSpace(ascii[start])) ++start;
     const bool text = content.find('\0') == std::string::npos;
-    if (text && StlWords::is(std::string_view(content).substr(start, 5), "solid")) return loadAscii(path, content);
+    if (text && StlWords::is(ascii.substr(start, 5), "solid")) return loadAscii(path, ascii);
     // Text has no NUL bytes: what does and is not of its declared size is a damaged binary file.
     if (content.size() >= 84 && !text) {
         std::uint32_t count = 0;

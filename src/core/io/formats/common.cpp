@@ -57,6 +57,10 @@ void checkValuesAndNames(const Field& field, const std::string& path) {
 
 void checkGrid(const Grid& grid, const std::string& path) {
     if (grid.dims.x < 1 || grid.dims.y < 1 || grid.dims.z < 1) throw Error(path + ": grid has no samples");
+    if (Grid::checkedSampleCount(grid.dims) == 0) {
+        throw Error(path + ": grid " + std::to_string(grid.dims.x) + "x" + std::to_string(grid.dims.y) + "x" + std::to_string(grid.dims.z) +
+                    " has more than 2^58 samples");
+    }
     if (!std::isfinite(grid.origin.x) || !std::isfinite(grid.origin.y) || !std::isfinite(grid.origin.z)) {
         throw Error(path + ": grid origin is not finite");
     }
@@ -159,6 +163,10 @@ void checkDimsFit(const std::uint64_t dims[3], const std::string& path) {
             throw Error(path + ": dimension " + std::to_string(dims[a]) + " is too large");
         }
         samples *= double(dims[a]);
+    }
+    if (Grid::checkedSampleCount(glm::ivec3(int(dims[0]), int(dims[1]), int(dims[2]))) == 0) {
+        throw Error(path + ": dimensions " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]) +
+                    " have more than 2^58 samples");
     }
     const std::uint64_t memory = availableMemoryBytes();
     if (samples * sizeof(float) > (memory > 0 ? double(memory) : 0x1p62)) {

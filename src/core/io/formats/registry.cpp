@@ -3,6 +3,7 @@
 #include "core/io/formats/format.hpp"
 #include "sdfgen/error.hpp"
 #include "core/io/file_extension.hpp"
+#include "core/runtime/out_of_memory.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -58,13 +59,13 @@ void saveField(const Field& field, const std::string& path, const SaveOptions& o
     channels.closest = !field.closest.empty();
     channels.triangle = !field.triangle.empty();
     checkFormatHoldsChannels(path, channels);
-    formats::formatOf(path).save(field, path, options);
+    namingOutOfMemory(path, "writing it", [&] { formats::formatOf(path).save(field, path, options); });
 }
 
 Field loadField(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a field file");
-    Field field = formats::formatOf(path).load(path);
+    Field field = namingOutOfMemory(path, "reading it", [&] { return formats::formatOf(path).load(path); });
     // A band field's dense form saved in a dense format keeps only its `band` parameter.
     if (field.background == 0 && !field.parameter("band").empty()) field.background = formats::bandBackground(field);
     return field;
@@ -72,7 +73,7 @@ Field loadField(const std::string& path) {
 
 void saveSparseField(const SparseField& field, const std::string& path) {
     const formats::FieldFormat& format = formats::formatOf(path);
-    if (format.saveSparse) return format.saveSparse(field, path);
+    if (format.saveSparse) return namingOutOfMemory(path, "writing it", [&] { format.saveSparse(field, path); });
     formats::checkSparseField(field, path);
     Field dense;
     try {
@@ -80,21 +81,25 @@ void saveSparseField(const SparseField& field, const std::string& path) {
     } catch (const Error& e) {
         throw Error(path + ": " + format.extension + " holds every sample, and " + e.what());
     }
-    format.save(dense, path, {});
+    namingOutOfMemory(path, "writing it", [&] { format.save(dense, path, {}); });
 }
 
 void saveSparseField(SparseField&& field, const std::string& path) {
     const formats::FieldFormat& format = formats::formatOf(path);
     SparseField mine = std::move(field); // empty whatever happens
-    if (format.saveSparseGivenUp) return format.saveSparseGivenUp(std::move(mine), path);
+    if (format.saveSparseGivenUp) {
+        return namingOutOfMemory(path, "writing it", [&] { format.saveSparseGivenUp(std::move(mine), path); });
+    }
     saveSparseField(mine, path);
 }
 
 SparseField loadSparseField(const std::string& path) {
     const formats::FieldFormat& format = formats::formatOf(path);
-    if (format.loadSparse) return format.loadSparse(path);
-    const Field dense = loadField(path);
-    return formats::sparseFromDense(dense, formats::bandBackground(dense));
+    return namingOutOfMemory(path, "reading it", [&] {
+        if (format.loadSparse) return format.loadSparse(path);
+        const Field dense = loadField(path);
+        return formats::sparseFromDense(dense, formats::bandBackground(dense));
+    });
 }
 
 bool isSparseFieldFile(const std::string& path) {

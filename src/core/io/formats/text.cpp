@@ -147,7 +147,8 @@ void saveFieldText(const Field& field, const std::string& path) {
 }
 
 Field loadFieldText(const std::string& path) {
-    const std::string text = readInputFile(path, InputKind::Text);
+    std::string text = readInputFile(path, InputKind::Text);
+    if (withoutByteOrderMark(text).size() != text.size()) text.erase(0, 3);
 
     LineReader reader(path, text);
     Field field;
