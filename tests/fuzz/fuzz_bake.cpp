@@ -1,6 +1,8 @@
 // Fuzzes load -> tree -> bake: the first byte picks the method and sign from the registries, the
 // second the grid resolution (1-8) and ray count (1-16); the rest is an OBJ file. Any input either
-// gives a field of finite values on the grid or an Error.
+// gives a field of finite values on the grid or an Error. For exact distances with the winding
+// sign, the band bake of the same mesh and grid must match that field: the dense values in the
+// band, their sides beyond.
 #include "fuzz_input.hpp"
 #include "core/bake/bake.hpp"
 #include "core/accel/bvh.hpp"
@@ -36,6 +38,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 std::abort();
             }
         }
+        if (settings.method != sdfgen::DistanceMethod::Exact || settings.sign != sdfgen::SignMethod::Winding) return 0;
+        const sdfgen::Grid& grid = result.field.grid;
+        // The band bake: the dense field's values in the band, its sides beyond.
+        settings.band = 2;
+        const sdfgen::BakeResult band = sdfgen::bake(mesh, tree, settings, control);
+        const float background = band.sparse.background;
+        for (int k = 0; k < grid.dims.z; ++k)
+            for (int j = 0; j < grid.dims.y; ++j)
+                for (int i = 0; i < grid.dims.x; ++i) {
+                    const float dense = result.field.at(i, j, k), sparse = band.sparse.at(i, j, k);
+                    const float expected = std::fabs(dense) < background ? dense : std::copysign(background, dense);
+                    if (sparse != expected) {
+                        std::fprintf(stderr, "band sample (%d, %d, %d): %g, the dense bake's %g\n", i, j, k, sparse, dense);
+                        std::abort();
+                    }
+                }
     } catch (const sdfgen::Error&) {
     }
     return 0;

@@ -64,20 +64,18 @@ public:
     std::uint32_t nearest(float px, float py, float pz, NearestSoFar& best) const;
 
     // Calls visit(t) once for each distinct triangle t of every packet whose box holds the row
-    // through (y, z) at or ahead of x (at or behind it when !ahead): every triangle whose box that
-    // half of the row meets (lanes past a leaf's triangles repeat its first, and are left out). For
-    // the winding sign's count of crossings along a point's row (crossingsAhead), which decides
-    // each triangle exactly.
+    // through (y, z) at or ahead of x: every triangle whose box that half of the row meets (lanes
+    // past a leaf's triangles repeat its first, and are left out). For the winding sign's count of
+    // crossings ahead of a point (crossingsAhead), which decides each triangle exactly.
     template <class Visit>
-    void forEachOnRow(float x, float y, float z, bool ahead, Visit&& visit) const {
+    void forEachOnRow(float x, float y, float z, Visit&& visit) const {
         const simd::f8 vx = simd::splat(x), vy = simd::splat(y), vz = simd::splat(z);
         std::uint32_t stack[kStackSize];
         int top = 0;
         stack[top++] = 0;
         while (top > 0) {
             const Node& n = nodes_[stack[--top]];
-            const simd::i8 side = ahead ? n.maxX >= vx : n.minX <= vx;
-            for (unsigned hits = simd::mask((n.minY <= vy) & (n.maxY >= vy) & (n.minZ <= vz) & (n.maxZ >= vz) & side); hits != 0;
+            for (unsigned hits = simd::mask((n.minY <= vy) & (n.maxY >= vy) & (n.minZ <= vz) & (n.maxZ >= vz) & (n.maxX >= vx)); hits != 0;
                  hits &= hits - 1) {
                 const std::uint32_t child = n.child[__builtin_ctz(hits)];
                 if (!(child & kLeaf)) {

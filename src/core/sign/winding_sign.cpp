@@ -665,13 +665,9 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) con
 namespace {
 
 // crossingsAhead over the triangles that forEachCandidate(x, y, z, visit) hands on: at least
-// every triangle whose box the row through p meets at or ahead of p, or with `behind`, at or
-// behind it. The closed surface's signed crossings along the whole row sum to 0 (it is closed;
-// the predicates decide every triangle exactly, the tie-breaking consistently), so the count
-// ahead is minus the count at or behind p: the same integer from the shorter half of the row.
+// every triangle whose box the row through p meets at or ahead of p.
 template <class ForEachCandidate>
-int countAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p, bool behind,
-               ForEachCandidate&& forEachCandidate) {
+int countAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p, ForEachCandidate&& forEachCandidate) {
     // The same line and the same predicates as insideByWinding's row through p, so that a query at a
     // sample's position counts exactly the crossings its row scan counts ahead of it.
     // The row through p is the line at p's own (y, z), in double, as the row scan has it; its float
@@ -681,22 +677,21 @@ int countAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const
         int orientation;
         glm::dvec3 w;
         if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
-        if ((w.x * a.x + w.y * b.x + w.z * c.x > p.x) != behind) ahead += orientation * weight;
+        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
     };
-    const float x = std::nextafter(float(p.x), behind ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
-    forEachCandidate(x, float(p.y), float(p.z), [&](std::uint32_t t) {
+    forEachCandidate(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), float(p.y), float(p.z), [&](std::uint32_t t) {
         count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), int(tree.copies(t)));
     });
     caps.forEachCapOnRow(p, [&](const Cap& cap) {
         for (std::size_t i = 0; i < cap.loop.size(); ++i) count(cap.loop[(i + 1) % cap.loop.size()], cap.loop[i], cap.centre, cap.weight);
     });
-    return behind ? -ahead : ahead;
+    return ahead;
 }
 
 } // namespace
 
 int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
-    return countAhead(mesh, tree, caps, p, false, [&](float x, float y, float z, const auto& visit) {
+    return countAhead(mesh, tree, caps, p, [&](float x, float y, float z, const auto& visit) {
         Bounds ray;
         ray.min = glm::vec3(x, y, z);
         ray.max = glm::vec3(std::numeric_limits<float>::infinity(), y, z);
@@ -705,9 +700,7 @@ int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, c
 }
 
 int crossingsAhead(const Mesh& mesh, const WideBvh& wide, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {
-    // The shorter half of the row across the mesh's box.
-    const bool behind = p.x - double(mesh.bounds.min.x) < double(mesh.bounds.max.x) - p.x;
-    return countAhead(mesh, tree, caps, p, behind, [&](float x, float y, float z, const auto& visit) { wide.forEachOnRow(x, y, z, !behind, visit); });
+    return countAhead(mesh, tree, caps, p, [&](float x, float y, float z, const auto& visit) { wide.forEachOnRow(x, y, z, visit); });
 }
 
 double windingNumber(const Mesh& mesh, const glm::dvec3& p) {

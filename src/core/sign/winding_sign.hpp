@@ -224,8 +224,7 @@ private:
 // `ahead` for one point p (local coordinates), from the tree: what insideByWinding's row scan
 // finds for a sample at p (copies of a triangle and caps counted with their weight).
 int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p);
-// The same count found through the wide tree built from `tree` (its 8-wide nodes: fewer steps),
-// along the shorter half of the row across the mesh's box.
+// The same count found through the wide tree built from `tree` (its 8-wide nodes: fewer steps).
 int crossingsAhead(const Mesh& mesh, const WideBvh& wide, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p);
 
 // What the winding sign did, for tests and benchmarks.
