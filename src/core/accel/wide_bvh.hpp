@@ -64,7 +64,7 @@ public:
     std::uint32_t nearest(float px, float py, float pz, NearestSoFar& best) const;
 
     // Calls visit(t) once for each distinct triangle t of every packet whose box holds the row
-    // through (y, z) at or ahead of x: every triangle whose box that half of the row meets (lanes
+    // through (y, z) at or ahead of x: every triangle whose box that part of the row meets (lanes
     // past a leaf's triangles repeat its first, and are left out). For the winding sign's count of
     // crossings ahead of a point (crossingsAhead), which decides each triangle exactly.
     template <class Visit>
