@@ -236,8 +236,8 @@ group "bench"
       defines { SDFGEN_SOURCE_DIR_DEFINE }
       sdfgen_use_core()
 
-   -- The exact kernel, the binary tree's build and the winding sign, each alone.
-   for _, name in ipairs({ "kernel", "tree", "sign" }) do
+   -- The exact kernel, the binary tree's build, the winding sign and point queries, each alone.
+   for _, name in ipairs({ "kernel", "tree", "sign", "query" }) do
       project ("bench_" .. name)
          sdfgen_program()
          files { "bench/" .. name .. ".cpp" }
