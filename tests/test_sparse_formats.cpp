@@ -74,6 +74,16 @@ protected:
         sparse_ = formats::sparseFromDense(dense_, formats::bandBackground(dense_));
     }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    // The band field saved as band.vdb, read back as OpenVDB's grids (for crafting bad files).
+    openvdb::GridPtrVecPtr savedBandGrids() const {
+        saveSparseField(sparse_, path("band.vdb"));
+        openvdb::initialize();
+        openvdb::io::File in(path("band.vdb"));
+        in.open();
+        openvdb::GridPtrVecPtr grids = in.getGrids();
+        in.close();
+        return grids;
+    }
     // The band field saved with `extension` reads back bit for bit (loadField: its dense form,
     // marked as a band field); a dense file of the format is not sparse and reads as the band
     // field through its samples.
@@ -343,12 +353,7 @@ TEST_F(SparseFormats, VdbOfAGridTooLargeToBeDenseStaysSparse) {
 }
 
 TEST_F(SparseFormats, VdbWhoseDimsMultiplyPastTwoToThe64IsRefused) {
-    saveSparseField(sparse_, path("band.vdb"));
-    openvdb::initialize();
-    openvdb::io::File in(path("band.vdb"));
-    in.open();
-    const openvdb::GridPtrVecPtr grids = in.getGrids();
-    in.close();
+    const openvdb::GridPtrVecPtr grids = savedBandGrids();
     (*grids)[0]->removeMeta("sdfgen_dims");
     (*grids)[0]->insertMeta("sdfgen_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(4194304, 2097152, 2097152)));
     openvdb::io::File(path("wrap.vdb")).write(*grids);
@@ -360,12 +365,7 @@ TEST_F(SparseFormats, VdbWhoseDimsMultiplyPastTwoToThe64IsRefused) {
 }
 
 TEST_F(SparseFormats, VdbWithActiveTilesIsRefused) {
-    saveSparseField(sparse_, path("band.vdb"));
-    openvdb::initialize();
-    openvdb::io::File in(path("band.vdb"));
-    in.open();
-    const openvdb::GridPtrVecPtr grids = in.getGrids();
-    in.close();
+    const openvdb::GridPtrVecPtr grids = savedBandGrids();
     auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[0]);
     grid->tree().addTile(1, openvdb::Coord(0, 0, 0), -0.01f, /*active=*/true);
     openvdb::io::File(path("tiles.vdb")).write(*grids);

@@ -294,7 +294,9 @@ WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm:
     constexpr double k = 1.0 / (4.0 * M_PI);
     out.value = dr * inverse3 * k;
     out.gradient = (3.0 * dr * inverse3 / (length * length) * r - inverse3 * node.vectorArea) * k;
-    const double near = std::min(length - reach, d) * (1.0 - 1e-12);
+    // Every point between the centre and the ball's rim is at least d from the box, so at least d
+    // from the centroid inside it.
+    const double near = d * (1.0 - 1e-12);
     out.curvature = 3.0 * glm::length(node.vectorArea) * k / (near * near * near * near) * (1.0 + 1e-9);
     // The value's and gradient's rounding: a 1e-12 share of the plain bound (a few ulps of each term).
     out.error = node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area * k / (d * d) * (1.0 + reach / d);
