@@ -61,8 +61,10 @@ double atanDouble(double y, double x) {
 dvec3 fanPoint(int i) { return dvec3(fanPoints[3 * i], fanPoints[3 * i + 1], fanPoints[3 * i + 2]); }
 
 // The fan's winding number at p (its solid angle over 4π), times its weight: src/core/sign/winding_sign.cpp's
-// fanSolidAngle in double up to the final angle.
-double fanWinding(dvec3 p, ivec4 fan) {
+// fanSolidAngle in double up to the final angle. onFan is set where p lies on the fan or within
+// rounding of it (src/core/sign/fan_kernel.hpp's onFanTriangle, the same test): the CPU measures there.
+const double kOnFanSlack = 1e-10, kOnFanReach = 1e-5;
+double fanWinding(dvec3 p, ivec4 fan, inout bool onFan) {
     const dvec3 rc = fanPoint(fan.x) - p;
     const double lc = length(rc);
     const int n = fan.y;
@@ -75,11 +77,19 @@ double fanWinding(dvec3 p, ivec4 fan) {
         const double la = length(ra), ac = dot(ra, rc);
         const double det = dot(ra, cross(rb, rc));
         const double den = la * lb * lc + dot(ra, rb) * lc + bc * la + ac * lb;
+        const double slack = kOnFanSlack * (la + kOnFanReach) * (lb + kOnFanReach) * (lc + kOnFanReach);
+        if (abs(det) <= slack && den <= slack) {
+            onFan = true;
+            return 0.0;
+        }
         const double nextRe = re * den - im * det, nextIm = re * det + im * den;
         if (det > 0.0 && im >= 0.0 && nextIm < 0.0) ++turns;
         else if (det < 0.0 && im < 0.0 && nextIm >= 0.0) --turns;
         const double scale = max(abs(nextRe), abs(nextIm));
-        if (scale == 0.0) return 0.0;
+        if (scale == 0.0) {
+            onFan = true;
+            return 0.0;
+        }
         re = nextRe / scale;
         im = nextIm / scale;
         rb = ra;
@@ -118,7 +128,12 @@ void main() {
         const uvec2 link = fanLinks[node];
         if (link.y == 1u) {
             const ivec4 fan = fans[link.x];
-            w -= fanWinding(p, fan);
+            bool onFan = false;
+            w -= fanWinding(p, fan, onFan);
+            if (onFan) {
+                sides[index] = 2;
+                return;
+            }
             error += abs(double(fan.z)) * kFanError;
         } else {
             stack[top++] = link.x + 1u;

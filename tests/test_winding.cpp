@@ -378,6 +378,83 @@ TEST(WindingSign, ExpansionDecidesSheetsAsInsideDoes) {
 
 // Point queries run the same steps per point as the bake's samples: at the samples' positions
 // they give the baked field, bit for bit, on meshes whose signs need the fans.
+// Small parts on an integer lattice (tetrahedra with missing, flipped, doubled and collapsed faces),
+// so that samples often lie exactly on a fan (loops of 3-4 edges whose fan triangles pass through
+// lattice fractions): there the fan's solid angle jumps, and the side it is taken on must be the
+// side the row's crossings counted. Their signs must be those of the reference winding number.
+Mesh latticeParts(std::mt19937& rng) {
+    std::uniform_int_distribution<int> corner(-2, 2), scale(1, 2), parts(1, 3);
+    std::uniform_real_distribution<double> chance(0.0, 1.0);
+    std::vector<glm::dvec3> positions;
+    std::vector<glm::uvec3> triangles;
+    for (int part = parts(rng); part > 0; --part) {
+        const glm::dvec3 base(corner(rng), corner(rng), corner(rng));
+        const double size = scale(rng);
+        const unsigned o = unsigned(positions.size());
+        for (const glm::dvec3& v : {glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)}) positions.push_back(base + size * v);
+        for (glm::uvec3 f : {glm::uvec3(0, 2, 1), glm::uvec3(0, 1, 3), glm::uvec3(0, 3, 2), glm::uvec3(1, 2, 3)}) {
+            const double r = chance(rng);
+            if (r < 0.15) continue; // a hole
+            if (r < 0.3) std::swap(f.y, f.z);
+            triangles.push_back(f + o);
+            if (chance(rng) < 0.15) triangles.push_back(glm::uvec3(f.x, f.z, f.y) + o);
+            if (chance(rng) < 0.1) triangles.push_back(glm::uvec3(f.x, f.y, f.y) + o);
+        }
+    }
+    if (triangles.empty()) triangles.push_back({0, 1, 2});
+    return buildMesh("lattice parts", positions, triangles);
+}
+
+TEST(WindingSign, SamplesOnFansTakeTheSideTheirRowsCounted) {
+    // An open tetrahedron with two faces sharing an edge the same way round: loops 0-1-3-2 and
+    // 1-3-2, and a point that lies on the first loop's fan, where w is 0.3625 (outside).
+    const Mesh tetra = buildMesh("open tetrahedron", std::vector<glm::dvec3>{{0, 1, 0}, {1, 1, 0}, {0, 3, 0}, {0, 1, 2}},
+                                 std::vector<glm::uvec3>{{0, 1, 3}, {0, 3, 2}, {3, 2, 1}});
+    const MeshTopology topology(tetra);
+    const WindingCaps caps(topology);
+    const Bvh tree(tetra);
+    const WideBvh wide(tetra, tree);
+    const glm::dvec3 p = tetra.toLocal(glm::dvec3(1.0, 8.0, 1.0) / 7.0);
+    const double reference = windingNumber(tetra, p);
+    EXPECT_NEAR(reference, 0.3625, 1e-4);
+    EXPECT_NEAR(caps.winding(p, crossingsAhead(tetra, tree, caps, p)), reference, 1e-9);
+    EXPECT_NEAR(caps.winding(p, crossingsAhead(tetra, wide, tree, caps, p)), reference, 1e-9);
+
+    std::mt19937 rng(5);
+    std::size_t compared = 0, onFans = 0;
+    for (int n = 0; n < 80; ++n) {
+        const Mesh mesh = latticeParts(rng);
+        const Grid grid = makeGrid(mesh.worldBounds(), 5 + n % 8, 0.15);
+        const MeshTopology meshTopology(mesh);
+        const WindingCaps meshCaps(meshTopology);
+        const std::vector<std::uint8_t> inside = insideByWinding(mesh, meshTopology, grid, RunControl{});
+        const std::vector<glm::dvec3> positions = mesh.worldPositions();
+        for (int k = 0; k < grid.dims.z; ++k)
+            for (int j = 0; j < grid.dims.y; ++j)
+                for (int i = 0; i < grid.dims.x; ++i) {
+                    const glm::dvec3 q = localPosition(mesh, grid, i, j, k);
+                    const double w = windingNumber(mesh, q);
+                    double distance = std::numeric_limits<double>::infinity();
+                    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+                        const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+                        distance = std::min(distance, glm::length(closestPointOnTriangle(q, a, b, c).point - q));
+                    }
+                    if (std::fabs(std::fabs(w) - 0.5) < 1e-9 || distance < 1e-9) continue; // a tie, or on the mesh
+                    ++compared;
+                    for (const Cap& cap : meshCaps.caps()) {
+                        for (std::size_t v = 0; v < cap.loop.size(); ++v) {
+                            const glm::dvec3 a = cap.loop[(v + 1) % cap.loop.size()], b = cap.loop[v];
+                            onFans += glm::length(closestPointOnTriangle(q, a, b, cap.centre).point - q) < 1e-12;
+                        }
+                    }
+                    ASSERT_EQ(bool(inside[grid.index(i, j, k)]), std::fabs(w) > 0.5)
+                        << "mesh " << n << " at " << i << "," << j << "," << k << ": w = " << w;
+                }
+    }
+    EXPECT_GT(compared, 10000u);
+    EXPECT_GT(onFans, 20u); // the case under test occurs
+}
+
 TEST(WindingSign, PointQueriesEqualTheBakedField) {
     for (const Mesh& mesh : {withHoles(test::torus(1.0f, 0.4f, 32, 16), 5), heightfield(30, true)}) {
         SCOPED_TRACE(mesh.source);

@@ -1,11 +1,13 @@
 #pragma once
 // The fan kernel (core/sign/fan_kernel.inc), compiled for AVX2 (fan_avx2.cpp) and for baseline
 // x86-64 (fan_baseline.cpp): windings[s] = the summed winding number of `count` fans of weight 1
-// at points[s], s < n <= kFanPoints, or NaN where a point lies on a fan's edge (no angle). The
-// sign stage's own dispatch: the copy for simdPath() (core/simd/path.hpp).
+// at points[s], s < n <= kFanPoints, or NaN where a point lies on a fan (onFanTriangle: the caller
+// measures those fans one by one). The sign stage's own dispatch: the copy for simdPath()
+// (core/simd/path.hpp).
 #include "core/simd/path.hpp"
 
 #include <glm/vec3.hpp>
+#include <cmath>
 #include <cstddef>
 
 namespace sdfgen {
@@ -13,6 +15,19 @@ namespace sdfgen {
 struct Cap;
 
 namespace fans {
+// Whether p lies on a fan triangle, or within rounding of it, given the triangle's factor den +
+// i·det seen from p (fanSolidAngle's) and la, lb, lc its corners' distances from p: det ~ 0 (p in
+// its plane) and den <= ~0 (p inside or on its border, where the angle jumps by 2π). There the
+// angle's side is rounding's choice and may not be the side that the crossings counted along p's
+// row took. The slack covers the rounding of det and den (kOnFanSlack, relative) and that of the
+// crossing's x in the row scan (about 1e-15 in the mesh's local unit, which kOnFanReach keeps in
+// reach near small fans); a point flagged beyond rounding only costs a slower measurement.
+constexpr double kOnFanSlack = 1e-10, kOnFanReach = 1e-5;
+inline bool onFanTriangle(double det, double den, double la, double lb, double lc) {
+    const double slack = kOnFanSlack * (la + kOnFanReach) * (lb + kOnFanReach) * (lc + kOnFanReach);
+    return std::fabs(det) <= slack && den <= slack;
+}
+
 using Kernel = void (*)(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
 namespace baseline {
 void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);

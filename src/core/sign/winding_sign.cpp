@@ -19,8 +19,10 @@ namespace {
 
 // The fan's solid angle with a single atan2: each triangle contributes 2·arg(den + i·det) (Van
 // Oosterom & Strackee), args add when the complex numbers multiply, and every crossing of the
-// negative real axis is counted so that no turn is lost.
-double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
+// negative real axis is counted so that no turn is lost. `onFan` is set where p lies on a fan
+// triangle or within rounding of it (fans::onFanTriangle): there the angle's side of its 4π jump
+// is rounding's choice, and only the caller can take the side the row's crossings took.
+double fanSolidAngle(const glm::dvec3& p, const Cap& cap, bool& onFan) {
     // Triangle (a, b, c) = (loop[i + 1], loop[i], centre): lengths and dot products with the
     // centre are shared by neighbouring triangles, so each loop vertex is measured once.
     const glm::dvec3 rc = cap.centre - p;
@@ -35,6 +37,10 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
         const double la = glm::length(ra), ac = glm::dot(ra, rc);
         const double det = glm::dot(ra, glm::cross(rb, rc));
         const double den = la * lb * lc + glm::dot(ra, rb) * lc + bc * la + ac * lb;
+        if (fans::onFanTriangle(det, den, la, lb, lc)) {
+            onFan = true;
+            return 0.0;
+        }
         const double nextRe = re * den - im * det, nextIm = re * det + im * den;
         // Each factor turns by less than π, so a sign change of the imaginary part in the turning
         // direction means the product passed -1.
@@ -45,7 +51,10 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
         // Only the product's angle counts: it is rescaled only when it leaves [2^-400, 2^400]
         // (no division on the loop's critical path otherwise).
         const double scale = std::max(std::fabs(re), std::fabs(im));
-        if (scale == 0.0) return 0.0; // p lies on a fan edge: the angle is undefined there
+        if (scale == 0.0) { // underflow past the rescaling: only where p is that near a fan
+            onFan = true;
+            return 0.0;
+        }
         if (scale < 0x1p-400 || scale > 0x1p400) {
             re /= scale;
             im /= scale;
@@ -57,8 +66,53 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap) {
     return 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
 }
 
-// The cap's winding number at p, times its weight.
-double fanWinding(const glm::dvec3& p, const Cap& cap) { return cap.weight * fanSolidAngle(p, cap) / (4.0 * M_PI); }
+// The cap's fan triangles (loop[i + 1], loop[i], centre) that p's row crosses ahead of p, with
+// their orientations summed: the predicates and arithmetic of countAhead and RowCrossings, so that
+// the count is the one they make for this fan.
+int fanCrossingsAhead(const glm::dvec3& p, const std::vector<glm::dvec3>& loop, const glm::dvec3& centre) {
+    int ahead = 0;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+        const glm::dvec3& a = loop[(i + 1) % loop.size()];
+        const glm::dvec3& b = loop[i];
+        int orientation;
+        glm::dvec3 w;
+        if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {centre.y, centre.z}, orientation, w)) continue;
+        if (w.x * a.x + w.y * b.x + w.z * centre.x > p.x) ahead += orientation;
+    }
+    return ahead;
+}
+
+// The cap's share of w at p where p lies on its fan: (crossings ahead - winding number) is the same
+// for every surface the loop bounds, so it is taken over the fan from a centre lifted off p (along
+// the fan's normal, else an axis), and the crossings that p's row counted on the real fan replace
+// the lifted fan's. 0 where every lift still passes through p: p on the loop, which is the mesh.
+double windingOnFan(const glm::dvec3& p, const Cap& cap) {
+    glm::dvec3 normal(0.0);
+    double lift = 0.0;
+    for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+        normal += glm::cross(cap.loop[i] - cap.centre, cap.loop[(i + 1) % cap.loop.size()] - cap.centre);
+        lift = std::max(lift, glm::length(cap.loop[i] - cap.centre));
+    }
+    const double area = glm::length(normal);
+    normal = area > 0.0 ? normal / area : glm::dvec3(0.0, 0.0, 1.0);
+    const int counted = fanCrossingsAhead(p, cap.loop, cap.centre);
+    for (const glm::dvec3& direction : {normal, -normal, glm::dvec3(1.0, 0.0, 0.0), glm::dvec3(0.0, 1.0, 0.0)}) {
+        Cap lifted = cap;
+        lifted.centre += lift * direction;
+        bool onLifted = false;
+        const double angle = fanSolidAngle(p, lifted, onLifted);
+        if (!onLifted) return cap.weight * (angle / (4.0 * M_PI) - double(fanCrossingsAhead(p, lifted.loop, lifted.centre) - counted));
+    }
+    return 0.0;
+}
+
+// The cap's winding number at p, times its weight; on the fan, the value that the crossings
+// counted along p's row call for.
+double fanWinding(const glm::dvec3& p, const Cap& cap) {
+    bool onFan = false;
+    const double angle = fanSolidAngle(p, cap, onFan);
+    return onFan ? windingOnFan(p, cap) : cap.weight * angle / (4.0 * M_PI);
+}
 
 // The Biot-Savart field of the cap's boundary (its loop reversed, as the fan's triangles run) at
 // p, over 4π and times its weight: the gradient of the cap's winding number at p, off the fan.
@@ -548,7 +602,7 @@ std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, c
         fans::active()(unit, units, points, n, part);
         measured += units * std::size_t((n + 3) / 4);
         for (int s = 0; s < n; ++s) {
-            if (std::isnan(part[s])) { // a point on a fan's edge: each fan as inside() measures it (0 for that fan)
+            if (std::isnan(part[s])) { // a point on a fan: each fan as inside() measures it
                 part[s] = 0.0;
                 measured += units;
                 for (std::size_t f = 0; f < units; ++f) part[s] += fanWinding(points[s], *unit[f]);
