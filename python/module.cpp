@@ -813,7 +813,7 @@ PYBIND11_MODULE(_sdfgen, m) {
             return py::cast(std::move(result));
         },
         py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
-        py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "auto",
+        py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "cpu",
         py::arg("channels") = "sdf", py::arg("band") = 0.0,
         bakeDoc.c_str());
 

@@ -102,7 +102,7 @@ struct BakeSettings {
     SignMethod sign = SignMethod::Default;
     int rays = 64; // for the rays method and the rays sign
     // Where exact distances and winding signs run; other methods run on the CPU.
-    Device device = Device::Auto;
+    Device device = Device::Cpu; // the GPU is opt-in: slower than the CPU cores where measured (docs/benchmarks.md#gpu)
     // Per-sample channels besides the distance, into Field::gradient, closest and triangle (exact
     // method, on the CPU). The distances are the same, bit for bit, with or without them.
     Channels channels;
