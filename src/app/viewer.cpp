@@ -388,17 +388,45 @@ void Viewer::probeAt(const FrameInput& input) {
     const glm::ivec2 fb = context_.framebufferSize();
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     const glm::ivec2 pixel(int(input.x * fb.x / std::max(display.x, 1.0f)), int(input.y * fb.y / std::max(display.y, 1.0f)));
-    glm::vec3 point;
-    if (!scene_.surfaceAt(pixel, point)) return;
-    // Pixels of the grid (the plane under the model, within depth precision) are not probed.
-    if (scene_.views["grid"] && std::abs(point.y - scene_.gridHeight()) < 1e-4f * camera_.distance) return;
-    probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get(), band_.get());
+    glm::vec3 drawn;
+    if (!scene_.surfaceAt(pixel, drawn)) return;
+    glm::dvec3 point(drawn);
+    const std::optional<glm::dvec3> marched = marchedSurfaceAt(pixel, drawn);
+    if (marched) {
+        point = *marched;
+    } else if (scene_.views["grid"] && std::abs(drawn.y - scene_.gridHeight()) < 1e-4f * camera_.distance) {
+        return; // pixels of the grid (the plane under the model, within depth precision) are not probed
+    }
+    probe_ = probe(point, field_ ? &*field_ : nullptr, probeModel_.get(), band_.get());
     probeValid_ = probeKept_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
     const float r = camera_.sceneRadius * 0.02f;
-    scene_.markers = {point - glm::vec3(r, 0, 0), point + glm::vec3(r, 0, 0), point - glm::vec3(0, r, 0), point + glm::vec3(0, r, 0),
-                      point - glm::vec3(0, 0, r), point + glm::vec3(0, 0, r)};
-    if (probe_.haveMesh) scene_.markers.insert(scene_.markers.end(), {point, glm::vec3(probe_.nearest)});
+    const glm::vec3 at(point);
+    scene_.markers = {at - glm::vec3(r, 0, 0), at + glm::vec3(r, 0, 0), at - glm::vec3(0, r, 0), at + glm::vec3(0, r, 0),
+                      at - glm::vec3(0, 0, r), at + glm::vec3(0, 0, r)};
+    if (probe_.haveMesh) scene_.markers.insert(scene_.markers.end(), {at, glm::vec3(probe_.nearest)});
+}
+
+// The ray-marched surface's point at `pixel` when that is what the pixel shows (the depth there,
+// `drawn`, is the ray march's, drawn a voxel nearer than its hit, or lies behind it), on the iso
+// level: the depth alone reads about a voxel off the level.
+std::optional<glm::dvec3> Viewer::marchedSurfaceAt(glm::ivec2 pixel, glm::vec3 drawn) const {
+    if (!field_ || !scene_.views["raymarch"]) return std::nullopt;
+    glm::vec3 origin, direction;
+    if (!scene_.pixelRay(pixel, origin, direction)) return std::nullopt;
+    MarchedRay ray;
+    ray.origin = glm::dvec3(origin);
+    ray.direction = glm::dvec3(direction);
+    ray.iso = scene_.iso;
+    ray.cut = scene_.cutPlane();
+    ray.capCut = !scene_.views["slice"];
+    ray.maxSteps = render::raymarchSteps(scene_.fieldBoxSize(), field_->background);
+    const std::optional<double> t = marchSurface(ray, *field_, band_.get());
+    if (!t) return std::nullopt;
+    // Something nearer than the drawn depth's voxel (and a quarter for depth precision) hides it.
+    const double voxel = field_->grid.voxel;
+    if (glm::dot(glm::dvec3(drawn) - ray.origin, ray.direction) < *t - 1.25 * voxel) return std::nullopt;
+    return ray.origin + *t * ray.direction;
 }
 
 // The probe's values: the field's (clamped outside its box) and the distance to the mesh.

@@ -132,6 +132,7 @@ private:
     void sceneInput(const FrameInput& input);
     void dragSlice(float dx, float dy);
     void probeAt(const FrameInput& input);
+    std::optional<glm::dvec3> marchedSurfaceAt(glm::ivec2 pixel, glm::vec3 drawn) const;
     void probeOverlay();
     void sceneHint();
     std::string probeText(const char* separator) const;

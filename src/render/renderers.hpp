@@ -119,6 +119,13 @@ private:
     GLuint vao_ = 0;
 };
 
+// The ray march's rule, shared by shaders/raymarch.frag (as uniforms) and the probe, which marches
+// the same rays on the CPU to pick the surface drawn: a hit where the field is under iso +
+// kRaymarchHit voxels, steps of the sampled distance but at least kRaymarchMinStep voxels, and at
+// most raymarchSteps of them.
+constexpr float kRaymarchHit = 0.02f, kRaymarchMinStep = 0.05f;
+int raymarchSteps(glm::vec3 boxSize, float background);
+
 // Sphere tracing of the level set field = iso (0: the surface): jumps to the box when outside it,
 // then steps by the sampled distance; normals from the gradient, Lambert + soft shadows + ambient
 // occlusion from the field; writes the hit's depth (a voxel nearer, so it wins over the mesh).

@@ -98,6 +98,9 @@ public:
     // The world point drawn at `pixel` (from the top left) in the last frame: the nearest opaque
     // surface there (mesh, ray-marched surface, slice or grid), or false where there is none.
     bool surfaceAt(glm::ivec2 pixel, glm::vec3& point);
+    // The ray the full-screen passes (the ray march) cast through `pixel` in the last frame: from
+    // the near plane through the pixel's centre, `direction` unit; false off the frame.
+    bool pixelRay(glm::ivec2 pixel, glm::vec3& origin, glm::vec3& direction) const;
     const FrameInfo& lastFrame() const { return frame_; }
     // The last frame drawn, top row first.
     Image image() const;

@@ -10,8 +10,9 @@
 # motion after it) is drawn; a .npz from Recent loads as a field; a long error is shown in full;
 # an 80 ms arrow tap turns 3 +- 1 degrees and a held arrow 90 per second; the view checkboxes flip
 # exactly their view and change the scene; the probe reports the field's trilinear value where the
-# pointer is; a field made from another mesh is warned about; at 400 ms per frame a tapped F still
-# reframes and a click still toggles; the surface exports and a field compares with itself as
+# pointer is, and the iso level (within 1e-3) on the ray-marched surface; a field made from
+# another mesh is warned about; at 400 ms per frame a tapped F still reframes and a click still
+# toggles; the surface exports and a field compares with itself as
 # equal; a field opened without a model is framed, and Shift+F frames it again; a resized window
 # keeps the framing (a narrower one moves the camera back so that the scene stays in view); the
 # window's title names what it shows; and (issue 40) the panel stays put under a still pointer,
@@ -313,6 +314,48 @@ if mesh_distance > 0.25 * h:
     sys.exit("the probed point on the model is %g from the mesh" % mesh_distance)
 sys.exit(0 if abs(reported - expected) <= 1e-5 * h + 1e-7 else 1)
 EOF
+
+# --- the probe on the ray-marched surface reads the iso level (within 1e-3; the march stops short
+# of it and its depth is drawn a voxel nearer, which read +0.087), at iso 0 and 0.5, on the dense
+# field and on a band field (the band's own samples).
+# probe_reads LEVEL: a reading at 547,262 since line $mark of the log, within 1e-3 of LEVEL.
+probe_reads() {
+  tail -n +"$mark" "$work/log" | grep '^probe .* pointer=547,262$' | tail -1 |
+    awk -v level="$1" '{ v = substr($5, 7) + 0; d = v - level; if (d < 0) d = -d; found = 1; exit !(d <= 1e-3) } END { if (!found) exit 1 }'
+}
+# probe_marched LEVEL: the pointer off the scene, then over the model; waits for the reading.
+probe_marched() {
+  xdotool mousemove --window "$window" 790 490
+  sleep 0.3
+  mark=$(($(wc -l <"$work/log") + 1))
+  xdotool mousemove --window "$window" 547 262
+  until_ok probe_reads "$1" ||
+    fail "the probe on the ray-marched surface at iso $1 read $(tail -n +"$mark" "$work/log" | grep '^probe .* pointer=547,262$' | tail -1)"
+  echo "ray-marched surface at iso $1: $(tail -n +"$mark" "$work/log" | grep '^probe .* pointer=547,262$' | tail -1)"
+}
+set_iso() {
+  reach Iso_level
+  read -r x0 y0 x1 y1 _ <<<"$(widget Iso_level)"
+  xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2)) keydown ctrl click 1 keyup ctrl
+  xdotool key ctrl+a
+  xdotool type --delay 20 "$1"
+  xdotool key Return
+}
+click Ray-marched
+probe_marched 0
+set_iso 0.5
+probe_marched 0.5
+logged_since_mark() { tail -n +"$mark" "$work/log" | grep -q "$1"; }
+mark=$(($(wc -l <"$work/log") + 1))
+type_into field_path "$work/band.npz"
+until_ok logged_since_mark "^message field info: loaded .*band.npz" || fail "the band field did not load"
+probe_marched 0.5
+set_iso 0
+probe_marched 0
+mark=$(($(wc -l <"$work/log") + 1))
+type_into field_path "$work/bunny.sdf"
+until_ok logged_since_mark "^message field info: loaded .*bunny.sdf" || fail "the bunny's field did not load again"
+click Ray-marched
 
 # --- the view checkboxes: each flips exactly its view and changes the scene.
 shoot
