@@ -96,6 +96,14 @@ glm::vec4 Scene::cutPlane() const {
     return sliceCut > 0 ? plane : -plane;
 }
 
+std::vector<ColourBar> Scene::colourBars() const {
+    std::vector<ColourBar> bars;
+    if (views["slice"]) bars.push_back({effectiveRange(sliceRange), "slice"});
+    if (views["volume"] && (bars.empty() || bars[0].range != effectiveRange(volumeRange))) bars.push_back({effectiveRange(volumeRange), "volume"});
+    if (bars.size() == 1) bars[0].name = nullptr; // one range: the bar needs no name
+    return bars;
+}
+
 glm::vec2 fieldValueRange(const Field& field) {
     glm::vec2 range(0.0f);
     for (const float v : field.values) range = glm::vec2(std::min(range.x, v), std::max(range.y, v));
@@ -210,9 +218,7 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glDisable(GL_DEPTH_TEST);
     if (!markers.empty()) lines_.draw(frame, markers, glm::vec4(1.0f, 0.95f, 0.2f, 1.0f));
-    if (colourBar && !field_.empty() && distanceShown) {
-        colourBar_.draw(size, colourBarRange(), colormap, "(model units)");
-    }
+    if (colourBar && !field_.empty() && distanceShown) colourBar_.draw(size, colourBars(), colormap, "(model units)");
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     present(target);
