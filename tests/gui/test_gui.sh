@@ -272,7 +272,8 @@ type_into resolution 32
 
 # --- loading a field made from another mesh warns, and the figures become the field's own.
 type_into field_path "$work/tet.sdf"
-until_ok grep -q "^message field warning: .*made from .*tet.obj, not from bunny.obj" "$work/log" || fail "no warning for a mismatched field"
+until_ok grep -q "^message field warning: .*made from .*tet.obj, not from bunny.obj, and its grid does not cover the model" "$work/log" ||
+  fail "no warning for a mismatched field (another mesh's, not covering the bunny)"
 until_ok grep -q "^text stats method exact loaded" "$work/shots/widgets.txt" || fail "the panel kept the bake's figures"
 echo "mismatched field: $(grep '^message field warning' "$work/log" | tail -1)"
 type_into field_path "$work/bunny.sdf"
