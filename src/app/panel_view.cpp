@@ -82,7 +82,7 @@ void Viewer::viewSection() {
     for (const render::ViewType& type : render::viewTypes()) {
         if (type.options && v[type.name]) type.options(ui, scene_);
     }
-    // Slice: an axis, or any orientation (dragged in the view: left-drag moves, Shift tilts).
+    // Slice: an axis, or any orientation (dragged in the view: Ctrl+left-drag moves, Ctrl+Shift tilts).
     for (int a = 0; a < 3; ++a) {
         if (a > 0) ImGui::SameLine();
         const char* labels[] = {"Slice X", "Slice Y", "Slice Z"};
@@ -114,7 +114,7 @@ void Viewer::viewSection() {
     track("slice_cut");
     const glm::vec3 n = scene_.sliceNormal;
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    wrappedText("normal (%.2f %.2f %.2f); in the view: left-drag moves, Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
+    wrappedText("normal (%.2f %.2f %.2f); in the view: Ctrl+left-drag moves, Ctrl+Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
     ImGui::PopStyleColor();
     ImGui::Combo("Colour map", &scene_.colormap, "diverging\0viridis\0grey\0");
     track("colormap");
@@ -160,7 +160,7 @@ void Viewer::cameraSection() {
     ImGui::DragFloat3("Target", &camera_.target.x, camera_.sceneRadius * 0.01f, 0.0f, 0.0f, "%.4g");
     track("target");
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    wrappedText("right-drag orbit, middle-drag pan, wheel zoom, arrows orbit (a tap 3 degrees, held 90 per second), F frames");
+    wrappedText("left- or right-drag orbit, middle-drag pan, wheel zoom, arrows orbit (a tap 3 degrees, held 90 per second), F frames");
     ImGui::PopStyleColor();
 }
 

@@ -327,15 +327,18 @@ void Viewer::sceneInput(const FrameInput& input) {
     const float dx = float(input.x - input.startX), dy = float(input.y - input.startY);
     const float height = std::max(io.DisplaySize.y, 1.0f);
     if (input.startX >= 0.0 && (dx != 0.0f || dy != 0.0f)) {
-        if (sceneDrag_[1]) camera_.rotate(-dx * 0.3f, dy * 0.3f);
+        if (sceneDrag_[1] || (sceneDrag_[0] && leftDrag_ == LeftDrag::Orbit)) camera_.rotate(-dx * 0.3f, dy * 0.3f);
         if (sceneDrag_[2]) camera_.pan(dx / height, dy / height);
-        if (sceneDrag_[0] && scene_.views["slice"] && field_) dragSlice(dx, dy);
+        if (sceneDrag_[0] && leftDrag_ != LeftDrag::Orbit && scene_.views["slice"] && field_) dragSlice(dx, dy);
     }
     for (int b = 0; b < 3; ++b) {
         if (input.pressed == b) sceneDrag_[b] = !io.WantCaptureMouse && !fileBrowser_.isOpen();
         if (input.released == b) sceneDrag_[b] = false;
     }
-    if (input.pressed == 0) sliceTilt_ = (input.pressMods & GLFW_MOD_SHIFT) != 0;
+    if (input.pressed == 0) {
+        const bool slice = (input.pressMods & GLFW_MOD_CONTROL) != 0 && scene_.views["slice"] && field_;
+        leftDrag_ = !slice ? LeftDrag::Orbit : (input.pressMods & GLFW_MOD_SHIFT) != 0 ? LeftDrag::TiltSlice : LeftDrag::MoveSlice;
+    }
     if (input.wheel != 0.0 && !io.WantCaptureMouse) camera_.zoom(float(input.wheel));
 
     Shortcuts& s = inbox_.shortcuts;
@@ -351,15 +354,16 @@ void Viewer::sceneInput(const FrameInput& input) {
     probeAt(input);
 }
 
-// Left-drag moves the slice along its normal (following the normal's direction on screen);
-// with Shift it tilts the plane.
+// Ctrl+left-drag moves the slice along its normal (following the normal's direction on screen);
+// with Shift too it tilts the plane, 0.15 degrees a pixel (a third of a window's height: about 45):
+// fine enough to aim it.
 void Viewer::dragSlice(float dx, float dy) {
     glm::vec3& n = scene_.sliceNormal;
-    if (sliceTilt_) {
+    if (leftDrag_ == LeftDrag::TiltSlice) {
         const glm::mat4 view = camera_.view();
         const glm::vec3 right(view[0][0], view[1][0], view[2][0]), up(view[0][1], view[1][1], view[2][1]);
-        glm::mat4 r = glm::rotate(glm::mat4(1.0f), glm::radians(dx * 0.4f), up);
-        r = glm::rotate(r, glm::radians(dy * 0.4f), right);
+        glm::mat4 r = glm::rotate(glm::mat4(1.0f), glm::radians(dx * 0.15f), up);
+        r = glm::rotate(r, glm::radians(dy * 0.15f), right);
         n = glm::normalize(glm::vec3(r * glm::vec4(n, 0.0f)));
         return;
     }

@@ -240,7 +240,9 @@ private:
     bool pendingAdd_ = false, askAboutBake_ = false;
     bool userChoseViews_ = false;
     bool sceneDrag_[3] = {false, false, false};
-    bool sliceTilt_ = false;
+    // What a left-drag does, from the modifiers at its press: orbit (as in MeshLab and polyscope),
+    // or with Ctrl over a shown slice move it along its normal, with Ctrl+Shift tilt it.
+    enum class LeftDrag { Orbit, MoveSlice, TiltSlice } leftDrag_ = LeftDrag::Orbit;
     bool probeOn_ = true, probeValid_ = false;
     // probe_ holds a reading of the scene shown (the last one, once the pointer left the scene):
     // the panel keeps it, so that its top line does not come and go under the pointer.

@@ -382,17 +382,39 @@ until_ok grep -q "^message screenshot info: saved $work/sdfgen-1.png" "$work/log
 [ "$(head -c 8 "$work/sdfgen-1.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "the screenshot is not a PNG"
 echo "Screenshot button: $work/sdfgen-1.png"
 
-# --- left-drag in the view moves the slice along its normal.
+# --- left-drag orbits (the slice stays); Ctrl+left-drag moves the slice along its normal (the
+# camera stays); Ctrl+Shift+left-drag tilts it, 0.15 degrees a pixel: at most 15 for this drag
+# (the former 0.4 a pixel turned it up to 37).
 click Slice
+xdotool mousemove --window "$window" 790 490
 shoot
-slice_before=$(grep "^screenshot $((shots - 1)):" "$work/log" | grep -o 'slice=[0-9.]*')
-xdotool mousemove --window "$window" 500 300 mousedown 1
-for step in 1 2 3 4 5 6; do xdotool mousemove --window "$window" $((500 + 12 * step)) $((300 + 10 * step)); done
-xdotool mouseup 1
-shoot
-slice_after=$(grep "^screenshot $((shots - 1)):" "$work/log" | grep -o 'slice=[0-9.]*')
-[ "$slice_before" != "$slice_after" ] || fail "dragging in the view did not move the slice ($slice_before)"
-echo "dragging the slice: $slice_before -> $slice_after"
+# drag MODIFIERS: a left-drag of 72 x 60 pixels over the scene with those keys held ("" for none).
+drag() {
+  [ -z "$1" ] || xdotool keydown "$1"
+  xdotool mousemove --window "$window" 500 300 mousedown 1
+  for step in 1 2 3 4 5 6; do xdotool mousemove --window "$window" $((500 + 12 * step)) $((300 + 10 * step)); done
+  xdotool mouseup 1
+  [ -z "$1" ] || xdotool keyup "$1"
+  xdotool mousemove --window "$window" 790 490
+  shoot
+}
+field_of() { grep "^screenshot $1:" "$work/log" | grep -o "$2=[^ ]*"; }
+drag ""
+[ "$(field_of $((shots - 2)) slice)" = "$(field_of $((shots - 1)) slice)" ] || fail "a left-drag moved the slice"
+[ "$(camera_of $((shots - 2)))" != "$(camera_of $((shots - 1)))" ] || fail "a left-drag did not orbit"
+echo "left-drag orbits: camera $(camera_of $((shots - 2))) -> $(camera_of $((shots - 1)))"
+drag ctrl
+[ "$(field_of $((shots - 2)) slice)" != "$(field_of $((shots - 1)) slice)" ] || fail "Ctrl+left-drag did not move the slice"
+[ "$(camera_of $((shots - 2)))" = "$(camera_of $((shots - 1)))" ] || fail "Ctrl+left-drag turned the camera"
+echo "Ctrl+left-drag moves the slice: $(field_of $((shots - 2)) slice) -> $(field_of $((shots - 1)) slice)"
+drag ctrl+shift
+/usr/bin/python3 - "$(field_of $((shots - 2)) normal)" "$(field_of $((shots - 1)) normal)" <<'PY' || fail "Ctrl+Shift+left-drag did not tilt the slice by 1 to 15 degrees"
+import math, sys
+a, b = ([float(v) for v in arg.split("=")[1].split(",")] for arg in sys.argv[1:])
+angle = math.degrees(math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b))))))
+print(f"Ctrl+Shift+left-drag of 72 x 60 pixels tilts the slice {angle:.2f} degrees")
+sys.exit(0 if 1 <= angle <= 15 else 1)
+PY
 
 # --- a scene of two models: adding one outside the field's box warns, and Generate bakes the
 # union, whose saved field names both.
