@@ -2,11 +2,43 @@
 #include "app/viewer_state.hpp"
 
 #include <imgui.h>
+#include <imgui_internal.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 namespace sdfgen::app {
+
+namespace {
+// A slider that a double click turns into a text box (as Blender's), as Ctrl+click does: the
+// slider sees Ctrl held for the click that completes a double click, and the value that click's
+// first half jumped to is put back. Its tooltip says so.
+bool typableSlider(const char* label, float& value, float min, float max, const char* format, ImGuiSliderFlags flags = 0) {
+    static ImGuiID pressedId = 0;
+    static float beforePress = 0.0f;
+    ImGuiIO& io = ImGui::GetIO();
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const ImVec2 end(at.x + ImGui::CalcItemWidth(), at.y + ImGui::GetFrameHeight());
+    const bool doubleClick = io.MouseDoubleClicked[0] && ImGui::IsWindowHovered() && ImGui::IsMouseHoveringRect(at, end);
+    const ImGuiID id = ImGui::GetID(label); // the slider's own
+    bool changed = false;
+    if (doubleClick && pressedId == id && value != beforePress) { // before the text box shows it
+        value = beforePress;
+        changed = true;
+    }
+    const bool ctrl = io.KeyCtrl;
+    const float before = value;
+    if (doubleClick) io.KeyCtrl = true;
+    changed |= ImGui::SliderFloat(label, &value, min, max, format, flags);
+    io.KeyCtrl = ctrl;
+    if (ImGui::IsItemActivated() && !doubleClick) {
+        pressedId = id;
+        beforePress = before;
+    }
+    if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) ImGui::SetTooltip("drag, or double-click (or Ctrl+click) to type a value");
+    return changed;
+}
+} // namespace
 
 // The views' settings as Dear ImGui controls, each reported to the GUI test by its label.
 class Viewer::PanelOptions : public render::ViewOptions {
@@ -19,7 +51,7 @@ public:
         return changed;
     }
     bool slider(const char* label, float& value, float min, float max, const char* format, bool logarithmic) override {
-        const bool changed = ImGui::SliderFloat(label, &value, min, max, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+        const bool changed = typableSlider(label, value, min, max, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
         viewer_.track(widgetName(label).c_str());
         return changed;
     }
@@ -151,9 +183,9 @@ void Viewer::cameraSection() {
     track("frame");
     ImGui::Checkbox("Orthographic", &camera_.orthographic);
     track("ortho");
-    ImGui::SliderFloat("Yaw", &camera_.yaw, -180.0f, 180.0f, "%.1f");
+    typableSlider("Yaw", camera_.yaw, -180.0f, 180.0f, "%.1f");
     track("yaw");
-    ImGui::SliderFloat("Pitch", &camera_.pitch, -89.0f, 89.0f, "%.1f");
+    typableSlider("Pitch", camera_.pitch, -89.0f, 89.0f, "%.1f");
     track("pitch");
     ImGui::DragFloat("Distance", &camera_.distance, camera_.sceneRadius * 0.01f, 1e-4f, 1e6f, "%.4g");
     track("distance");

@@ -203,11 +203,18 @@ yaw2=$(camera_of $((shots - 1)) | cut -d, -f1)
 awk -v a="$yaw0" -v b="$yaw1" 'BEGIN { d = a - b; exit !(d >= 2 && d <= 4) }' || fail "an 80 ms arrow tap turned from $yaw0 to $yaw1, not 3 degrees"
 awk -v a="$yaw1" -v b="$yaw2" 'BEGIN { d = b - a; exit !(d >= 60 && d <= 90) }' || fail "a 1 s arrow hold turned from $yaw1 to $yaw2, not 3 + 0.75 * 90 degrees"
 echo "arrow tap of 80 ms: yaw $yaw0 -> $yaw1; held 1 s: -> $yaw2"
-# The yaw back to 30 degrees (Ctrl+click makes the slider a text box): the checks below expect
-# the first camera.
+# A double click makes a slider a text box (as Ctrl+click does) without moving it first: Escape
+# leaves the yaw as it was. Then the yaw back to 30 degrees typed in: the checks below expect the
+# first camera.
 reach yaw
 read -r x0 y0 x1 y1 _ <<<"$(widget yaw)"
-xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2)) keydown ctrl click 1 keyup ctrl
+xdotool mousemove --window "$window" $((x0 + 5)) $(((y0 + y1) / 2)) click --repeat 2 --delay 80 1
+sleep 0.3
+xdotool key Escape
+xdotool mousemove --window "$window" 790 490
+shoot
+[ "$(camera_of $((shots - 1)))" = "$(camera_of $((shots - 2)))" ] || fail "a double click on the yaw slider moved it: $(camera_of $((shots - 2))) -> $(camera_of $((shots - 1)))"
+xdotool mousemove --window "$window" $((x0 + 5)) $(((y0 + y1) / 2)) click --repeat 2 --delay 80 1
 xdotool key ctrl+a
 xdotool type --delay 20 30
 xdotool key Return
