@@ -125,9 +125,10 @@ void ColourBarRenderer::draw(glm::ivec2 size, const std::vector<ColourBar>& bars
         else addEasyText(out, right - easyTextWidth(line, scale), top + scale, scale, line);
     };
     std::vector<OverlayVertex> vertices;
-    // The heading over the first bar; the bars' names (when they are named) on the line below it.
+    // The heading over the first bar; the bars' names (when they are named) on the line below it;
+    // a third of a line clear of the top value's label, which the heading touched on small frames.
     const bool named = std::any_of(bars.begin(), bars.end(), [](const ColourBar& b) { return b.name != nullptr; });
-    const float headingTop = y0 - (named ? 3.7f : 2.6f) * lineHeight;
+    const float headingTop = y0 - (named ? 4.0f : 2.9f) * lineHeight;
     const float right = float(size.x) - margin;
     text(vertices, right, headingTop, "signed distance");
     text(vertices, right, headingTop + 1.1f * lineHeight, units);
@@ -145,7 +146,7 @@ void ColourBarRenderer::draw(glm::ivec2 size, const std::vector<ColourBar>& bars
             text(vertices, x0 - 5.0f * scale, y - 0.5f * lineHeight, label(ticks[t]));
             widest = std::max(widest, textWidth(label(ticks[t])));
         }
-        if (bar.name) text(vertices, x1, y0 - 1.5f * lineHeight, bar.name);
+        if (bar.name) text(vertices, x1, y0 - 1.8f * lineHeight, bar.name);
         x1 = x0 - 5.0f * scale - std::max(widest, bar.name ? textWidth(bar.name) - width : 0.0f) - 2.0f * margin;
     }
     glNamedBufferData(vbo_, GLsizeiptr(vertices.size() * sizeof(OverlayVertex)), vertices.data(), GL_STREAM_DRAW);
