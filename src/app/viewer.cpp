@@ -252,7 +252,7 @@ int Viewer::run() {
 }
 
 void Viewer::setMessage(Message& slot, Message::Level level, const std::string& text) {
-    slot = Message{level, text};
+    slot = Message{level, text, ++messagesSaid_};
     inbox_.wake = std::max(inbox_.wake, 2); // show it (and what the action changed) next frame too
     if (!debugDir_.empty() && !text.empty()) {
         const char* kind = &slot == &modelMessage_ ? "model" : &slot == &generationMessage_ ? "generation"
@@ -263,23 +263,29 @@ void Viewer::setMessage(Message& slot, Message::Level level, const std::string& 
 }
 
 // A message, wrapped to its full length, with a dismiss button for warnings and errors; nothing
-// (no empty space) when there is none.
+// (no empty space) when there is none. An info message is greyed once another message was said
+// (it is about an earlier action), not removed: nothing moves under the pointer. Warnings and
+// errors keep their colour until dismissed or replaced (what they say may still hold).
 void Viewer::messageLine(const char* id, Message& m) {
     if (m.text.empty()) return;
     const ImVec4 colours[] = {ImVec4(0.55f, 0.9f, 0.55f, 1.0f), ImVec4(1.0f, 0.8f, 0.3f, 1.0f), ImVec4(1.0f, 0.4f, 0.35f, 1.0f)};
+    const bool stale = m.level == Message::Level::Info && m.serial != messagesSaid_;
     ImGui::PushID(id);
     ImGui::BeginGroup();
     if (m.level != Message::Level::Info) {
         if (ImGui::SmallButton("x")) m.text.clear();
         ImGui::SameLine();
     }
-    ImGui::PushStyleColor(ImGuiCol_Text, colours[int(m.level)]);
+    ImGui::PushStyleColor(ImGuiCol_Text, stale ? ImGui::GetStyle().Colors[ImGuiCol_TextDisabled] : colours[int(m.level)]);
     wrappedText("%s", m.text.c_str());
     ImGui::PopStyleColor();
     ImGui::EndGroup();
     ImGui::PopID();
     track(id);
-    if (!debugDir_.empty()) layout_ += std::string("text ") + id + " " + m.text.substr(0, m.text.find('\n')) + "\n";
+    if (!debugDir_.empty()) {
+        layout_ += std::string("text ") + id + " " + m.text.substr(0, m.text.find('\n')) + "\n";
+        if (stale) layout_ += std::string("stale ") + id + "\n";
+    }
 }
 
 void Viewer::updateTitle() {

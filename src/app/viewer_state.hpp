@@ -17,6 +17,7 @@
 #include "render/scene.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,6 +61,7 @@ struct Inbox {
 struct Message {
     enum class Level { Info, Warning, Error } level = Level::Info;
     std::string text;
+    std::uint64_t serial = 0; // the order messages were said in (Viewer::messagesSaid_)
 };
 
 // One model of the scene, placed by its transform, with its colour and visibility.
@@ -214,6 +216,7 @@ private:
     char comparePath_[1024] = "";
     char surfacePath_[1024] = "";
     Message modelMessage_, generationMessage_, fieldMessage_, screenshotMessage_;
+    std::uint64_t messagesSaid_ = 0; // an info message said before the last message is stale: greyed
     RecentFiles recent_;
     FileBrowser fileBrowser_;
     std::vector<std::string> pendingPaths_;

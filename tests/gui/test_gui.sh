@@ -11,7 +11,7 @@
 # an 80 ms arrow tap turns 3 +- 1 degrees and a held arrow 90 per second; the view checkboxes flip
 # exactly their view and change the scene; the probe reports the field's trilinear value where the
 # pointer is, and the iso level (within 1e-3) on the ray-marched surface; a field made from
-# another mesh is warned about; at 400 ms per frame a tapped F still reframes and a click still
+# another mesh is warned about; an earlier action's message is greyed once another is said; at 400 ms per frame a tapped F still reframes and a click still
 # toggles; the surface exports and a field compares with itself as
 # equal; a field opened without a model is framed, and Shift+F frames it again; a resized window
 # keeps the framing (a narrower one moves the camera back so that the scene stays in view); the
@@ -145,7 +145,7 @@ awk -v c="$cpu" 'BEGIN { exit !(c < 5) }' || fail "an idle viewer used $cpu% of 
 echo "idle viewer: $cpu% of a core over 5 s"
 
 # --- every control of the panel can be scrolled into view at 800x500.
-names=$(grep -vE '^(text|panel|sections|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
+names=$(grep -vE '^(text|stale|panel|sections|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
 count=0
 for name in $names; do
   reach "$name"
@@ -429,6 +429,9 @@ printf 'v 20 0 0\nv 21 0 0\nv 20 1 0\nv 20 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3
 set_text model_path "$work/far.obj"
 click model_add
 until_ok grep -q "^message model info: added far.obj: 3678 triangles in the scene" "$work/log" || fail "Add to scene did not add the model"
+# The Screenshot button's message is about an earlier action now: greyed (kept, nothing moves).
+until_ok grep -qx "stale ##screenshot_message" "$work/shots/widgets.txt" || fail "the screenshot's message is not shown as stale after Add to scene"
+! grep -qx "stale ##model_message" "$work/shots/widgets.txt" || fail "the newest message is shown as stale"
 until_ok grep -q "^message field warning: the field shown does not fit the scene: .*not from bunny.obj+far.obj" "$work/log" ||
   fail "no warning that the field is not the scene's"
 until_ok grep -q "^generate " "$work/shots/widgets.txt"
