@@ -21,6 +21,8 @@ uniform vec3 lightDirection; // towards the light
 uniform float iso;           // the level set drawn: 0 is the surface, > 0 offset outwards
 uniform vec4 cutPlane;       // points with dot(xyz, p) > w are cut away (the slice's cut; (0,0,0,1): none)
 uniform int maxSteps;        // 512, more for a band field
+uniform float hitDistance;   // a hit: the field under iso + hitDistance voxels
+uniform float minStep;       // the shortest step, in voxels
 uniform float background;    // > 0: a band field, whose values at +-background only bound the distance
 uniform int capCut;          // where the cut enters the solid: a flat cap (else nothing: the slice is there)
 
@@ -88,7 +90,7 @@ void main() {
     if (span.x >= span.y || span.y <= 0.0) discard;
 
     float t = max(span.x, 0.0); // outside the box: jump by the distance to it
-    float eps = 0.02 * voxel;
+    float eps = hitDistance * voxel;
     bool hit = false;
     for (int i = 0; i < maxSteps && t < span.y; ++i) {
         float d = sdf(eye + t * dir);
@@ -98,7 +100,7 @@ void main() {
             if (i == 0 && enteredAtCut && capCut == 0) discard;
             break;
         }
-        t += max(d, 0.05 * voxel);
+        t += max(d, minStep * voxel);
     }
     if (!hit) discard;
 

@@ -4,13 +4,17 @@
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
+#include "core/bake/band_bake.hpp"
 #include "core/bake/bake.hpp"
+#include "core/runtime/memory.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
 
 #include <gtest/gtest.h>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <fstream>
 
 namespace sdfgen {
 namespace {
@@ -152,6 +156,48 @@ TEST(BandBake, EmptySpaceCostsNothing) {
         EXPECT_LT(s.at(middle.x, middle.y, middle.z), 0.0f) << c.name; // both are solid (|w| > 1/2 in the holed sphere)
         EXPECT_GT(s.at(0, 0, 0), 0.0f) << c.name;
         EXPECT_GT(s.at(s.grid.dims.x - 1, s.grid.dims.y - 1, s.grid.dims.z - 1), 0.0f) << c.name;
+    }
+}
+
+// The process's resident bytes now (VmRSS) and at its peak (VmHWM), from /proc/self/status.
+std::pair<double, double> residentBytes() {
+    std::ifstream status("/proc/self/status");
+    double now = 0.0, peak = 0.0;
+    for (std::string line; std::getline(status, line);) {
+        if (line.rfind("VmRSS:", 0) == 0) now = std::stod(line.substr(6)) * 1024.0;
+        if (line.rfind("VmHWM:", 0) == 0) peak = std::stod(line.substr(6)) * 1024.0;
+    }
+    return {now, peak};
+}
+
+// The band's memory estimate (what bake and the viewer's panel refuse a band by) bounds the
+// bake's peak resident memory from above, and by at most twice: on a sphere, a torus and an open
+// cup (whose fans' bricks count too), at a size where the band's bricks are most of it.
+TEST(BandBake, MemoryEstimateIsAnUpperBoundWithinTwice) {
+#ifdef SDFGEN_TEST_ASAN
+    GTEST_SKIP() << "AddressSanitizer's shadow memory and quarantine add to the resident memory; the release build runs this test";
+#endif
+    struct Shape {
+        const char* name;
+        Mesh mesh;
+    };
+    for (const Shape& c : {Shape{"sphere", test::icosphere(1.0f, 4)}, Shape{"torus", test::torus(1.0f, 0.3f, 64, 32)}, Shape{"cup", test::cup(false)}}) {
+        BakeSettings settings;
+        settings.res = 384;
+        settings.band = 3;
+        settings.device = Device::Cpu;
+        const Bvh tree(c.mesh);
+        releaseFreedMemory();
+        // Writing 5 to clear_refs sets the peak (VmHWM) back to the resident memory now.
+        if (!(std::ofstream("/proc/self/clear_refs") << "5").flush()) GTEST_SKIP() << "/proc/self/clear_refs is not writable here";
+        const double before = residentBytes().first;
+        const BakeResult result = bake(c.mesh, tree, settings, RunControl{});
+        const double peak = residentBytes().second - before;
+        const double estimate = double(estimateBandBakeBytes(c.mesh, result.sparse.grid, settings.band));
+        EXPECT_GE(estimate, peak) << c.name << ": " << result.sparse.bricks.size() << " bricks";
+        EXPECT_LE(estimate, 2.0 * peak) << c.name << ": " << result.sparse.bricks.size() << " bricks";
+        std::printf("%s: %zu bricks, peak %.1f MiB, estimate %.1f MiB\n", c.name, result.sparse.bricks.size(), peak / 1048576.0,
+                    estimate / 1048576.0);
     }
 }
 

@@ -286,15 +286,6 @@ rlim_t addressSpaceBytes() {
 
 class OutOfMemory : public test::ScratchFolderTest {};
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SDFGEN_TEST_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define SDFGEN_TEST_ASAN 1
-#endif
-
 TEST_F(OutOfMemory, ErrorsNameTheFile) {
     // An allocation that fails (the address space limited to 16 MiB more than is in use: the 64 MiB
     // files cannot be read) is an Error naming the file, not a bare std::bad_alloc.

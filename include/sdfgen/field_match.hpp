@@ -7,7 +7,7 @@
 namespace sdfgen {
 
 // Why `field` may not be the field of `mesh`, for a warning: it was made from a file of another
-// name, or its grid does not cover the mesh's bounding box. Empty when neither.
+// name, its grid does not cover the mesh's bounding box, or both (both said). Empty when neither.
 std::string fieldMismatch(const Field& field, const Mesh& mesh);
 
 } // namespace sdfgen

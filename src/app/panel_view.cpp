@@ -2,11 +2,43 @@
 #include "app/viewer_state.hpp"
 
 #include <imgui.h>
+#include <imgui_internal.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 namespace sdfgen::app {
+
+namespace {
+// A slider that a double click turns into a text box (as Blender's), as Ctrl+click does: the
+// slider sees Ctrl held for the click that completes a double click, and the value that click's
+// first half jumped to is put back. Its tooltip says so.
+bool typableSlider(const char* label, float& value, float min, float max, const char* format, ImGuiSliderFlags flags = 0) {
+    static ImGuiID pressedId = 0;
+    static float beforePress = 0.0f;
+    ImGuiIO& io = ImGui::GetIO();
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const ImVec2 end(at.x + ImGui::CalcItemWidth(), at.y + ImGui::GetFrameHeight());
+    const bool doubleClick = io.MouseDoubleClicked[0] && ImGui::IsWindowHovered() && ImGui::IsMouseHoveringRect(at, end);
+    const ImGuiID id = ImGui::GetID(label); // the slider's own
+    bool changed = false;
+    if (doubleClick && pressedId == id && value != beforePress) { // before the text box shows it
+        value = beforePress;
+        changed = true;
+    }
+    const bool ctrl = io.KeyCtrl;
+    const float before = value;
+    if (doubleClick) io.KeyCtrl = true;
+    changed |= ImGui::SliderFloat(label, &value, min, max, format, flags);
+    io.KeyCtrl = ctrl;
+    if (ImGui::IsItemActivated() && !doubleClick) {
+        pressedId = id;
+        beforePress = before;
+    }
+    if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) ImGui::SetTooltip("drag, or double-click (or Ctrl+click) to type a value");
+    return changed;
+}
+} // namespace
 
 // The views' settings as Dear ImGui controls, each reported to the GUI test by its label.
 class Viewer::PanelOptions : public render::ViewOptions {
@@ -19,7 +51,7 @@ public:
         return changed;
     }
     bool slider(const char* label, float& value, float min, float max, const char* format, bool logarithmic) override {
-        const bool changed = ImGui::SliderFloat(label, &value, min, max, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+        const bool changed = typableSlider(label, value, min, max, format, logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
         viewer_.track(widgetName(label).c_str());
         return changed;
     }
@@ -82,7 +114,7 @@ void Viewer::viewSection() {
     for (const render::ViewType& type : render::viewTypes()) {
         if (type.options && v[type.name]) type.options(ui, scene_);
     }
-    // Slice: an axis, or any orientation (dragged in the view: left-drag moves, Shift tilts).
+    // Slice: an axis, or any orientation (dragged in the view: Ctrl+left-drag moves, Ctrl+Shift tilts).
     for (int a = 0; a < 3; ++a) {
         if (a > 0) ImGui::SameLine();
         const char* labels[] = {"Slice X", "Slice Y", "Slice Z"};
@@ -114,7 +146,7 @@ void Viewer::viewSection() {
     track("slice_cut");
     const glm::vec3 n = scene_.sliceNormal;
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    wrappedText("normal (%.2f %.2f %.2f); in the view: left-drag moves, Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
+    wrappedText("normal (%.2f %.2f %.2f); in the view: Ctrl+left-drag moves, Ctrl+Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
     ImGui::PopStyleColor();
     ImGui::Combo("Colour map", &scene_.colormap, "diverging\0viridis\0grey\0");
     track("colormap");
@@ -151,16 +183,16 @@ void Viewer::cameraSection() {
     track("frame");
     ImGui::Checkbox("Orthographic", &camera_.orthographic);
     track("ortho");
-    ImGui::SliderFloat("Yaw", &camera_.yaw, -180.0f, 180.0f, "%.1f");
+    typableSlider("Yaw", camera_.yaw, -180.0f, 180.0f, "%.1f");
     track("yaw");
-    ImGui::SliderFloat("Pitch", &camera_.pitch, -89.0f, 89.0f, "%.1f");
+    typableSlider("Pitch", camera_.pitch, -89.0f, 89.0f, "%.1f");
     track("pitch");
     ImGui::DragFloat("Distance", &camera_.distance, camera_.sceneRadius * 0.01f, 1e-4f, 1e6f, "%.4g");
     track("distance");
     ImGui::DragFloat3("Target", &camera_.target.x, camera_.sceneRadius * 0.01f, 0.0f, 0.0f, "%.4g");
     track("target");
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    wrappedText("right-drag orbit, middle-drag pan, wheel zoom, arrows orbit (a tap 3 degrees, held 90 per second), F frames");
+    wrappedText("left- or right-drag orbit, middle-drag pan, wheel zoom, arrows orbit (a tap 3 degrees, held 90 per second), F frames");
     ImGui::PopStyleColor();
 }
 

@@ -252,7 +252,7 @@ int Viewer::run() {
 }
 
 void Viewer::setMessage(Message& slot, Message::Level level, const std::string& text) {
-    slot = Message{level, text};
+    slot = Message{level, text, ++messagesSaid_};
     inbox_.wake = std::max(inbox_.wake, 2); // show it (and what the action changed) next frame too
     if (!debugDir_.empty() && !text.empty()) {
         const char* kind = &slot == &modelMessage_ ? "model" : &slot == &generationMessage_ ? "generation"
@@ -263,23 +263,29 @@ void Viewer::setMessage(Message& slot, Message::Level level, const std::string& 
 }
 
 // A message, wrapped to its full length, with a dismiss button for warnings and errors; nothing
-// (no empty space) when there is none.
+// (no empty space) when there is none. An info message is greyed once another message was said
+// (it is about an earlier action), not removed: nothing moves under the pointer. Warnings and
+// errors keep their colour until dismissed or replaced (what they say may still hold).
 void Viewer::messageLine(const char* id, Message& m) {
     if (m.text.empty()) return;
     const ImVec4 colours[] = {ImVec4(0.55f, 0.9f, 0.55f, 1.0f), ImVec4(1.0f, 0.8f, 0.3f, 1.0f), ImVec4(1.0f, 0.4f, 0.35f, 1.0f)};
+    const bool stale = m.level == Message::Level::Info && m.serial != messagesSaid_;
     ImGui::PushID(id);
     ImGui::BeginGroup();
     if (m.level != Message::Level::Info) {
         if (ImGui::SmallButton("x")) m.text.clear();
         ImGui::SameLine();
     }
-    ImGui::PushStyleColor(ImGuiCol_Text, colours[int(m.level)]);
+    ImGui::PushStyleColor(ImGuiCol_Text, stale ? ImGui::GetStyle().Colors[ImGuiCol_TextDisabled] : colours[int(m.level)]);
     wrappedText("%s", m.text.c_str());
     ImGui::PopStyleColor();
     ImGui::EndGroup();
     ImGui::PopID();
     track(id);
-    if (!debugDir_.empty()) layout_ += std::string("text ") + id + " " + m.text.substr(0, m.text.find('\n')) + "\n";
+    if (!debugDir_.empty()) {
+        layout_ += std::string("text ") + id + " " + m.text.substr(0, m.text.find('\n')) + "\n";
+        if (stale) layout_ += std::string("stale ") + id + "\n";
+    }
 }
 
 void Viewer::updateTitle() {
@@ -327,15 +333,18 @@ void Viewer::sceneInput(const FrameInput& input) {
     const float dx = float(input.x - input.startX), dy = float(input.y - input.startY);
     const float height = std::max(io.DisplaySize.y, 1.0f);
     if (input.startX >= 0.0 && (dx != 0.0f || dy != 0.0f)) {
-        if (sceneDrag_[1]) camera_.rotate(-dx * 0.3f, dy * 0.3f);
+        if (sceneDrag_[1] || (sceneDrag_[0] && leftDrag_ == LeftDrag::Orbit)) camera_.rotate(-dx * 0.3f, dy * 0.3f);
         if (sceneDrag_[2]) camera_.pan(dx / height, dy / height);
-        if (sceneDrag_[0] && scene_.views["slice"] && field_) dragSlice(dx, dy);
+        if (sceneDrag_[0] && leftDrag_ != LeftDrag::Orbit && scene_.views["slice"] && field_) dragSlice(dx, dy);
     }
     for (int b = 0; b < 3; ++b) {
         if (input.pressed == b) sceneDrag_[b] = !io.WantCaptureMouse && !fileBrowser_.isOpen();
         if (input.released == b) sceneDrag_[b] = false;
     }
-    if (input.pressed == 0) sliceTilt_ = (input.pressMods & GLFW_MOD_SHIFT) != 0;
+    if (input.pressed == 0) {
+        const bool slice = (input.pressMods & GLFW_MOD_CONTROL) != 0 && scene_.views["slice"] && field_;
+        leftDrag_ = !slice ? LeftDrag::Orbit : (input.pressMods & GLFW_MOD_SHIFT) != 0 ? LeftDrag::TiltSlice : LeftDrag::MoveSlice;
+    }
     if (input.wheel != 0.0 && !io.WantCaptureMouse) camera_.zoom(float(input.wheel));
 
     Shortcuts& s = inbox_.shortcuts;
@@ -351,15 +360,16 @@ void Viewer::sceneInput(const FrameInput& input) {
     probeAt(input);
 }
 
-// Left-drag moves the slice along its normal (following the normal's direction on screen);
-// with Shift it tilts the plane.
+// Ctrl+left-drag moves the slice along its normal (following the normal's direction on screen);
+// with Shift too it tilts the plane, 0.15 degrees a pixel (a third of a window's height: about 45):
+// fine enough to aim it.
 void Viewer::dragSlice(float dx, float dy) {
     glm::vec3& n = scene_.sliceNormal;
-    if (sliceTilt_) {
+    if (leftDrag_ == LeftDrag::TiltSlice) {
         const glm::mat4 view = camera_.view();
         const glm::vec3 right(view[0][0], view[1][0], view[2][0]), up(view[0][1], view[1][1], view[2][1]);
-        glm::mat4 r = glm::rotate(glm::mat4(1.0f), glm::radians(dx * 0.4f), up);
-        r = glm::rotate(r, glm::radians(dy * 0.4f), right);
+        glm::mat4 r = glm::rotate(glm::mat4(1.0f), glm::radians(dx * 0.15f), up);
+        r = glm::rotate(r, glm::radians(dy * 0.15f), right);
         n = glm::normalize(glm::vec3(r * glm::vec4(n, 0.0f)));
         return;
     }
@@ -388,17 +398,45 @@ void Viewer::probeAt(const FrameInput& input) {
     const glm::ivec2 fb = context_.framebufferSize();
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     const glm::ivec2 pixel(int(input.x * fb.x / std::max(display.x, 1.0f)), int(input.y * fb.y / std::max(display.y, 1.0f)));
-    glm::vec3 point;
-    if (!scene_.surfaceAt(pixel, point)) return;
-    // Pixels of the grid (the plane under the model, within depth precision) are not probed.
-    if (scene_.views["grid"] && std::abs(point.y - scene_.gridHeight()) < 1e-4f * camera_.distance) return;
-    probe_ = probe(glm::dvec3(point), field_ ? &*field_ : nullptr, probeModel_.get(), band_.get());
+    glm::vec3 drawn;
+    if (!scene_.surfaceAt(pixel, drawn)) return;
+    glm::dvec3 point(drawn);
+    const std::optional<glm::dvec3> marched = marchedSurfaceAt(pixel, drawn);
+    if (marched) {
+        point = *marched;
+    } else if (scene_.views["grid"] && std::abs(drawn.y - scene_.gridHeight()) < 1e-4f * camera_.distance) {
+        return; // pixels of the grid (the plane under the model, within depth precision) are not probed
+    }
+    probe_ = probe(point, field_ ? &*field_ : nullptr, probeModel_.get(), band_.get());
     probeValid_ = probeKept_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
     const float r = camera_.sceneRadius * 0.02f;
-    scene_.markers = {point - glm::vec3(r, 0, 0), point + glm::vec3(r, 0, 0), point - glm::vec3(0, r, 0), point + glm::vec3(0, r, 0),
-                      point - glm::vec3(0, 0, r), point + glm::vec3(0, 0, r)};
-    if (probe_.haveMesh) scene_.markers.insert(scene_.markers.end(), {point, glm::vec3(probe_.nearest)});
+    const glm::vec3 at(point);
+    scene_.markers = {at - glm::vec3(r, 0, 0), at + glm::vec3(r, 0, 0), at - glm::vec3(0, r, 0), at + glm::vec3(0, r, 0),
+                      at - glm::vec3(0, 0, r), at + glm::vec3(0, 0, r)};
+    if (probe_.haveMesh) scene_.markers.insert(scene_.markers.end(), {at, glm::vec3(probe_.nearest)});
+}
+
+// The ray-marched surface's point at `pixel` when that is what the pixel shows (the depth there,
+// `drawn`, is the ray march's, drawn a voxel nearer than its hit, or lies behind it), on the iso
+// level: the depth alone reads about a voxel off the level.
+std::optional<glm::dvec3> Viewer::marchedSurfaceAt(glm::ivec2 pixel, glm::vec3 drawn) const {
+    if (!field_ || !scene_.views["raymarch"]) return std::nullopt;
+    glm::vec3 origin, direction;
+    if (!scene_.pixelRay(pixel, origin, direction)) return std::nullopt;
+    MarchedRay ray;
+    ray.origin = glm::dvec3(origin);
+    ray.direction = glm::dvec3(direction);
+    ray.iso = scene_.iso;
+    ray.cut = scene_.cutPlane();
+    ray.capCut = !scene_.views["slice"];
+    ray.maxSteps = render::raymarchSteps(scene_.fieldBoxSize(), field_->background);
+    const std::optional<double> t = marchSurface(ray, *field_, band_.get());
+    if (!t) return std::nullopt;
+    // Something nearer than the drawn depth's voxel (and a quarter for depth precision) hides it.
+    const double voxel = field_->grid.voxel;
+    if (glm::dot(glm::dvec3(drawn) - ray.origin, ray.direction) < *t - 1.25 * voxel) return std::nullopt;
+    return ray.origin + *t * ray.direction;
 }
 
 // The probe's values: the field's (clamped outside its box) and the distance to the mesh.

@@ -17,6 +17,7 @@
 #include "render/scene.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,6 +61,7 @@ struct Inbox {
 struct Message {
     enum class Level { Info, Warning, Error } level = Level::Info;
     std::string text;
+    std::uint64_t serial = 0; // the order messages were said in (Viewer::messagesSaid_)
 };
 
 // One model of the scene, placed by its transform, with its colour and visibility.
@@ -132,6 +134,7 @@ private:
     void sceneInput(const FrameInput& input);
     void dragSlice(float dx, float dy);
     void probeAt(const FrameInput& input);
+    std::optional<glm::dvec3> marchedSurfaceAt(glm::ivec2 pixel, glm::vec3 drawn) const;
     void probeOverlay();
     void sceneHint();
     std::string probeText(const char* separator) const;
@@ -213,6 +216,7 @@ private:
     char comparePath_[1024] = "";
     char surfacePath_[1024] = "";
     Message modelMessage_, generationMessage_, fieldMessage_, screenshotMessage_;
+    std::uint64_t messagesSaid_ = 0; // an info message said before the last message is stale: greyed
     RecentFiles recent_;
     FileBrowser fileBrowser_;
     std::vector<std::string> pendingPaths_;
@@ -239,7 +243,9 @@ private:
     bool pendingAdd_ = false, askAboutBake_ = false;
     bool userChoseViews_ = false;
     bool sceneDrag_[3] = {false, false, false};
-    bool sliceTilt_ = false;
+    // What a left-drag does, from the modifiers at its press: orbit (as in MeshLab and polyscope),
+    // or with Ctrl over a shown slice move it along its normal, with Ctrl+Shift tilt it.
+    enum class LeftDrag { Orbit, MoveSlice, TiltSlice } leftDrag_ = LeftDrag::Orbit;
     bool probeOn_ = true, probeValid_ = false;
     // probe_ holds a reading of the scene shown (the last one, once the pointer left the scene):
     // the panel keeps it, so that its top line does not come and go under the pointer.

@@ -77,6 +77,14 @@ void VolumeRenderer::draw(const FrameInfo& frame, const FieldTexture& field, GLu
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
+int raymarchSteps(glm::vec3 boxSize, float background) {
+    // Beyond a band field's band the value is only the background (a lower bound of the distance),
+    // so steps there are at most the background: enough of them to cross the box.
+    int steps = 512;
+    if (background > 0.0f) steps += int(std::min(glm::length(boxSize) / background, 7680.0f));
+    return steps;
+}
+
 RaymarchRenderer::RaymarchRenderer() : program_("fullscreen.vert", "raymarch.frag") { glCreateVertexArrays(1, &vao_); }
 
 void RaymarchRenderer::draw(const FrameInfo& frame, const FieldTexture& field, bool shadows, float iso, glm::vec4 cut, bool capCut) {
@@ -88,11 +96,9 @@ void RaymarchRenderer::draw(const FrameInfo& frame, const FieldTexture& field, b
     program_.set("iso", iso);
     program_.set("cutPlane", cut);
     program_.set("capCut", capCut ? 1 : 0);
-    // Beyond a band field's band the value is only the background (a lower bound of the distance),
-    // so steps there are at most the background: enough of them to cross the box.
-    int steps = 512;
-    if (field.background() > 0.0f) steps += int(std::min(glm::length(field.boxSize()) / field.background(), 7680.0f));
-    program_.set("maxSteps", steps);
+    program_.set("hitDistance", kRaymarchHit);
+    program_.set("minStep", kRaymarchMinStep);
+    program_.set("maxSteps", raymarchSteps(field.boxSize(), field.background()));
     glBindVertexArray(vao_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }

@@ -110,31 +110,44 @@ ColourBarRenderer::~ColourBarRenderer() {
     glDeleteVertexArrays(1, &vao_);
 }
 
-void ColourBarRenderer::draw(glm::ivec2 size, glm::vec2 range, int colormap, const char* units) {
-    // The bar is 45% of the height at the right edge, its marks and text larger on big frames.
+void ColourBarRenderer::draw(glm::ivec2 size, const std::vector<ColourBar>& bars, int colormap, const char* units) {
+    // Each bar is 45% of the height, the first at the right edge and each next one left of the
+    // last one's values; marks and text larger on big frames.
     const float scale = size.y >= 400 ? 2.0f : 1.0f;
     const float margin = 10.0f * scale, width = 8.0f * scale;
     const float height = 0.45f * float(size.y);
-    const float x1 = float(size.x) - margin, x0 = x1 - width;
     const float y0 = 0.5f * (float(size.y) - height), y1 = y0 + height;
     const bool font = !uiFontPath().empty() && atlas_.load(uiFontPath(), std::clamp(std::round(float(size.y) / 42.0f), 11.0f, 26.0f));
     const float lineHeight = font ? atlas_.pixelHeight() : 9.0f * scale;
+    auto textWidth = [&](const std::string& line) { return font ? atlas_.width(line) : easyTextWidth(line, scale); };
     auto text = [&](std::vector<OverlayVertex>& out, float right, float top, const std::string& line) {
         if (font) addText(out, atlas_, right - atlas_.width(line), top, line);
         else addEasyText(out, right - easyTextWidth(line, scale), top + scale, scale, line);
     };
     std::vector<OverlayVertex> vertices;
-    addRect(vertices, x0 - 1.0f, y0 - 1.0f, x1 + 1.0f, y1 + 1.0f, glm::vec4(0.0f, 0.0f, 0.0f, 0.8f));
-    addRect(vertices, x0, y0, x1, y1, glm::vec4(1.0f), 1.0f, -1.0f); // top outside (range.y), bottom inside (range.x)
-    const float ticks[3] = {range.y, 0.0f, range.x};
-    for (int t = 0; t < 3; ++t) {
-        if (t == 2 && range.x == 0.0f) continue; // nothing inside: the bottom is 0, as the middle
-        const float y = y0 + height * float(t) / 2.0f;
-        addRect(vertices, x0 - 3.0f * scale, y - 0.5f * scale, x0, y + 0.5f * scale, glm::vec4(0.95f));
-        text(vertices, x0 - 5.0f * scale, y - 0.5f * lineHeight, label(ticks[t]));
-    }
-    for (int line = 0; line < 2; ++line) {
-        text(vertices, x1, y0 - (2.6f - 1.1f * float(line)) * lineHeight, line == 0 ? "signed distance" : units);
+    // The heading over the first bar; the bars' names (when they are named) on the line below it;
+    // a third of a line clear of the top value's label, which the heading touched on small frames.
+    const bool named = std::any_of(bars.begin(), bars.end(), [](const ColourBar& b) { return b.name != nullptr; });
+    const float headingTop = y0 - (named ? 4.0f : 2.9f) * lineHeight;
+    const float right = float(size.x) - margin;
+    text(vertices, right, headingTop, "signed distance");
+    text(vertices, right, headingTop + 1.1f * lineHeight, units);
+    float x1 = right;
+    for (const ColourBar& bar : bars) {
+        const float x0 = x1 - width;
+        addRect(vertices, x0 - 1.0f, y0 - 1.0f, x1 + 1.0f, y1 + 1.0f, glm::vec4(0.0f, 0.0f, 0.0f, 0.8f));
+        addRect(vertices, x0, y0, x1, y1, glm::vec4(1.0f), 1.0f, -1.0f); // top outside (range.y), bottom inside (range.x)
+        const float ticks[3] = {bar.range.y, 0.0f, bar.range.x};
+        float widest = 0.0f;
+        for (int t = 0; t < 3; ++t) {
+            if (t == 2 && bar.range.x == 0.0f) continue; // nothing inside: the bottom is 0, as the middle
+            const float y = y0 + height * float(t) / 2.0f;
+            addRect(vertices, x0 - 3.0f * scale, y - 0.5f * scale, x0, y + 0.5f * scale, glm::vec4(0.95f));
+            text(vertices, x0 - 5.0f * scale, y - 0.5f * lineHeight, label(ticks[t]));
+            widest = std::max(widest, textWidth(label(ticks[t])));
+        }
+        if (bar.name) text(vertices, x1, y0 - 1.8f * lineHeight, bar.name);
+        x1 = x0 - 5.0f * scale - std::max(widest, bar.name ? textWidth(bar.name) - width : 0.0f) - 2.0f * margin;
     }
     glNamedBufferData(vbo_, GLsizeiptr(vertices.size() * sizeof(OverlayVertex)), vertices.data(), GL_STREAM_DRAW);
     program_.use();

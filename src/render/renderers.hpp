@@ -119,6 +119,13 @@ private:
     GLuint vao_ = 0;
 };
 
+// The ray march's rule, shared by shaders/raymarch.frag (as uniforms) and the probe, which marches
+// the same rays on the CPU to pick the surface drawn: a hit where the field is under iso +
+// kRaymarchHit voxels, steps of the sampled distance but at least kRaymarchMinStep voxels, and at
+// most raymarchSteps of them.
+constexpr float kRaymarchHit = 0.02f, kRaymarchMinStep = 0.05f;
+int raymarchSteps(glm::vec3 boxSize, float background);
+
 // Sphere tracing of the level set field = iso (0: the surface): jumps to the box when outside it,
 // then steps by the sampled distance; normals from the gradient, Lambert + soft shadows + ambient
 // occlusion from the field; writes the hit's depth (a voxel nearer, so it wins over the mesh).
@@ -165,14 +172,20 @@ private:
     GLuint vao_ = 0, vbo_ = 0;
 };
 
-// The colour bar: the colour map from range.x (bottom, inside) through 0 to range.y (top, outside)
-// at the right edge of the frame, with its values and units written beside it in the interface
-// font (render/font.hpp).
+// A colour bar: the colour map from range.x (bottom, inside) through 0 to range.y (top, outside),
+// named after the view it belongs to (null: not named).
+struct ColourBar {
+    glm::vec2 range{0.0f};
+    const char* name = nullptr;
+};
+
+// The colour bars at the right edge of the frame, the first rightmost, each with its values (and
+// name) beside it, under a heading with the units, in the interface font (render/font.hpp).
 class ColourBarRenderer {
 public:
     ColourBarRenderer();
     ~ColourBarRenderer();
-    void draw(glm::ivec2 size, glm::vec2 range, int colormap, const char* units);
+    void draw(glm::ivec2 size, const std::vector<ColourBar>& bars, int colormap, const char* units);
 
 private:
     Program program_;

@@ -1,6 +1,7 @@
 #include "render/scene.hpp"
 #include "sdfgen/error.hpp"
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
 #include <algorithm>
 #include <cmath>
@@ -93,6 +94,14 @@ glm::vec4 Scene::cutPlane() const {
     if (sliceCut == 0 || field_.empty()) return glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
     const glm::vec4 plane = slicePlane(field_.boxMin(), field_.boxSize(), glm::normalize(sliceNormal), slicePosition);
     return sliceCut > 0 ? plane : -plane;
+}
+
+std::vector<ColourBar> Scene::colourBars() const {
+    std::vector<ColourBar> bars;
+    if (views["slice"]) bars.push_back({effectiveRange(sliceRange), "slice"});
+    if (views["volume"] && (bars.empty() || bars[0].range != effectiveRange(volumeRange))) bars.push_back({effectiveRange(volumeRange), "volume"});
+    if (bars.size() == 1) bars[0].name = nullptr; // one range: the bar needs no name
+    return bars;
 }
 
 glm::vec2 fieldValueRange(const Field& field) {
@@ -209,9 +218,7 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glDisable(GL_DEPTH_TEST);
     if (!markers.empty()) lines_.draw(frame, markers, glm::vec4(1.0f, 0.95f, 0.2f, 1.0f));
-    if (colourBar && !field_.empty() && distanceShown) {
-        colourBar_.draw(size, colourBarRange(), colormap, "(model units)");
-    }
+    if (colourBar && !field_.empty() && distanceShown) colourBar_.draw(size, colourBars(), colormap, "(model units)");
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     present(target);
@@ -235,15 +242,30 @@ Image Scene::image() const {
     return image;
 }
 
+namespace {
+// The normalized device coordinates of a pixel's centre (pixels from the top left).
+glm::vec2 pixelNdc(glm::ivec2 pixel, glm::ivec2 size) {
+    return glm::vec2((float(pixel.x) + 0.5f) / float(size.x) * 2.0f - 1.0f, 1.0f - (float(pixel.y) + 0.5f) / float(size.y) * 2.0f);
+}
+} // namespace
+
 bool Scene::surfaceAt(glm::ivec2 pixel, glm::vec3& point) {
     if (!fbo_ || pixel.x < 0 || pixel.y < 0 || pixel.x >= targetSize_.x || pixel.y >= targetSize_.y) return false;
     float depth = 1.0f;
     glGetTextureSubImage(depth_, 0, pixel.x, targetSize_.y - 1 - pixel.y, 0, 1, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, sizeof(depth), &depth);
     if (depth >= 1.0f) return false;
-    const glm::vec2 ndc((float(pixel.x) + 0.5f) / float(targetSize_.x) * 2.0f - 1.0f,
-                        1.0f - (float(pixel.y) + 0.5f) / float(targetSize_.y) * 2.0f);
-    const glm::vec4 p = frame_.inverseViewProjection * glm::vec4(ndc, depth * 2.0f - 1.0f, 1.0f);
+    const glm::vec4 p = frame_.inverseViewProjection * glm::vec4(pixelNdc(pixel, targetSize_), depth * 2.0f - 1.0f, 1.0f);
     point = glm::vec3(p) / p.w;
+    return true;
+}
+
+bool Scene::pixelRay(glm::ivec2 pixel, glm::vec3& origin, glm::vec3& direction) const {
+    if (!fbo_ || pixel.x < 0 || pixel.y < 0 || pixel.x >= targetSize_.x || pixel.y >= targetSize_.y) return false;
+    const glm::vec2 ndc = pixelNdc(pixel, targetSize_);
+    const glm::vec4 nearPoint = frame_.inverseViewProjection * glm::vec4(ndc, -1.0f, 1.0f);
+    const glm::vec4 farPoint = frame_.inverseViewProjection * glm::vec4(ndc, 1.0f, 1.0f);
+    origin = glm::vec3(nearPoint) / nearPoint.w;
+    direction = glm::normalize(glm::vec3(farPoint) / farPoint.w - origin);
     return true;
 }
 

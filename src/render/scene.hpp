@@ -67,7 +67,7 @@ public:
     float iso = 0.0f;           // the ray-marched level set (0: the surface; > 0: offset outwards)
     bool wireSeeThrough = false; // the wireframe shows hidden edges too
     bool headlight = true;      // the light follows the camera (else a fixed light from above)
-    bool colourBar = true;      // drawn when the slice or the volume is shown
+    bool colourBar = true;      // drawn when the slice or the volume is shown, one per range
     int colormap = 0;           // 0 diverging, 1 viridis, 2 grey (shaders/colormap.glsl)
     // The distances at which the colour map saturates inside (x < 0) and outside (y > 0), for the
     // slice and the volume each; (0, 0): symmetric, a quarter of the box's longest side (a band
@@ -82,8 +82,9 @@ public:
 
     // The range a view's colours use: `range`, or the symmetric automatic one where it is (0, 0).
     glm::vec2 effectiveRange(glm::vec2 range) const;
-    // The colour bar's: the slice's while it is shown, else the volume's.
-    glm::vec2 colourBarRange() const { return effectiveRange(views["slice"] ? sliceRange : volumeRange); }
+    // The colour bars drawn: one per range of the slice and the volume shown, each named after its
+    // view where they differ.
+    std::vector<ColourBar> colourBars() const;
     // The plane that cuts (as the shaders take it: dot(xyz, p) > w is cut), (0, 0, 0, 1) for none.
     glm::vec4 cutPlane() const;
     float gridHeight() const { return gridHeight_; } // the grid's plane: y = the meshes' lowest point (the field's box's without)
@@ -98,6 +99,9 @@ public:
     // The world point drawn at `pixel` (from the top left) in the last frame: the nearest opaque
     // surface there (mesh, ray-marched surface, slice or grid), or false where there is none.
     bool surfaceAt(glm::ivec2 pixel, glm::vec3& point);
+    // The ray the full-screen passes (the ray march) cast through `pixel` in the last frame: from
+    // the near plane through the pixel's centre, `direction` unit; false off the frame.
+    bool pixelRay(glm::ivec2 pixel, glm::vec3& origin, glm::vec3& direction) const;
     const FrameInfo& lastFrame() const { return frame_; }
     // The last frame drawn, top row first.
     Image image() const;

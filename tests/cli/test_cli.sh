@@ -107,7 +107,7 @@ PY
 fi
 # A field made from another mesh: render says so on stderr and still draws. (Mesa's OSMesa leaks
 # at exit, so the sanitizer build's leak check is off for this one drawing command.)
-vexpect 0 "^sdfgen: warning: $work/tet.sdf: the field was made from $work/tet.obj, not from bunny.obj" -- \
+vexpect 0 "^sdfgen: warning: $work/tet.sdf: the field was made from $work/tet.obj, not from bunny.obj, and its grid does not cover the model" -- \
   env ASAN_OPTIONS=detect_leaks=0 "$sdfgen" render "$bunny" --sdf "$work/tet.sdf" --view slice --size 32x24 -o "$work/mismatch.png"
 # render: bad arguments are one-line errors before any OpenGL context is made.
 vexpect fail "^sdfgen: unknown view 'bogus'" -- "$sdfgen" render "$work/tet.obj" --view mesh,bogus -o "$work/x.png"

@@ -10,8 +10,9 @@
 # motion after it) is drawn; a .npz from Recent loads as a field; a long error is shown in full;
 # an 80 ms arrow tap turns 3 +- 1 degrees and a held arrow 90 per second; the view checkboxes flip
 # exactly their view and change the scene; the probe reports the field's trilinear value where the
-# pointer is; a field made from another mesh is warned about; at 400 ms per frame a tapped F still
-# reframes and a click still toggles; the surface exports and a field compares with itself as
+# pointer is, and the iso level (within 1e-3) on the ray-marched surface; a field made from
+# another mesh is warned about; an earlier action's message is greyed once another is said; at 400 ms per frame a tapped F still reframes and a click still
+# toggles; the surface exports and a field compares with itself as
 # equal; a field opened without a model is framed, and Shift+F frames it again; a resized window
 # keeps the framing (a narrower one moves the camera back so that the scene stays in view); the
 # window's title names what it shows; and (issue 40) the panel stays put under a still pointer,
@@ -144,7 +145,7 @@ awk -v c="$cpu" 'BEGIN { exit !(c < 5) }' || fail "an idle viewer used $cpu% of 
 echo "idle viewer: $cpu% of a core over 5 s"
 
 # --- every control of the panel can be scrolled into view at 800x500.
-names=$(grep -vE '^(text|panel|sections|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
+names=$(grep -vE '^(text|stale|panel|sections|scroll|draws) ' "$work/shots/widgets.txt" | cut -d' ' -f1)
 count=0
 for name in $names; do
   reach "$name"
@@ -202,11 +203,18 @@ yaw2=$(camera_of $((shots - 1)) | cut -d, -f1)
 awk -v a="$yaw0" -v b="$yaw1" 'BEGIN { d = a - b; exit !(d >= 2 && d <= 4) }' || fail "an 80 ms arrow tap turned from $yaw0 to $yaw1, not 3 degrees"
 awk -v a="$yaw1" -v b="$yaw2" 'BEGIN { d = b - a; exit !(d >= 60 && d <= 90) }' || fail "a 1 s arrow hold turned from $yaw1 to $yaw2, not 3 + 0.75 * 90 degrees"
 echo "arrow tap of 80 ms: yaw $yaw0 -> $yaw1; held 1 s: -> $yaw2"
-# The yaw back to 30 degrees (Ctrl+click makes the slider a text box): the checks below expect
-# the first camera.
+# A double click makes a slider a text box (as Ctrl+click does) without moving it first: Escape
+# leaves the yaw as it was. Then the yaw back to 30 degrees typed in: the checks below expect the
+# first camera.
 reach yaw
 read -r x0 y0 x1 y1 _ <<<"$(widget yaw)"
-xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2)) keydown ctrl click 1 keyup ctrl
+xdotool mousemove --window "$window" $((x0 + 5)) $(((y0 + y1) / 2)) click --repeat 2 --delay 80 1
+sleep 0.3
+xdotool key Escape
+xdotool mousemove --window "$window" 790 490
+shoot
+[ "$(camera_of $((shots - 1)))" = "$(camera_of $((shots - 2)))" ] || fail "a double click on the yaw slider moved it: $(camera_of $((shots - 2))) -> $(camera_of $((shots - 1)))"
+xdotool mousemove --window "$window" $((x0 + 5)) $(((y0 + y1) / 2)) click --repeat 2 --delay 80 1
 xdotool key ctrl+a
 xdotool type --delay 20 30
 xdotool key Return
@@ -271,7 +279,8 @@ type_into resolution 32
 
 # --- loading a field made from another mesh warns, and the figures become the field's own.
 type_into field_path "$work/tet.sdf"
-until_ok grep -q "^message field warning: .*made from .*tet.obj, not from bunny.obj" "$work/log" || fail "no warning for a mismatched field"
+until_ok grep -q "^message field warning: .*made from .*tet.obj, not from bunny.obj, and its grid does not cover the model" "$work/log" ||
+  fail "no warning for a mismatched field (another mesh's, not covering the bunny)"
 until_ok grep -q "^text stats method exact loaded" "$work/shots/widgets.txt" || fail "the panel kept the bake's figures"
 echo "mismatched field: $(grep '^message field warning' "$work/log" | tail -1)"
 type_into field_path "$work/bunny.sdf"
@@ -314,6 +323,48 @@ if mesh_distance > 0.25 * h:
 sys.exit(0 if abs(reported - expected) <= 1e-5 * h + 1e-7 else 1)
 EOF
 
+# --- the probe on the ray-marched surface reads the iso level (within 1e-3; the march stops short
+# of it and its depth is drawn a voxel nearer, which read +0.087), at iso 0 and 0.5, on the dense
+# field and on a band field (the band's own samples).
+# probe_reads LEVEL: a reading at 547,262 since line $mark of the log, within 1e-3 of LEVEL.
+probe_reads() {
+  tail -n +"$mark" "$work/log" | grep '^probe .* pointer=547,262$' | tail -1 |
+    awk -v level="$1" '{ v = substr($5, 7) + 0; d = v - level; if (d < 0) d = -d; found = 1; exit !(d <= 1e-3) } END { if (!found) exit 1 }'
+}
+# probe_marched LEVEL: the pointer off the scene, then over the model; waits for the reading.
+probe_marched() {
+  xdotool mousemove --window "$window" 790 490
+  sleep 0.3
+  mark=$(($(wc -l <"$work/log") + 1))
+  xdotool mousemove --window "$window" 547 262
+  until_ok probe_reads "$1" ||
+    fail "the probe on the ray-marched surface at iso $1 read $(tail -n +"$mark" "$work/log" | grep '^probe .* pointer=547,262$' | tail -1)"
+  echo "ray-marched surface at iso $1: $(tail -n +"$mark" "$work/log" | grep '^probe .* pointer=547,262$' | tail -1)"
+}
+set_iso() {
+  reach Iso_level
+  read -r x0 y0 x1 y1 _ <<<"$(widget Iso_level)"
+  xdotool mousemove --window "$window" $(((x0 + x1) / 2)) $(((y0 + y1) / 2)) keydown ctrl click 1 keyup ctrl
+  xdotool key ctrl+a
+  xdotool type --delay 20 "$1"
+  xdotool key Return
+}
+click Ray-marched
+probe_marched 0
+set_iso 0.5
+probe_marched 0.5
+logged_since_mark() { tail -n +"$mark" "$work/log" | grep -q "$1"; }
+mark=$(($(wc -l <"$work/log") + 1))
+type_into field_path "$work/band.npz"
+until_ok logged_since_mark "^message field info: loaded .*band.npz" || fail "the band field did not load"
+probe_marched 0.5
+set_iso 0
+probe_marched 0
+mark=$(($(wc -l <"$work/log") + 1))
+type_into field_path "$work/bunny.sdf"
+until_ok logged_since_mark "^message field info: loaded .*bunny.sdf" || fail "the bunny's field did not load again"
+click Ray-marched
+
 # --- the view checkboxes: each flips exactly its view and changes the scene.
 shoot
 previous=$((shots - 1))
@@ -338,17 +389,39 @@ until_ok grep -q "^message screenshot info: saved $work/sdfgen-1.png" "$work/log
 [ "$(head -c 8 "$work/sdfgen-1.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "the screenshot is not a PNG"
 echo "Screenshot button: $work/sdfgen-1.png"
 
-# --- left-drag in the view moves the slice along its normal.
+# --- left-drag orbits (the slice stays); Ctrl+left-drag moves the slice along its normal (the
+# camera stays); Ctrl+Shift+left-drag tilts it, 0.15 degrees a pixel: at most 15 for this drag
+# (the former 0.4 a pixel turned it up to 37).
 click Slice
+xdotool mousemove --window "$window" 790 490
 shoot
-slice_before=$(grep "^screenshot $((shots - 1)):" "$work/log" | grep -o 'slice=[0-9.]*')
-xdotool mousemove --window "$window" 500 300 mousedown 1
-for step in 1 2 3 4 5 6; do xdotool mousemove --window "$window" $((500 + 12 * step)) $((300 + 10 * step)); done
-xdotool mouseup 1
-shoot
-slice_after=$(grep "^screenshot $((shots - 1)):" "$work/log" | grep -o 'slice=[0-9.]*')
-[ "$slice_before" != "$slice_after" ] || fail "dragging in the view did not move the slice ($slice_before)"
-echo "dragging the slice: $slice_before -> $slice_after"
+# drag MODIFIERS: a left-drag of 72 x 60 pixels over the scene with those keys held ("" for none).
+drag() {
+  [ -z "$1" ] || xdotool keydown "$1"
+  xdotool mousemove --window "$window" 500 300 mousedown 1
+  for step in 1 2 3 4 5 6; do xdotool mousemove --window "$window" $((500 + 12 * step)) $((300 + 10 * step)); done
+  xdotool mouseup 1
+  [ -z "$1" ] || xdotool keyup "$1"
+  xdotool mousemove --window "$window" 790 490
+  shoot
+}
+field_of() { grep "^screenshot $1:" "$work/log" | grep -o "$2=[^ ]*"; }
+drag ""
+[ "$(field_of $((shots - 2)) slice)" = "$(field_of $((shots - 1)) slice)" ] || fail "a left-drag moved the slice"
+[ "$(camera_of $((shots - 2)))" != "$(camera_of $((shots - 1)))" ] || fail "a left-drag did not orbit"
+echo "left-drag orbits: camera $(camera_of $((shots - 2))) -> $(camera_of $((shots - 1)))"
+drag ctrl
+[ "$(field_of $((shots - 2)) slice)" != "$(field_of $((shots - 1)) slice)" ] || fail "Ctrl+left-drag did not move the slice"
+[ "$(camera_of $((shots - 2)))" = "$(camera_of $((shots - 1)))" ] || fail "Ctrl+left-drag turned the camera"
+echo "Ctrl+left-drag moves the slice: $(field_of $((shots - 2)) slice) -> $(field_of $((shots - 1)) slice)"
+drag ctrl+shift
+/usr/bin/python3 - "$(field_of $((shots - 2)) normal)" "$(field_of $((shots - 1)) normal)" <<'PY' || fail "Ctrl+Shift+left-drag did not tilt the slice by 1 to 15 degrees"
+import math, sys
+a, b = ([float(v) for v in arg.split("=")[1].split(",")] for arg in sys.argv[1:])
+angle = math.degrees(math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b))))))
+print(f"Ctrl+Shift+left-drag of 72 x 60 pixels tilts the slice {angle:.2f} degrees")
+sys.exit(0 if 1 <= angle <= 15 else 1)
+PY
 
 # --- a scene of two models: adding one outside the field's box warns, and Generate bakes the
 # union, whose saved field names both.
@@ -356,6 +429,9 @@ printf 'v 20 0 0\nv 21 0 0\nv 20 1 0\nv 20 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3
 set_text model_path "$work/far.obj"
 click model_add
 until_ok grep -q "^message model info: added far.obj: 3678 triangles in the scene" "$work/log" || fail "Add to scene did not add the model"
+# The Screenshot button's message is about an earlier action now: greyed (kept, nothing moves).
+until_ok grep -qx "stale ##screenshot_message" "$work/shots/widgets.txt" || fail "the screenshot's message is not shown as stale after Add to scene"
+! grep -qx "stale ##model_message" "$work/shots/widgets.txt" || fail "the newest message is shown as stale"
 until_ok grep -q "^message field warning: the field shown does not fit the scene: .*not from bunny.obj+far.obj" "$work/log" ||
   fail "no warning that the field is not the scene's"
 until_ok grep -q "^generate " "$work/shots/widgets.txt"

@@ -383,6 +383,37 @@ TEST_F(RenderTest, ColourBarFollowsTheColourMap) {
     EXPECT_GT(diverging.pixel(x, bottom)[0], diverging.pixel(x, bottom)[2] + 60);
 }
 
+// One colour bar per range: with the slice and the volume on the same range, one bar (not named);
+// with different ranges, a bar each, named "slice" and "volume", the volume's drawn left of the
+// slice's, whose bar stays where the single one was.
+TEST_F(RenderTest, ColourBarPerRange) {
+    const Views both = only("slice,volume");
+    std::vector<ColourBar> bars;
+    const Image one = draw("torus", both, 30.0f, 20.0f, glm::vec3(0.16f, 0.17f, 0.19f), true, [&](Scene& s) { bars = s.colourBars(); });
+    ASSERT_EQ(bars.size(), 1u);
+    EXPECT_EQ(bars[0].name, nullptr);
+    const Image two = draw("torus", both, 30.0f, 20.0f, glm::vec3(0.16f, 0.17f, 0.19f), true, [&](Scene& s) {
+        s.volumeRange = glm::vec2(-0.1f, 0.1f);
+        bars = s.colourBars();
+    });
+    ASSERT_EQ(bars.size(), 2u);
+    EXPECT_STREQ(bars[0].name, "slice");
+    EXPECT_STREQ(bars[1].name, "volume");
+    EXPECT_EQ(bars[1].range, glm::vec2(-0.1f, 0.1f));
+    // The bars' columns: the slice's at the right edge as before, another one further left (the
+    // colour map's top and bottom: blue over red in the diverging map).
+    auto barAt = [](const Image& image, int x) {
+        const int top = int(0.5f * (1.0f - 0.45f) * float(image.height)) + 3, bottom = int(0.5f * (1.0f + 0.45f) * float(image.height)) - 3;
+        const std::uint8_t *t = image.pixel(x, top), *b = image.pixel(x, bottom);
+        return t[2] > t[0] + 60 && b[0] > b[2] + 60;
+    };
+    EXPECT_TRUE(barAt(one, one.width - 14));
+    EXPECT_TRUE(barAt(two, two.width - 14));
+    int left = 0;
+    for (int x = two.width - 40; x > two.width / 2 && !left; --x) left = barAt(two, x) && !barAt(one, x) ? x : 0;
+    EXPECT_GT(left, 0) << "no second bar left of the slice's";
+}
+
 // A scene's mesh hidden with its visibility toggle is not drawn, and nothing else changes.
 TEST_F(RenderTest, HiddenMeshOfASceneIsNotDrawn) {
     const glm::vec3 grey(0.16f, 0.17f, 0.19f);

@@ -12,6 +12,16 @@
 #include <unistd.h>
 #include <vector>
 
+// Defined in a build under AddressSanitizer, whose allocator and shadow memory some tests must allow for.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SDFGEN_TEST_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define SDFGEN_TEST_ASAN 1
+#endif
+
 #define EXPECT_CONTAINS(text, part)                                                                  \
     EXPECT_NE(std::string(text).find(part), std::string::npos)                                       \
         << "expected to find '" << (part) << "' in '" << (text) << "'"

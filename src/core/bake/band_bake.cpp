@@ -17,6 +17,8 @@
 #include <cstdio>
 #include <thread>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 namespace sdfgen {
 
@@ -127,23 +129,73 @@ bool before(const glm::ivec3& a, const glm::ivec3& b) { return std::tie(a.z, a.y
 
 } // namespace
 
+namespace {
+// The area of the fans that close the mesh's holes, as if each boundary loop (edges of one
+// triangle, by vertex index) were closed by a fan from its centroid: where a fan crosses bricks out
+// of the band whose samples lie on both of its sides, the band bake stores those bricks too.
+double holesArea(const Mesh& mesh) {
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges; // (undirected key, triangle*3 + corner)
+    edges.reserve(3 * mesh.triangleCount());
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint64_t a = mesh.triangles[t][c], b = mesh.triangles[t][(c + 1) % 3];
+            edges.emplace_back(std::min(a, b) << 32 | std::max(a, b), std::uint32_t(3 * t + std::size_t(c)));
+        }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary; // directed, as their triangle winds them
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+        const bool shared = (e > 0 && edges[e - 1].first == edges[e].first) || (e + 1 < edges.size() && edges[e + 1].first == edges[e].first);
+        if (shared) continue;
+        const std::size_t t = edges[e].second / 3;
+        const int c = int(edges[e].second % 3);
+        boundary.emplace_back(mesh.triangles[t][c], mesh.triangles[t][(c + 1) % 3]);
+    }
+    std::sort(boundary.begin(), boundary.end());
+    std::vector<bool> used(boundary.size(), false);
+    double area = 0.0;
+    std::vector<glm::dvec3> loop;
+    for (std::size_t start = 0; start < boundary.size(); ++start) {
+        if (used[start]) continue;
+        loop.clear();
+        for (std::size_t e = start; e < boundary.size() && !used[e];) { // follows the loop until it closes or breaks
+            used[e] = true;
+            loop.emplace_back(mesh.positions[boundary[e].first]);
+            auto next = std::lower_bound(boundary.begin(), boundary.end(), std::pair<std::uint32_t, std::uint32_t>(boundary[e].second, 0));
+            while (next != boundary.end() && next->first == boundary[e].second && used[std::size_t(next - boundary.begin())]) ++next;
+            e = next != boundary.end() && next->first == boundary[e].second ? std::size_t(next - boundary.begin()) : boundary.size();
+        }
+        glm::dvec3 centre(0.0);
+        for (const glm::dvec3& p : loop) centre += p / double(loop.size());
+        for (std::size_t i = 0; i < loop.size(); ++i) area += 0.5 * glm::length(glm::cross(loop[i] - centre, loop[(i + 1) % loop.size()] - centre));
+    }
+    return area;
+}
+} // namespace
+
 std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double band) {
-    // The band's bricks from the surface's area: a sheet of area A crosses about A / (8h)² brick
-    // columns, (2 band + 8) / 8 bricks deep; twice that for curvature, corners and the fans' bricks.
+    // The band's bricks from the surface's area: a sheet of area A with unit normal n crosses
+    // A / (8h)² brick columns, each (2 band + 8 |n|₁) / 8 bricks deep on average (|n|₁ at most √3:
+    // the worst orientation), half as many again for curvature and corners (the bunny's bricks
+    // are 2.27 columns deep at band 3, this 2.48 × 1.5); and the bricks the holes' fans cross,
+    // 8 |n|₁ / 8 deep, out of the band.
     double area = 0.0;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
         const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
         area += 0.5 * glm::length(glm::cross(b - a, c - a));
     }
-    const double h = grid.voxel / mesh.unit;
+    const double h = grid.voxel / mesh.unit, brickArea = double(kBrick * kBrick) * h * h;
     const glm::dvec3 brickDims = glm::ceil(glm::dvec3(grid.dims) / double(kBrick));
     const double allBricks = brickDims.x * brickDims.y * brickDims.z;
-    const double bricks = std::min(allBricks, 2.0 * area / (64.0 * h * h) * (2.0 * band + 8.0) / 8.0 + 64.0);
-    // Values and coordinates, once more while the fans' bricks are merged in; the crossings of a
-    // layer of rows per thread; the tree's and the scan's tables per triangle.
-    const double perBrick = 2.0 * (SparseField::kBrickSamples * sizeof(float) + sizeof(glm::ivec3));
+    const double bandBricks = 1.5 * area / brickArea * (2.0 * band + kBrick * std::sqrt(3.0)) / kBrick + 64.0;
+    const double fanBricks = 1.5 * holesArea(mesh) / brickArea * std::sqrt(3.0);
+    // Per brick its values (never copied: the fans' bricks, kept as a byte a sample until then,
+    // are merged in place) and its coordinates, found, gathered and kept; the crossings of a layer
+    // of rows per thread; the tree's and the scan's tables per triangle.
+    const double perBrick = SparseField::kBrickSamples * sizeof(float) + 3.0 * sizeof(glm::ivec3);
+    const double perFanBrick = perBrick + 2.0 * SparseField::kBrickSamples;
     const double rows = double(grid.dims.y) * kBrick * 64.0 * double(std::max(1u, std::thread::hardware_concurrency()));
-    return std::uint64_t(bricks * perBrick + rows + double(mesh.triangleCount()) * 160.0);
+    return std::uint64_t(std::min(allBricks, bandBricks) * perBrick + std::min(allBricks, fanBricks) * perFanBrick + rows +
+                         double(mesh.triangleCount()) * 160.0);
 }
 
 void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, const RunControl& control) {

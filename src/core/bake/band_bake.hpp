@@ -13,7 +13,8 @@ namespace sdfgen {
 // and the magnitude band * voxel. Cost and memory follow the band's bricks, not the grid.
 void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, const RunControl& control);
 
-// The peak bytes bakeBand allocates, estimated from the mesh's area.
+// The peak bytes bakeBand allocates, estimated from the mesh's area: an upper bound, within twice
+// the bake's peak on closed and open meshes (tests/test_band_bake.cpp).
 std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double band);
 
 } // namespace sdfgen

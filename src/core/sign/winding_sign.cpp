@@ -1164,8 +1164,8 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
     const std::vector<std::size_t> sidedStart = layerStarts(sidedCoordinates);
     struct Layer {
         std::vector<std::array<int, 6>> boxes;
-        std::vector<glm::ivec3> mixed; // fan bricks with both sides, and their values
-        std::vector<float> values;
+        std::vector<glm::ivec3> mixed; // fan bricks with both sides, and their samples' sides (1 inside):
+        std::vector<std::uint8_t> inside; // a quarter of their values' bytes until they are merged in
     };
     std::vector<Layer> layers(std::size_t(brickDims.z));
     const float background = band.background;
@@ -1306,7 +1306,7 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
                     side = in && out ? -1 : in ? 1 : 0;
                     if (side < 0) {
                         layer.mixed.push_back(brick);
-                        for (const std::uint8_t f : flags) layer.values.push_back(f == 1 ? -background : background);
+                        for (const std::uint8_t f : flags) layer.inside.push_back(f == 1);
                     }
                 }
                 if (side == 1) {
@@ -1323,12 +1323,12 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
     for (const Layer& layer : layers) added += layer.mixed.size();
     if (added) {
         std::vector<glm::ivec3> mixed;
-        std::vector<float> mixedValues;
-        mixed.reserve(added), mixedValues.reserve(added * SparseField::kBrickSamples);
+        std::vector<std::uint8_t> mixedInside;
+        mixed.reserve(added), mixedInside.reserve(added * SparseField::kBrickSamples);
         for (Layer& layer : layers) {
             mixed.insert(mixed.end(), layer.mixed.begin(), layer.mixed.end());
-            mixedValues.insert(mixedValues.end(), layer.values.begin(), layer.values.end());
-            layer.mixed = {}, layer.values = {};
+            mixedInside.insert(mixedInside.end(), layer.inside.begin(), layer.inside.end());
+            layer.mixed = {}, layer.inside = {};
         }
         std::size_t a = band.bricks.size(), b = mixed.size(), out = a + b;
         band.bricks.resize(out);
@@ -1345,8 +1345,7 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
             } else {
                 --b;
                 band.bricks[out] = mixed[b];
-                std::copy(mixedValues.begin() + std::ptrdiff_t(b * n), mixedValues.begin() + std::ptrdiff_t((b + 1) * n),
-                          band.values.begin() + std::ptrdiff_t(out * n));
+                for (std::size_t k = 0; k < n; ++k) band.values[out * n + k] = mixedInside[b * n + k] ? -background : background;
             }
         }
     }
