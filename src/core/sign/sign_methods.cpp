@@ -175,8 +175,8 @@ SignDecision decideSign(SignMethod asked, SignMethod whenDefault, const std::fun
                                      "is -1 inside, and |w| > 1/2 counts that as inside";
         }
     } else if (decision.sign == SignMethod::Pseudonormal && topology().insideOut()) {
-        decision.warnings.push_back("the mesh is inside out (closed, its faces point inwards); --sign pseudonormal follows "
-                                    "the faces, so inside and outside are swapped; --sign auto or winding fixes it");
+        decision.warnings.push_back("the mesh is inside out (closed, its faces point inwards); sign pseudonormal follows "
+                                    "the faces, so inside and outside are swapped; sign auto or winding fixes it");
     }
     return decision;
 }
