@@ -14,8 +14,8 @@ plug-ins (src/vdb, src/assimp), then the front ends, in this order: src/render, 
 then src/cli and python/; the core includes none of them. The front ends (src/cli, src/app,
 src/render, python/) reach the core through include/sdfgen/ alone: a front end's include of a core
 internal is a violation too, unless that header is in EXPORTED (an interface the core exports on
-purpose). The plug-ins and the GPU device implement the core's internal plug-in interfaces and may
-include its internals.
+purpose, which itself may include only the standard library and include/sdfgen/). The plug-ins
+and the GPU device implement the core's internal plug-in interfaces and may include its internals.
 
 Each violation is "FILE -> INCLUDED" (paths from ROOT). The ones that existed when this check was
 added are listed in BASELINE, which may only shrink: the check fails on any violation not in it,
@@ -31,8 +31,13 @@ CORE_RANKS = [("runtime", "simd"), ("mesh",), ("accel",), ("method",), ("distanc
 # Above the core, lowest first.
 OUTER_RANKS = [("vdb", "assimp"), ("render",), ("gpu",), ("app",), ("cli", "python")]
 FRONT_ENDS = {"cli", "app", "render", "python"}
-# Core internals a front end may include: interfaces the core exports on purpose (none yet).
-EXPORTED = set()
+# Core internals a front end may include: leaf headers that every part of sdfgen is meant to use
+# alike, each including only the standard library and include/sdfgen/ (checked).
+EXPORTED = {
+    "src/core/io/atomic_file.hpp",     # every output file is written atomically, the front ends' own too (PNG, query .npy)
+    "src/core/io/file_extension.hpp",  # the one way a file's format is read from its name
+    "src/core/simd/path.hpp",          # which copy of the SIMD kernels runs: for `sdfgen info`, tests and benchmarks
+}
 
 BASELINE = {
     # Upward in the core, and between siblings: what issue 42 items 1 and 2 are to move.
@@ -65,28 +70,18 @@ BASELINE = {
     "python/module.cpp -> src/core/runtime/parallel.hpp",
     "python/nearest.cpp -> src/core/mesh/geometry.hpp",
     "python/nearest.cpp -> src/core/runtime/parallel.hpp",
-    "src/app/file_browser.cpp -> src/core/io/file_extension.hpp",
     "src/app/panel_field.cpp -> src/core/bake/surface.hpp",
     "src/app/panel_generation.cpp -> src/core/bake/band_bake.hpp",
     "src/app/panel_generation.cpp -> src/core/mesh/sample_positions.hpp",
     "src/app/panel_generation.cpp -> src/core/runtime/memory.hpp",
     "src/app/undo.cpp -> src/core/runtime/memory.hpp",
-    "src/app/viewer.cpp -> src/core/io/file_extension.hpp",
-    "src/cli/bake.cpp -> src/core/io/file_extension.hpp",
     "src/cli/batch.cpp -> src/core/runtime/memory.hpp",
     "src/cli/batch.cpp -> src/core/runtime/out_of_memory.hpp",
-    "src/cli/batch_plan.cpp -> src/core/io/file_extension.hpp",
-    "src/cli/commands.hpp -> src/core/io/atomic_file.hpp",
-    "src/cli/info.cpp -> src/core/simd/path.hpp",
-    "src/cli/query.cpp -> src/core/io/atomic_file.hpp",
     "src/cli/query.cpp -> src/core/io/formats/format.hpp",
     "src/cli/query.cpp -> src/core/io/formats/npy.hpp",
     "src/cli/surface.cpp -> src/core/bake/surface.hpp",
-    "src/cli/surface.cpp -> src/core/io/file_extension.hpp",
-    "src/cli/surface.cpp -> src/core/mesh/topology.hpp",
     "src/render/band_display.cpp -> src/core/runtime/memory.hpp",
     "src/render/band_display.cpp -> src/core/runtime/parallel.hpp",
-    "src/render/image.cpp -> src/core/io/atomic_file.hpp",
 }
 
 SOURCE_EXTENSIONS = (".cpp", ".hpp", ".h", ".inc")
@@ -155,6 +150,13 @@ def violation(source, target):
     return None
 
 
+def exported_leak(source, target):
+    """Why an exported header may not include `target`, or None."""
+    if source in EXPORTED and place(target)[0] != "public":
+        return "an exported interface includes an internal one"
+    return None
+
+
 def violations(root):
     found = {}
     for path in sources(root):
@@ -164,7 +166,7 @@ def violations(root):
             target = resolve(root, path, included)
             if target is None:
                 continue
-            why = violation(path, target)
+            why = exported_leak(path, target) or violation(path, target)
             if why:
                 found[f"{path} -> {target}"] = why
     return found

@@ -3,7 +3,6 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "core/bake/surface.hpp"
-#include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
@@ -70,8 +69,7 @@ void runSurface(const SurfaceArgs& args) {
         throw Error(args.input + ": " + e.what());
     }
     // Checked before the old output is replaced: a surface that is no valid mesh is never saved.
-    const Mesh result = buildMesh(args.output, surface.positions, surface.triangles);
-    const MeshCheck check = MeshTopology(result).check(result, Bvh(result));
+    const MeshCheck check = Model(buildMesh(args.output, surface.positions, surface.triangles)).check();
     saveSurface(surface, args.output);
     const double seconds = total.seconds();
     const Grid& g = banded ? sparse.grid : field.grid;

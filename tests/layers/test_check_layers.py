@@ -65,6 +65,11 @@ with tempfile.TemporaryDirectory(prefix="sdfgen-layers-") as scratch:
            "include/sdfgen/mesh.hpp -> src/core/accel/bvh.hpp: a public header includes an internal one")
 
     root = fresh()
+    add_include(root, "src/core/io/file_extension.hpp", "core/accel/bvh.hpp")
+    expect("an exported interface including an internal one", root, 1,
+           "src/core/io/file_extension.hpp -> src/core/accel/bvh.hpp: an exported interface includes an internal one")
+
+    root = fresh()
     path = os.path.join(root, "src", "core", "mesh", "obj_scan.cpp")
     with open(path) as f:
         lines = [line for line in f if line.strip() != '#include "core/io/printable.hpp"']
