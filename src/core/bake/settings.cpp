@@ -2,8 +2,10 @@
 #include "core/bake/methods.hpp"
 #include "sdfgen/bake.hpp"
 
-#include <cmath>
 #include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
 
 namespace sdfgen {
 
