@@ -426,7 +426,9 @@ PYBIND11_MODULE(_sdfgen, m) {
         " (see the module's notes). device: where exact distances and winding signs run: " + describeChoices(deviceChoices()) +
         ". channels: 'sdf' or a comma-separated list (or sequence) adding gradient, closest and triangle (method exact, "
         "on the CPU): Field.gradient, .closest, .triangle. band > 0: a narrow-band bake (method exact, on the CPU): exact "
-        "distances only within band voxels of the surface, returned as a SparseField; the dense grid is never allocated.";
+        "distances only within band voxels of the surface, returned as a SparseField; the dense grid is never allocated. "
+        "ValueError, before any work, for settings out of their limits (res and rays 1 to 65536, padding 0 to 100, band 0 or "
+        "1 to 1e9) or that do not go together, as sdfgen bake refuses them.";
     m.attr("__version__") = "0.1.0";
 #if SDFGEN_PYTHON_GPU
     gpu::registerGlDevice();
@@ -800,6 +802,8 @@ PYBIND11_MODULE(_sdfgen, m) {
             settings.method = choose(distanceMethodChoices(), "method", method);
             settings.sign = signFrom(sign);
             settings.rays = rays;
+            // Refused before any work, as by every front end (the keywords are the settings' names).
+            if (const std::optional<SettingsProblem> refused = problem(settings)) throw py::value_error(refused->message);
             BakeResult baked = runReleased([&](const RunControl& control) { return mesh.model->bake(settings, control); }, threads, progress);
             if (band > 0) {
                 auto result = std::make_unique<PySparseField>();

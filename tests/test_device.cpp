@@ -111,7 +111,7 @@ TEST_F(DeviceHook, ChoosesWhereTheBakeRuns) {
     EXPECT_EQ(selectComputeDevice(Device::Cpu, &why), nullptr);
     EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
     EXPECT_CONTAINS(why, "built without a GPU device");
-    EXPECT_CONTAINS(test::errorFrom([] { selectComputeDevice(Device::Gpu); }), "--device gpu: this program was built without a GPU device");
+    EXPECT_CONTAINS(test::errorFrom([] { selectComputeDevice(Device::Gpu); }), "device gpu: this program was built without a GPU device");
 
     registerComputeDevice([]() -> std::unique_ptr<ComputeDevice> { throw Error("no context today"); });
     EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
@@ -157,7 +157,7 @@ TEST_F(DeviceHook, BakesWithTheDevicesAnswers) {
     settings.res = 8;
     settings.method = DistanceMethod::Rays;
     settings.device = Device::Gpu;
-    EXPECT_CONTAINS(test::errorFrom([&] { test::bakeMesh(test::box({1, 1, 1}), settings); }), "--method rays runs on the CPU");
+    EXPECT_CONTAINS(test::errorFrom([&] { test::bakeMesh(test::box({1, 1, 1}), settings); }), "method rays runs on the CPU");
     settings.device = Device::Auto;
     EXPECT_FALSE(test::bakeMesh(test::box({1, 1, 1}), settings).onDevice);
 }

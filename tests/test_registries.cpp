@@ -160,7 +160,7 @@ TEST(DecideSign, ANamedSignIsKeptAndWarnedOfWhereTheMeshDefeatsIt) {
     EXPECT_EQ(pseudonormal.decision.sign, SignMethod::Pseudonormal);
     EXPECT_FALSE(pseudonormal.decision.flipped || pseudonormal.ranCheck);
     ASSERT_EQ(pseudonormal.decision.warnings.size(), 1u);
-    EXPECT_CONTAINS(pseudonormal.decision.warnings[0], "--sign pseudonormal follows the faces");
+    EXPECT_CONTAINS(pseudonormal.decision.warnings[0], "sign pseudonormal follows the faces");
 }
 
 } // namespace

@@ -5,6 +5,7 @@
 #include "sdfgen/sparse_field.hpp"
 
 #include <cctype>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,26 @@ struct BakeSettings {
     // the magnitude band * voxel. The dense grid is never allocated. 0: the dense field.
     double band = 0;
 };
+
+// The limits of BakeSettings, the same for every front end (sdfgen bake, the viewer, Python).
+constexpr int kMaxRes = 65536;       // voxels along the longest side
+constexpr int kMaxRays = 65536;      // rays per sample
+constexpr double kMaxPadding = 100;  // the margin, as a fraction of the mesh's longest side
+constexpr double kMaxBand = 1e9;     // voxels each side of the surface
+
+// Why settings cannot be baked, in the settings' own names ("rays must be from 1 to 65536 per
+// sample (got 100000000)"). `setting` names the BakeSettings member to change ("res", "padding",
+// "method", "sign", "rays", "device", "channels" or "band"), for a front end to say it in its own
+// words: the command line as its option (--rays), the viewer as its field's label.
+struct SettingsProblem {
+    std::string setting;
+    std::string message;
+};
+// The first problem of `settings` that shows without a mesh: a value out of its limits, or
+// settings that do not go together (a band bake with method rays). bake() refuses these with the
+// message; front ends check before they load or start anything. What only a mesh can show (a
+// sign it cannot prove, memory) the bake still refuses itself.
+std::optional<SettingsProblem> problem(const BakeSettings& settings);
 
 // A bake's field and what was decided on the way.
 struct BakeResult {

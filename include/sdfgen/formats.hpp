@@ -29,7 +29,7 @@ void checkFormatHoldsChannels(const std::string& path, const Channels& channels)
 Field loadField(const std::string& path);
 
 // Saves a narrow-band field: .vdb (a level set: the band's voxels active, ±background tiles for the
-// rest) and .npz (its bricks and boxes as arrays, docs/formats.md) keep it sparse; the dense formats
+// rest) and .npz (its bricks and boxes as arrays, docs/field-format.md) keep it sparse; the dense formats
 // (.sdf, .npy, .nrrd) get SparseField::toDense, or an Error naming the reason and the sparse formats
 // when that would not fit in memory. Atomic, as saveField.
 void saveSparseField(const SparseField& field, const std::string& path);

@@ -4,7 +4,6 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/run_control.hpp"
 #include "core/bake/band_bake.hpp"
-#include "core/bake/methods.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "core/runtime/memory.hpp"
 
@@ -12,6 +11,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace sdfgen::app {
@@ -52,35 +53,32 @@ void choiceCombo(const char* label, Id& value, const std::vector<Choice<Id>>& ch
     }
     ImGui::EndCombo();
 }
+// The panel's label of a setting that problem() names.
+const char* settingLabel(const std::string& setting) {
+    static const std::pair<const char*, const char*> labels[] = {{"res", "Resolution"}, {"padding", "Padding"}, {"rays", "Rays"},
+                                                                 {"band", "Band"},      {"method", "Method"},   {"sign", "Sign"},
+                                                                 {"device", "Device"},  {"channels", "Channels"}};
+    for (const auto& [name, label] : labels) {
+        if (setting == name) return label;
+    }
+    return "Settings";
+}
 } // namespace
 
 // The settings' problem, or "" when Generate may run (with a model); `grid` gets the grid they
-// describe and `bytes` the bake's memory estimate. The same rules as `sdfgen bake` (its option
-// ranges and bake()'s checks): a band bake gets the band's own grid and memory estimate
-// (estimateBandBakeBytes against the available memory), a dense one makeGrid's.
+// describe and `bytes` the bake's memory estimate. The rules every front end shares (problem(),
+// sdfgen/bake.hpp), under the panel's label of the setting to change, then the viewer's own: the
+// driver's 3D texture limit and the threads. A band bake gets the band's own grid and memory
+// estimate (estimateBandBakeBytes against the available memory), a dense one makeGrid's.
 std::string Viewer::validateSettings(Grid& grid, double& bytes) const {
     bytes = 0.0;
-    if (settings_.res < 1) return "Resolution must be at least 1 (voxels along the longest side)";
-    if (settings_.res > 65536) return "Resolution must be at most 65536 (as sdfgen bake --res)";
-    if (!(settings_.band == 0.0 || (settings_.band >= 1.0 && settings_.band <= 1e9))) return "Band must be 0 (a dense field) or 1 to 1000000000 voxels";
+    if (const std::optional<SettingsProblem> refused = problem(settings_)) return std::string(settingLabel(refused->setting)) + ": " + refused->message;
     const bool banded = settings_.band > 0;
-    if (banded) {
-        if (!distanceMethod(settings_.method).measuresBand) {
-            return std::string("A band bake measures exact distances: method ") + toString(settings_.method) + " makes dense fields only";
-        }
-        const SignMethod sign = settings_.sign == SignMethod::Default ? distanceMethod(settings_.method).defaultSign : settings_.sign;
-        if (signMethod(sign).band == BandSigning::Never) {
-            return std::string("A band bake signs by the winding number (or auto); sign ") + toString(sign) + " decides per sample";
-        }
-        if (settings_.device == Device::Gpu) return "A band bake runs on the CPU only: choose device cpu or auto";
-    }
     // A band field is shown resampled to fit (render::bandDisplay); a dense one as it is.
     if (!banded && settings_.res > textureLimit_) {
         return "Resolution " + std::to_string(settings_.res) + " is above this OpenGL driver's 3D texture limit of " +
                std::to_string(textureLimit_) + ", so the field could not be shown (a band field can be)";
     }
-    if (settings_.rays < 1 || settings_.rays > 65536) return "Rays must be 1 to 65536";
-    if (!(settings_.padding >= 0.0 && settings_.padding <= 100.0)) return "Padding must be 0 to 100 (a fraction of the longest side)";
     if (threads_ < 0 || threads_ > kMaxThreads) return "Threads must be 0 (all cores) to " + std::to_string(kMaxThreads);
     if (!sceneMesh_) return "";
     try {

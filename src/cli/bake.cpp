@@ -35,6 +35,7 @@ void runBake(BakeArgs args) {
         args.save.band = args.settings.band;
         args.settings.band = 0;
     }
+    checkBakeSettings(args.settings);
     refuseOverwritingInput(args.output, args.meshes);
     if (args.settings.channels.any()) checkFormatHoldsChannels(args.output, args.settings.channels); // before the bake, not after
     RunControl control = commandControl(args.threads);
@@ -84,7 +85,6 @@ void addBakeCommand(CLI::App& app) {
                      "Narrow band: exact distances only within this many voxels of the surface (at least 1), the rest only "
                      "its side; sparse in .vdb and .npz, never a dense grid in memory (0 = the dense field). With --channels: "
                      "the dense bake, of which the .vdb keeps the band")
-        ->check(finiteRange(0.0, 1e9))
         ->capture_default_str();
     bake->add_option("--channels", args->channels,
                      "What each sample holds, comma-separated: sdf (the signed distance, always), gradient (its unit gradient), "

@@ -429,12 +429,7 @@ void printSummary(const std::vector<Outcome>& outcomes, std::size_t allTasks, co
 
 int runBatch(const BatchArgs& args) {
     Stopwatch clock;
-    if (args.settings.band > 0 && args.settings.band < 1) {
-        // Refused here, before any work, rather than by every mesh's bake.
-        char text[96];
-        std::snprintf(text, sizeof(text), "--band must be 0 (dense) or at least 1 voxel (got %g)", args.settings.band);
-        throw Error(text);
-    }
+    checkBakeSettings(args.settings); // here, before any work, rather than by every mesh's bake
     if (args.settings.band > 0 && args.format == "samples") {
         throw Error("--band makes a field; --format samples makes samples without a grid (choose one)");
     }
@@ -499,7 +494,6 @@ void addBatchCommand(CLI::App& app, int& exitCode) {
     batch->add_option("--band", args->settings.band,
                       "A narrow-band bake: exact distances only within this many voxels of the surface (0 = dense); "
                       "vdb and npz keep it sparse, npy, sdf and nrrd get its dense form where it fits in memory")
-        ->check(finiteRange(0.0, 1e9))
         ->capture_default_str();
     addSampleOptions(*batch, args->sampling);
     batch->add_option("--samples", args->samples, "Samples per mesh for --format samples")->check(wholeNumber(1, std::uint64_t(1) << 34))->capture_default_str();

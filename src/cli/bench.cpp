@@ -69,6 +69,7 @@ Run runOnce(const std::string& path, const BenchArgs& args, const std::string& s
 }
 
 void runBench(const BenchArgs& args) {
+    checkBakeSettings(args.settings);
     const std::vector<std::string> meshes = args.meshes.empty() ? std::vector<std::string>{defaultMeshPath()} : args.meshes;
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
     const std::string scratch =

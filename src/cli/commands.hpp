@@ -21,8 +21,12 @@ void addSampleCommand(CLI::App& app);
 // Sets exitCode to 1 when any mesh failed (the batch itself went on).
 void addBatchCommand(CLI::App& app, int& exitCode);
 
-// The options every generating command shares (--res, --rays, --padding, --threads).
+// The options every generating command shares (--res, --rays, --padding, --threads). Their
+// limits are problem()'s (sdfgen/bake.hpp), checked by checkBakeSettings once all are read.
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads);
+// Throws Error for settings that problem() refuses, naming the setting as its option: "--rays:
+// rays must be from 1 to 65536 per sample (got 0)". Each command calls it before it loads anything.
+void checkBakeSettings(const BakeSettings& settings);
 
 // The --threads option, 0 (all cores) to kMaxThreads, the same for every command.
 void addThreadsOption(CLI::App& command, int& threads);
@@ -53,8 +57,9 @@ CLI::Validator choiceOf(const std::vector<Choice<Id>>& choices, const std::strin
         },
         "{" + names + "}");
 }
-// The checks of numeric options (every one uses one of them): CLI::Range lets NaN and infinities
-// through, and an unsigned option saturates negative and too large values at its maximum.
+// The checks of numeric options other than the bake settings (every one uses one of them):
+// CLI::Range lets NaN and infinities through, and an unsigned option saturates negative and too
+// large values at its maximum.
 // A finite number in [min, max].
 CLI::Validator finiteRange(double min, double max);
 // A whole number in [min, max] written in decimal digits alone (no sign, no exponent).

@@ -9,13 +9,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <unistd.h>
 
 namespace sdfgen::cli {
 
 void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
-    command.add_option("--res", settings.res, "Voxels along the longest side of the padded bounding box")
-        ->check(CLI::Range(1, 1 << 16))
+    command.add_option("--res", settings.res, "Voxels along the longest side of the padded bounding box (1 to " + std::to_string(kMaxRes) + ")")
         ->capture_default_str();
     command.add_option("--method", settings.method, "Distance: " + describeChoices(distanceMethodChoices()))
         ->transform(choiceOf(distanceMethodChoices(), "distance method"))
@@ -23,14 +23,18 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
     command.add_option("--sign", settings.sign, "Inside test: " + describeChoices(signMethodChoices()))
         ->transform(choiceOf(signMethodChoices(), "sign method"))
         ->default_str(toString(settings.sign));
-    command.add_option("--rays", settings.rays, "Rays per sample for --method rays and --sign rays")->check(CLI::Range(1, 65536))->capture_default_str();
-    command.add_option("--padding", settings.padding, "Margin around the mesh, as a fraction of its longest side")
-        ->check(finiteRange(0.0, 100.0))
+    command.add_option("--rays", settings.rays, "Rays per sample for --method rays and --sign rays (1 to " + std::to_string(kMaxRays) + ")")
+        ->capture_default_str();
+    command.add_option("--padding", settings.padding, "Margin around the mesh, as a fraction of its longest side (0 to 100)")
         ->capture_default_str();
     command.add_option("--device", settings.device, "Where exact distances and winding signs run: " + describeChoices(deviceChoices()))
         ->transform(choiceOf(deviceChoices(), "device"))
         ->default_str(toString(settings.device));
     addThreadsOption(command, threads);
+}
+
+void checkBakeSettings(const BakeSettings& settings) {
+    if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error("--" + refused->setting + ": " + refused->message);
 }
 
 void addThreadsOption(CLI::App& command, int& threads) {

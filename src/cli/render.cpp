@@ -69,6 +69,7 @@ void runRender(const RenderArgs& args) {
     const std::vector<float> camera = parseNumbers(args.camera, ',', 3, "--camera (yaw,pitch,zoom)");
     const std::vector<float> size = parseNumbers(args.size, 'x', 2, "--size (WIDTHxHEIGHT)");
     if (!(camera[2] > 0.0f)) throw Error("--camera zoom must be positive");
+    checkBakeSettings(args.settings);
     std::vector<std::string> inputs = args.meshes;
     inputs.push_back(args.sdf);
     refuseOverwritingInput(args.output, inputs);

@@ -3,7 +3,6 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "core/bake/surface.hpp"
-#include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
@@ -49,6 +48,7 @@ void runSurface(const SurfaceArgs& args) {
             field = loadField(args.input);
         }
     } else {
+        checkBakeSettings(args.settings);
         if (!(args.settings.padding > 0.0)) throw Error("--padding must be above 0: the surface must stay inside the grid to be closed");
         RunControl control = commandControl(args.threads);
         const Model model = Model::load(args.input, control);
@@ -69,8 +69,7 @@ void runSurface(const SurfaceArgs& args) {
         throw Error(args.input + ": " + e.what());
     }
     // Checked before the old output is replaced: a surface that is no valid mesh is never saved.
-    const Mesh result = buildMesh(args.output, surface.positions, surface.triangles);
-    const MeshCheck check = MeshTopology(result).check(result, Bvh(result));
+    const MeshCheck check = Model(buildMesh(args.output, surface.positions, surface.triangles)).check();
     saveSurface(surface, args.output);
     const double seconds = total.seconds();
     const Grid& g = banded ? sparse.grid : field.grid;
@@ -93,16 +92,13 @@ void addSurfaceCommand(CLI::App& app) {
     surface->add_option("--adaptivity", args->adaptivity, "0 (uniform triangles) to 1 (fewer, larger triangles where the surface is flat)")
         ->check(finiteRange(0.0, 1.0))
         ->capture_default_str();
-    surface->add_option("--res", args->settings.res, "For a mesh: voxels along the longest side of the padded bounding box")
-        ->check(CLI::Range(1, 1 << 16))
+    surface->add_option("--res", args->settings.res, "For a mesh: voxels along the longest side of the padded bounding box (1 to " + std::to_string(kMaxRes) + ")")
         ->capture_default_str();
-    surface->add_option("--padding", args->settings.padding, "For a mesh: margin around it, as a fraction of its longest side (> 0)")
-        ->check(finiteRange(0.0, 100.0))
+    surface->add_option("--padding", args->settings.padding, "For a mesh: margin around it, as a fraction of its longest side (above 0, at most 100)")
         ->capture_default_str();
     surface->add_option("--band", args->settings.band,
                         "For a mesh: bake only this many voxels each side of the surface, in bricks (memory grows with the surface, "
                         "not the volume: for high --res); 0 bakes the whole grid")
-        ->check(finiteRange(0.0, 1e6))
         ->capture_default_str();
     addThreadsOption(*surface, args->threads);
     surface->footer("The surface is OpenVDB's volumeToMesh of the field; it is closed when it stays inside the grid.");

@@ -46,14 +46,21 @@ PY
 fi
 expect fail 'sign' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --sign sideways
 expect fail 'method' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method magic
-expect 1 'brute method signs by the exact winding number' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method brute --sign rays
+expect 1 '^sdfgen: --sign: method brute signs by the exact winding number; sign rays does not apply$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --method brute --sign rays
 expect 0 '1 threads' -- "$sdfgen" bake "$bunny" -o "$work/bunny.sdf" --res 16 --rays 8 --threads 1
 expect 0 'voxels/s' -- "$sdfgen" bench "$work/tet.obj" --res 8 --rays 8
 
-# Bad arguments: clear message, non-zero exit.
-expect fail 'res.*0' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res 0
-expect fail 'rays' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --rays 0
-expect fail 'padding' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --padding -1
+# Bad arguments: clear message, non-zero exit. The bake settings' limits are the core's one check
+# (sdfgen::problem, the same for the viewer and Python), named by option, for every command that bakes.
+expect 1 '^sdfgen: --res: res must be from 1 to 65536 voxels along the longest side \(got 0\)$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --res 0
+expect 1 '^sdfgen: --rays: rays must be from 1 to 65536 per sample \(got 0\)$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --rays 0
+expect 1 '^sdfgen: --rays: rays must be from 1 to 65536 per sample \(got 100000000\)$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --rays 100000000 --method rays
+expect 1 '^sdfgen: --padding: padding must be a finite number from 0 to 100 \(got -1\)$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --padding -1
+expect 1 '^sdfgen: --res: res must be from 1 to 65536' -- "$sdfgen" bench "$work/tet.obj" --res 65537
+expect 1 '^sdfgen: --res: res must be from 1 to 65536' -- "$sdfgen" surface "$work/tet.obj" -o "$work/x.obj" --res 65537
+expect 1 '^sdfgen: --band: band must be 0 \(a dense field\) or a finite number of voxels from 1 to 1000000000 \(got 0.5\)$' -- \
+  "$sdfgen" batch "$work/tet.obj" --out "$work/never" --band 0.5
+vexpect 1 '^sdfgen: --rays: rays must be from 1 to 65536' -- "$sdfgen" render "$work/tet.obj" -o "$work/x.png" --rays 65537
 expect fail 'threads' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --threads -2
 expect fail 'frobnicate' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --frobnicate
 expect fail 'output' -- "$sdfgen" bake "$work/tet.obj"
@@ -139,8 +146,8 @@ expect 0 'band: 2 voxels each side' -- "$sdfgen" bake "$work/tet.obj" -o "$work/
 # render shows a band field file from its bricks and says how.
 vexpect 0 "^$work/band.vdb: band field [0-9]+x[0-9]+x[0-9]+ \(band 2 voxels\): shown at full resolution$" -- \
   env ASAN_OPTIONS=detect_leaks=0 "$sdfgen" render "$work/tet.obj" --sdf "$work/band.vdb" --view slice,raymarch --size 32x24 -o "$work/band.png"
-expect 1 'the band must be a finite number of voxels, at least 1' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 0.5
-expect 1 'the narrow-band bake measures exact distances' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2 --method rays
+expect 1 '^sdfgen: --band: band must be 0 \(a dense field\) or a finite number of voxels from 1 to 1000000000 \(got 0.5\)$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 0.5
+expect 1 '^sdfgen: --method: a band bake measures exact distances; method rays makes dense fields only$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npy" --res 8 --band 2 --method rays
 expect 1 '^sdfgen: --band with --channels applies to .vdb output only' -- "$sdfgen" bake "$work/tet.obj" -o "$work/band.npz" --res 8 --band 2 --channels gradient
 expect 1 "x.xyz: unknown field format '.xyz'; known: .sdf, .npy, .npz, .vdb, .nrrd" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.xyz" --res 4
 expect fail '' -- test -e "$work/x.xyz"
@@ -155,7 +162,7 @@ for ext in sdf npy nrrd; do
     "$sdfgen" bake "$work/tet.obj" -o "$work/ch.$ext" --res 8 --channels gradient
   expect fail '' -- test -e "$work/ch.$ext"
 done
-expect 1 '^sdfgen: channels closest: only the exact method finds the nearest triangle they come from; --method rays gives the distance \(sdf\) only$' -- \
+expect 1 "^sdfgen: --channels: channels closest come from the exact method's nearest triangles; method rays gives the distance \\(sdf\\) only$" -- \
   "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels closest --method rays
 expect 1 "^sdfgen: unknown channel 'normals' \(expected a comma-separated list of sdf, gradient, closest, triangle\)$" -- \
   "$sdfgen" bake "$work/tet.obj" -o "$work/x.npz" --res 8 --channels sdf,normals
@@ -220,7 +227,7 @@ expect 0 '^signs differ: 0 samples' -- "$sdfgen" compare "$work/bunny.sdf" "$wor
 expect 0 'grid 40x40x33 \(band field, [0-9]+ bricks\)' -- "$sdfgen" surface "$work/bunny-band.vdb" -o "$work/band-surface.obj"
 expect 0 'mesh check of the output: 0 boundary edges, 0 non-manifold edges, 0 inconsistently oriented edges, 0 non-manifold vertices' -- \
   "$sdfgen" surface "$work/bunny-band.vdb" -o "$work/band-surface.obj"
-expect 1 "^sdfgen: $work/bunny-band.vdb: --iso 1 lies outside the band field's band" -- "$sdfgen" surface "$work/bunny-band.vdb" -o "$work/x.obj" --iso 1
+expect 1 "^sdfgen: $work/bunny-band.vdb: iso 1 lies outside the band field's band" -- "$sdfgen" surface "$work/bunny-band.vdb" -o "$work/x.obj" --iso 1
 # ---- Issue 8: hostile input, nonsense arguments, files (each failed before the fix) ----------
 # OBJ hygiene: a BOM is skipped; hex floats, overflowing or missing vertices, short faces and NULs
 # are refused with the line; pipes and FIFOs are read; the input size is bounded.
@@ -268,7 +275,7 @@ vexpect fail "^--slice-pos: 'nan' is not a finite number" -- "$sdfgen" render "$
 vexpect fail '^--slice-pos: 2 is not in \[0, 1\]' -- "$sdfgen" render "$work/tet.obj" --slice-pos 2 -o "$work/x.png"
 expect fail "^--band: 'nan' is not a finite number" -- "$sdfgen" compare "$work/brute.sdf" "$work/tet.sdf" --band nan
 expect fail '^--band: -1 is not in' -- "$sdfgen" compare "$work/brute.sdf" "$work/tet.sdf" --band -1
-expect fail "^--padding: 'nan' is not a finite number" -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --padding nan
+expect 1 '^sdfgen: --padding: padding must be a finite number from 0 to 100 \(got nan\)$' -- "$sdfgen" bake "$work/tet.obj" -o "$work/x.sdf" --padding nan
 vexpect fail "^sdfgen: --size '1e10x5' must be two whole numbers" -- "$sdfgen" render "$work/tet.obj" --size 1e10x5 -o "$work/x.png"
 vexpect fail "^sdfgen: --background.*'nan' is not a finite number" -- "$sdfgen" render "$work/tet.obj" --background nan,0,0 -o "$work/x.png"
 vexpect fail "^sdfgen: --background '2,0,0': each channel must be in 0..1" -- "$sdfgen" render "$work/tet.obj" --background 2,0,0 -o "$work/x.png"
@@ -384,7 +391,7 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n
 expect 0 'inside out \(negative volume\)' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'auto chose pseudonormal: .*; the mesh is inside out' -- "$sdfgen" bake "$work/inside-out.obj" -o "$work/inside-out.sdf" --res 8
 expect 0 'signs differ: 0 samples' -- "$sdfgen" compare "$work/brute.sdf" "$work/inside-out.sdf"
-expect 0 'warning: .*inside-out.obj: the mesh is inside out .*--sign pseudonormal follows the faces' -- \
+expect 0 'warning: .*inside-out.obj: the mesh is inside out .*; sign pseudonormal follows the faces' -- \
   "$sdfgen" bake "$work/inside-out.obj" -o "$work/x.sdf" --res 8 --sign pseudonormal
 check 'the winding sign warns of no inside-out mesh' sh -c '! "$1" bake "$2" -o "$3" --res 8 --sign winding 2>&1 | grep warning' \
   sh "$sdfgen" "$work/inside-out.obj" "$work/x.sdf"

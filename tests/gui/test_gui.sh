@@ -235,9 +235,9 @@ echo "message under Load: $(message '##model_message')"
 
 # --- settings are validated: 0 and 100000 are refused with the reason, Generate is disabled.
 type_into resolution 0
-until_ok grep -q "^text validation Resolution must be at least 1" "$work/shots/widgets.txt" || fail "resolution 0 was not refused"
+until_ok grep -q "^text validation Resolution: res must be from 1 to 65536 voxels along the longest side (got 0)$" "$work/shots/widgets.txt" || fail "resolution 0 was not refused"
 type_into resolution 100000
-until_ok grep -qE "^text validation Resolution must be at most 65536" "$work/shots/widgets.txt" || fail "resolution 100000 was not refused"
+until_ok grep -q "^text validation Resolution: res must be from 1 to 65536 voxels along the longest side (got 100000)$" "$work/shots/widgets.txt" || fail "resolution 100000 was not refused"
 click generate
 sleep 0.3
 ! grep -q "^message generation info: generating" "$work/log" || fail "Generate ran with resolution 100000"

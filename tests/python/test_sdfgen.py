@@ -195,7 +195,7 @@ def test_errors_carry_the_one_line_message(tmp_path):
     with pytest.raises(ValueError, match="integer"):
         sdfgen.Mesh(TET_VERTICES, TET_FACES.astype(np.float64))
     mesh = sdfgen.Mesh(TET_VERTICES, TET_FACES)
-    with pytest.raises(sdfgen.Error, match="resolution must be at least 1"):
+    with pytest.raises(ValueError, match=r"res must be from 1 to 65536 voxels along the longest side \(got 0\)"):
         sdfgen.bake(mesh, res=0)
     with pytest.raises(ValueError, match="sign must be"):
         sdfgen.bake(mesh, sign="sideways")

@@ -11,130 +11,57 @@
 
 namespace sdfgen {
 
-WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
-    struct Child {
-        Bounds box;
-        std::uint32_t slot; // node index, or kLeaf | packet index
-    };
-    // Triangles under each binary node, to find the subtrees that fit one packet.
+namespace {
+
+constexpr int kWidth = WideBvh::kWidth;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+using PacketIds = std::array<std::uint32_t, kWidth>; // a packet's triangles, lane by lane
+
+// Triangles under each binary node, to find the subtrees that fit one packet.
+std::vector<std::uint32_t> trianglesBelow(const Bvh& tree) {
     std::vector<std::uint32_t> below(tree.nodeCount());
     for (std::size_t i = tree.nodeCount(); i-- > 0;) { // children follow their parent
         const Bvh::NodeView n = tree.node(std::uint32_t(i));
         below[i] = n.count > 0 ? n.count : below[n.first] + below[n.second];
     }
-    const float inf = std::numeric_limits<float>::infinity();
+    return below;
+}
 
-    // A packet of at most eight triangles (unused lanes repeat the first); its box is the union of
-    // theirs. The lanes' SoA fields are filled in parallel once the tree is laid out.
-    std::vector<std::array<std::uint32_t, kWidth>> packetIds;
-    auto makePacket = [&](const std::uint32_t* ids, std::size_t count) {
-        std::array<std::uint32_t, kWidth>& lanes = packetIds.emplace_back();
-        Bounds box{glm::vec3(inf), glm::vec3(-inf)};
-        for (int lane = 0; lane < kWidth; ++lane) {
-            const std::uint32_t id = lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
-            const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
-            box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
-            box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
-        }
-        leafBounds_.push_back(box);
-        return Child{box, kLeaf | std::uint32_t(packetIds.size() - 1)};
+// The layout pass: the wide nodes, each packet's triangles and box, children before their parent.
+// Each wide node takes a binary subtree and opens its largest inner descendants until it has
+// eight children. Subtrees of at most eight triangles become packets, several of them sharing one
+// where they fit together (fuller packets: fewer lanes measured twice).
+class WideLayout {
+public:
+    struct Child {
+        Bounds box;
+        std::uint32_t slot; // node index, or kLeaf | packet index
     };
-    // Each lane's frame in double, from the float corners every other step uses, rounded once.
-    auto inverse = [](double length2) {
-        const float inv = float(1.0 / length2);
-        return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
-    };
-    auto fillPacket = [&](TrianglePacket& p, const std::array<std::uint32_t, kWidth>& ids) {
-        for (int lane = 0; lane < kWidth; ++lane) {
-            const std::uint32_t id = ids[std::size_t(lane)];
-            glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
-            // The longest edge as the base (a cyclic rotation keeps the orientation): the frame
-            // of a sliver or a needle is then as accurate as its longest side allows.
-            int base = 0;
-            double longest = -1.0;
-            for (int e = 0; e < 3; ++e) {
-                const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
-                const double length2 = glm::dot(edge, edge);
-                if (length2 > longest) longest = length2, base = e;
-            }
-            const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
-            const double length = std::sqrt(longest);
-            const glm::dvec3 e1 = (b - a) / length;
-            // The mesh keeps only triangles whose normal has a length (mesh.cpp); its own normal
-            // stands in should the rotated corners' cross product still vanish.
-            const glm::dvec3 cross = glm::cross(b - a, c - a);
-            const double area = glm::length(cross);
-            glm::dvec3 n = area > 0.0 ? cross / area : glm::dvec3(mesh.faceNormals[id]);
-            n = glm::normalize(n - glm::dot(n, e1) * e1);
-            const glm::dvec3 e2 = glm::cross(n, e1);
-            const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
-            p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
-            p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
-            p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
-            p.nx[lane] = float(n.x), p.ny[lane] = float(n.y), p.nz[lane] = float(n.z);
-            p.length[lane] = float(length), p.cu[lane] = float(cu), p.cv[lane] = float(cv), p.bcu[lane] = float(bcu);
-            p.invAC[lane] = inverse(cu * cu + cv * cv), p.invBC[lane] = inverse(bcu * bcu + cv * cv);
-            p.id[lane] = std::int32_t(id);
-        }
-    };
-    auto makeNode = [&](const std::vector<Child>& children) {
-        Node node;
-        node.clear();
-        Bounds box{glm::vec3(inf), glm::vec3(-inf)};
-        for (std::size_t c = 0; c < children.size(); ++c) {
-            const Bounds& b = children[c].box;
-            node.set(int(c), b, children[c].slot);
-            box.min = glm::min(box.min, b.min);
-            box.max = glm::max(box.max, b.max);
-        }
-        nodes_.push_back(node);
-        return Child{box, std::uint32_t(nodes_.size() - 1)};
-    };
-    // A list of triangles of any length (a binary leaf at the depth limit may hold more than
-    // eight): packets of eight under as many levels of nodes as it takes.
-    auto chunks = [&](auto& self, const std::uint32_t* ids, std::size_t count) -> Child {
-        if (count <= std::size_t(kWidth)) return makePacket(ids, count);
-        std::size_t span = kWidth;
-        while (span * kWidth < count) span *= kWidth;
-        std::vector<Child> children;
-        for (std::size_t at = 0; at < count; at += span) children.push_back(self(self, ids + at, std::min(span, count - at)));
-        return makeNode(children);
-    };
-    // The triangles of a binary subtree, in leaf order.
-    auto gather = [&](std::uint32_t binary, std::vector<std::uint32_t>& ids) {
-        std::vector<std::uint32_t> pending{binary};
-        while (!pending.empty()) {
-            const Bvh::NodeView n = tree.node(pending.back());
-            pending.pop_back();
-            if (n.count > 0) ids.insert(ids.end(), n.triangles, n.triangles + n.count);
-            else pending.push_back(n.second), pending.push_back(n.first);
-        }
-    };
-    auto fits = [&](std::uint32_t binary) { return below[binary] <= std::uint32_t(kWidth); };
-    // Each wide node takes a binary subtree and opens its largest inner descendants until it has
-    // eight children. Subtrees of at most eight triangles become packets, several of them sharing
-    // one where they fit together (fuller packets: fewer lanes measured twice).
-    auto build = [&](auto& self, std::uint32_t binary) -> Child {
-        const Bvh::NodeView root = tree.node(binary);
-        if (root.count > std::uint32_t(kWidth)) return chunks(chunks, root.triangles, root.count);
+
+    WideLayout(const Mesh& mesh, const Bvh& tree) : mesh_(mesh), tree_(tree), below_(trianglesBelow(tree)) {}
+
+    // The wide subtree of binary node `binary`.
+    Child build(std::uint32_t binary) {
+        const Bvh::NodeView root = tree_.node(binary);
+        if (root.count > std::uint32_t(kWidth)) return chunks(root.triangles, root.count);
         if (fits(binary)) {
             std::vector<std::uint32_t> ids;
             gather(binary, ids);
-            return makePacket(ids.data(), ids.size());
+            return packet(ids.data(), ids.size());
         }
-        const std::vector<std::uint32_t> open = tree.widestDescendants(binary, kWidth, [&](std::uint32_t c) { return !fits(c); });
+        const std::vector<std::uint32_t> open = tree_.widestDescendants(binary, kWidth, [&](std::uint32_t c) { return !fits(c); });
         std::vector<Child> children;
         std::vector<std::vector<std::uint32_t>> bins; // first fit, largest subtrees first
         std::vector<std::uint32_t> small;
         for (std::uint32_t c : open) {
             if (fits(c)) small.push_back(c);
-            else children.push_back(self(self, c));
+            else children.push_back(build(c));
         }
-        std::stable_sort(small.begin(), small.end(), [&](std::uint32_t l, std::uint32_t r) { return below[l] > below[r]; });
+        std::stable_sort(small.begin(), small.end(), [&](std::uint32_t l, std::uint32_t r) { return below_[l] > below_[r]; });
         for (std::uint32_t c : small) {
             std::vector<std::uint32_t>* bin = nullptr;
             for (auto& b : bins) {
-                if (b.size() + below[c] <= std::size_t(kWidth)) {
+                if (b.size() + below_[c] <= std::size_t(kWidth)) {
                     bin = &b;
                     break;
                 }
@@ -142,25 +69,143 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
             if (!bin) bin = &bins.emplace_back();
             gather(c, *bin);
         }
-        for (const auto& b : bins) children.push_back(makePacket(b.data(), b.size()));
-        return makeNode(children);
-    };
-    const Child root = build(build, 0);
-    packets_.resize(packetIds.size());
-    constexpr std::size_t kPacketsPerItem = 1024;
-    parallelFor((packetIds.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
-        for (std::size_t i = item * kPacketsPerItem; i < std::min(packetIds.size(), (item + 1) * kPacketsPerItem); ++i) {
-            fillPacket(packets_[i], packetIds[i]);
+        for (const auto& b : bins) children.push_back(packet(b.data(), b.size()));
+        return node(children);
+    }
+
+    // A node over `children`; its box is the union of theirs.
+    Child node(const std::vector<Child>& children) {
+        WideNode made;
+        made.clear();
+        Bounds box{glm::vec3(kInf), glm::vec3(-kInf)};
+        for (std::size_t c = 0; c < children.size(); ++c) {
+            const Bounds& b = children[c].box;
+            made.set(int(c), b, children[c].slot);
+            box.min = glm::min(box.min, b.min);
+            box.max = glm::max(box.max, b.max);
         }
-    });
-    // Nodes were made children first, so the root is last; searches start at node 0.
-    if (root.slot & kLeaf) makeNode({root});
-    std::rotate(nodes_.begin(), nodes_.end() - 1, nodes_.end());
-    for (Node& n : nodes_) {
-        for (std::uint32_t& c : n.child) {
-            if (c != kEmpty && !(c & kLeaf)) ++c;
+        nodes.push_back(made);
+        return Child{box, std::uint32_t(nodes.size() - 1)};
+    }
+
+    std::vector<WideNode> nodes;
+    std::vector<PacketIds> packetIds;
+    std::vector<Bounds> leafBounds; // per packet
+
+private:
+    bool fits(std::uint32_t binary) const { return below_[binary] <= std::uint32_t(kWidth); }
+
+    // A packet of at most eight triangles (unused lanes repeat the first); its box is the union of
+    // theirs. The lanes' SoA fields are filled once the tree is laid out (fillPacket).
+    Child packet(const std::uint32_t* ids, std::size_t count) {
+        PacketIds& lanes = packetIds.emplace_back();
+        Bounds box{glm::vec3(kInf), glm::vec3(-kInf)};
+        for (int lane = 0; lane < kWidth; ++lane) {
+            const std::uint32_t id = lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
+            const glm::vec3 a = mesh_.vertex(id, 0), b = mesh_.vertex(id, 1), c = mesh_.vertex(id, 2);
+            box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
+            box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
+        }
+        leafBounds.push_back(box);
+        return Child{box, WideBvh::kLeaf | std::uint32_t(packetIds.size() - 1)};
+    }
+
+    // A list of triangles of any length (a binary leaf at the depth limit may hold more than
+    // eight): packets of eight under as many levels of nodes as it takes.
+    Child chunks(const std::uint32_t* ids, std::size_t count) {
+        if (count <= std::size_t(kWidth)) return packet(ids, count);
+        std::size_t span = kWidth;
+        while (span * kWidth < count) span *= kWidth;
+        std::vector<Child> children;
+        for (std::size_t at = 0; at < count; at += span) children.push_back(chunks(ids + at, std::min(span, count - at)));
+        return node(children);
+    }
+
+    // The triangles of a binary subtree, in leaf order.
+    void gather(std::uint32_t binary, std::vector<std::uint32_t>& ids) const {
+        std::vector<std::uint32_t> pending{binary};
+        while (!pending.empty()) {
+            const Bvh::NodeView n = tree_.node(pending.back());
+            pending.pop_back();
+            if (n.count > 0) ids.insert(ids.end(), n.triangles, n.triangles + n.count);
+            else pending.push_back(n.second), pending.push_back(n.first);
         }
     }
+
+    const Mesh& mesh_;
+    const Bvh& tree_;
+    const std::vector<std::uint32_t> below_;
+};
+
+// 1 / length2 rounded once to float, 0 for a zero-length (or overflowing) edge.
+float inverse(double length2) {
+    const float inv = float(1.0 / length2);
+    return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
+}
+
+// The fill pass, one packet: each lane's frame in double, from the float corners every other step
+// uses, rounded once.
+void fillPacket(const Mesh& mesh, const PacketIds& ids, TrianglePacket& p) {
+    for (int lane = 0; lane < kWidth; ++lane) {
+        const std::uint32_t id = ids[std::size_t(lane)];
+        glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
+        // The longest edge as the base (a cyclic rotation keeps the orientation): the frame of a
+        // sliver or a needle is then as accurate as its longest side allows.
+        int base = 0;
+        double longest = -1.0;
+        for (int e = 0; e < 3; ++e) {
+            const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
+            const double length2 = glm::dot(edge, edge);
+            if (length2 > longest) longest = length2, base = e;
+        }
+        const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
+        const double length = std::sqrt(longest);
+        const glm::dvec3 e1 = (b - a) / length;
+        // The mesh keeps only triangles whose normal has a length (mesh.cpp); its own normal stands
+        // in should the rotated corners' cross product still vanish.
+        const glm::dvec3 cross = glm::cross(b - a, c - a);
+        const double area = glm::length(cross);
+        glm::dvec3 n = area > 0.0 ? cross / area : glm::dvec3(mesh.faceNormals[id]);
+        n = glm::normalize(n - glm::dot(n, e1) * e1);
+        const glm::dvec3 e2 = glm::cross(n, e1);
+        const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
+        p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
+        p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
+        p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
+        p.nx[lane] = float(n.x), p.ny[lane] = float(n.y), p.nz[lane] = float(n.z);
+        p.length[lane] = float(length), p.cu[lane] = float(cu), p.cv[lane] = float(cv), p.bcu[lane] = float(bcu);
+        p.invAC[lane] = inverse(cu * cu + cv * cv), p.invBC[lane] = inverse(bcu * bcu + cv * cv);
+        p.id[lane] = std::int32_t(id);
+    }
+}
+
+// Nodes were made children first, so the root is last: it moves to the front, where searches
+// start, and every inner child index moves up by one with it.
+void putRootFirst(std::vector<WideNode>& nodes) {
+    std::rotate(nodes.begin(), nodes.end() - 1, nodes.end());
+    for (WideNode& n : nodes) {
+        for (std::uint32_t& c : n.child) {
+            if (c != WideBvh::kEmpty && !(c & WideBvh::kLeaf)) ++c;
+        }
+    }
+}
+
+} // namespace
+
+WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
+    WideLayout layout(mesh, tree);
+    const WideLayout::Child root = layout.build(0);
+    if (root.slot & kLeaf) layout.node({root}); // a root that is one packet gets a node above it
+    packets_.resize(layout.packetIds.size());
+    constexpr std::size_t kPacketsPerItem = 1024;
+    parallelFor((packets_.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
+        for (std::size_t i = item * kPacketsPerItem; i < std::min(packets_.size(), (item + 1) * kPacketsPerItem); ++i) {
+            fillPacket(mesh, layout.packetIds[i], packets_[i]);
+        }
+    });
+    nodes_ = std::move(layout.nodes);
+    putRootFirst(nodes_);
+    leafBounds_ = std::move(layout.leafBounds);
 }
 
 std::uint32_t WideBvh::nearest(float px, float py, float pz, NearestSoFar& best) const {

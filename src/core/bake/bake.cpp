@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <utility>
 
 namespace sdfgen {
@@ -67,47 +68,13 @@ std::string toString(const Channels& channels) {
 namespace {
 BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     const BakeSettings& settings = context.settings;
-    if (settings.rays < 1) throw Error("rays per sample must be at least 1 (got " + std::to_string(settings.rays) + ")");
+    if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message);
     const DistanceMethodInfo& method = distanceMethod(settings.method);
     SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
-    if (method.fixedSign && sign != SignMethod::Auto && sign != method.defaultSign) {
-        throw Error(std::string("the ") + method.name + " method signs by the exact winding number; --sign " + toString(sign) +
-                    " does not apply");
-    }
-
-    // The compute device (device.hpp) measures exact distances and counts winding numbers; the
-    // other methods and the rest of the bake stay here.
-    if (settings.device == Device::Gpu && !method.deviceMemory) {
-        throw Error(std::string("--device gpu computes exact distances; --method ") + method.name + " runs on the CPU");
-    }
     const bool banded = settings.band != 0;
-    if (banded) {
-        if (!(settings.band >= 1.0) || !std::isfinite(settings.band)) {
-            throw Error("the band must be a finite number of voxels, at least 1 (got " + std::to_string(settings.band) + ")");
-        }
-        if (!method.measuresBand) {
-            throw Error(std::string("the narrow-band bake measures exact distances; --method ") + method.name + " makes dense fields only");
-        }
-        if (settings.device == Device::Gpu) throw Error("the narrow-band bake runs on the CPU only; use --device cpu or auto");
-        if (settings.channels.any()) {
-            throw Error("channels " + toString(settings.channels).substr(4) + " come from the dense bake only; a band bake gives the distance (sdf)");
-        }
-        if (signMethod(sign).band == BandSigning::Never) {
-            throw Error(std::string("the narrow-band bake signs by the winding number (or auto); --sign ") + signMethod(sign).name +
-                        " decides per sample, and most samples of a band are never measured");
-        }
-    }
     const Channels& channels = settings.channels;
-    if (channels.any()) {
-        const std::string named = toString(channels).substr(4); // without "sdf,"
-        if (!method.makesChannels) {
-            throw Error("channels " + named + ": only the exact method finds the nearest triangle they come from; --method " +
-                        method.name + " gives the distance (sdf) only");
-        }
-        if (settings.device == Device::Gpu) throw Error("channels " + named + ": made on the CPU only; use --device cpu or auto");
-        if (channels.triangle && context.mesh.triangleCount() > std::size_t(INT32_MAX)) {
-            throw Error(context.mesh.source + ": more than 2147483647 triangles for the triangle channel's int32 indices");
-        }
+    if (channels.triangle && context.mesh.triangleCount() > std::size_t(INT32_MAX)) {
+        throw Error(context.mesh.source + ": more than 2147483647 triangles for the triangle channel's int32 indices");
     }
     BakeResult result;
     BakeContext deviceContext = context;
@@ -164,9 +131,9 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     if (banded && signMethod(sign).band == BandSigning::WhereProven && !result.checked && !context.check().closedAndClean()) {
         // Out of the band a sample has no distance pass to take a closest feature from: its side
         // is the winding sign's, which is the pseudonormal's only where the check proves it right.
-        throw Error(std::string("the narrow-band bake takes --sign ") + signMethod(sign).name +
+        throw Error(std::string("a band bake takes sign ") + signMethod(sign).name +
                     " only for meshes it is proven right on (closed, manifold, consistently oriented, without self-intersections); "
-                    "use --sign winding or auto");
+                    "choose sign winding or auto");
     }
     const double checkSeconds = since(checkStart);
     releaseFreedMemory(); // the setup phases' scratch, before the field is allocated
@@ -244,6 +211,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 }
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
+    if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message); // before the grid's own checks
     const Grid grid = settings.band > 0 ? gridAround(mesh.worldBounds(), settings.res, settings.padding) : makeGrid(mesh.worldBounds(), settings.res, settings.padding);
     std::optional<WideBvh> wide;
     std::optional<MeshTopology> topology;

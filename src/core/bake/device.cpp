@@ -84,7 +84,7 @@ ComputeDevice* selectComputeDevice(Device device, std::string* why) {
         }
     }
     if (!r.device) {
-        if (device == Device::Gpu) throw Error("--device gpu: " + r.failure);
+        if (device == Device::Gpu) throw Error("device gpu: " + r.failure);
         say("cpu: no GPU (" + r.failure + ")");
         return nullptr;
     }

@@ -54,7 +54,7 @@ struct DistancePass {
     std::vector<std::int32_t> triangle;
 };
 
-// What the memory estimate (core/memory.cpp) is made of, for the registries' own parts of it.
+// What the memory estimate (core/runtime/memory.cpp) is made of, for the registries' own parts of it.
 struct MemoryTerms {
     double samples = 0, triangles = 0;
     double topology = 0; // MeshTopology's bytes
@@ -73,10 +73,10 @@ struct DistanceMethodInfo {
     // The sign this method writes as it measures when the context asks for it (its pass is then
     // the whole bake), Default for none.
     SignMethod signsInline;
-    bool readsWideTree; // on the CPU its pass searches the closest-point tree (core/wide_bvh.hpp)
+    bool readsWideTree; // on the CPU its pass searches the closest-point tree (core/accel/wide_bvh.hpp)
     bool castsRays;     // casts BakeSettings::rays rays per sample (recorded in the field)
     bool makesChannels; // fills the gradient, closest and triangle channels
-    bool measuresBand;  // the narrow-band bake (BakeSettings::band, core/band_bake.hpp) measures by it
+    bool measuresBand;  // the narrow-band bake (BakeSettings::band, core/bake/band_bake.hpp) measures by it
     // Bytes its pass holds besides the field and the shared trees; a fixed-sign method's whole
     // bake besides the field.
     double (*memory)(const MemoryTerms& terms);

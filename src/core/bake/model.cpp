@@ -100,6 +100,7 @@ const MeshCheck& Model::check(const RunControl& control) const { return impl_->c
 BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) const {
     const Impl& m = *impl_;
     checkedControl(control);
+    if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message); // before the grid's own checks
     Grid grid;
     try {
         grid = settings.band > 0 ? gridAround(m.mesh.worldBounds(), settings.res, settings.padding) : makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);

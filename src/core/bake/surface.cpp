@@ -107,8 +107,8 @@ std::string plyBytes(const SurfaceMesh& mesh) {
 // The checks before meshing: iso and adaptivity, and a surface that stays inside the grid.
 template <class AnyField>
 void checkSurfaceCanClose(const AnyField& field, double iso, double adaptivity) {
-    if (!std::isfinite(iso)) throw Error("--iso must be a finite number");
-    if (!(adaptivity >= 0.0 && adaptivity <= 1.0)) throw Error("--adaptivity must be between 0 and 1");
+    if (!std::isfinite(iso)) throw Error("iso must be a finite number");
+    if (!(adaptivity >= 0.0 && adaptivity <= 1.0)) throw Error("adaptivity must be between 0 and 1");
     glm::ivec3 where;
     if (boundaryReaches(field, iso, where)) {
         throw Error("the surface at iso " + std::to_string(iso) + " reaches the grid's boundary (sample " + std::to_string(where.x) +
@@ -173,7 +173,7 @@ SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
 SurfaceMesh extractSurface(const SparseField& field, double iso, double adaptivity) {
     if (std::isfinite(iso) && !(std::fabs(iso) < double(field.background))) {
         char message[160];
-        std::snprintf(message, sizeof message, "--iso %g lies outside the band field's band (|d| < %g), where it holds only the side of the surface",
+        std::snprintf(message, sizeof message, "iso %g lies outside the band field's band (|d| < %g), where it holds only the side of the surface",
                       iso, double(field.background));
         throw Error(message);
     }

@@ -105,7 +105,7 @@ void negateInside(std::vector<float>& distance, const std::vector<std::uint8_t>&
 
 namespace {
 
-// The memory estimates' parts (core/memory.cpp): exact distances go straight into the field; on a
+// The memory estimates' parts (core/runtime/memory.cpp): exact distances go straight into the field; on a
 // compute device the distance pass's host-side tables are its tree (144-byte triangles, 32-byte
 // nodes of up to 4) and, signing by the pseudonormal, the seven normals per triangle twice (the
 // topology's and the upload's, 168 bytes each). The reference holds each triangle in double.

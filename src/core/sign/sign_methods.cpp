@@ -75,7 +75,7 @@ void raySign(const BakeContext& context, DistancePass& pass, const RunControl& c
     }
 }
 
-// The memory estimates' parts (core/memory.cpp): the pseudonormal reads the topology, the winding
+// The memory estimates' parts (core/runtime/memory.cpp): the pseudonormal reads the topology, the winding
 // sign the topology and its crossings; on a compute device the winding pass holds the closed
 // surface's corners twice (72 bytes each), its weights and its triangles' row ranges (16), and per
 // sample the crossings ahead (4) and the sides (1).
@@ -175,8 +175,8 @@ SignDecision decideSign(SignMethod asked, SignMethod whenDefault, const std::fun
                                      "is -1 inside, and |w| > 1/2 counts that as inside";
         }
     } else if (decision.sign == SignMethod::Pseudonormal && topology().insideOut()) {
-        decision.warnings.push_back("the mesh is inside out (closed, its faces point inwards); --sign pseudonormal follows "
-                                    "the faces, so inside and outside are swapped; --sign auto or winding fixes it");
+        decision.warnings.push_back("the mesh is inside out (closed, its faces point inwards); sign pseudonormal follows "
+                                    "the faces, so inside and outside are swapped; sign auto or winding fixes it");
     }
     return decision;
 }

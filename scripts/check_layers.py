@@ -1,0 +1,191 @@
+#!/usr/bin/env python3
+"""Checks that #include lines run one way through the layers (docs/testing.md: the layering check).
+
+Usage: scripts/check_layers.py [ROOT]   (ROOT: the source tree, by default this script's)
+
+The core's folders (src/core/*) form layers, each of which may include only itself and those
+below it:
+
+    runtime, simd  <  mesh  <  accel  <  method  <  distance, sign  <  bake  <  io
+
+Folders of one rank (runtime and simd; distance and sign) include neither each other. The public
+headers (include/sdfgen/) are everyone's and include only each other. Above the core come the
+plug-ins (src/vdb, src/assimp), then the front ends, in this order: src/render, src/gpu, src/app,
+then src/cli and python/; the core includes none of them. The front ends (src/cli, src/app,
+src/render, python/) reach the core through include/sdfgen/ alone: a front end's include of a core
+internal is a violation too, unless that header is in EXPORTED (an interface the core exports on
+purpose, which itself may include only the standard library and include/sdfgen/). The plug-ins
+and the GPU device implement the core's internal plug-in interfaces and may include its internals.
+
+Each violation is "FILE -> INCLUDED" (paths from ROOT). The ones that existed when this check was
+added are listed in BASELINE, which may only shrink: the check fails on any violation not in it,
+and on any entry of it that no longer occurs (remove the entry along with the include). Exit
+status 0 when the tree holds exactly the baseline's violations, 1 otherwise.
+"""
+import os
+import re
+import sys
+
+# The core's layers, lowest first; one rank may hold several folders (siblings).
+CORE_RANKS = [("runtime", "simd"), ("mesh",), ("accel",), ("method",), ("distance", "sign"), ("bake",), ("io",)]
+# Above the core, lowest first.
+OUTER_RANKS = [("vdb", "assimp"), ("render",), ("gpu",), ("app",), ("cli", "python")]
+FRONT_ENDS = {"cli", "app", "render", "python"}
+# Core internals a front end may include: leaf headers that every part of sdfgen is meant to use
+# alike, each including only the standard library and include/sdfgen/ (checked).
+EXPORTED = {
+    "src/core/io/atomic_file.hpp",     # every output file is written atomically, the front ends' own too (PNG, query .npy)
+    "src/core/io/file_extension.hpp",  # the one way a file's format is read from its name
+    "src/core/simd/path.hpp",          # which copy of the SIMD kernels runs: for `sdfgen info`, tests and benchmarks
+}
+
+BASELINE = {
+    # Upward in the core, and between siblings: what issue 42 items 1 and 2 are to move.
+    # accel/ walks rays with distance/'s ray kernels and tables (the rays' dispatch table is to move to accel/).
+    "src/core/accel/bvh.hpp -> src/core/distance/ray.hpp",
+    "src/core/accel/ray_tree.hpp -> src/core/distance/ray.hpp",
+    "src/core/accel/wide_bvh.cpp -> src/core/distance/kernel.hpp",
+    # bake/surface.cpp meshes a field and saves the surface through io/ and the OpenVDB plug-in.
+    "src/core/bake/surface.cpp -> src/core/io/atomic_file.hpp",
+    "src/core/bake/surface.cpp -> src/core/io/file_extension.hpp",
+    "src/core/bake/surface.cpp -> src/core/io/formats/format.hpp",
+    "src/core/bake/surface.cpp -> src/core/io/openvdb_plugin.hpp",
+    # The method plug-in interface sits in the orchestrator's folder, bake/methods.hpp (to move to core/method/).
+    "src/core/distance/distance_methods.cpp -> src/core/bake/methods.hpp",
+    "src/core/sign/sign_methods.cpp -> src/core/bake/methods.hpp",
+    # The pseudonormal sign takes its closest features from the exact distance (insideByClosestFeature), the rays sign its
+    # votes from the rays method (generateRayField).
+    "src/core/sign/sign_methods.cpp -> src/core/distance/exact.hpp",
+    "src/core/sign/sign_methods.cpp -> src/core/distance/ray_generator.hpp",
+    # The mesh readers quote file names and pick readers by extension through io/.
+    "src/core/mesh/mesh_formats.cpp -> src/core/io/file_extension.hpp",
+    "src/core/mesh/mesh_readers.hpp -> src/core/io/printable.hpp",
+    "src/core/mesh/obj_scan.cpp -> src/core/io/printable.hpp",
+    # The topology's self-intersection search walks the tree.
+    "src/core/mesh/topology.hpp -> src/core/accel/bvh.hpp",
+    # runtime/memory.cpp holds the dense bake's memory model (to move up to bake/).
+    "src/core/runtime/memory.cpp -> src/core/accel/bvh.hpp",
+    "src/core/runtime/memory.cpp -> src/core/bake/methods.hpp",
+    # Front ends through core internals (issue 42 item 4: through include/sdfgen/ instead).
+    "python/module.cpp -> src/core/runtime/parallel.hpp",
+    "python/nearest.cpp -> src/core/mesh/geometry.hpp",
+    "python/nearest.cpp -> src/core/runtime/parallel.hpp",
+    "src/app/panel_field.cpp -> src/core/bake/surface.hpp",
+    "src/app/panel_generation.cpp -> src/core/bake/band_bake.hpp",
+    "src/app/panel_generation.cpp -> src/core/mesh/sample_positions.hpp",
+    "src/app/panel_generation.cpp -> src/core/runtime/memory.hpp",
+    "src/app/undo.cpp -> src/core/runtime/memory.hpp",
+    "src/cli/batch.cpp -> src/core/runtime/memory.hpp",
+    "src/cli/batch.cpp -> src/core/runtime/out_of_memory.hpp",
+    "src/cli/query.cpp -> src/core/io/formats/format.hpp",
+    "src/cli/query.cpp -> src/core/io/formats/npy.hpp",
+    "src/cli/surface.cpp -> src/core/bake/surface.hpp",
+    "src/render/band_display.cpp -> src/core/runtime/memory.hpp",
+    "src/render/band_display.cpp -> src/core/runtime/parallel.hpp",
+}
+
+SOURCE_EXTENSIONS = (".cpp", ".hpp", ".h", ".inc")
+INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.MULTILINE)
+
+
+def sources(root):
+    """Every source file that the check reads, as paths from root."""
+    for top in ("src", "include", "python"):
+        for folder, dirs, files in os.walk(os.path.join(root, top)):
+            dirs.sort()
+            for name in sorted(files):
+                if name.endswith(SOURCE_EXTENSIONS):
+                    yield os.path.relpath(os.path.join(folder, name), root)
+
+
+def resolve(root, path, included):
+    """The included file as a path from root (beside the includer first, then src/ and include/,
+    as the build's include directories), or None for a header from outside the tree."""
+    for base in (os.path.dirname(path), "src", "include"):
+        candidate = os.path.normpath(os.path.join(base, included))
+        if os.path.isfile(os.path.join(root, candidate)):
+            return candidate
+    return None
+
+
+def place(path):
+    """(part, folder): part is 'public', 'core' or 'outer'; folder the layer's folder name."""
+    parts = path.split(os.sep)
+    if parts[0] == "include":
+        return "public", "sdfgen"
+    if parts[0] == "python":
+        return "outer", "python"
+    if parts[1] == "core":
+        return "core", parts[2]
+    return "outer", parts[1]
+
+
+def rank(part, folder):
+    ranks = CORE_RANKS if part == "core" else OUTER_RANKS
+    for index, names in enumerate(ranks):
+        if folder in names:
+            return index
+    raise SystemExit(f"check_layers.py: no layer for folder {folder!r}: add it to CORE_RANKS or OUTER_RANKS")
+
+
+def violation(source, target):
+    """Why `source` may not include `target`, or None."""
+    (part, folder), (to_part, to_folder) = place(source), place(target)
+    if to_part == "public" or (part, folder) == (to_part, to_folder):
+        return None
+    if part == "public":
+        return "a public header includes an internal one"
+    if part == "core" and to_part == "outer":
+        return "the core includes a plug-in or front end"
+    if part == to_part:
+        here, there = rank(part, folder), rank(to_part, to_folder)
+        if there > here:
+            return "upward"
+        if there == here:
+            return "between sibling layers"
+        return None
+    # An outer folder includes the core.
+    if folder in FRONT_ENDS and target not in EXPORTED:
+        return "a front end includes a core internal"
+    return None
+
+
+def exported_leak(source, target):
+    """Why an exported header may not include `target`, or None."""
+    if source in EXPORTED and place(target)[0] != "public":
+        return "an exported interface includes an internal one"
+    return None
+
+
+def violations(root):
+    found = {}
+    for path in sources(root):
+        with open(os.path.join(root, path), encoding="utf-8", errors="replace") as f:
+            text = f.read()
+        for included in INCLUDE.findall(text):
+            target = resolve(root, path, included)
+            if target is None:
+                continue
+            why = exported_leak(path, target) or violation(path, target)
+            if why:
+                found[f"{path} -> {target}"] = why
+    return found
+
+
+def main():
+    root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    found = violations(root)
+    new = sorted(set(found) - BASELINE)
+    gone = sorted(BASELINE - set(found))
+    for entry in new:
+        print(f"layers: {entry}: {found[entry]} (see the layers in scripts/check_layers.py)")
+    for entry in gone:
+        print(f"layers: {entry}: no longer there; remove it from BASELINE in scripts/check_layers.py")
+    if new or gone:
+        return 1
+    print(f"layers: {len(found)} known violations, none new")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
