@@ -183,7 +183,8 @@ def test_gradients_point_from_the_closest_point():
     assert torch.allclose(unsigned_points.grad, points.grad * torch.sign(signed.detach())[:, None], rtol=0, atol=1e-15)
 
 
-def test_no_gradient_on_the_surface():
+def test_the_face_normal_on_the_surface():
+    # The base (face [0, 2, 1] in z = 0) faces -z; more in test_closest.py.
     vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     v, f = torch.from_numpy(vertices), torch.from_numpy(TET_FACES)
     for mesh in ([sdfgen.Mesh(vertices, TET_FACES)], [v, f]):
@@ -191,7 +192,7 @@ def test_no_gradient_on_the_surface():
         distance = st.signed_distance(on_base, *mesh)
         assert distance.shape == () and distance.item() == 0
         distance.backward()
-        assert torch.equal(on_base.grad, torch.zeros(3, dtype=torch.float64))
+        assert torch.equal(on_base.grad, torch.tensor([0.0, 0.0, -1.0], dtype=torch.float64))
 
 
 @pytest.mark.parametrize("dtype", [torch.float32, torch.float64])

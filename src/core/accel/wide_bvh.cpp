@@ -11,6 +11,65 @@
 
 namespace sdfgen {
 
+namespace {
+
+float inverse(double length2) {
+    const float inv = float(1.0 / length2);
+    return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
+}
+
+// Each lane's frame in double, from the float corners every other step uses, rounded once.
+template <class Ids>
+void fillPacket(const Mesh& mesh, TrianglePacket& p, const Ids& ids) {
+    for (int lane = 0; lane < WideBvh::kWidth; ++lane) {
+        const std::uint32_t id = std::uint32_t(ids[std::size_t(lane)]);
+        glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
+        // The longest edge as the base (a cyclic rotation keeps the orientation): the frame
+        // of a sliver or a needle is then as accurate as its longest side allows.
+        int base = 0;
+        double longest = -1.0;
+        for (int e = 0; e < 3; ++e) {
+            const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
+            const double length2 = glm::dot(edge, edge);
+            if (length2 > longest) longest = length2, base = e;
+        }
+        const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
+        const double length = std::sqrt(longest);
+        const glm::dvec3 e1 = (b - a) / length;
+        // The mesh keeps only triangles whose normal has a length (mesh.cpp); its own normal
+        // stands in should the rotated corners' cross product still vanish.
+        const glm::dvec3 cross = glm::cross(b - a, c - a);
+        const double area = glm::length(cross);
+        glm::dvec3 n = area > 0.0 ? cross / area : glm::dvec3(mesh.faceNormals[id]);
+        n = glm::normalize(n - glm::dot(n, e1) * e1);
+        const glm::dvec3 e2 = glm::cross(n, e1);
+        const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
+        p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
+        p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
+        p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
+        p.nx[lane] = float(n.x), p.ny[lane] = float(n.y), p.nz[lane] = float(n.z);
+        p.length[lane] = float(length), p.cu[lane] = float(cu), p.cv[lane] = float(cv), p.bcu[lane] = float(bcu);
+        p.invAC[lane] = inverse(cu * cu + cv * cv), p.invBC[lane] = inverse(bcu * bcu + cv * cv);
+        p.id[lane] = std::int32_t(id);
+    }
+}
+
+// The union of the boxes of a packet's triangles.
+template <class Ids>
+Bounds packetBox(const Mesh& mesh, const Ids& ids) {
+    const float inf = std::numeric_limits<float>::infinity();
+    Bounds box{glm::vec3(inf), glm::vec3(-inf)};
+    for (int lane = 0; lane < WideBvh::kWidth; ++lane) {
+        const std::uint32_t id = std::uint32_t(ids[std::size_t(lane)]);
+        const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
+        box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
+        box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
+    }
+    return box;
+}
+
+} // namespace
+
 WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     struct Child {
         Bounds box;
@@ -29,53 +88,10 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     std::vector<std::array<std::uint32_t, kWidth>> packetIds;
     auto makePacket = [&](const std::uint32_t* ids, std::size_t count) {
         std::array<std::uint32_t, kWidth>& lanes = packetIds.emplace_back();
-        Bounds box{glm::vec3(inf), glm::vec3(-inf)};
-        for (int lane = 0; lane < kWidth; ++lane) {
-            const std::uint32_t id = lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
-            const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
-            box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
-            box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
-        }
+        for (int lane = 0; lane < kWidth; ++lane) lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
+        const Bounds box = packetBox(mesh, lanes);
         leafBounds_.push_back(box);
         return Child{box, kLeaf | std::uint32_t(packetIds.size() - 1)};
-    };
-    // Each lane's frame in double, from the float corners every other step uses, rounded once.
-    auto inverse = [](double length2) {
-        const float inv = float(1.0 / length2);
-        return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
-    };
-    auto fillPacket = [&](TrianglePacket& p, const std::array<std::uint32_t, kWidth>& ids) {
-        for (int lane = 0; lane < kWidth; ++lane) {
-            const std::uint32_t id = ids[std::size_t(lane)];
-            glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
-            // The longest edge as the base (a cyclic rotation keeps the orientation): the frame
-            // of a sliver or a needle is then as accurate as its longest side allows.
-            int base = 0;
-            double longest = -1.0;
-            for (int e = 0; e < 3; ++e) {
-                const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
-                const double length2 = glm::dot(edge, edge);
-                if (length2 > longest) longest = length2, base = e;
-            }
-            const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
-            const double length = std::sqrt(longest);
-            const glm::dvec3 e1 = (b - a) / length;
-            // The mesh keeps only triangles whose normal has a length (mesh.cpp); its own normal
-            // stands in should the rotated corners' cross product still vanish.
-            const glm::dvec3 cross = glm::cross(b - a, c - a);
-            const double area = glm::length(cross);
-            glm::dvec3 n = area > 0.0 ? cross / area : glm::dvec3(mesh.faceNormals[id]);
-            n = glm::normalize(n - glm::dot(n, e1) * e1);
-            const glm::dvec3 e2 = glm::cross(n, e1);
-            const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
-            p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
-            p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
-            p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
-            p.nx[lane] = float(n.x), p.ny[lane] = float(n.y), p.nz[lane] = float(n.z);
-            p.length[lane] = float(length), p.cu[lane] = float(cu), p.cv[lane] = float(cv), p.bcu[lane] = float(bcu);
-            p.invAC[lane] = inverse(cu * cu + cv * cv), p.invBC[lane] = inverse(bcu * bcu + cv * cv);
-            p.id[lane] = std::int32_t(id);
-        }
     };
     auto makeNode = [&](const std::vector<Child>& children) {
         Node node;
@@ -150,7 +166,7 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     constexpr std::size_t kPacketsPerItem = 1024;
     parallelFor((packetIds.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
         for (std::size_t i = item * kPacketsPerItem; i < std::min(packetIds.size(), (item + 1) * kPacketsPerItem); ++i) {
-            fillPacket(packets_[i], packetIds[i]);
+            fillPacket(mesh, packets_[i], packetIds[i]);
         }
     });
     // Nodes were made children first, so the root is last; searches start at node 0.
@@ -161,6 +177,37 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
             if (c != kEmpty && !(c & kLeaf)) ++c;
         }
     }
+}
+
+void WideBvh::refit(const Mesh& mesh, const RunControl& control) {
+    constexpr std::size_t kPacketsPerItem = 1024;
+    parallelFor((packets_.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
+        for (std::size_t i = item * kPacketsPerItem; i < std::min(packets_.size(), (item + 1) * kPacketsPerItem); ++i) {
+            std::array<std::uint32_t, kWidth> ids;
+            for (int lane = 0; lane < kWidth; ++lane) ids[std::size_t(lane)] = std::uint32_t(packets_[i].id[lane]);
+            fillPacket(mesh, packets_[i], ids);
+            leafBounds_[i] = packetBox(mesh, ids);
+        }
+    });
+    // The constructor made children before their parents and then moved the root (made last) to
+    // the front: nodes 1, 2, ... come bottom-up, the root last.
+    std::vector<Bounds> boxes(nodes_.size());
+    auto refitNode = [&](std::size_t index) {
+        Node& n = nodes_[index];
+        const float inf = std::numeric_limits<float>::infinity();
+        Bounds box{glm::vec3(inf), glm::vec3(-inf)};
+        for (int c = 0; c < kWidth; ++c) {
+            const std::uint32_t child = n.child[c];
+            if (child == kEmpty) continue;
+            const Bounds& b = child & kLeaf ? leafBounds_[child & ~kLeaf] : boxes[child];
+            n.set(c, b, child);
+            box.min = glm::min(box.min, b.min);
+            box.max = glm::max(box.max, b.max);
+        }
+        boxes[index] = box;
+    };
+    for (std::size_t i = 1; i < nodes_.size(); ++i) refitNode(i);
+    refitNode(0);
 }
 
 std::uint32_t WideBvh::nearest(float px, float py, float pz, NearestSoFar& best) const {
