@@ -10,6 +10,10 @@ Each function takes the mesh in one of two forms:
   respect to ``points`` and ``vertices``. The first call with these faces builds the mesh and its
   tree; a later call with the same faces and moved vertices refits that tree and keeps auto's sign
   decision while the mesh's edges hold (:meth:`sdfgen.Mesh.with_vertices`), with the same results.
+- ``f(points, vertices, faces)`` with (B, V, 3) ``vertices``: B meshes of V vertices, with (F, 3)
+  ``faces`` shared or (B, F, 3) faces of their own, and (B, ..., 3) ``points``, ``points[b]`` for
+  mesh b; results have a first dimension B, each equal to the single call's, and gradients reach
+  each mesh's vertices. (Meshes of different sizes: a list of single calls.)
 
 ``points`` is a float32 or float64 tensor of shape (..., 3); results come in its dtype, on its
 device (the work runs on the CPU: tensors on another device are copied there and the results
@@ -57,18 +61,24 @@ def signed_distance(points, mesh, faces=None, *, sign="auto", threads=0):
     ``sign`` as for :meth:`sdfgen.Mesh.signed_distance`;
     ``threads`` 0 for all cores. Differentiable (see the module's notes)."""
     _check_sign(sign)
+    if _is_batch(mesh):
+        return _batched(signed_distance, points, mesh, faces, sign=sign, threads=threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
     return _Distance.apply(points, vertices, _terms(points, vertices, mesh, sign, threads))
 
 
 def unsigned_distance(points, mesh, faces=None, *, threads=0):
     """Distances to the nearest triangle at ``points`` (..., 3): a tensor of shape (...)."""
+    if _is_batch(mesh):
+        return _batched(unsigned_distance, points, mesh, faces, threads=threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
     return _Distance.apply(points, vertices, _terms(points, vertices, mesh, None, threads))
 
 
 def closest_points(points, mesh, faces=None, *, threads=0):
     """The nearest surface point to each of ``points`` (..., 3): a tensor of shape (..., 3)."""
+    if _is_batch(mesh):
+        return _batched(closest_points, points, mesh, faces, threads=threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
     return _ClosestPoints.apply(points, vertices, mesh, _terms(points, vertices, mesh, None, threads, closest=True))
 
@@ -82,6 +92,8 @@ def closest(points, mesh, faces=None, *, sign="auto", threads=0):
     (the distance's gradient with respect to the point; the face normal at distance 0). One search
     serves them all."""
     _check_sign(sign)
+    if _is_batch(mesh):
+        return _batched(closest, points, mesh, faces, sign=sign, threads=threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
     terms = _terms(points, vertices, mesh, sign, threads, closest=True, hit=True)
     shape = points.shape[:-1]
@@ -92,6 +104,28 @@ def closest(points, mesh, faces=None, *, sign="auto", threads=0):
                       distance=_Distance.apply(points, vertices, terms),
                       sign=torch.from_numpy(side).reshape(shape).to(points.device),
                       gradient=_like(terms.gradient, points.shape, points))
+
+
+def _is_batch(vertices):
+    return isinstance(vertices, torch.Tensor) and vertices.dim() == 3
+
+
+def _batched(function, points, vertices, faces, **options):
+    """B meshes, (B, V, 3) vertices with (F, 3) faces shared or (B, F, 3) faces of their own, each
+    with its points points[b]: one call per mesh (each as a single call, so bit for bit its
+    results), stacked along a first dimension."""
+    if not isinstance(points, torch.Tensor) or points.dim() < 2 or points.shape[0] != vertices.shape[0]:
+        shape = tuple(points.shape) if isinstance(points, torch.Tensor) else type(points).__name__
+        raise ValueError(f"batched vertices ({tuple(vertices.shape)}) take points of shape (B, ..., 3) with B = "
+                         f"{vertices.shape[0]}, not {shape}")
+    if not isinstance(faces, torch.Tensor) or faces.dim() not in (2, 3) or (faces.dim() == 3 and faces.shape[0] != vertices.shape[0]):
+        shape = tuple(faces.shape) if isinstance(faces, torch.Tensor) else type(faces).__name__
+        raise ValueError(f"batched vertices ({tuple(vertices.shape)}) take faces of shape (F, 3) or "
+                         f"({vertices.shape[0]}, F, 3), not {shape}")
+    results = [function(points[b], vertices[b], faces if faces.dim() == 2 else faces[b], **options) for b in range(len(vertices))]
+    if results and isinstance(results[0], ClosestHit):
+        return ClosestHit(*(torch.stack(field) for field in zip(*results)))
+    return torch.stack(results)
 
 
 def _check_sign(sign):
