@@ -176,6 +176,10 @@ py::dict checkToDict(const MeshCheck& c) {
     return d;
 }
 
+// sdfgen.ClosestHit, the record Mesh.closest and sdfgen.torch.closest return (a namedtuple, made when the module loads;
+// a handle, never released, as warningClass: the module lives as long as the interpreter).
+py::handle closestHitClass;
+
 // A mesh ready for queries: the library's Model, shared by every Python reference.
 struct PyMesh {
     std::shared_ptr<const Model> model;
@@ -280,7 +284,18 @@ py::array_t<T> query(const PyMesh& mesh, const py::array& input, SignMethod sign
     return toNumpy(std::move(out), shape);
 }
 
-PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
+// (M, 3) int64 triangles of the mesh.
+py::array_t<std::int64_t> facesOf(const Mesh& mesh) {
+    std::vector<std::int64_t> faces(3 * mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        for (int c = 0; c < 3; ++c) faces[3 * t + std::size_t(c)] = mesh.triangles[t][c];
+    }
+    return toNumpy(std::move(faces), {py::ssize_t(mesh.triangles.size()), 3});
+}
+
+// `previous`: the mesh these vertices moved (Model::refit: its tree refit, its check kept), or null.
+PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads,
+                      const Model* previous = nullptr) {
     if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
     checkReal(vertices, "vertices");
     if (faces.ndim() != 2 || faces.shape(1) != 3) throw py::value_error("faces must have shape (M, 3)");
@@ -309,7 +324,8 @@ PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const s
     auto build = [&](auto&& positions) {
         PyMesh mesh;
         mesh.model = runReleased([&](const RunControl& control) {
-            return std::make_shared<const Model>(buildMesh(name, std::move(positions), std::move(triangles)), control);
+            Mesh built = buildMesh(name, std::move(positions), std::move(triangles));
+            return std::make_shared<const Model>(previous ? previous->refit(std::move(built), control) : Model(std::move(built), control));
         }, threads);
         return mesh;
     };
@@ -446,6 +462,13 @@ PYBIND11_MODULE(_sdfgen, m) {
         }
     });
 
+    closestHitClass = py::module_::import("collections").attr("namedtuple")(
+        "ClosestHit", py::make_tuple("triangle", "point", "barycentric", "distance", "sign", "gradient"), py::arg("module") = "sdfgen")
+                          .release();
+    closestHitClass.attr("__doc__") = "What a query found at each point (Mesh.closest, sdfgen.torch.closest): triangle, point, barycentric, "
+                                      "distance, sign, gradient";
+    m.attr("ClosestHit") = closestHitClass;
+
     py::class_<PyMesh>(m, "Mesh", "A triangle mesh with its distance tree, built once and kept for every query")
         .def(py::init([](const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
                  return meshFromArrays(vertices, faces, name, threads);
@@ -461,6 +484,19 @@ PYBIND11_MODULE(_sdfgen, m) {
                 return mesh;
             },
             py::arg("path"), py::arg("threads") = 0, "Loads a mesh file and builds its tree")
+        .def(
+            "with_vertices",
+            [](const PyMesh& m, const py::array& vertices, int threads) {
+                if (vertices.ndim() != 2 || vertices.shape(1) != 3 || std::size_t(vertices.shape(0)) != m.model->mesh().positions.size()) {
+                    throw py::value_error("vertices must be the mesh's " + std::to_string(m.model->mesh().positions.size()) +
+                                          " vertices, of shape (V, 3)");
+                }
+                return meshFromArrays(vertices, facesOf(m.model->mesh()), m.model->mesh().source, threads, m.model.get());
+            },
+            py::arg("vertices"), py::arg("threads") = 0,
+            "The mesh with its vertices moved to (V, 3) new positions (float32 or float64), its faces kept: the tree is refit, "
+            "not built again, and the mesh check (auto's sign decision) is kept while the edges hold; queries equal those of "
+            "a Mesh built from the new vertices")
         .def_property_readonly("source", [](const PyMesh& m) { return m.model->mesh().source; })
         .def_property_readonly("triangle_count", [](const PyMesh& m) { return m.model->mesh().triangleCount(); })
         .def_property_readonly("vertex_count", [](const PyMesh& m) { return m.model->mesh().positions.size(); })
@@ -480,14 +516,7 @@ PYBIND11_MODULE(_sdfgen, m) {
             "(N, 3) float64 world positions (a copy)")
         .def_property_readonly(
             "faces",
-            [](const PyMesh& m) {
-                const Mesh& mesh = m.model->mesh();
-                std::vector<std::int64_t> faces(3 * mesh.triangles.size());
-                for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-                    for (int c = 0; c < 3; ++c) faces[3 * t + std::size_t(c)] = mesh.triangles[t][c];
-                }
-                return toNumpy(std::move(faces), {py::ssize_t(mesh.triangles.size()), 3});
-            },
+            [](const PyMesh& m) { return facesOf(m.model->mesh()); },
             "(M, 3) int64 triangles (zero-area ones dropped; the indices of nearest_triangle)")
         .def_property_readonly("bounds",
                                [](const PyMesh& m) {
@@ -526,6 +555,43 @@ PYBIND11_MODULE(_sdfgen, m) {
             },
             py::arg("points"), py::arg("threads") = 0, "Index (into faces) of the nearest triangle, int64 of shape (...)")
         .def(
+            "closest",
+            [](const PyMesh& m, const py::array& input, const std::string& sign, int threads) {
+                std::vector<py::ssize_t> shape;
+                const auto points = pointsFrom(input, shape);
+                const std::size_t count = std::size_t(points.size() / 3);
+                std::vector<float> distance(count);
+                std::vector<double> point(3 * count), barycentric(3 * count), gradient(3 * count);
+                std::vector<std::int64_t> triangle(count);
+                const double* data = points.data();
+                const SignMethod method = signFrom(sign);
+                runReleased(
+                    [&](const RunControl& control) {
+                        PointQueryOutputs out;
+                        out.signedDistance = distance.data();
+                        out.closestPoint = point.data();
+                        out.barycentric = barycentric.data();
+                        out.gradient = gradient.data();
+                        out.triangle = triangle.data();
+                        m.model->query(data, count, out, method, control);
+                        return 0;
+                    },
+                    threads, py::none(), count);
+                std::vector<std::int8_t> side(count);
+                for (std::size_t i = 0; i < count; ++i) side[i] = std::signbit(distance[i]) ? -1 : 1;
+                std::vector<py::ssize_t> vectors = shape;
+                vectors.push_back(3);
+                return closestHitClass(toNumpy(std::move(triangle), shape), toNumpy(std::move(point), vectors),
+                                       toNumpy(std::move(barycentric), vectors), toNumpy(std::move(distance), shape),
+                                       toNumpy(std::move(side), shape), toNumpy(std::move(gradient), vectors));
+            },
+            py::arg("points"), py::arg("sign") = "auto", py::arg("threads") = 0,
+            "What a query finds at (..., 3) points, as an sdfgen.ClosestHit of arrays: triangle (int64 (...), into faces), point "
+            "(float64 (..., 3), the closest surface point), barycentric (float64 (..., 3), point's weights on the triangle's "
+            "corners faces[triangle]), distance (float32 (...), signed as signed_distance), sign (int8 (...), -1 inside, 1 "
+            "outside, also on the surface) and gradient (float64 (..., 3), the signed distance's unit gradient; at distance 0 "
+            "the triangle's face normal)")
+        .def(
             "winding_number",
             [](const PyMesh& m, const py::array& points, int threads) {
                 return query<double>(m, points, SignMethod::Auto, threads, &PointQueryOutputs::windingNumber, 1);
@@ -551,7 +617,7 @@ PYBIND11_MODULE(_sdfgen, m) {
     m.def(
         "_nearest_terms",
         [](const PyMesh& mesh, const py::array& points, const std::optional<py::array>& vertices, const std::optional<std::string>& sign,
-           bool gradient, bool closest, bool features, int threads) {
+           bool gradient, bool closest, bool features, bool hit, int threads) {
             std::vector<py::ssize_t> shape;
             const auto p = pointsFrom(points, shape);
             const std::size_t count = std::size_t(p.size() / 3);
@@ -568,7 +634,13 @@ PYBIND11_MODULE(_sdfgen, m) {
                                 weights = wanted(features, 3);
             std::vector<std::int64_t> corners(features ? 3 * count : 0);
             std::vector<std::int8_t> featureSize(features ? count : 0);
+            std::vector<std::int64_t> triangle(hit ? count : 0);
+            std::vector<double> barycentric = wanted(hit, 3);
             NearestTerms out;
+            if (hit) {
+                out.triangle = triangle.data();
+                out.barycentric = barycentric.data();
+            }
             out.distance = distance.data();
             if (gradient) out.gradient = gradients.data();
             if (closest) out.closest = closests.data();
@@ -590,10 +662,11 @@ PYBIND11_MODULE(_sdfgen, m) {
                 return per == 1 ? py::object(toNumpy(std::move(values), {n})) : py::object(toNumpy(std::move(values), {n, per}));
             };
             return py::make_tuple(toNumpy(std::move(distance), {n}), optional(std::move(gradients), 3), optional(std::move(closests), 3),
-                                  optional(std::move(corners), 3), optional(std::move(weights), 3), optional(std::move(featureSize), 1));
+                                  optional(std::move(corners), 3), optional(std::move(weights), 3), optional(std::move(featureSize), 1),
+                                  optional(std::move(triangle), 1), optional(std::move(barycentric), 3));
         },
         py::arg("mesh"), py::arg("points"), py::arg("vertices") = py::none(), py::arg("sign") = py::none(), py::arg("gradient") = false,
-        py::arg("closest") = false, py::arg("features") = false, py::arg("threads") = 0);
+        py::arg("closest") = false, py::arg("features") = false, py::arg("hit") = false, py::arg("threads") = 0);
 
     py::class_<PyField> fieldClass(m, "Field", "A signed distance field on a grid of cubic voxels (samples at voxel centres)");
     addFieldInfo(fieldClass);

@@ -17,31 +17,19 @@ namespace {
 struct Feature {
     std::array<int, 3> order; // corner positions within the triangle, spanning corners first
     int size;
-    glm::dvec3 weights;
 };
 
-Feature featureOf(const ClosestPoint& closest, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    const glm::dvec3 corner[3] = {a, b, c};
-    auto edge = [&](int from, int to) { // closest.point = corner[from] + t (corner[to] - corner[from])
-        const glm::dvec3 d = corner[to] - corner[from];
-        const double t = glm::dot(closest.point - corner[from], d) / glm::dot(d, d);
-        return Feature{{from, to, 3 - from - to}, 2, {1.0 - t, t, 0.0}};
-    };
-    switch (closest.feature) {
-    case TriangleFeature::VertexA: return {{0, 1, 2}, 1, {1.0, 0.0, 0.0}};
-    case TriangleFeature::VertexB: return {{1, 2, 0}, 1, {1.0, 0.0, 0.0}};
-    case TriangleFeature::VertexC: return {{2, 0, 1}, 1, {1.0, 0.0, 0.0}};
-    case TriangleFeature::EdgeAB: return edge(0, 1);
-    case TriangleFeature::EdgeBC: return edge(1, 2);
-    case TriangleFeature::EdgeCA: return edge(2, 0);
+Feature featureOf(TriangleFeature feature) {
+    switch (feature) {
+    case TriangleFeature::VertexA: return {{0, 1, 2}, 1};
+    case TriangleFeature::VertexB: return {{1, 2, 0}, 1};
+    case TriangleFeature::VertexC: return {{2, 0, 1}, 1};
+    case TriangleFeature::EdgeAB: return {{0, 1, 2}, 2};
+    case TriangleFeature::EdgeBC: return {{1, 2, 0}, 2};
+    case TriangleFeature::EdgeCA: return {{2, 0, 1}, 2};
     case TriangleFeature::Face: break;
     }
-    const glm::dvec3 ab = b - a, ac = c - a, aq = closest.point - a;
-    const double d00 = glm::dot(ab, ab), d01 = glm::dot(ab, ac), d11 = glm::dot(ac, ac);
-    const double d20 = glm::dot(aq, ab), d21 = glm::dot(aq, ac);
-    const double denominator = d00 * d11 - d01 * d01;
-    const double wb = (d11 * d20 - d01 * d21) / denominator, wc = (d00 * d21 - d01 * d20) / denominator;
-    return {{0, 1, 2}, 3, {1.0 - wb - wc, wb, wc}};
+    return {{0, 1, 2}, 3};
 }
 
 } // namespace
@@ -51,9 +39,13 @@ void measureNearest(const Model& model, const double* points, std::size_t count,
     const Mesh& mesh = model.mesh();
     std::vector<std::int64_t> triangle(count);
     std::vector<float> signedDistance(sign ? count : 0);
+    // The query's gradient orients the face normal given at distance 0 (reversed where auto finds
+    // the mesh inside out), the one every front end gives there.
+    std::vector<double> queryGradient(sign && out.gradient ? 3 * count : 0);
     PointQueryOutputs query;
     query.triangle = triangle.data();
     if (sign) query.signedDistance = signedDistance.data();
+    if (!queryGradient.empty()) query.gradient = queryGradient.data();
     model.query(points, count, query, sign.value_or(SignMethod::Auto), control);
 
     constexpr std::size_t kBlock = 4096;
@@ -78,18 +70,33 @@ void measureNearest(const Model& model, const double* points, std::size_t count,
             const double side = sign && std::signbit(signedDistance[i]) ? -1.0 : 1.0;
             if (out.distance) out.distance[i] = side * (length * unit);
             if (out.gradient) {
-                const glm::dvec3 g = length > 0.0 ? (p - closest.point) * (side / length) : glm::dvec3(0.0);
+                glm::dvec3 g;
+                if (length > 0.0) {
+                    g = (p - closest.point) * (side / length);
+                } else if (sign && !vertices) { // on the surface: the query's own (the mesh's face normal, oriented)
+                    g = glm::dvec3(queryGradient[3 * i], queryGradient[3 * i + 1], queryGradient[3 * i + 2]);
+                } else { // the face normal of the given corners (oriented as the query's, when signed)
+                    g = glm::normalize(glm::cross(corner[1] - corner[0], corner[2] - corner[0]));
+                    if (sign) {
+                        const glm::dvec3 oriented(queryGradient[3 * i], queryGradient[3 * i + 1], queryGradient[3 * i + 2]);
+                        if (glm::dot(g, oriented) < 0.0) g = -g;
+                    }
+                }
                 for (int a = 0; a < 3; ++a) out.gradient[3 * i + std::size_t(a)] = g[a];
             }
             if (out.closest) {
                 const glm::dvec3 c = vertices ? closest.point : mesh.toWorld(closest.point);
                 for (int a = 0; a < 3; ++a) out.closest[3 * i + std::size_t(a)] = c[a];
             }
-            if (out.corners || out.weights || out.featureSize) {
-                const Feature feature = featureOf(closest, corner[0], corner[1], corner[2]);
+            if (out.triangle) out.triangle[i] = triangle[i];
+            if (out.corners || out.weights || out.featureSize || out.barycentric) {
+                const glm::dvec3 weights = barycentricOf(closest, corner[0], corner[1], corner[2]);
+                const Feature feature = featureOf(closest.feature);
                 for (int k = 0; k < 3; ++k) {
-                    if (out.corners) out.corners[3 * i + std::size_t(k)] = corners[feature.order[std::size_t(k)]];
-                    if (out.weights) out.weights[3 * i + std::size_t(k)] = feature.weights[k];
+                    const int at = feature.order[std::size_t(k)];
+                    if (out.corners) out.corners[3 * i + std::size_t(k)] = corners[at];
+                    if (out.weights) out.weights[3 * i + std::size_t(k)] = weights[at];
+                    if (out.barycentric) out.barycentric[3 * i + std::size_t(k)] = weights[k];
                 }
                 if (out.featureSize) out.featureSize[i] = std::int8_t(feature.size);
             }

@@ -14,11 +14,14 @@ namespace sdfgen::python {
 // Per point, each output optional (nullptr = not wanted).
 struct NearestTerms {
     double* distance = nullptr;       // signed by the sign method when one is given, else unsigned
-    double* gradient = nullptr;       // (3) the distance's gradient at the point: sign * (p - c) / |p - c|; zero on the surface
+    double* gradient = nullptr;       // (3) the distance's gradient at the point: sign * (p - c) / |p - c|; on the surface
+                                      // the face normal, oriented as Model::query's gradient (the face normal unsigned)
     double* closest = nullptr;        // (3) the closest surface point c, world coordinates
     std::int64_t* corners = nullptr;  // (3) vertex indices of the nearest triangle, those spanning c's feature first
     double* weights = nullptr;        // (3) barycentric weights of c on those corners
     std::int8_t* featureSize = nullptr; // corners spanning c's feature: 3 face, 2 edge, 1 vertex
+    std::int64_t* triangle = nullptr; // the nearest triangle, an index into the mesh's triangles
+    double* barycentric = nullptr;    // (3) c's weights on that triangle's corners, in its own order
 };
 
 // `points` are count world positions (xyz). `vertices` (world xyz, one per mesh vertex, nullptr for

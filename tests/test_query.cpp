@@ -1,4 +1,5 @@
 // Point queries through sdfgen::Model: exact like the grid, and equal to the baked field at its samples.
+#include "core/mesh/geometry.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/model.hpp"
 #include "support/checks.hpp"
@@ -118,6 +119,133 @@ TEST(PointQuery, MatchesBruteForceAtRandomPoints) {
             }
         }
     }
+}
+
+TEST(PointQuery, ClosestHitMatchesBruteForceInDouble) {
+    // Model::closest's record (triangle, point, barycentrics, signed distance, sign, gradient)
+    // against every triangle measured in double, at random points and on the surface.
+    for (const Mesh& mesh : {holedSphere(), test::torus(1.0f, 0.3f, 24, 12)}) {
+        SCOPED_TRACE(mesh.source);
+        const Model model(mesh);
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<double> coordinate(-1.6, 1.6);
+        std::vector<glm::dvec3> points(2000);
+        for (glm::dvec3& p : points) p = {coordinate(rng), coordinate(rng), coordinate(rng)};
+        const std::size_t onSurface = 50; // face centroids: distance 0
+        for (std::size_t t = 0; t < onSurface; ++t) {
+            const std::size_t face = t * 7 % mesh.triangleCount();
+            points.push_back(mesh.toWorld((glm::dvec3(mesh.vertex(face, 0)) + glm::dvec3(mesh.vertex(face, 1)) + glm::dvec3(mesh.vertex(face, 2))) / 3.0));
+        }
+        const std::vector<ClosestHit> hits = model.closest(points, SignMethod::Winding);
+        const std::vector<float> signedDistance = model.signedDistance(points);
+        ASSERT_EQ(hits.size(), points.size());
+        std::size_t unique = 0, zero = 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const ClosestHit& hit = hits[i];
+            const glm::dvec3 local = mesh.toLocal(points[i]);
+            auto measure = [&](std::size_t t) {
+                return closestPointOnTriangle(local, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+            };
+            double best = std::numeric_limits<double>::infinity(), second = best;
+            std::size_t bestTriangle = 0;
+            for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+                const double d = measure(t).distanceSquared;
+                if (d < best) second = best, best = d, bestTriangle = t;
+                else second = std::min(second, d);
+            }
+            ASSERT_GE(hit.triangle, 0);
+            const std::size_t t = std::size_t(hit.triangle);
+            const ClosestPoint truth = measure(t);
+            EXPECT_NEAR(std::sqrt(truth.distanceSquared) * mesh.unit, std::sqrt(best) * mesh.unit, 1e-6) << i;
+            if (std::sqrt(second) - std::sqrt(best) > 1e-6) {
+                ++unique;
+                EXPECT_EQ(t, bestTriangle) << i;
+            }
+            EXPECT_EQ(glm::length(hit.point - mesh.toWorld(truth.point)), 0.0) << i;
+            const glm::dvec3 w = hit.barycentric;
+            EXPECT_EQ(w, barycentricOf(truth, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)))) << i;
+            EXPECT_NEAR(w.x + w.y + w.z, 1.0, 1e-12) << i;
+            EXPECT_GE(std::min({w.x, w.y, w.z}), -1e-12) << i;
+            const glm::dvec3 recombined = w.x * mesh.toWorld(glm::dvec3(mesh.vertex(t, 0))) + w.y * mesh.toWorld(glm::dvec3(mesh.vertex(t, 1))) +
+                                          w.z * mesh.toWorld(glm::dvec3(mesh.vertex(t, 2)));
+            EXPECT_LT(glm::length(recombined - hit.point), 1e-12) << i;
+            EXPECT_EQ(hit.distance, float(std::sqrt(truth.distanceSquared) * mesh.unit) * float(hit.sign)) << i;
+            EXPECT_EQ(hit.sign, std::signbit(hit.distance) ? -1 : 1) << i;
+            EXPECT_NEAR(std::fabs(glm::length(hit.gradient) - 1.0), 0.0, 1e-6) << i;
+            if (i < points.size() - onSurface) {
+                EXPECT_EQ(hit.distance, signedDistance[i]) << i; // auto signs this holed sphere and torus by the winding number too
+                const glm::dvec3 expected = (points[i] - hit.point) / glm::length(points[i] - hit.point) * double(hit.sign);
+                EXPECT_LT(glm::length(hit.gradient - expected), 1e-6) << i;
+            } else { // on the surface (up to the rounding of the world frame): the face normal
+                EXPECT_LT(std::fabs(hit.distance), 1e-6f) << i;
+                if (hit.distance == 0.0f) {
+                    ++zero;
+                    EXPECT_EQ(hit.gradient, glm::dvec3(mesh.faceNormals[t])) << i;
+                }
+            }
+        }
+        EXPECT_GT(unique, points.size() / 4); // the rest tie at a shared edge or vertex
+        EXPECT_GT(zero, 0u);
+    }
+}
+
+TEST(PointQuery, RefitModelAnswersAsAFreshOne) {
+    // Vertices moved three times (a wobble, then a swirl): every query of the refit model equals the
+    // same query of a model built from the moved mesh, for every sign; the check is kept.
+    for (const Mesh& start : {test::icosphere(1.0f, 3), holedSphere(), test::torus(1.0f, 0.3f, 24, 12)}) {
+        SCOPED_TRACE(start.source);
+        std::vector<glm::dvec3> positions = start.worldPositions();
+        Model model(start);
+        const MeshCheck firstCheck = model.check();
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> coordinate(-1.6, 1.6);
+        std::vector<double> points(3 * 1500);
+        for (double& c : points) c = coordinate(rng);
+        for (int step = 1; step <= 3; ++step) {
+            for (glm::dvec3& p : positions) {
+                p += 0.02 * step * glm::dvec3(std::sin(3.0 * p.y), std::cos(2.0 * p.z), std::sin(p.x + p.y));
+            }
+            model = model.refit(buildMesh(start.source, positions, start.triangles));
+            const Model fresh(buildMesh(start.source, positions, start.triangles));
+            EXPECT_EQ(model.check().selfIntersections, firstCheck.selfIntersections);
+            EXPECT_EQ(model.check().describe(), fresh.check().describe()); // no self-intersection made: the same check
+            for (const SignMethod sign : {SignMethod::Auto, SignMethod::Winding, SignMethod::Pseudonormal}) {
+                auto answers = [&](const Model& m) {
+                    const std::size_t n = points.size() / 3;
+                    std::vector<float> sdf(n), udf(n);
+                    std::vector<double> closest(3 * n), gradient(3 * n), barycentric(3 * n), winding(n);
+                    std::vector<std::int64_t> triangle(n);
+                    PointQueryOutputs out{sdf.data(), udf.data(), closest.data(), triangle.data(), winding.data(), gradient.data(), barycentric.data()};
+                    m.query(points.data(), n, out, sign);
+                    return std::make_tuple(sdf, udf, closest, triangle, winding, gradient, barycentric);
+                };
+                EXPECT_TRUE(answers(model) == answers(fresh)) << toString(sign) << " step " << step;
+            }
+            BakeSettings settings;
+            settings.res = 24;
+            EXPECT_TRUE(model.bake(settings).field.values == fresh.bake(settings).field.values) << step;
+        }
+    }
+}
+
+TEST(PointQuery, RefitKeepsTheCheckWhileTheEdgesHold) {
+    // A sphere pushed through itself: a fresh check finds the self-intersections; the refit model
+    // keeps the check it had (auto's decision), as documented. A changed triangle list builds afresh.
+    const Mesh sphere = test::icosphere(1.0f, 2);
+    std::vector<glm::dvec3> positions = sphere.worldPositions();
+    const Model model(sphere);
+    ASSERT_TRUE(model.check().closedAndClean());
+    for (glm::dvec3& p : positions) {
+        if (p.y > 0.5) p.y -= 1.2; // the cap through the sphere's inside and out of its other side
+    }
+    const Model refit = model.refit(buildMesh("pushed", positions, sphere.triangles));
+    const Model fresh(buildMesh("pushed", positions, sphere.triangles));
+    EXPECT_GT(fresh.check().selfIntersections, 0u);
+    EXPECT_EQ(refit.check().selfIntersections, 0u);
+    std::vector<glm::uvec3> fewer(sphere.triangles.begin() + 1, sphere.triangles.end());
+    const Model rebuilt = model.refit(buildMesh("fewer", positions, fewer));
+    EXPECT_EQ(rebuilt.mesh().triangleCount(), fewer.size());
+    EXPECT_EQ(rebuilt.check().selfIntersections, Model(buildMesh("fewer", positions, fewer)).check().selfIntersections);
 }
 
 TEST(PointQuery, IndependentOfTheThreadCount) {

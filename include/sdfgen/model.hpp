@@ -56,8 +56,23 @@ struct PointQueryOutputs {
     std::int64_t* triangle = nullptr;  // index of the nearest triangle in mesh().triangles
     double* windingNumber = nullptr;   // generalized winding number, computed exactly
     // The unit gradient of the signed distance (3 * count, by the query's sign), as a bake's
-    // gradient channel (see Channels): sign * (p - c) / |p - c|, the outward face normal at distance 0.
+    // gradient channel (see Channels): sign * (p - c) / |p - c|; at distance 0 (where it has none)
+    // the nearest triangle's unit face normal, reversed where auto finds the mesh inside out.
     double* gradient = nullptr;
+    // The closest point's barycentric weights (3 * count) on the nearest triangle's corners
+    // mesh().triangles[triangle][0..2], in double: they sum to 1, and only the corners spanning the
+    // closest point's feature (face, edge or vertex) carry weight.
+    double* barycentric = nullptr;
+};
+
+// What a query found at one point (Model::closest): fcpw's Interaction, Warp's mesh query.
+struct ClosestHit {
+    std::int64_t triangle = -1; // the nearest triangle, an index into mesh().triangles
+    glm::dvec3 point{0.0};      // the closest surface point, world coordinates
+    glm::dvec3 barycentric{0.0}; // point's weights on the triangle's corners (PointQueryOutputs::barycentric)
+    float distance = 0.0f;      // signed distance, negative inside (-0 on the surface of an inside point)
+    int sign = 1;               // -1 inside, 1 outside: distance's sign, also where distance is 0
+    glm::dvec3 gradient{0.0};   // the signed distance's unit gradient (PointQueryOutputs::gradient)
 };
 
 // A mesh made ready for baking and point queries: the mesh, its bounding volume hierarchy (built
@@ -73,6 +88,14 @@ public:
     // flag is read before the load and during the build (Cancelled), its progress reports the
     // build, and its warn receives the mesh's warnings (Mesh::warnings, dropped zero-area triangles).
     explicit Model(Mesh mesh, const RunControl& control = {});
+    // A model of `mesh`, this model's mesh with its vertices moved (an optimisation step): the same
+    // triangles in the same order. This model's tree is refit to the new positions (linear time)
+    // instead of built again, and its mesh check is kept, its search for self-intersections not
+    // run again, while the edges it counts (holes, non-manifold and flipped edges, orientation)
+    // stay as they were: auto then decides the sign as it did. Queries and bakes give exactly what
+    // a Model built from `mesh` gives when that decision is the same. Builds afresh where the
+    // triangles differ, or copies of a triangle were made or parted. `control` as the constructor's.
+    Model refit(Mesh mesh, const RunControl& control = {}) const;
     ~Model();
     Model(Model&&) noexcept;
     Model& operator=(Model&&) noexcept;
@@ -104,8 +127,11 @@ public:
     // Conveniences over query().
     std::vector<float> signedDistance(const std::vector<glm::dvec3>& points, const RunControl& control = {}) const;
     std::vector<float> unsignedDistance(const std::vector<glm::dvec3>& points, const RunControl& control = {}) const;
+    std::vector<ClosestHit> closest(const std::vector<glm::dvec3>& points, SignMethod sign = SignMethod::Auto,
+                                    const RunControl& control = {}) const;
 
 private:
+    Model(); // for refit, which sets impl_
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

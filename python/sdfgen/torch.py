@@ -6,8 +6,14 @@ Each function takes the mesh in one of two forms:
 - ``f(points, mesh)``: ``mesh`` an :class:`sdfgen.Mesh` (built once, reused by every call);
   differentiable with respect to ``points``.
 - ``f(points, vertices, faces)``: ``vertices`` a (V, 3) float tensor (it may require grad),
-  ``faces`` an (F, 3) integer tensor (counter-clockwise seen from outside); the mesh and its tree
-  are built from them on each call. Differentiable with respect to ``points`` and ``vertices``.
+  ``faces`` an (F, 3) integer tensor (counter-clockwise seen from outside). Differentiable with
+  respect to ``points`` and ``vertices``. The first call with these faces builds the mesh and its
+  tree; a later call with the same faces and moved vertices refits that tree and keeps auto's sign
+  decision while the mesh's edges hold (:meth:`sdfgen.Mesh.with_vertices`), with the same results.
+- ``f(points, vertices, faces)`` with (B, V, 3) ``vertices``: B meshes of V vertices, with (F, 3)
+  ``faces`` shared or (B, F, 3) faces of their own, and (B, ..., 3) ``points``, ``points[b]`` for
+  mesh b; results have a first dimension B, each equal to the single call's, and gradients reach
+  each mesh's vertices. (Meshes of different sizes: a list of single calls.)
 
 ``points`` is a float32 or float64 tensor of shape (..., 3); results come in its dtype, on its
 device (the work runs on the CPU: tensors on another device are copied there and the results
@@ -26,19 +32,27 @@ float32 value, for a Mesh) and finite differences of it match the gradients:
 - closest point: the derivative of the projection onto the closest point's feature (the face's
   plane, the edge's line, or the vertex itself) with respect to the point and its corners.
 
-Where the distance has no derivative these are one-sided or conventional: on the surface (the
-unsigned distance has a kink there and the sign flips; sdfgen gives a zero gradient with respect to
-the points), at points with two or more nearest triangles or features (the medial axis: the
-gradient of the triangle sdfgen's tree picked), and across a change of the closest point's feature.
+Where the distance has no derivative these are one-sided or conventional: on the surface (distance
+0), ``s * (p - c) / |p - c|`` is replaced by the nearest triangle's unit face normal n (from the
+given coordinates), reversed where ``sign="auto"`` finds the mesh inside out: the gradient that
+``Mesh.closest``, bake's gradient channel and the C++ ``Model::query`` give there, and the limit of
+the signed distance's gradient from either side of a face of a closed, outward mesh; unsigned
+distances take n as their triangle winds (the limit from its front). Vertices get ``-w * n``.
+At points with two or more nearest triangles or features (the medial axis) it is the gradient of
+the triangle sdfgen's tree picked; across a change of the closest point's feature, one-sided.
 The sign is piecewise constant and contributes no gradient. Backward passes are first order only:
 one with ``create_graph=True`` (for a gradient of a gradient) raises RuntimeError.
 """
+import collections
+import types
+
+import numpy as np
 import torch
 
-from . import Mesh
+from . import ClosestHit, Mesh
 from ._sdfgen import _nearest_terms, _point_query_signs
 
-__all__ = ["signed_distance", "unsigned_distance", "closest_points"]
+__all__ = ["signed_distance", "unsigned_distance", "closest_points", "closest"]
 
 
 def signed_distance(points, mesh, faces=None, *, sign="auto", threads=0):
@@ -46,22 +60,77 @@ def signed_distance(points, mesh, faces=None, *, sign="auto", threads=0):
 
     ``sign`` as for :meth:`sdfgen.Mesh.signed_distance`;
     ``threads`` 0 for all cores. Differentiable (see the module's notes)."""
-    if not isinstance(sign, str):
-        raise ValueError(f"sign must be a string ({', '.join(_point_query_signs)}), not {type(sign).__name__}")
+    _check_sign(sign)
+    if _is_batch(mesh):
+        return _batched(signed_distance, points, mesh, faces, sign=sign, threads=threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
-    return _Distance.apply(points, vertices, mesh, sign, threads)
+    return _Distance.apply(points, vertices, _terms(points, vertices, mesh, sign, threads))
 
 
 def unsigned_distance(points, mesh, faces=None, *, threads=0):
     """Distances to the nearest triangle at ``points`` (..., 3): a tensor of shape (...)."""
+    if _is_batch(mesh):
+        return _batched(unsigned_distance, points, mesh, faces, threads=threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
-    return _Distance.apply(points, vertices, mesh, None, threads)
+    return _Distance.apply(points, vertices, _terms(points, vertices, mesh, None, threads))
 
 
 def closest_points(points, mesh, faces=None, *, threads=0):
     """The nearest surface point to each of ``points`` (..., 3): a tensor of shape (..., 3)."""
+    if _is_batch(mesh):
+        return _batched(closest_points, points, mesh, faces, threads=threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
-    return _ClosestPoints.apply(points, vertices, mesh, threads)
+    return _ClosestPoints.apply(points, vertices, mesh, _terms(points, vertices, mesh, None, threads, closest=True))
+
+
+def closest(points, mesh, faces=None, *, sign="auto", threads=0):
+    """What the query found at ``points`` (..., 3), as an :class:`sdfgen.ClosestHit` of tensors, as
+    :meth:`sdfgen.Mesh.closest` gives arrays: ``triangle`` (int64 (...), into the faces), ``point``
+    (..., 3) and ``distance`` (...) (differentiable, as :func:`closest_points` and
+    :func:`signed_distance`), and, as constants, ``barycentric`` (..., 3) (point's weights on the
+    triangle's corners), ``sign`` (int8 (...), -1 inside, 1 outside) and ``gradient`` (..., 3)
+    (the distance's gradient with respect to the point; the face normal at distance 0). One search
+    serves them all."""
+    _check_sign(sign)
+    if _is_batch(mesh):
+        return _batched(closest, points, mesh, faces, sign=sign, threads=threads)
+    mesh, vertices = _mesh_of(points, mesh, faces, threads)
+    terms = _terms(points, vertices, mesh, sign, threads, closest=True, hit=True)
+    shape = points.shape[:-1]
+    side = np.where(np.signbit(terms.distance), -1, 1).astype(np.int8)
+    return ClosestHit(triangle=torch.from_numpy(terms.triangle).reshape(shape).to(points.device),
+                      point=_ClosestPoints.apply(points, vertices, mesh, terms),
+                      barycentric=_like(terms.barycentric, points.shape, points),
+                      distance=_Distance.apply(points, vertices, terms),
+                      sign=torch.from_numpy(side).reshape(shape).to(points.device),
+                      gradient=_like(terms.gradient, points.shape, points))
+
+
+def _is_batch(vertices):
+    return isinstance(vertices, torch.Tensor) and vertices.dim() == 3
+
+
+def _batched(function, points, vertices, faces, **options):
+    """B meshes, (B, V, 3) vertices with (F, 3) faces shared or (B, F, 3) faces of their own, each
+    with its points points[b]: one call per mesh (each as a single call, so bit for bit its
+    results), stacked along a first dimension."""
+    if not isinstance(points, torch.Tensor) or points.dim() < 2 or points.shape[0] != vertices.shape[0]:
+        shape = tuple(points.shape) if isinstance(points, torch.Tensor) else type(points).__name__
+        raise ValueError(f"batched vertices ({tuple(vertices.shape)}) take points of shape (B, ..., 3) with B = "
+                         f"{vertices.shape[0]}, not {shape}")
+    if not isinstance(faces, torch.Tensor) or faces.dim() not in (2, 3) or (faces.dim() == 3 and faces.shape[0] != vertices.shape[0]):
+        shape = tuple(faces.shape) if isinstance(faces, torch.Tensor) else type(faces).__name__
+        raise ValueError(f"batched vertices ({tuple(vertices.shape)}) take faces of shape (F, 3) or "
+                         f"({vertices.shape[0]}, F, 3), not {shape}")
+    results = [function(points[b], vertices[b], faces if faces.dim() == 2 else faces[b], **options) for b in range(len(vertices))]
+    if results and isinstance(results[0], ClosestHit):
+        return ClosestHit(*(torch.stack(field) for field in zip(*results)))
+    return torch.stack(results)
+
+
+def _check_sign(sign):
+    if not isinstance(sign, str):
+        raise ValueError(f"sign must be a string ({', '.join(_point_query_signs)}), not {type(sign).__name__}")
 
 
 def _mesh_of(points, mesh, faces, threads):
@@ -91,7 +160,29 @@ def _mesh_of(points, mesh, faces, threads):
         raise ValueError(f"faces must have shape (F, 3), not {tuple(faces.shape)}")
     if faces.dtype.is_floating_point or faces.dtype.is_complex or faces.dtype == torch.bool:
         raise ValueError(f"faces must be an integer tensor, not {faces.dtype}")
-    return Mesh(_cpu(vertices), _cpu(faces), name="<tensors>", threads=threads), vertices
+    return _tensor_mesh(_cpu(vertices), _cpu(faces), threads), vertices
+
+
+# The meshes built from tensors, by their faces (and vertex count), the latest first: a call with
+# the same faces and moved vertices (an optimisation step) refits the previous mesh's tree and keeps
+# its sign decision (Mesh.with_vertices) instead of building a new mesh. A few topologies are kept.
+_tensor_meshes = collections.OrderedDict()
+_TENSOR_MESHES_KEPT = 4
+
+
+def _tensor_mesh(vertices, faces, threads):
+    key = (len(vertices), faces.dtype.str, faces.tobytes())
+    previous = _tensor_meshes.pop(key, None)
+    if previous is None:
+        mesh = Mesh(vertices, faces, name="<tensors>", threads=threads)
+    else:
+        mesh = previous.with_vertices(vertices, threads=threads)
+    # Kept only while no zero-area triangle is dropped: with_vertices keeps the mesh's own faces.
+    if mesh.triangle_count == len(faces):
+        _tensor_meshes[key] = mesh
+        while len(_tensor_meshes) > _TENSOR_MESHES_KEPT:
+            _tensor_meshes.popitem(last=False)
+    return mesh
 
 
 def _cpu(tensor):
@@ -121,23 +212,36 @@ def _first_order_only():
                            "(a gradient of a gradient) is not supported")
 
 
+def _terms(points, vertices, mesh, sign, threads, *, closest=False, hit=False):
+    """The nearest-point terms of one search (python/nearest.hpp), those the values and the
+    gradients asked for need; None for the others."""
+    grad = torch.is_grad_enabled()
+    wants_points = grad and points.requires_grad
+    wants_vertices = grad and vertices is not None and vertices.requires_grad
+    (distance, gradient, closest_point, corners, weights, feature_size, triangle, barycentric) = _nearest_terms(
+        mesh, _flat_points(points), _vertex_coordinates(vertices), sign, gradient=wants_points or wants_vertices or hit,
+        closest=closest, features=wants_vertices or (closest and wants_points), hit=hit, threads=threads)
+    return types.SimpleNamespace(distance=distance, gradient=gradient, closest=closest_point, corners=corners,
+                                 weights=weights, feature_size=feature_size, triangle=triangle, barycentric=barycentric,
+                                 wants_points=wants_points, wants_vertices=wants_vertices)
+
+
 class _Distance(torch.autograd.Function):
     """Signed (a sign method given) or unsigned distances, with gradients from the exact terms."""
 
     @staticmethod
-    def forward(ctx, points, vertices, mesh, sign, threads):
-        wants_points, wants_vertices = ctx.needs_input_grad[0], ctx.needs_input_grad[1]
-        distance, gradient, _, corners, weights, _ = _nearest_terms(
-            mesh, _flat_points(points), _vertex_coordinates(vertices), sign,
-            gradient=wants_points or wants_vertices, features=wants_vertices, threads=threads)
+    def forward(ctx, points, vertices, terms):
+        # The terms' own record of the gradients wanted (grad mode is off in forward, and
+        # needs_input_grad says nothing of it).
+        wants_points, wants_vertices = terms.wants_points, terms.wants_vertices
         if wants_points or wants_vertices:
             ctx.points_like = (points.shape, points.dtype, points.device)
             ctx.vertices_like = None if vertices is None else (vertices.shape, vertices.dtype, vertices.device)
-            saved = [torch.from_numpy(gradient)]
+            saved = [torch.from_numpy(terms.gradient)]
             if wants_vertices:
-                saved += [torch.from_numpy(corners), torch.from_numpy(weights)]
+                saved += [torch.from_numpy(terms.corners), torch.from_numpy(terms.weights)]
             ctx.save_for_backward(*saved)
-        return _like(distance, points.shape[:-1], points)
+        return _like(terms.distance, points.shape[:-1], points)
 
     @staticmethod
     def backward(ctx, grad):
@@ -155,22 +259,18 @@ class _Distance(torch.autograd.Function):
             per_corner = (weights * g).unsqueeze(-1) * gradient.neg().unsqueeze(1)
             grad_vertices = torch.zeros(shape, dtype=torch.float64).index_add_(0, corners.reshape(-1), per_corner.reshape(-1, 3))
             grad_vertices = grad_vertices.to(dtype=dtype, device=device)
-        return grad_points, grad_vertices, None, None, None
+        return grad_points, grad_vertices, None
 
 
 class _ClosestPoints(torch.autograd.Function):
     """Closest surface points; backward differentiates the projection onto each point's feature."""
 
     @staticmethod
-    def forward(ctx, points, vertices, mesh, threads):
-        wants_gradient = ctx.needs_input_grad[0] or ctx.needs_input_grad[1]
-        _, _, closest, corners, _, feature_size = _nearest_terms(
-            mesh, _flat_points(points), _vertex_coordinates(vertices), None, closest=True, features=wants_gradient,
-            threads=threads)
-        if wants_gradient:
+    def forward(ctx, points, vertices, mesh, terms):
+        if terms.wants_points or terms.wants_vertices:
             ctx.mesh = mesh
-            ctx.save_for_backward(points, vertices, torch.from_numpy(corners), torch.from_numpy(feature_size))
-        return _like(closest, points.shape, points)
+            ctx.save_for_backward(points, vertices, torch.from_numpy(terms.corners), torch.from_numpy(terms.feature_size))
+        return _like(terms.closest, points.shape, points)
 
     @staticmethod
     def backward(ctx, grad):

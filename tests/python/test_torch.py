@@ -183,7 +183,8 @@ def test_gradients_point_from_the_closest_point():
     assert torch.allclose(unsigned_points.grad, points.grad * torch.sign(signed.detach())[:, None], rtol=0, atol=1e-15)
 
 
-def test_no_gradient_on_the_surface():
+def test_the_face_normal_on_the_surface():
+    # The base (face [0, 2, 1] in z = 0) faces -z; more in test_closest.py.
     vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
     v, f = torch.from_numpy(vertices), torch.from_numpy(TET_FACES)
     for mesh in ([sdfgen.Mesh(vertices, TET_FACES)], [v, f]):
@@ -191,7 +192,7 @@ def test_no_gradient_on_the_surface():
         distance = st.signed_distance(on_base, *mesh)
         assert distance.shape == () and distance.item() == 0
         distance.backward()
-        assert torch.equal(on_base.grad, torch.zeros(3, dtype=torch.float64))
+        assert torch.equal(on_base.grad, torch.tensor([0.0, 0.0, -1.0], dtype=torch.float64))
 
 
 @pytest.mark.parametrize("dtype", [torch.float32, torch.float64])
@@ -291,3 +292,32 @@ def test_errors(bunny):
         st.signed_distance(points, v, torch.tensor([[-1, 1, 2]]))
     with pytest.raises(sdfgen.Error, match="uses vertex 9"):
         st.signed_distance(points, v, torch.tensor([[0, 1, 8]]))
+
+
+def test_batched_meshes_equal_single_calls_and_pass_gradcheck():
+    # B = 3 octahedra moved apart, with the faces shared and with faces of their own (reordered).
+    vertices, faces = MESHES["closed"]
+    batch = torch.stack([torch.from_numpy(vertices * (1 + 0.1 * b) + 0.05 * b) for b in range(3)])
+    own_faces = torch.stack([torch.from_numpy(np.roll(faces, b, axis=0)) for b in range(3)])
+    points = torch.stack([torch.from_numpy(clear_points(vertices * (1 + 0.1 * b) + 0.05 * b, faces, 40, seed=b)) for b in range(3)])
+    for f in (torch.from_numpy(faces), own_faces):
+        for function in (st.signed_distance, st.unsigned_distance, st.closest_points):
+            v, p = batch.clone().requires_grad_(), points.clone().requires_grad_()
+            together = function(p, v, f)
+            together.sum().backward()
+            for b in range(3):
+                vb, pb = batch[b].clone().requires_grad_(), points[b].clone().requires_grad_()
+                alone = function(pb, vb, f if f.dim() == 2 else f[b])
+                alone.sum().backward()
+                assert torch.equal(together[b].detach(), alone.detach())
+                assert torch.equal(p.grad[b], pb.grad) and torch.equal(v.grad[b], vb.grad)
+    hit = st.closest(points, batch, own_faces)
+    assert hit.triangle.shape == (3, 40) and hit.barycentric.shape == (3, 40, 3)
+    assert torch.equal(hit.triangle[2], st.closest(points[2], batch[2], own_faces[2]).triangle)
+    # Gradients to each mesh's vertices and points, against finite differences.
+    v, p = batch[:2].clone().requires_grad_(), points[:2].clone().requires_grad_()
+    assert torch.autograd.gradcheck(lambda p, v: st.signed_distance(p, v, own_faces[:2]), (p, v), eps=1e-7, atol=1e-6, rtol=1e-5)
+    with pytest.raises(ValueError, match=r"take points of shape \(B, \.\.\., 3\) with B = 3"):
+        st.signed_distance(points[:2], batch, own_faces)
+    with pytest.raises(ValueError, match=r"take faces of shape \(F, 3\) or \(3, F, 3\)"):
+        st.signed_distance(points, batch, own_faces[:2])

@@ -219,6 +219,47 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     for (std::size_t i = 0; i < n; ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
+bool Bvh::refit(const Mesh& mesh, const RunControl& control) {
+    if (mesh.triangleCount() != copies_.size()) return false;
+    tbb::task_arena arena(arenaSize(control));
+    TriangleCopies copies;
+    arena.execute([&] { copies = findTriangleCopies(mesh); });
+    // The tree holds each first copy once and counts the others: that must hold as it did.
+    if (copies.unique.size() != triangleIds_.size()) return false;
+    for (std::size_t i = 0; i < copies.unique.size(); ++i) {
+        if (copies_[copies.unique[i]] != copies.count[i]) return false;
+    }
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangleIds_.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                const std::uint32_t id = triangleIds_[i];
+                triangles_[i] = prepareTriangle(mesh.vertex(id, 0), mesh.vertex(id, 1), mesh.vertex(id, 2));
+            }
+        });
+    });
+    // Children follow their parent in the depth-first layout: in reverse, every child is done first.
+    for (std::size_t i = nodes_.size(); i-- > 0;) {
+        Node& n = nodes_[i];
+        glm::vec3 lo(kMax), hi(-kMax);
+        auto add = [&lo, &hi](const glm::vec3& min, const glm::vec3& max) { lo = glm::min(lo, min), hi = glm::max(hi, max); };
+        if (n.count > 0) {
+            for (std::uint32_t k = 0; k < n.count; ++k) {
+                const std::uint32_t id = triangleIds_[n.index + k];
+                const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
+                add(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
+            }
+        } else {
+            for (const Node* child : {&nodes_[i + 1], &nodes_[n.index]}) {
+                add({child->min[0], child->min[1], child->min[2]}, {child->max[0], child->max[1], child->max[2]});
+            }
+        }
+        for (int a = 0; a < 3; ++a) n.min[a] = lo[a], n.max[a] = hi[a];
+    }
+    bounds_ = {glm::vec3(nodes_[0].min[0], nodes_[0].min[1], nodes_[0].min[2]),
+               glm::vec3(nodes_[0].max[0], nodes_[0].max[1], nodes_[0].max[2])};
+    return true;
+}
+
 std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,
                          const BuildInput& input, int depth) {
     const std::vector<float4>& centroids = input.records.centroids;

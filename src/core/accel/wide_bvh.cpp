@@ -17,6 +17,17 @@ constexpr int kWidth = WideBvh::kWidth;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 using PacketIds = std::array<std::uint32_t, kWidth>; // a packet's triangles, lane by lane
 
+// The union of the boxes of a packet's triangles.
+Bounds packetBox(const Mesh& mesh, const PacketIds& ids) {
+    Bounds box{glm::vec3(kInf), glm::vec3(-kInf)};
+    for (const std::uint32_t id : ids) {
+        const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
+        box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
+        box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
+    }
+    return box;
+}
+
 // Triangles under each binary node, to find the subtrees that fit one packet.
 std::vector<std::uint32_t> trianglesBelow(const Bvh& tree) {
     std::vector<std::uint32_t> below(tree.nodeCount());
@@ -99,13 +110,8 @@ private:
     // theirs. The lanes' SoA fields are filled once the tree is laid out (fillPacket).
     Child packet(const std::uint32_t* ids, std::size_t count) {
         PacketIds& lanes = packetIds.emplace_back();
-        Bounds box{glm::vec3(kInf), glm::vec3(-kInf)};
-        for (int lane = 0; lane < kWidth; ++lane) {
-            const std::uint32_t id = lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
-            const glm::vec3 a = mesh_.vertex(id, 0), b = mesh_.vertex(id, 1), c = mesh_.vertex(id, 2);
-            box.min = glm::min(box.min, glm::min(a, glm::min(b, c)));
-            box.max = glm::max(box.max, glm::max(a, glm::max(b, c)));
-        }
+        for (int lane = 0; lane < kWidth; ++lane) lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
+        const Bounds box = packetBox(mesh_, lanes);
         leafBounds.push_back(box);
         return Child{box, WideBvh::kLeaf | std::uint32_t(packetIds.size() - 1)};
     }
@@ -206,6 +212,36 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     nodes_ = std::move(layout.nodes);
     putRootFirst(nodes_);
     leafBounds_ = std::move(layout.leafBounds);
+}
+
+void WideBvh::refit(const Mesh& mesh, const RunControl& control) {
+    constexpr std::size_t kPacketsPerItem = 1024;
+    parallelFor((packets_.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
+        for (std::size_t i = item * kPacketsPerItem; i < std::min(packets_.size(), (item + 1) * kPacketsPerItem); ++i) {
+            PacketIds ids;
+            for (int lane = 0; lane < kWidth; ++lane) ids[std::size_t(lane)] = std::uint32_t(packets_[i].id[lane]);
+            fillPacket(mesh, ids, packets_[i]);
+            leafBounds_[i] = packetBox(mesh, ids);
+        }
+    });
+    // The layout made children before their parents and putRootFirst moved the root (made last)
+    // to the front: nodes 1, 2, ... come bottom-up, the root last.
+    std::vector<Bounds> boxes(nodes_.size());
+    auto refitNode = [&](std::size_t index) {
+        Node& n = nodes_[index];
+        Bounds box{glm::vec3(kInf), glm::vec3(-kInf)};
+        for (int c = 0; c < kWidth; ++c) {
+            const std::uint32_t child = n.child[c];
+            if (child == kEmpty) continue;
+            const Bounds& b = child & kLeaf ? leafBounds_[child & ~kLeaf] : boxes[child];
+            n.set(c, b, child);
+            box.min = glm::min(box.min, b.min);
+            box.max = glm::max(box.max, b.max);
+        }
+        boxes[index] = box;
+    };
+    for (std::size_t i = 1; i < nodes_.size(); ++i) refitNode(i);
+    refitNode(0);
 }
 
 std::uint32_t WideBvh::nearest(float px, float py, float pz, NearestSoFar& best) const {

@@ -15,6 +15,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -25,11 +26,27 @@ namespace sdfgen {
 
 struct Model::Impl {
     Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control) {}
+    // `refitTree`: the previous model's tree, refit to m; `previous` that model, whose wide tree (if
+    // built) is refit too and whose check (if made) is kept while the edges hold (see check).
+    Impl(Mesh m, Bvh refitTree, const Impl& previous, const RunControl& control)
+        : mesh(std::move(m)), tree(std::move(refitTree)) {
+        if (previous.checked_.load(std::memory_order_acquire)) previousCheck_ = previous.check_;
+        if (previous.wideBuilt_.load(std::memory_order_acquire)) {
+            std::call_once(wideOnce, [&] {
+                wide_.emplace(*previous.wide_);
+                wide_->refit(mesh, control);
+                wideBuilt_.store(true, std::memory_order_release);
+            });
+        }
+    }
 
     // Built on first use, with the control of that use (a cancelled build is retried by the next).
     // The wide tree serves the closest-point searches of bakes and queries alike.
     const WideBvh& wide(const RunControl& control = {}) const {
-        std::call_once(wideOnce, [&] { wide_.emplace(mesh, tree, control); });
+        std::call_once(wideOnce, [&] {
+            wide_.emplace(mesh, tree, control);
+            wideBuilt_.store(true, std::memory_order_release);
+        });
         return *wide_;
     }
     const MeshTopology& topology(const RunControl& control = {}) const {
@@ -39,10 +56,25 @@ struct Model::Impl {
     const MeshCheck& check(const RunControl& control = {}) const {
         std::call_once(checkOnce, [&] {
             const MeshTopology& built = topology(control.phase(0.0, 0.5));
-            check_ = built.check(mesh, tree, control.phase(0.5, 1.0));
+            const MeshCheck& edges = built.edgeCheck();
+            const bool sameEdges = previousCheck_ && previousCheck_->boundaryEdges == edges.boundaryEdges &&
+                                   previousCheck_->nonManifoldEdges == edges.nonManifoldEdges &&
+                                   previousCheck_->inconsistentEdges == edges.inconsistentEdges &&
+                                   previousCheck_->nonManifoldVertices == edges.nonManifoldVertices &&
+                                   previousCheck_->insideOut == edges.insideOut;
+            if (sameEdges) { // refit: the previous search's findings stand, the volume is the new one
+                check_ = edges;
+                check_.selfIntersections = previousCheck_->selfIntersections;
+                check_.selfIntersectionsSearched = previousCheck_->selfIntersectionsSearched;
+                check_.misorientedShells = previousCheck_->misorientedShells;
+            } else {
+                check_ = built.check(mesh, tree, control.phase(0.5, 1.0));
+            }
+            checked_.store(true, std::memory_order_release);
         });
         return check_;
     }
+
     const WindingCaps& caps(const RunControl& control = {}) const {
         std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
         return *caps_;
@@ -56,6 +88,8 @@ private:
     mutable std::optional<WideBvh> wide_;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
+    mutable std::atomic<bool> checked_{false}, wideBuilt_{false}; // set once check_ and wide_ are made (for refit)
+    std::optional<MeshCheck> previousCheck_; // a refit model's: the check of the model it was refit from
     mutable std::optional<WindingCaps> caps_;
 };
 
@@ -89,6 +123,20 @@ Model::Model(Mesh mesh, const RunControl& control) {
     warnAboutMesh(mesh, checkedControl(control));
     impl_ = std::make_unique<Impl>(std::move(mesh), control);
 }
+Model Model::refit(Mesh moved, const RunControl& control) const {
+    const Impl& m = *impl_;
+    checkedControl(control);
+    if (moved.triangles != m.mesh.triangles) return Model(std::move(moved), control);
+    Bvh tree = m.tree;
+    if (!tree.refit(moved, control)) return Model(std::move(moved), control);
+    warnAboutMesh(moved, control);
+    Model result;
+    result.impl_ = std::make_unique<Impl>(std::move(moved), std::move(tree), m, control);
+    return result;
+}
+
+Model::Model() = default;
+
 Model::~Model() = default;
 Model::Model(Model&&) noexcept = default;
 Model& Model::operator=(Model&&) noexcept = default;
@@ -126,7 +174,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     const Mesh& mesh = m.mesh;
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
     const bool needSign = out.signedDistance || out.gradient;
-    const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle;
+    const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle || out.barycentric;
     if (needSign && !signMethod(sign).pointQueries) {
         std::string known;
         const std::vector<Choice<SignMethod>> choices = pointQuerySignChoices();
@@ -232,6 +280,11 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     const glm::dvec3 world = mesh.toWorld(closest.point);
                     for (int a = 0; a < 3; ++a) out.closestPoint[3 * index + std::size_t(a)] = world[a];
                 }
+                if (out.barycentric) {
+                    const glm::dvec3 w = barycentricOf(closest, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                       glm::dvec3(mesh.vertex(t, 2)));
+                    for (int a = 0; a < 3; ++a) out.barycentric[3 * index + std::size_t(a)] = w[a];
+                }
                 if (needSign) {
                     bool inside;
                     if (sign == SignMethod::Pseudonormal) {
@@ -287,6 +340,33 @@ std::vector<float> Model::unsignedDistance(const std::vector<glm::dvec3>& points
     out.unsignedDistance = result.data();
     query(flatten(points).data(), points.size(), out, SignMethod::Auto, control);
     return result;
+}
+
+std::vector<ClosestHit> Model::closest(const std::vector<glm::dvec3>& points, SignMethod sign, const RunControl& control) const {
+    const std::size_t count = points.size();
+    std::vector<float> distance(count);
+    std::vector<double> point(3 * count), barycentric(3 * count), gradient(3 * count);
+    std::vector<std::int64_t> triangle(count);
+    PointQueryOutputs out;
+    out.signedDistance = distance.data();
+    out.closestPoint = point.data();
+    out.barycentric = barycentric.data();
+    out.gradient = gradient.data();
+    out.triangle = triangle.data();
+    query(flatten(points).data(), count, out, sign, control);
+    std::vector<ClosestHit> hits(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        ClosestHit& hit = hits[i];
+        hit.triangle = triangle[i];
+        hit.distance = distance[i];
+        hit.sign = std::signbit(distance[i]) ? -1 : 1;
+        for (int a = 0; a < 3; ++a) {
+            hit.point[a] = point[3 * i + std::size_t(a)];
+            hit.barycentric[a] = barycentric[3 * i + std::size_t(a)];
+            hit.gradient[a] = gradient[3 * i + std::size_t(a)];
+        }
+    }
+    return hits;
 }
 
 } // namespace sdfgen

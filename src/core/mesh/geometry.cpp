@@ -51,6 +51,29 @@ ClosestPoint closestPointOnTriangle(const glm::dvec3& p, const glm::dvec3& a, co
     return best;
 }
 
+glm::dvec3 barycentricOf(const ClosestPoint& closest, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    // closest.point = from + t (to - from): weight 1 - t on `from`, t on `to`.
+    auto along = [&closest](const glm::dvec3& from, const glm::dvec3& to) {
+        const glm::dvec3 d = to - from;
+        return glm::dot(closest.point - from, d) / glm::dot(d, d);
+    };
+    switch (closest.feature) {
+    case TriangleFeature::VertexA: return {1.0, 0.0, 0.0};
+    case TriangleFeature::VertexB: return {0.0, 1.0, 0.0};
+    case TriangleFeature::VertexC: return {0.0, 0.0, 1.0};
+    case TriangleFeature::EdgeAB: { const double t = along(a, b); return {1.0 - t, t, 0.0}; }
+    case TriangleFeature::EdgeBC: { const double t = along(b, c); return {0.0, 1.0 - t, t}; }
+    case TriangleFeature::EdgeCA: { const double t = along(c, a); return {t, 0.0, 1.0 - t}; }
+    case TriangleFeature::Face: break;
+    }
+    const glm::dvec3 ab = b - a, ac = c - a, aq = closest.point - a;
+    const double d00 = glm::dot(ab, ab), d01 = glm::dot(ab, ac), d11 = glm::dot(ac, ac);
+    const double d20 = glm::dot(aq, ab), d21 = glm::dot(aq, ac);
+    const double denominator = d00 * d11 - d01 * d01;
+    const double wb = (d11 * d20 - d01 * d21) / denominator, wc = (d00 * d21 - d01 * d20) / denominator;
+    return {1.0 - wb - wc, wb, wc};
+}
+
 double solidAngle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     const glm::dvec3 ra = a - p, rb = b - p, rc = c - p;
     const double la = glm::length(ra), lb = glm::length(rb), lc = glm::length(rc);

@@ -20,6 +20,11 @@ struct ClosestPoint {
 // Detection, 5.1.5). Degenerate triangles are handled (the nearest edge or vertex wins).
 ClosestPoint closestPointOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
 
+// The barycentric weights of `closest` (found on triangle (a, b, c)) on a, b and c, from its
+// feature: exactly 1 on a vertex, 0 on the corner off an edge, so that only the corners spanning
+// the feature carry weight; they sum to 1.
+glm::dvec3 barycentricOf(const ClosestPoint& closest, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+
 // Signed solid angle of triangle (a, b, c) seen from p, in [-2π, 2π]: positive when p sees the
 // triangle's back (p is on the side its counter-clockwise normal points away from), so that
 // summing over a closed outward surface gives 4π inside and 0 outside (Van Oosterom & Strackee 1983).
