@@ -250,3 +250,61 @@ TEST(MeshCheck, VerticesDuplicatedPerTriangleAreMerged) {
 
 } // namespace
 } // namespace sdfgen
+
+namespace sdfgen {
+namespace {
+
+// A refit topology (vertices moved, the same merges) equals a fresh build: loops, positions, the
+// edge counts, the volume and the pseudonormals; merges that change are seen.
+TEST(MeshTopologyRefit, EqualsAFreshBuildWhileTheMergesHold) {
+    // Every triangle with its own three vertices (an unwelded OBJ), and a hole: merges decide everything.
+    const Mesh welded = test::icosphere(1.0f, 2);
+    std::vector<glm::dvec3> positions;
+    std::vector<glm::uvec3> triangles;
+    const std::vector<glm::dvec3> weldedPositions = welded.worldPositions();
+    for (std::size_t t = 1; t < welded.triangleCount(); ++t) {
+        const unsigned o = unsigned(positions.size());
+        for (int c = 0; c < 3; ++c) positions.push_back(weldedPositions[welded.triangles[t][c]]);
+        triangles.push_back({o, o + 1, o + 2});
+    }
+    const Mesh start = buildMesh("unwelded", positions, triangles);
+    const MeshTopology topology(start);
+    std::vector<glm::dvec3> moved = positions;
+    for (glm::dvec3& p : moved) p += 0.1 * glm::dvec3(std::sin(3.0 * p.y), std::cos(2.0 * p.z), p.x * p.y);
+    const Mesh movedMesh = buildMesh("moved", moved, triangles);
+    ASSERT_TRUE(topology.sameMerges(movedMesh));
+    const MeshTopology refit(topology, movedMesh), fresh(movedMesh);
+    EXPECT_EQ(refit.boundaryLoops(), fresh.boundaryLoops());
+    ASSERT_FALSE(fresh.boundaryLoops().empty());
+    for (const std::vector<std::uint32_t>& loop : fresh.boundaryLoops()) {
+        for (std::uint32_t v : loop) EXPECT_EQ(refit.position(v), fresh.position(v));
+    }
+    EXPECT_EQ(refit.edgeCheck().describe(), fresh.edgeCheck().describe());
+    EXPECT_EQ(refit.edgeCheck().signedVolume, fresh.edgeCheck().signedVolume);
+    EXPECT_NE(refit.edgeCheck().signedVolume, topology.edgeCheck().signedVolume);
+    for (std::uint32_t t = 0; t < movedMesh.triangleCount(); t += 7) {
+        for (const TriangleFeature f : {TriangleFeature::Face, TriangleFeature::EdgeAB, TriangleFeature::VertexC}) {
+            EXPECT_EQ(refit.pseudonormal(t, f), fresh.pseudonormal(t, f)) << t;
+        }
+    }
+    // A seam opened (one copy of a vertex moved alone), and two vertices brought together.
+    std::vector<glm::dvec3> opened = moved;
+    opened[0] += glm::dvec3(1e-3, 0.0, 0.0);
+    EXPECT_FALSE(topology.sameMerges(buildMesh("opened", opened, triangles)));
+    std::vector<glm::dvec3> joined = moved;
+    const glm::dvec3 target = moved[0];
+    std::size_t farthest = 0;
+    for (std::size_t i = 0; i < moved.size(); ++i) {
+        if (glm::length(moved[i] - target) > glm::length(moved[farthest] - target)) farthest = i;
+    }
+    const glm::dvec3 away = moved[farthest];
+    for (glm::dvec3& p : joined) {
+        if (p == away) p = target; // the far vertex's group onto vertex 0's: no triangle collapses
+    }
+    const Mesh joinedMesh = buildMesh("joined", joined, triangles);
+    ASSERT_EQ(joinedMesh.triangleCount(), movedMesh.triangleCount());
+    EXPECT_FALSE(topology.sameMerges(joinedMesh));
+}
+
+} // namespace
+} // namespace sdfgen

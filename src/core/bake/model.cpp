@@ -27,10 +27,18 @@ namespace sdfgen {
 struct Model::Impl {
     Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control) {}
     // `refitTree`: the previous model's tree, refit to m; `previous` that model, whose wide tree (if
-    // built) is refit too and whose check (if made) is kept while the edges hold (see check).
+    // built) is refit too, whose topology (if built) is kept while the vertices merge as before,
+    // and whose check (if made) is kept while the edges hold (see check).
     Impl(Mesh m, Bvh refitTree, const Impl& previous, const RunControl& control)
         : mesh(std::move(m)), tree(std::move(refitTree)) {
         if (previous.checked_.load(std::memory_order_acquire)) previousCheck_ = previous.check_;
+        // The connectivity stands while the vertices merge as before: only positions are measured again.
+        if (previous.topologyBuilt_.load(std::memory_order_acquire) && previous.topology_->sameMerges(mesh)) {
+            std::call_once(topologyOnce, [&] {
+                topology_.emplace(*previous.topology_, mesh, control);
+                topologyBuilt_.store(true, std::memory_order_release);
+            });
+        }
         if (previous.wideBuilt_.load(std::memory_order_acquire)) {
             std::call_once(wideOnce, [&] {
                 wide_.emplace(*previous.wide_);
@@ -50,7 +58,10 @@ struct Model::Impl {
         return *wide_;
     }
     const MeshTopology& topology(const RunControl& control = {}) const {
-        std::call_once(topologyOnce, [&] { topology_.emplace(mesh, tree, control); });
+        std::call_once(topologyOnce, [&] {
+            topology_.emplace(mesh, tree, control);
+            topologyBuilt_.store(true, std::memory_order_release);
+        });
         return *topology_;
     }
     const MeshCheck& check(const RunControl& control = {}) const {
@@ -88,7 +99,7 @@ private:
     mutable std::optional<WideBvh> wide_;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
-    mutable std::atomic<bool> checked_{false}, wideBuilt_{false}; // set once check_ and wide_ are made (for refit)
+    mutable std::atomic<bool> checked_{false}, wideBuilt_{false}, topologyBuilt_{false}; // set once made (for refit)
     std::optional<MeshCheck> previousCheck_; // a refit model's: the check of the model it was refit from
     mutable std::optional<WindingCaps> caps_;
 };

@@ -146,6 +146,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
             remap[i] = remap[remap[i]]; // the first of the group, already numbered
         }
     }
+    merged_ = remap;
     const std::size_t n = mesh.triangleCount();
     corners_.resize(n);
     faceNormals_.resize(n);
@@ -247,20 +248,8 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
         }
     }
     edgeCheck_.nonManifoldVertices = std::size_t(std::count(pinched.begin(), pinched.end(), true));
-
-    // Signed volume by the divergence theorem, about the first vertex to keep the sum precise.
-    double volume = 0.0;
-    for (const glm::uvec3& t : corners_) {
-        const glm::dvec3 o = positions_.front();
-        volume += glm::dot(positions_[t[0]] - o, glm::cross(positions_[t[1]] - o, positions_[t[2]] - o));
-    }
-    edgeCheck_.signedVolume = volume / 6.0;
     edgeCheck_.selfIntersectionsSearched = false;
-    edgeCheck_.insideOut = edgeCheck_.boundaryEdges == 0 && edgeCheck_.nonManifoldEdges == 0 &&
-                           edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
-    // The vertex normals serve the pseudonormal sign only, which auto picks only for meshes whose
-    // edges are clean: built now for those, on first use for others (a forced --sign pseudonormal).
-    if (edgeCheck_.closedAndClean()) buildVertexNormals(&control);
+    measurePositions(control);
 
     progress.add(1);
     // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
@@ -294,6 +283,47 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
 
     progress.add(1);
     progress.finish();
+}
+
+void MeshTopology::measurePositions(const RunControl& control) {
+    // Signed volume by the divergence theorem, about the first vertex to keep the sum precise.
+    double volume = 0.0;
+    for (const glm::uvec3& t : corners_) {
+        const glm::dvec3 o = positions_.front();
+        volume += glm::dot(positions_[t[0]] - o, glm::cross(positions_[t[1]] - o, positions_[t[2]] - o));
+    }
+    edgeCheck_.signedVolume = volume / 6.0;
+    edgeCheck_.insideOut = edgeCheck_.boundaryEdges == 0 && edgeCheck_.nonManifoldEdges == 0 &&
+                           edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
+    // The vertex normals serve the pseudonormal sign only, which auto picks only for meshes whose
+    // edges are clean: built now for those, on first use for others (a forced --sign pseudonormal).
+    if (edgeCheck_.closedAndClean()) buildVertexNormals(&control);
+}
+
+bool MeshTopology::sameMerges(const Mesh& mesh) const {
+    if (mesh.positions.size() != merged_.size() || mesh.triangleCount() != corners_.size()) return false;
+    // Each group at its first vertex's position (merged vertices are numbered by first use, so the
+    // first vertex of group g is where firstOf[g] points), bit for bit (-0 and +0 alike).
+    constexpr std::uint32_t kUnset = 0xffffffffu;
+    std::vector<std::uint32_t> firstOf(positions_.size(), kUnset);
+    for (std::uint32_t i = 0; i < merged_.size(); ++i) {
+        std::uint32_t& first = firstOf[merged_[i]];
+        if (first == kUnset) first = i;
+        else if (!(mesh.positions[i] == mesh.positions[first])) return false;
+    }
+    // No two groups at one position: the groups' positions sorted, then compared neighbour to neighbour.
+    std::vector<glm::vec3> at(positions_.size());
+    for (std::size_t g = 0; g < at.size(); ++g) at[g] = mesh.positions[firstOf[g]] + glm::vec3(0.0f);
+    std::sort(at.begin(), at.end(), [](const glm::vec3& l, const glm::vec3& r) { return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z); });
+    return std::adjacent_find(at.begin(), at.end()) == at.end();
+}
+
+MeshTopology::MeshTopology(const MeshTopology& previous, const Mesh& mesh, const RunControl& control)
+    : merged_(previous.merged_), corners_(previous.corners_), faceNormals_(mesh.faceNormals.begin(), mesh.faceNormals.end()),
+      edgeNeighbours_(previous.edgeNeighbours_), loops_(previous.loops_), copies_(previous.copies_), edgeCheck_(previous.edgeCheck_) {
+    positions_.resize(previous.positions_.size());
+    for (std::size_t i = 0; i < merged_.size(); ++i) positions_[merged_[i]] = glm::dvec3(mesh.positions[i] + glm::vec3(0.0f));
+    measurePositions(control);
 }
 
 bool MeshTopology::trianglesCross(std::uint32_t t, std::uint32_t u) const {

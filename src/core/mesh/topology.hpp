@@ -22,6 +22,13 @@ public:
     // The same, taking the exact copies of triangles from the mesh's tree, which has found them
     // already (Bvh::copies), instead of finding them again.
     MeshTopology(const Mesh& mesh, const Bvh& tree, const RunControl& control = {});
+    // The topology of `mesh`, which is `previous`'s mesh with its vertices moved (the same
+    // triangles and copies), where sameMerges(mesh) holds: the connectivity is kept and only what
+    // depends on positions is measured again, equal to a fresh build's.
+    MeshTopology(const MeshTopology& previous, const Mesh& mesh, const RunControl& control = {});
+    // Whether `mesh` (this topology's mesh with its vertices moved) merges its vertices as this
+    // one does: every group still at one position, and no two groups at the same.
+    bool sameMerges(const Mesh& mesh) const;
 
     // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
     // repeated triangles counted once per pair of copies (as triangle by triangle).
@@ -47,6 +54,8 @@ public:
 
 private:
     MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
+    // The signed volume, insideOut and (for a clean mesh) the vertex normals, from positions_.
+    void measurePositions(const RunControl& control);
     glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
     // The angle-weighted vertex normals, built once: in parallel with a control, else serially.
     void buildVertexNormals(const RunControl* control) const;
@@ -58,6 +67,7 @@ private:
     std::size_t countMisorientedShells(const Mesh& mesh, const Bvh& tree, int outward, const RunControl& control) const;
 
     std::vector<glm::dvec3> positions_;  // merged vertices
+    std::vector<std::uint32_t> merged_;   // per mesh vertex, its merged vertex
     std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices
     std::vector<glm::vec3> faceNormals_;  // the mesh's (float, exact in double)
     mutable std::once_flag vertexNormalsOnce_;
