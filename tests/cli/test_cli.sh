@@ -554,6 +554,23 @@ PY
   expect 0 '' -- test "$(stat -c %s "$work/bomb.npz")" -lt 4200000
   expect 1 "^sdfgen: $work/bomb.npz: sdf.npy: (not enough memory|dimensions 1000x1000x1000 too large)" -- cap "$sdfgen" surface "$work/bomb.npz" -o "$work/x.obj"
 fi
+# A 2 KB band .npz of 1000^3 samples without bricks: compared sparse, counted rather than made
+# dense (4 GB); a grid that differs is named before anything is made dense.
+if /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
+  /usr/bin/python3 - "$work/empty.npz" <<'PY'
+import sys, numpy as np
+np.savez(sys.argv[1], brick_origins=np.zeros((0, 3), np.int32), brick_values=np.zeros((8, 8, 8, 0), np.float32, order="F"),
+         inside_boxes=np.array([[0, 0, 0, 1000, 8, 8]], np.int32), background=np.float32(0.03), dims=np.array([1000, 1000, 1000]),
+         origin=np.zeros(3), voxel_size=np.float64(0.01), method=np.array("exact"), source=np.array("empty"))
+PY
+  expect 0 'signs differ: 0 samples' -- cap "$sdfgen" compare "$work/empty.npz" "$work/empty.npz"
+  expect 0 '0 of 1000000000 samples compared' -- cap "$sdfgen" compare "$work/empty.npz" "$work/empty.npz"
+  expect 0 ' 1000000000 samples outside it compared by sign only' -- cap "$sdfgen" compare "$work/empty.npz" "$work/empty.npz"
+  expect 1 "^sdfgen: $work/empty.npz vs $work/tet.npz: the fields have different grids: 1000x1000x1000 and 8x8x8$" -- \
+    cap "$sdfgen" compare "$work/empty.npz" "$work/tet.npz"
+  expect 1 "^sdfgen: $work/tet.npz vs $work/empty.npz: the fields have different grids: 8x8x8 and 1000x1000x1000$" -- \
+    cap "$sdfgen" compare "$work/tet.npz" "$work/empty.npz"
+fi
 printf 'sdfgen-text 1\nsource s\ndims 2 2 2\norigin 0 0 0\nvoxel 1e-320\nmethod m\nvalues\n' >"$work/denormal.sdf"
 for _ in 1 2 3 4 5 6 7 8; do echo 1 >>"$work/denormal.sdf"; done
 expect 1 "^sdfgen: $work/denormal.sdf: voxel size [0-9.e-]+ is not a positive normal float32" -- "$sdfgen" surface "$work/denormal.sdf" -o "$work/x.obj"
