@@ -843,11 +843,16 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     return field;
 }
 
+// A band field's grid (sdfgen's), or another program's level set: read as bricks and inside boxes.
+bool readsAsBand(const openvdb::FloatGrid& grid, const SdfgenMetadata& meta) {
+    return meta.present ? meta.band > 0 : grid.getGridClass() == openvdb::GRID_LEVEL_SET;
+}
+
 Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
     Field field;
     openvdb::CoordBBox box;
     const SdfgenMetadata meta = readFrame(grid, field, box, path);
-    if (meta.present && meta.band > 0) {
+    if (readsAsBand(grid, meta)) { // the dense form of what loadSparseGrid reads
         try {
             return gridToSparse(grid, std::move(field), box.min(), path).toDense();
         } catch (const Error& e) {
@@ -870,7 +875,7 @@ SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& pa
     const SdfgenMetadata meta = readFrame(grid, field, box, path);
     // Another program's level set too: never made dense over the box of its active voxels, which
     // two small spheres far apart make huge.
-    if (meta.present ? meta.band > 0 : grid.getGridClass() == openvdb::GRID_LEVEL_SET) return gridToSparse(grid, std::move(field), box.min(), path);
+    if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path);
     // A dense grid, or another program's grid of no class: its samples, read as any dense field.
     const Field dense = loadGrid(grid, path);
     return sparseFromDense(dense, bandBackground(dense));
