@@ -396,8 +396,8 @@ TEST_F(VdbReader, FilesOfSeveralGridsWithOffsetsLoadAndOtherGridTypesAreRefused)
     halves->setSaveFloatAsHalf(true);
     openvdb::io::File(path("several.vdb")).write({halves, sphere});
     const Field field = loadField(path("several.vdb"));
-    const openvdb::CoordBBox box = sphere->evalActiveVoxelBoundingBox();
-    EXPECT_EQ(field.grid.dims, glm::ivec3(box.dim().x(), box.dim().y(), box.dim().z()));
+    const openvdb::CoordBBox active = sphere->evalActiveVoxelBoundingBox();
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(field.grid.dims[a], active.max()[a] + 1 - int(std::floor(active.min()[a] / 8.0)) * 8) << "from the leaf below";
     auto vectors = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     vectors->tree().setValue(openvdb::Coord(1, 2, 3), openvdb::Vec3s(1.0f));
     vectors->tree().setValue(openvdb::Coord(40, 2, 3), openvdb::Vec3s(2.0f));

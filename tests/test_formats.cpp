@@ -10,6 +10,7 @@
 #if SDFGEN_HAS_OPENVDB
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Composite.h>
 #include <openvdb/tools/LevelSetSphere.h>
 #endif
 
@@ -278,6 +279,15 @@ TEST_F(Formats, VdbBandBelowOneVoxelIsRefused) {
     EXPECT_FALSE(fs::exists(file));
 }
 
+// The box of a grid's active voxels, its low corner moved down onto the leaves' 8-voxel grid:
+// another program's grid as sdfgen reads it.
+openvdb::CoordBBox leafAlignedActiveBox(const openvdb::FloatGrid& grid) {
+    const openvdb::CoordBBox active = grid.evalActiveVoxelBoundingBox();
+    openvdb::Coord low = active.min();
+    for (int a = 0; a < 3; ++a) low[a] = int(std::floor(low[a] / 8.0)) * 8;
+    return openvdb::CoordBBox(low, active.max());
+}
+
 TEST_F(Formats, ForeignVdbLoadsItsActiveBox) {
     openvdb::initialize();
     const float h = 0.125f;
@@ -287,18 +297,46 @@ TEST_F(Formats, ForeignVdbLoadsItsActiveBox) {
     openvdb::io::File(file).write({sphere});
 
     const Field field = loadField(file);
-    const openvdb::CoordBBox box = sphere->evalActiveVoxelBoundingBox();
+    const openvdb::CoordBBox box = leafAlignedActiveBox(*sphere);
+    EXPECT_NE(box.min(), sphere->evalActiveVoxelBoundingBox().min()) << "the test should move the corner";
     EXPECT_EQ(field.grid.dims, glm::ivec3(box.dim().x(), box.dim().y(), box.dim().z()));
     EXPECT_EQ(double(field.grid.voxel), double(h));
+    // A level set reads sparse too, into the same samples.
+    ASSERT_TRUE(isSparseFieldFile(file));
+    const SparseField sparse = loadSparseField(file);
+    EXPECT_EQ(sparse.grid.dims, field.grid.dims);
+    EXPECT_EQ(sparse.grid.origin, field.grid.origin);
+    EXPECT_EQ(sparse.toDense().values, field.values);
     for (const openvdb::Coord c : {box.min(), box.max(), openvdb::Coord(4, 0, -2), openvdb::Coord(0, 0, 0)}) {
         const int i = c.x() - box.min().x(), j = c.y() - box.min().y(), k = c.z() - box.min().z();
         EXPECT_EQ(field.at(i, j, k), sphere->tree().getValue(c));
+        EXPECT_EQ(sparse.at(i, j, k), sphere->tree().getValue(c));
         const openvdb::Vec3d world = sphere->indexToWorld(c);
         EXPECT_NEAR(double(field.grid.origin.x) + (i + 0.5) * h, world.x(), 1e-6);
         EXPECT_NEAR(double(field.grid.origin.y) + (j + 0.5) * h, world.y(), 1e-6);
         EXPECT_NEAR(double(field.grid.origin.z) + (k + 0.5) * h, world.z(), 1e-6);
     }
     EXPECT_LT(field.at(4 - box.min().x(), -box.min().y(), -2 - box.min().z()), 0.0f) << "the centre is inside";
+}
+
+TEST_F(Formats, ForeignLevelSetIsReadSparseHoweverFarApartItsParts) {
+    // Two small spheres 10^6 voxels apart: their active box has 10^6 x 32 x 32 samples (4 GB
+    // dense); read sparse, a few hundred bricks.
+    openvdb::initialize();
+    auto spheres = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(10.0f, openvdb::Vec3f(0.0f), 1.0f, 3.0f);
+    auto far = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(10.0f, openvdb::Vec3f(1e6f, 0.0f, 0.0f), 1.0f, 3.0f);
+    openvdb::tools::csgUnion(*spheres, *far);
+    spheres->setName("spheres");
+    const std::string file = path("far.vdb");
+    openvdb::io::File(file).write({spheres});
+    ASSERT_TRUE(isSparseFieldFile(file));
+    const SparseField field = loadSparseField(file);
+    EXPECT_GT(field.grid.dims.x, 1000000);
+    EXPECT_LT(field.bricks.size(), 2000u);
+    const openvdb::CoordBBox box = leafAlignedActiveBox(*spheres);
+    EXPECT_LT(field.at(-box.min().x(), -box.min().y(), -box.min().z()), 0.0f) << "the first centre is inside";
+    EXPECT_LT(field.at(1000000 - box.min().x(), -box.min().y(), -box.min().z()), 0.0f) << "the second centre is inside";
+    EXPECT_GT(field.at(500000 - box.min().x(), -box.min().y(), -box.min().z()), 0.0f) << "between them is outside";
 }
 #else
 TEST_F(Formats, VdbWithoutOpenVdbIsAnErrorNamingTheFile) {

@@ -398,22 +398,33 @@ TEST_F(MeshReaders, GltfIsCheckedBeforeAssimpReadsIt) {
     EXPECT_CONTAINS(loadError("version.gltf", R"({"asset": {"version": "1.0"}})"), "only glTF 2.x files are read");
 }
 
-// The triangle as GLB, its buffer in the binary chunk.
-std::string glbTriangle() {
-    std::string json = gltfTriangle(2);
-    json.replace(json.find(R"(, "uri")"), json.find("}]", json.find(R"(, "uri")")) - json.find(R"(, "uri")"), "");
-    while (json.size() % 4) json += ' ';
+// A GLB of `json` (padded with spaces to 4 bytes unless `padded` is false, as Assimp reads
+// either) and a binary chunk holding `bin`.
+std::string glb(std::string json, const std::string& bin, bool padded = true) {
+    while (padded && json.size() % 4) json += ' ';
+    const std::size_t padding = (4 - json.size() % 4) % 4;
+    std::string out = "glTF";
+    append(out, std::uint32_t(2), false);
+    append(out, std::uint32_t(12 + 8 + json.size() + padding + 8 + bin.size()), false);
+    append(out, std::uint32_t(json.size()), false);
+    out += "JSON" + json + std::string(padding, ' ');
+    append(out, std::uint32_t(bin.size()), false);
+    return out + std::string("BIN\0", 4) + bin;
+}
+
+// The triangle's 48 bytes: positions, then indices (the last one given).
+std::string triangleBytes(std::uint32_t lastIndex = 2) {
     std::string bin;
     for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) append(bin, v, false);
-    for (std::uint32_t i : {0u, 1u, 2u}) append(bin, i, false);
-    std::string glb = "glTF";
-    append(glb, std::uint32_t(2), false);
-    append(glb, std::uint32_t(12 + 8 + json.size() + 8 + bin.size()), false);
-    append(glb, std::uint32_t(json.size()), false);
-    glb += "JSON" + json;
-    append(glb, std::uint32_t(bin.size()), false);
-    glb += std::string("BIN\0", 4) + bin;
-    return glb;
+    for (std::uint32_t i : {0u, 1u, lastIndex}) append(bin, i, false);
+    return bin;
+}
+
+// The triangle as GLB, its buffer in the binary chunk.
+std::string glbTriangle(bool padded = true) {
+    std::string json = gltfTriangle(2);
+    json.replace(json.find(R"(, "uri")"), json.find("}]", json.find(R"(, "uri")")) - json.find(R"(, "uri")"), "");
+    return glb(json, triangleBytes(), padded);
 }
 
 TEST_F(MeshReaders, PlyWithTwoVertexElementsIsRefused) {
@@ -485,10 +496,7 @@ TEST_F(MeshReaders, GltfExternalBufferIsReadOnlyAsFarAsItsViewsGo) {
     std::string gltf = gltfTriangle(2);
     const std::size_t uri = gltf.find(R"("byteLength": 48, "uri")");
     gltf.replace(uri, gltf.find("}]", uri) - uri, R"("byteLength": 3000000000, "uri": "big.bin")");
-    std::string bin;
-    for (float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) append(bin, v, false);
-    for (std::uint32_t i : {0u, 1u, 2u}) append(bin, i, false);
-    const std::string binFile = write("big.bin", bin);
+    const std::string binFile = write("big.bin", triangleBytes());
     ASSERT_EQ(truncate(binFile.c_str(), 3000000000), 0);
     const std::size_t before = peakResidentKiB();
     EXPECT_EQ(loadMesh(write("big.gltf", gltf)).triangleCount(), 1u);
@@ -505,6 +513,71 @@ TEST_F(MeshReaders, PointsAndLinesFromAssimpAreWarnedAbout) {
     EXPECT_EQ(mesh.triangleCount(), 1u);
     ASSERT_FALSE(mesh.warnings.empty());
     EXPECT_CONTAINS(mesh.warnings[0], "skipped 3 points and lines");
+}
+
+// The triangle with its buffer in the external file `uri`; extra JSON members at the top level.
+std::string gltfWithBufferFile(const std::string& uri, const std::string& extra = "") {
+    std::string gltf = gltfTriangle(2, extra);
+    const std::size_t at = gltf.find(R"("uri")");
+    return gltf.replace(at, gltf.find("}]", at) - at, R"("uri": ")" + uri + "\"");
+}
+
+TEST_F(MeshReaders, GltfExternalFilesAreConfinedToItsFolder) {
+    std::filesystem::create_directories(dir_ / "model" / "sub");
+    // A valid buffer outside the glTF's folder, starting with bytes no error may show.
+    write("outside.bin", triangleBytes());
+    write("model/sub/inside.bin", triangleBytes());
+    EXPECT_EQ(loadMesh(write("model/inside.gltf", gltfWithBufferFile("sub/inside.bin"))).triangleCount(), 1u);
+    EXPECT_EQ(loadMesh(write("model/sub/up.gltf", gltfWithBufferFile("../sub/inside.bin"))).triangleCount(), 1u);
+
+    const std::string outside = loadError("model/up.gltf", gltfWithBufferFile("../outside.bin"));
+    EXPECT_CONTAINS(outside, "buffer 0's uri '../outside.bin' leads outside the glTF's folder (SDFGEN_GLTF_FOLDERS lists more");
+    const std::string absolute = (dir_ / "outside.bin").string();
+    EXPECT_CONTAINS(loadError("model/absolute.gltf", gltfWithBufferFile(absolute)), "buffer 0's uri '/tmp/");
+    EXPECT_CONTAINS(loadError("model/absolute.gltf", gltfWithBufferFile(absolute)), "' is an absolute path");
+    std::filesystem::create_symlink(dir_ / "outside.bin", dir_ / "model" / "link.bin");
+    EXPECT_CONTAINS(loadError("model/link.gltf", gltfWithBufferFile("link.bin")), "buffer 0's uri 'link.bin' leads outside the glTF's folder");
+    std::filesystem::create_directory_symlink(dir_, dir_ / "model" / "linked");
+    EXPECT_CONTAINS(loadError("model/folder.gltf", gltfWithBufferFile("linked/outside.bin")), "leads outside the glTF's folder");
+    // Images are not read, but named only inside too.
+    EXPECT_CONTAINS(loadError("model/image.gltf", gltfWithBufferFile("sub/inside.bin", R"(, "images": [{"uri": "../../etc/passwd"}])")),
+                    "image 0's uri '../../etc/passwd' leads outside the glTF's folder");
+
+    // Folders allowed by the user, each with its subfolders.
+    setenv("SDFGEN_GLTF_FOLDERS", (":" + dir_.string() + ":").c_str(), 1);
+    EXPECT_EQ(loadMesh(dir_ / "model" / "up.gltf").triangleCount(), 1u);
+    EXPECT_EQ(loadMesh(dir_ / "model" / "link.gltf").triangleCount(), 1u);
+    EXPECT_CONTAINS(loadError("model/absolute.gltf", gltfWithBufferFile(absolute)), "is an absolute path");
+    setenv("SDFGEN_GLTF_FOLDERS", (dir_ / "missing").c_str(), 1);
+    EXPECT_CONTAINS(loadError("model/up.gltf", gltfWithBufferFile("../outside.bin")), "', which is not a folder");
+    unsetenv("SDFGEN_GLTF_FOLDERS");
+}
+
+TEST_F(MeshReaders, GltfIndicesAreCheckedAsAssimpReadsThem) {
+    const auto replace = [](std::string& text, const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
+    // A sparse accessor patching index 0 with the bytes of the float 1.0 (vertex 1065353216).
+    std::string sparse = gltfTriangle(2);
+    replace(sparse, R"("count": 3, "type": "SCALAR"})",
+            R"("count": 3, "type": "SCALAR", "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 0, "byteOffset": 12}}})");
+    EXPECT_CONTAINS(loadError("sparse-index.gltf", sparse), "mesh 0 primitive 0's indices accessor is sparse, which sdfgen does not read");
+    // Assimp copies a sparse accessor's elements packed but reads them at the view's stride: 12 bytes
+    // past its copy of 36 here.
+    std::string strided = gltfTriangle(2);
+    replace(strided, R"({"buffer": 0, "byteLength": 36})", R"({"buffer": 0, "byteLength": 48, "byteStride": 16})");
+    replace(strided, R"("max": [1, 1, 0]})",
+            R"("max": [1, 1, 0], "sparse": {"count": 1, "indices": {"bufferView": 1, "componentType": 5121}, "values": {"bufferView": 0}}})");
+    EXPECT_CONTAINS(loadError("sparse-strided.gltf", strided), "accessor 0's sparse patches an accessor on an interleaved (strided) bufferView");
+
+    // A GLB whose buffer 0 has a data URI of a good triangle, while Assimp reads the binary chunk:
+    // index 4e9 there.
+    EXPECT_CONTAINS(loadError("data-uri.glb", glb(gltfTriangle(2), triangleBytes(4000000000u))),
+                    "buffer 0 has a uri, but in a GLB file buffer 0 is read from the binary chunk");
+    // The binary chunk follows the JSON chunk padded to 4 bytes, whatever its length says.
+    std::string json = gltfTriangle(2);
+    json.replace(json.find(R"(, "uri")"), json.find("}]", json.find(R"(, "uri")")) - json.find(R"(, "uri")"), "");
+    if (json.size() % 4 == 0) json += ' ';
+    EXPECT_EQ(loadMesh(write("unpadded.glb", glb(json, triangleBytes(), false))).triangleCount(), 1u);
+    EXPECT_CONTAINS(loadError("unpadded-index.glb", glb(json, triangleBytes(4000000000u), false)), "refers to vertex 4000000000 but it has 3 vertices");
 }
 
 } // namespace

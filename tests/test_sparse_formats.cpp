@@ -255,6 +255,17 @@ TEST_F(HostileSparseNpz, FieldsThatAreNotBandFieldsAreRefused) {
     boxes[0][3] -= 1;
     expectRefused(writeWith("box.npz", {"inside_boxes.npy", formats::npyHeader("<i4", false, {boxes.size(), 6}), boxes.data(), boxes.size() * 24}),
                   "whole bricks");
+    // Overlapping boxes: at() takes the last box of a row starting at or before a sample,
+    // toDense() every box, so the two would disagree.
+    boxes = sparse_.insideBoxes;
+    const auto wide = std::find_if(boxes.begin(), boxes.end(), [](const std::array<int, 6>& b) { return b[3] - b[0] >= 16; });
+    ASSERT_NE(wide, boxes.end()) << "a box of two bricks or more";
+    std::array<int, 6> later = *wide;
+    later[0] += 8; // from the box's second brick on
+    const std::string overlapping = "inside boxes " + std::to_string(wide - boxes.begin()) + " and " + std::to_string(wide - boxes.begin() + 1) + " overlap";
+    boxes.insert(wide + 1, later);
+    expectRefused(writeWith("overlap.npz", {"inside_boxes.npy", formats::npyHeader("<i4", false, {boxes.size(), 6}), boxes.data(), boxes.size() * 24}),
+                  overlapping);
     std::string negative = formats::npyHeader("<f4", false, {});
     const float minusOne = -1.0f;
     negative.append(reinterpret_cast<const char*>(&minusOne), 4);
@@ -280,6 +291,60 @@ TEST_F(SparseFormats, CompareTakesABandFieldByValueInItsBandAndBySignOutside) {
     d = compareFields(wrong, band, 0.0);
     EXPECT_EQ(d.signDifferences, 1u);
     EXPECT_NEAR(d.maxAbs, 0.25 * dense_.grid.voxel, 1e-7);
+}
+
+void expectSameDifference(const FieldDifference& sparse, const FieldDifference& dense, const std::string& what) {
+    EXPECT_EQ(sparse.compared, dense.compared) << what;
+    EXPECT_EQ(sparse.signOnly, dense.signOnly) << what;
+    EXPECT_EQ(sparse.signDifferences, dense.signDifferences) << what;
+    EXPECT_EQ(sparse.maxAbs, dense.maxAbs) << what;
+    EXPECT_NEAR(sparse.meanAbs, dense.meanAbs, 1e-12) << what;
+    EXPECT_NEAR(sparse.rmsAbs, dense.rmsAbs, 1e-12) << what;
+    EXPECT_EQ(sparse.voxel, dense.voxel) << what;
+}
+
+TEST_F(SparseFormats, BandFieldsCompareSparseAsTheirDenseFormsDo) {
+    // Against itself, a narrower band, the balls moved by 3 voxels (bricks and inside boxes of
+    // each where the other has none, sides that differ), each with and without --band.
+    Field moved = dense_;
+    for (int k = 0; k < moved.grid.dims.z; ++k)
+        for (int j = 0; j < moved.grid.dims.y; ++j)
+            for (int i = 0; i < moved.grid.dims.x; ++i) moved.values[moved.grid.index(i, j, k)] = dense_.at(std::max(i - 3, 0), j, k);
+    const std::vector<std::pair<std::string, SparseField>> others = {
+        {"itself", sparse_},
+        {"narrower", formats::sparseFromDense(dense_, 0.6f * sparse_.background)},
+        {"moved", formats::sparseFromDense(moved, sparse_.background)}};
+    for (const auto& [name, other] : others) {
+        ASSERT_FALSE(other.insideBoxes.empty()) << name;
+        for (const double band : {0.0, 1.0, 2.0, 100.0}) {
+            expectSameDifference(compareSparseFields(sparse_, other, band), compareFields(sparse_.toDense(), other.toDense(), band),
+                                 name + ", band " + std::to_string(band));
+            expectSameDifference(compareSparseFields(other, sparse_, band), compareFields(other.toDense(), sparse_.toDense(), band),
+                                 name + " first, band " + std::to_string(band));
+        }
+    }
+    FieldDifference moved3 = compareSparseFields(sparse_, others[2].second, 0.0);
+    EXPECT_GT(moved3.signDifferences, 0u);
+    // A grid of 1000^3 samples and no bricks: counted, never made dense.
+    SparseField empty;
+    empty.grid = sparse_.grid;
+    empty.grid.dims = {1000, 1000, 1000};
+    empty.background = 0.1f;
+    empty.insideBoxes.push_back(SparseField::insideBox(empty.grid.dims, 0, 125, 0, 0)); // one row of bricks inside
+    SparseField other = empty;
+    other.insideBoxes[0] = SparseField::insideBox(empty.grid.dims, 100, 125, 0, 0);
+    const FieldDifference d = compareSparseFields(empty, other, 0.0);
+    EXPECT_EQ(d.signOnly, 1000000000u);
+    EXPECT_EQ(d.signDifferences, 100u * 8 * 8 * 8);
+    EXPECT_EQ(d.compared, 0u);
+    EXPECT_CONTAINS(errorFrom([&] { compareSparseFields(sparse_, empty, 0.0); }), "the fields have different grids: 75x57x45 and 1000x1000x1000");
+}
+
+TEST_F(SparseFormats, InsideBoxesOverTheirFieldsBricksAreRefused) {
+    SparseField overBrick = sparse_;
+    const glm::ivec3 brick = overBrick.bricks[0];
+    overBrick.insideBoxes = {SparseField::insideBox(overBrick.grid.dims, brick.x, brick.x + 1, brick.y, brick.z)};
+    EXPECT_CONTAINS(errorFrom([&] { overBrick.check("brick.npz"); }), "brick.npz: inside box 0 holds stored brick 0");
 }
 
 #if SDFGEN_HAS_OPENVDB

@@ -1,5 +1,6 @@
 #pragma once
 #include "sdfgen/field.hpp"
+#include "sdfgen/sparse_field.hpp"
 
 #include <cstddef>
 
@@ -21,5 +22,14 @@ struct FieldDifference {
 // either field (0 compares all). A band field (Field::background > 0) is compared by value where
 // |value| < background and by sign elsewhere. Throws Error when the grids differ.
 FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels);
+
+// compareFields for two band fields, without their dense forms: sample by sample where either
+// stores a brick, by counting elsewhere (time and memory grow with the bricks and inside boxes,
+// not the grid). The same result as compareFields on their toDense().
+FieldDifference compareSparseFields(const SparseField& a, const SparseField& b, double bandVoxels);
+
+// Throws Error when two grids differ in dimensions, or in origin or voxel size by more than a
+// thousandth of a voxel: what the comparisons check first.
+void checkSameGrid(const Grid& a, const Grid& b);
 
 } // namespace sdfgen

@@ -26,6 +26,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 namespace sdfgen {
 
@@ -71,19 +72,51 @@ void collect(const aiScene& scene, std::vector<glm::vec3>& positions, std::vecto
     }
 }
 
-// Assimp's file access, with one file read from memory instead (the guarded glTF).
-class ReplacingIOSystem : public Assimp::DefaultIOSystem {
+// An external buffer file the glTF guard opened and checked, read by Assimp.
+class CheckedFileStream : public Assimp::IOStream {
 public:
-    ReplacingIOSystem(std::string path, std::string contents) : path_(std::move(path)), contents_(std::move(contents)) {}
+    explicit CheckedFileStream(std::shared_ptr<const RandomAccessFile> file) : file_(std::move(file)) {}
+
+    std::size_t Read(void* buffer, std::size_t size, std::size_t count) override {
+        if (size == 0 || count == 0) return 0;
+        const std::size_t read = file_->readSome(position_, buffer, size * std::min(count, (file_->size() - position_) / size));
+        position_ += read;
+        return read / size;
+    }
+    std::size_t Write(const void*, std::size_t, std::size_t) override { return 0; }
+    aiReturn Seek(std::size_t offset, aiOrigin origin) override {
+        const std::uint64_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? position_ : file_->size();
+        if (offset > file_->size() - base) return aiReturn_FAILURE;
+        position_ = base + offset;
+        return aiReturn_SUCCESS;
+    }
+    std::size_t Tell() const override { return std::size_t(position_); }
+    std::size_t FileSize() const override { return std::size_t(file_->size()); }
+    void Flush() override {}
+
+private:
+    std::shared_ptr<const RandomAccessFile> file_;
+    std::uint64_t position_ = 0;
+};
+
+// Assimp's file access for a glTF: the file itself (from memory when the guard rewrote it) and
+// the external buffers the guard checked, nothing else.
+class GuardedGltfIOSystem : public Assimp::DefaultIOSystem {
+public:
+    GuardedGltfIOSystem(std::string path, GltfCheck check) : path_(std::move(path)), check_(std::move(check)) {}
 
     Assimp::IOStream* Open(const char* file, const char* mode) override {
-        if (file == path_) return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(contents_.data()), contents_.size());
-        return DefaultIOSystem::Open(file, mode);
+        if (file == path_) {
+            if (check_.replacement.empty()) return DefaultIOSystem::Open(file, mode);
+            return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(check_.replacement.data()), check_.replacement.size());
+        }
+        const auto checked = check_.externalFiles.find(file);
+        return checked == check_.externalFiles.end() ? nullptr : new CheckedFileStream(checked->second);
     }
 
 private:
     std::string path_;
-    std::string contents_;
+    GltfCheck check_;
 };
 
 std::string firstLine(std::string text) {
@@ -100,10 +133,13 @@ Mesh loadWithAssimp(const std::string& path) {
                                                             aiComponent_COLORS | aiComponent_TEXCOORDS |
                                                             aiComponent_BONEWEIGHTS);
     const std::string extension = lowerExtension(path);
-    GltfCheck gltf;
+    bool gltfCounted = false;
+    std::uint64_t gltfTriangles = 0;
     if (extension == ".gltf" || extension == ".glb") {
-        gltf = guardGltf(path, extension == ".glb");
-        if (!gltf.replacement.empty()) importer.SetIOHandler(new ReplacingIOSystem(path, std::move(gltf.replacement)));
+        GltfCheck gltf = guardGltf(path, extension == ".glb");
+        gltfCounted = gltf.counted;
+        gltfTriangles = gltf.triangles;
+        importer.SetIOHandler(new GuardedGltfIOSystem(path, std::move(gltf)));
     }
     const aiScene* scene = importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
                                                        aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure);
@@ -118,9 +154,9 @@ Mesh loadWithAssimp(const std::string& path) {
     collect(*scene, positions, triangles, pointsAndLines);
     const std::size_t read = triangles.size();
     Mesh mesh = buildMesh(path, std::move(positions), std::move(triangles));
-    if (gltf.counted && read != gltf.triangles) {
-        mesh.warnings.push_back(path + ": Assimp read " + std::to_string(read) + " triangles where the file's scene has " +
-                                std::to_string(gltf.triangles));
+    if (gltfCounted && read != gltfTriangles) {
+        // Dropped triangles are a wrong field, not a detail: the guard missed something Assimp did.
+        throw Error(path + ": Assimp read " + std::to_string(read) + " triangles where the file's scene has " + std::to_string(gltfTriangles));
     }
     if (pointsAndLines) {
         mesh.warnings.push_back(path + ": skipped " + std::to_string(pointsAndLines) + " points and lines (only triangles and polygons make a surface)");

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
@@ -18,6 +19,45 @@
 
 namespace sdfgen {
 
+RandomAccessFile::RandomAccessFile(const std::string& path, const std::string& name) : name_(name) {
+    fd_ = open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK); // a FIFO must not block
+    if (fd_ < 0) throw Error(name + ": cannot open file (" + std::strerror(errno) + ")");
+    struct stat status {};
+    if (fstat(fd_, &status) != 0 || !S_ISREG(status.st_mode)) {
+        close(fd_);
+        throw Error(name + ": not a regular file");
+    }
+    size_ = std::uint64_t(status.st_size);
+}
+
+RandomAccessFile::~RandomAccessFile() { close(fd_); }
+
+std::string RandomAccessFile::read(std::uint64_t offset, std::uint64_t length) const {
+    if (offset > size_ || length > size_ - offset) throw Error(name_ + ": the file ends before byte " + std::to_string(offset + length));
+    std::string bytes(std::size_t(length), '\0');
+    if (readSome(offset, bytes.data(), bytes.size()) != bytes.size()) throw Error(name_ + ": the file ends before byte " + std::to_string(offset + length));
+    return bytes;
+}
+
+std::size_t RandomAccessFile::readSome(std::uint64_t offset, void* into, std::size_t length) const {
+    std::size_t done = 0;
+    while (done < length) {
+        const ssize_t n = pread(fd_, static_cast<char*>(into) + done, length - done, off_t(offset + done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) throw Error(name_ + ": read error (" + std::strerror(errno) + ")");
+        if (n == 0) break;
+        done += std::size_t(n);
+    }
+    return done;
+}
+
+std::string RandomAccessFile::realPath() const {
+    std::error_code error;
+    const std::filesystem::path opened = std::filesystem::read_symlink("/proc/self/fd/" + std::to_string(fd_), error);
+    if (error) throw Error(name_ + ": cannot tell where the opened file is (" + error.message() + ")");
+    return opened.string();
+}
+
 namespace {
 
 using nlohmann::json;
@@ -25,44 +65,6 @@ using nlohmann::json;
 constexpr int kMaxJsonDepth = 200;  // real files nest about 10 deep; Assimp's JSON parser recurses
 constexpr int kMaxNodeDepth = 1000; // Assimp recurses once per level of the node tree
 constexpr std::uint64_t kNoData = std::numeric_limits<std::uint64_t>::max();
-
-// A file read in pieces (a GLB's binary chunk and external buffers are only read where indices are).
-class RandomAccessFile {
-public:
-    RandomAccessFile(const std::string& path, const std::string& name) : name_(name) {
-        fd_ = open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK); // a FIFO must not block
-        if (fd_ < 0) throw Error(name + ": cannot open file (" + std::strerror(errno) + ")");
-        struct stat status {};
-        if (fstat(fd_, &status) != 0 || !S_ISREG(status.st_mode)) {
-            close(fd_);
-            throw Error(name + ": not a regular file");
-        }
-        size_ = std::uint64_t(status.st_size);
-    }
-    ~RandomAccessFile() { close(fd_); }
-    RandomAccessFile(const RandomAccessFile&) = delete;
-    RandomAccessFile& operator=(const RandomAccessFile&) = delete;
-
-    std::uint64_t size() const { return size_; }
-
-    std::string read(std::uint64_t offset, std::uint64_t length) const {
-        if (offset > size_ || length > size_ - offset) throw Error(name_ + ": the file ends before byte " + std::to_string(offset + length));
-        std::string bytes(std::size_t(length), '\0');
-        std::size_t done = 0;
-        while (done < bytes.size()) {
-            const ssize_t n = pread(fd_, bytes.data() + done, bytes.size() - done, off_t(offset + done));
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) throw Error(name_ + ": read error" + (n < 0 ? std::string(" (") + std::strerror(errno) + ")" : ""));
-            done += std::size_t(n);
-        }
-        return bytes;
-    }
-
-private:
-    std::string name_;
-    int fd_ = -1;
-    std::uint64_t size_ = 0;
-};
 
 std::uint32_t littleEndian32(const std::string& bytes, std::size_t at) {
     std::uint32_t v = 0;
@@ -153,6 +155,7 @@ public:
             fail("only glTF 2.x files are read (asset.version is not 2.x)");
         }
         checkBuffers();
+        checkImages();
         checkBufferViews();
         checkAccessors();
         checkMeshes();
@@ -209,8 +212,9 @@ private:
         if (littleEndian32(header, 16) != 0x4E4F534A) fail("the first chunk is not JSON");
         if (jsonLength > length - 20) fail("the JSON chunk declares " + std::to_string(jsonLength) + " bytes but only " + std::to_string(length - 20) + " follow it");
         json_ = file_.read(20, jsonLength);
-        std::uint64_t at = 20 + jsonLength;
-        binaryOffset_ = at;
+        // Assimp looks for the binary chunk after the JSON chunk padded to 4 bytes.
+        const std::uint64_t at = 20 + (jsonLength + 3) / 4 * 4;
+        binaryOffset_ = std::min(at, length);
         if (at + 8 <= length) {
             const std::string chunk = file_.read(at, 8);
             const std::uint64_t chunkLength = littleEndian32(chunk, 0);
@@ -226,7 +230,7 @@ private:
         std::uint64_t length = 0;     // as declared
         std::uint64_t used = 0;       // the end of its last view
         std::string inline_;          // decoded data URI
-        std::string file;             // external file, or empty
+        std::shared_ptr<const RandomAccessFile> file; // external file, or none
         bool glbChunk = false;
     };
 
@@ -239,11 +243,14 @@ private:
             Buffer buffer;
             buffer.length = number(b, "byteLength", what, kNoData);
             const json* uri = member(b, "uri");
-            if (!uri) {
-                if (i != 0 || binaryStart_ == 0) fail(what + " has no uri and is not a GLB file's binary chunk");
+            if (binaryOffset_ != 0 && i == 0) {
+                // Assimp reads a GLB's buffer 0 from its binary chunk, whatever its uri says.
+                if (uri) fail(what + " has a uri, but in a GLB file buffer 0 is read from the binary chunk");
+                if (binaryStart_ == 0) fail(what + " has no uri and the GLB file has no binary chunk");
                 buffer.glbChunk = true;
                 if (buffer.length > binaryLength_) fail(what + " declares " + std::to_string(buffer.length) + " bytes but the binary chunk has " + std::to_string(binaryLength_));
             } else {
+                if (!uri) fail(what + " has no uri and is not a GLB file's binary chunk");
                 if (!uri->is_string()) fail(what + "'s uri is not a string");
                 const std::string& text = uri->get_ref<const std::string&>();
                 if (text.rfind("data:", 0) == 0) {
@@ -251,20 +258,79 @@ private:
                     if (comma == std::string::npos || text.rfind(";base64", comma) == std::string::npos) fail(what + "'s data URI is not base64");
                     buffer.inline_ = decodeBase64(std::string_view(text).substr(comma + 1));
                     if (buffer.length != buffer.inline_.size()) fail(what + " declares " + std::to_string(buffer.length) + " bytes but its data URI holds " + std::to_string(buffer.inline_.size()));
-                } else {
-                    buffer.file = (std::filesystem::path(path_).parent_path() / text).string();
-                    const RandomAccessFile external(buffer.file, path_ + ": " + what + " (" + printable(text, 40) + ")");
-                    if (buffer.length > external.size()) {
-                        fail(what + " declares " + std::to_string(buffer.length) + " bytes but its file '" + printable(text, 40) + "' has " + std::to_string(external.size()));
+                } else if (buffer.length > 0) { // Assimp opens no file for an empty buffer
+                    const std::string opened = confined(what, text);
+                    buffer.file = std::make_shared<const RandomAccessFile>(opened, path_ + ": " + what + " ('" + printable(text, 40) + "')");
+                    if (!inside(buffer.file->realPath())) refuseOutside(what, text); // swapped after the check above
+                    if (buffer.length > buffer.file->size()) {
+                        fail(what + " declares " + std::to_string(buffer.length) + " bytes but its file '" + printable(text, 40) + "' has " + std::to_string(buffer.file->size()));
                     }
                     if (buffer.length > maxInputBytes()) {
                         fail(what + " declares " + std::to_string(buffer.length) + " bytes, more than the input limit of " +
                              std::to_string(maxInputBytes() >> 20) + " MiB (set SDFGEN_MAX_INPUT_MB to raise it)");
                     }
+                    result_.externalFiles[opened] = buffer.file;
                 }
             }
             buffers_.push_back(std::move(buffer));
         }
+    }
+
+    // Images are not read (sdfgen uses no textures), but their URIs are confined as buffers' are.
+    void checkImages() {
+        const json& images = array("images");
+        for (std::size_t i = 0; i < images.size(); ++i) {
+            const json* uri = images[i].is_object() ? member(images[i], "uri") : nullptr;
+            if (uri && uri->is_string() && uri->get_ref<const std::string&>().rfind("data:", 0) != 0) {
+                confined("image " + std::to_string(i), uri->get_ref<const std::string&>());
+            }
+        }
+    }
+
+    [[noreturn]] void refuseOutside(const std::string& what, const std::string& uri) const {
+        fail(what + "'s uri '" + printable(uri, 60) + "' leads outside the glTF's folder (" + kGltfFoldersVariable +
+             " lists more folders to read from)");
+    }
+
+    // The path Assimp opens for an external `uri` (the glTF's folder as Assimp takes it from the
+    // path, then the URI as written), after checking that it names a file in the glTF's folder or
+    // one of kGltfFoldersVariable's once '..' and symbolic links are resolved.
+    std::string confined(const std::string& what, const std::string& uri) {
+        if (uri.empty()) fail(what + "'s uri is empty");
+        if (uri[0] == '/' || uri[0] == '\\') fail(what + "'s uri '" + printable(uri, 60) + "' is an absolute path (a glTF names its files relative to its folder)");
+        const std::size_t slash = path_.find_last_of("/\\");
+        std::string folder = slash == std::string::npos ? "" : path_.substr(0, slash + 1);
+        if (!folder.empty() && folder.back() != '/') folder += '/';
+        const std::string opened = folder + uri;
+        std::error_code error;
+        const std::filesystem::path resolved = std::filesystem::weakly_canonical(opened, error);
+        if (error || !inside(resolved)) refuseOutside(what, uri);
+        return opened;
+    }
+
+    // Whether a resolved path is in the glTF's folder or one of kGltfFoldersVariable's.
+    bool inside(const std::filesystem::path& resolved) {
+        if (allowedFolders_.empty()) {
+            const std::filesystem::path own = std::filesystem::path(path_).parent_path();
+            allowedFolders_.push_back(std::filesystem::canonical(own.empty() ? "." : own));
+            const char* list = std::getenv(kGltfFoldersVariable);
+            for (std::string_view rest = list ? list : ""; !rest.empty();) {
+                const std::string entry(rest.substr(0, rest.find(':')));
+                rest.remove_prefix(std::min(rest.size(), entry.size() + 1));
+                if (entry.empty()) continue;
+                std::error_code error;
+                const std::filesystem::path folder = std::filesystem::canonical(entry, error);
+                if (error || !std::filesystem::is_directory(folder)) {
+                    fail(std::string(kGltfFoldersVariable) + " names '" + printable(entry, 60) + "', which is not a folder");
+                }
+                allowedFolders_.push_back(folder);
+            }
+        }
+        for (const std::filesystem::path& folder : allowedFolders_) {
+            const std::filesystem::path relative = resolved.lexically_relative(folder);
+            if (!relative.empty() && *relative.begin() != "..") return true;
+        }
+        return false;
     }
 
     struct View {
@@ -292,7 +358,7 @@ private:
         }
         for (std::size_t i = 0; i < buffers_.size(); ++i) {
             // Assimp reads an external buffer's whole byteLength: give it the bytes the views use.
-            if (!buffers_[i].file.empty() && buffers_[i].used < buffers_[i].length) {
+            if (buffers_[i].file && buffers_[i].used < buffers_[i].length) {
                 doc_["buffers"][i]["byteLength"] = buffers_[i].used;
                 bounded_ = true;
             }
@@ -304,6 +370,7 @@ private:
         std::uint32_t componentType = 0;
         std::string type;
         bool hasView = false;
+        bool sparse = false;
         std::size_t view = 0;
         std::uint64_t offset = 0;
     };
@@ -356,7 +423,10 @@ private:
                 // Without a view its elements are zeros (or sparse), allocated whole by Assimp.
                 fail(what + " claims " + std::to_string(acc.count) + " elements without data, more than the file could describe");
             }
-            if (const json* sparse = member(a, "sparse")) checkSparse(what + "'s sparse", *sparse, acc);
+            if (const json* sparse = member(a, "sparse")) {
+                checkSparse(what + "'s sparse", *sparse, acc);
+                acc.sparse = true;
+            }
             accessors_.push_back(acc);
         }
     }
@@ -364,6 +434,8 @@ private:
     // A sparse accessor's indices and values, which Assimp reads without checking their views.
     void checkSparse(const std::string& what, const json& sparse, const Accessor& acc) const {
         if (!sparse.is_object()) fail(what + " is not an object");
+        // Assimp copies the base elements packed, then reads them at the view's stride: past its copy.
+        if (acc.hasView && views_[acc.view].stride > acc.elementSize) fail(what + " patches an accessor on an interleaved (strided) bufferView, which Assimp misreads");
         const std::uint64_t count = number(sparse, "count", what, kNoData);
         if (count > acc.count) fail(what + " count " + std::to_string(count) + " exceeds the accessor's " + std::to_string(acc.count));
         for (const char* part : {"indices", "values"}) {
@@ -389,7 +461,7 @@ private:
     std::string bufferBytes(std::size_t buffer, std::uint64_t offset, std::uint64_t length) const {
         const Buffer& b = buffers_[buffer];
         if (b.glbChunk) return file_.read(binaryStart_ + offset, length);
-        if (!b.file.empty()) return RandomAccessFile(b.file, path_ + ": buffer " + std::to_string(buffer)).read(offset, length);
+        if (b.file) return b.file->read(offset, length);
         return b.inline_.substr(std::size_t(offset), std::size_t(length));
     }
 
@@ -431,6 +503,8 @@ private:
                     if (indices.type != "SCALAR" || (indices.componentType != 5121 && indices.componentType != 5123 && indices.componentType != 5125)) {
                         fail(what + "'s indices are not unsigned integer scalars");
                     }
+                    // Assimp reads sparse indices patched; refused rather than checked in a second reading.
+                    if (indices.sparse) fail(what + "'s indices accessor is sparse, which sdfgen does not read");
                     if (!compressed) checkIndices(what, indices, positions.count);
                     corners = indices.count;
                 }
@@ -573,6 +647,7 @@ private:
     json doc_;
     std::uint64_t binaryOffset_ = 0, binaryStart_ = 0, binaryLength_ = 0;
     std::vector<Buffer> buffers_;
+    std::vector<std::filesystem::path> allowedFolders_; // resolved; the glTF's own first
     std::vector<View> views_;
     std::vector<Accessor> accessors_;
     std::vector<std::uint64_t> meshTriangles_, meshVertices_;

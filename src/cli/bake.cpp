@@ -94,7 +94,9 @@ void addBakeCommand(CLI::App& app) {
     addBakeOptions(*bake, args->settings, args->threads);
     std::string formats = "Field formats (from the output's extension):";
     for (const FieldFormatInfo& format : knownFieldFormats()) formats += std::string("\n  ") + format.extension + "  " + format.description;
-    bake->footer(formats + "\nThe summary line counts the whole process: load, tree, generation and save.");
+    bake->footer(formats + "\nThe summary line counts the whole process: load, tree, generation and save."
+                           "\nA glTF's external buffers and images are read only from its folder and subfolders; "
+                           "SDFGEN_GLTF_FOLDERS=DIR[:DIR...] allows more folders.");
     bake->callback([args] { runBake(*args); });
 }
 

@@ -4,9 +4,11 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
+#include "sdfgen/sparse_field.hpp"
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace sdfgen::cli {
@@ -18,23 +20,48 @@ struct CompareArgs {
     double band = 0.0;
 };
 
+// A field file as it is stored: a band file sparse, any other dense.
+struct StoredField {
+    std::optional<SparseField> sparse;
+    std::optional<Field> dense;
+    const Grid& grid() const { return sparse ? sparse->grid : dense->grid; }
+    float background() const { return sparse ? sparse->background : dense->background; }
+};
+
+StoredField loadStored(const std::string& path) {
+    StoredField field;
+    if (isSparseFieldFile(path)) field.sparse = loadSparseField(path);
+    else field.dense = loadField(path);
+    return field;
+}
+
 void runCompare(const CompareArgs& args) {
-    const Field a = loadField(args.first);
-    const Field b = loadField(args.second);
+    // Both grids are checked before anything is made dense: band fields are compared sparse, and
+    // one is made dense only beside a dense field of the same grid, which its file holds whole.
+    StoredField a = loadStored(args.first);
+    StoredField b = loadStored(args.second);
     FieldDifference d;
     try {
-        d = compareFields(a, b, args.band);
+        checkSameGrid(a.grid(), b.grid());
+        if (a.sparse && b.sparse) {
+            d = compareSparseFields(*a.sparse, *b.sparse, args.band);
+        } else {
+            for (StoredField* field : {&a, &b}) {
+                if (!field->dense) field->dense = field->sparse->toDense();
+            }
+            d = compareFields(*a.dense, *b.dense, args.band);
+        }
     } catch (const Error& e) {
         throw Error(args.first + " vs " + args.second + ": " + e.what());
     }
     const double h = d.voxel;
     std::printf("%s vs %s: %zu of %zu samples compared (band %g voxels)\n", args.first.c_str(), args.second.c_str(),
-                d.compared, a.values.size(), args.band);
+                d.compared, a.grid().sampleCount(), args.band);
     std::string bands; // the band fields among the two: compared by value in their band, by sign outside
     for (const auto& [name, field] : {std::pair{&args.first, &a}, {&args.second, &b}}) {
-        if (field->background > 0) {
+        if (field->background() > 0) {
             char band[64];
-            std::snprintf(band, sizeof band, " (|d| < %g, %.4g voxels)", double(field->background), double(field->background) / h);
+            std::snprintf(band, sizeof band, " (|d| < %g, %.4g voxels)", double(field->background()), double(field->background()) / h);
             bands += (bands.empty() ? "" : ", ") + *name + band;
         }
     }

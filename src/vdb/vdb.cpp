@@ -64,7 +64,13 @@ public:
     // What the walk saw of each grid, enough to tell a band field from a dense one.
     struct GridSummary {
         std::string name, type;
-        double band = 0; // its sdfgen_band metadata, 0 when absent
+        double band = 0;         // its sdfgen_band metadata, 0 when absent
+        bool fromSdfgen = false; // it has sdfgen_dims metadata
+        std::string gridClass;   // its class metadata ("level set", "fog volume", ...), when short
+        // Read as a SparseField: a band field sdfgen wrote, or another program's level set.
+        bool sparse() const {
+            return band > 0 || (!fromSdfgen && gridClass == openvdb::GridBase::gridClassToString(openvdb::GRID_LEVEL_SET));
+        }
     };
     const std::vector<GridSummary>& grids() const { return grids_; }
 
@@ -103,7 +109,7 @@ public:
                      ") do not lie in the file's " + std::to_string(size_) + " bytes");
             }
             const std::uint32_t compression = read<std::uint32_t>(what + "'s compression flags");
-            metaMap(what + "'s metadata", &summary.band);
+            metaMap(what + "'s metadata", &summary);
             transform(what + "'s transform");
             if (!instance) tree(compression, layout, what + "'s tree");
             if (hasOffsets && std::uint64_t(endPos) != pos_) fail(what + " ends at byte " + std::to_string(pos_) + ", not at its end offset " + std::to_string(endPos));
@@ -251,9 +257,9 @@ private:
     }
 
 
-    // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes; the
-    // value of a double named sdfgen_band into `band` when given.
-    void metaMap(const std::string& what, double* band = nullptr) {
+    // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes; what
+    // tells a band field (sdfgen_band, sdfgen_dims, the class) into `grid` when given.
+    void metaMap(const std::string& what, GridSummary* grid = nullptr) {
         const std::int32_t count = read<std::int32_t>(what);
         // Each entry takes at least 12 bytes (three lengths).
         if (count < 0 || std::uint64_t(count) > (size_ - pos_) / 12) {
@@ -278,9 +284,14 @@ private:
             } else if (type != openvdb::StringMetadata::staticTypeName() && openvdb::Metadata::isRegisteredType(type) &&
                        bytes != openvdb::Metadata::createMetadata(type)->size()) {
                 fail("not a readable OpenVDB file: a " + printable(type) + " value in " + what + " claims " + std::to_string(bytes) + " bytes");
-            } else if (band && name == "sdfgen_band" && type == openvdb::DoubleMetadata::staticTypeName()) {
-                *band = read<double>(what);
+            } else if (grid && name == "sdfgen_band" && type == openvdb::DoubleMetadata::staticTypeName()) {
+                grid->band = read<double>(what);
+            } else if (grid && name == openvdb::GridBase::META_GRID_CLASS && type == openvdb::StringMetadata::staticTypeName() && bytes <= 64) {
+                grid->gridClass.resize(bytes);
+                in_.read(grid->gridClass.data(), bytes);
+                pos_ += bytes;
             }
+            if (grid && name == "sdfgen_dims") grid->fromSdfgen = true;
             seek(end);
         }
     }
@@ -680,7 +691,8 @@ openvdb::FloatGrid::Ptr readFloatGrid(const std::string& path, std::uint64_t fil
 
 // The grid a FloatGrid stands for, into field.grid, with its names, and its box in index space:
 // for a grid sdfgen wrote, the grid of its metadata, which must agree with the transform and the
-// tree; for another program's, the box of its active voxels. Returns the metadata.
+// tree; for another program's, the box of its active voxels, its low corner moved down onto the
+// leaves' 8-voxel grid (so that each leaf is one brick when read sparse). Returns the metadata.
 SdfgenMetadata readFrame(const openvdb::FloatGrid& grid, Field& field, openvdb::CoordBBox& box, const std::string& path) {
     if (grid.getGridClass() == openvdb::GRID_FOG_VOLUME) {
         throw Error(path + ": grid '" + printable(grid.getName()) + "' is a fog volume, not a signed distance field");
@@ -720,9 +732,11 @@ SdfgenMetadata readFrame(const openvdb::FloatGrid& grid, Field& field, openvdb::
         if (meta.hasMethod) parseMethodLine(meta.method, field, path);
         if (meta.hasSource) field.source = meta.source;
     } else {
-        // Another program's grid: the box of its active voxels.
-        box = active;
-        if (box.empty()) throw Error(path + ": grid '" + printable(grid.getName()) + "' has no active voxels");
+        // Another program's grid: the box of its active voxels, from the leaf below.
+        if (active.empty()) throw Error(path + ": grid '" + printable(grid.getName()) + "' has no active voxels");
+        openvdb::Coord low = active.min();
+        for (int a = 0; a < 3; ++a) low[a] &= ~(SparseField::kBrick - 1); // down, negative ones too
+        box = openvdb::CoordBBox(low, active.max());
         for (int a = 0; a < 3; ++a) {
             field.grid.dims[a] = box.dim()[a];
             field.grid.origin[a] = translation[a] + h * (double(box.min()[a]) - 0.5);
@@ -741,9 +755,10 @@ void checkBytesFit(double bytes, const std::string& what, const std::string& pat
     }
 }
 
-// A level set sdfgen wrote from a band field, as that field: each leaf a brick, the inactive
-// negative tiles the inside boxes (runs of whole bricks per row of bricks).
-SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const std::string& path) {
+// A level set (sdfgen's band field, or another program's) as a band field: each leaf a brick, the
+// inactive negative tiles the inside boxes (runs of whole bricks per row of bricks). `first` is
+// the index of sample (0, 0, 0), on the leaves' 8-voxel grid.
+SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const openvdb::Coord& first, const std::string& path) {
     constexpr int B = SparseField::kBrick;
     SparseField field;
     field.source = std::move(frame.source);
@@ -761,18 +776,18 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const st
     // The leaves that hold samples of the grid, in z, y, x order.
     std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
-        const openvdb::Coord o = leaf->origin();
+        const openvdb::Coord o = leaf->origin() - first;
         if (o.x() >= 0 && o.y() >= 0 && o.z() >= 0 && o.x() < dims.x && o.y() < dims.y && o.z() < dims.z) leaves.push_back(leaf.getLeaf());
     }
     checkBytesFit(double(leaves.size()) * SparseField::kBrickSamples * sizeof(float), std::to_string(leaves.size()) + " bricks", path);
-    std::sort(leaves.begin(), leaves.end(), [](const auto* a, const auto* b) {
+    std::sort(leaves.begin(), leaves.end(), [](const auto* a, const auto* b) { // the same order as in the field
         const openvdb::Coord &p = a->origin(), &q = b->origin();
         return std::make_tuple(p.z(), p.y(), p.x()) < std::make_tuple(q.z(), q.y(), q.x());
     });
     field.bricks.reserve(leaves.size());
     field.values.resize(leaves.size() * SparseField::kBrickSamples);
     for (std::size_t b = 0; b < leaves.size(); ++b) {
-        const openvdb::Coord o = leaves[b]->origin();
+        const openvdb::Coord o = leaves[b]->origin() - first;
         field.bricks.emplace_back(o.x() / B, o.y() / B, o.z() / B);
         float* values = &field.values[b * SparseField::kBrickSamples];
         for (int z = 0; z < B; ++z)
@@ -800,6 +815,7 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const st
             if (!(*tile < 0.0f)) continue;
             openvdb::CoordBBox box;
             tile.getBoundingBox(box);
+            box.translate(-first);
             const openvdb::Coord lo = openvdb::Coord::maxComponent(box.min(), openvdb::Coord(0));
             const openvdb::Coord hi = openvdb::Coord::minComponent(box.max() + openvdb::Coord(1), openvdb::Coord(dims.x, dims.y, dims.z));
             if (lo.x() >= hi.x() || lo.y() >= hi.y() || lo.z() >= hi.z()) continue;
@@ -827,13 +843,18 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const st
     return field;
 }
 
+// A band field's grid (sdfgen's), or another program's level set: read as bricks and inside boxes.
+bool readsAsBand(const openvdb::FloatGrid& grid, const SdfgenMetadata& meta) {
+    return meta.present ? meta.band > 0 : grid.getGridClass() == openvdb::GRID_LEVEL_SET;
+}
+
 Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
     Field field;
     openvdb::CoordBBox box;
     const SdfgenMetadata meta = readFrame(grid, field, box, path);
-    if (meta.present && meta.band > 0) {
+    if (readsAsBand(grid, meta)) { // the dense form of what loadSparseGrid reads
         try {
-            return gridToSparse(grid, std::move(field), path).toDense();
+            return gridToSparse(grid, std::move(field), box.min(), path).toDense();
         } catch (const Error& e) {
             const std::string message = e.what();
             throw Error(message.rfind(path, 0) == 0 ? message : path + ": " + message);
@@ -852,8 +873,10 @@ SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& pa
     Field field;
     openvdb::CoordBBox box;
     const SdfgenMetadata meta = readFrame(grid, field, box, path);
-    if (meta.present && meta.band > 0) return gridToSparse(grid, std::move(field), path);
-    // A dense grid, or another program's: its samples, read as any dense field.
+    // Another program's level set too: never made dense over the box of its active voxels, which
+    // two small spheres far apart make huge.
+    if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path);
+    // A dense grid, or another program's grid of no class: its samples, read as any dense field.
     const Field dense = loadGrid(grid, path);
     return sparseFromDense(dense, bandBackground(dense));
 }
@@ -899,7 +922,7 @@ bool isSparseVdbFile(const std::string& path) {
         auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
         for (const bool byName : {true, false}) {
             for (const VdbLayout::GridSummary& grid : layout.grids()) {
-                if (isFloat(grid.type) && (!byName || grid.name == kGridName)) return grid.band > 0;
+                if (isFloat(grid.type) && (!byName || grid.name == kGridName)) return grid.sparse();
             }
         }
         throw Error(path + ": the file holds no float grid");

@@ -188,6 +188,34 @@ if command -v assimp >/dev/null; then
   expect 0 '4 triangles' -- "$sdfgen" bake "$work/tet.stl" -o "$work/tet-stl.sdf" --res 8
   expect 0 'max 0 \(0 voxels\)' -- "$sdfgen" compare "$work/tet.sdf" "$work/tet-stl.sdf"
 fi
+# glTF external files: only from the glTF's folder (SDFGEN_GLTF_FOLDERS allows more); refused in one
+# line that quotes the URI, never the outside file's bytes.
+if [ -e "$(dirname "$sdfgen")/libsdfgen_assimp.so" ]; then
+  mkdir -p "$work/gltf"
+  /usr/bin/python3 - "$work" <<'PY'
+import base64, json, struct, sys
+work = sys.argv[1]
+data = struct.pack("<9f3I", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 2)
+open(work + "/outside.bin", "wb").write(data)
+open(work + "/gltf/inside.bin", "wb").write(data)
+def gltf(uri):
+    return json.dumps({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
+        "buffers": [{"byteLength": 48, "uri": uri}]})
+for name, uri in [("inside", "inside.bin"), ("up", "../outside.bin"), ("absolute", "/etc/ld.so.cache")]:
+    open(work + "/gltf/" + name + ".gltf", "w").write(gltf(uri))
+PY
+  expect 0 '1 triangles' -- "$sdfgen" bake "$work/gltf/inside.gltf" -o "$work/x.sdf" --res 4
+  expect 1 "^sdfgen: $work/gltf/up.gltf: buffer 0's uri '../outside.bin' leads outside the glTF's folder \(SDFGEN_GLTF_FOLDERS lists more folders to read from\)$" -- \
+    "$sdfgen" bake "$work/gltf/up.gltf" -o "$work/x.sdf" --res 4
+  expect 0 '1 triangles' -- env SDFGEN_GLTF_FOLDERS="$work" "$sdfgen" bake "$work/gltf/up.gltf" -o "$work/x.sdf" --res 4
+  expect 1 "^sdfgen: $work/gltf/absolute.gltf: buffer 0's uri '/etc/ld.so.cache' is an absolute path" -- \
+    "$sdfgen" bake "$work/gltf/absolute.gltf" -o "$work/x.sdf" --res 4
+  expect 0 'SDFGEN_GLTF_FOLDERS' -- "$sdfgen" bake --help
+fi
 printf 'solid broken\n facet normal 0 0 1\n' >"$work/broken.stl"
 expect 1 "^sdfgen: $work/broken.stl:3: the file ends where 'outer' was expected$" -- "$sdfgen" bake "$work/broken.stl" -o "$work/x.sdf" --res 4
 # sdfgen's own readers: PLY triangle strips (-1 between strips) give the same field as the OBJ;
@@ -532,6 +560,23 @@ open(sys.argv[1], "wb").write(local + data + central + end)
 PY
   expect 0 '' -- test "$(stat -c %s "$work/bomb.npz")" -lt 4200000
   expect 1 "^sdfgen: $work/bomb.npz: sdf.npy: (not enough memory|dimensions 1000x1000x1000 too large)" -- cap "$sdfgen" surface "$work/bomb.npz" -o "$work/x.obj"
+fi
+# A 2 KB band .npz of 1000^3 samples without bricks: compared sparse, counted rather than made
+# dense (4 GB); a grid that differs is named before anything is made dense.
+if /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
+  /usr/bin/python3 - "$work/empty.npz" <<'PY'
+import sys, numpy as np
+np.savez(sys.argv[1], brick_origins=np.zeros((0, 3), np.int32), brick_values=np.zeros((8, 8, 8, 0), np.float32, order="F"),
+         inside_boxes=np.array([[0, 0, 0, 1000, 8, 8]], np.int32), background=np.float32(0.03), dims=np.array([1000, 1000, 1000]),
+         origin=np.zeros(3), voxel_size=np.float64(0.01), method=np.array("exact"), source=np.array("empty"))
+PY
+  expect 0 'signs differ: 0 samples' -- cap "$sdfgen" compare "$work/empty.npz" "$work/empty.npz"
+  expect 0 '0 of 1000000000 samples compared' -- cap "$sdfgen" compare "$work/empty.npz" "$work/empty.npz"
+  expect 0 ' 1000000000 samples outside it compared by sign only' -- cap "$sdfgen" compare "$work/empty.npz" "$work/empty.npz"
+  expect 1 "^sdfgen: $work/empty.npz vs $work/tet.npz: the fields have different grids: 1000x1000x1000 and 8x8x8$" -- \
+    cap "$sdfgen" compare "$work/empty.npz" "$work/tet.npz"
+  expect 1 "^sdfgen: $work/tet.npz vs $work/empty.npz: the fields have different grids: 8x8x8 and 1000x1000x1000$" -- \
+    cap "$sdfgen" compare "$work/tet.npz" "$work/empty.npz"
 fi
 printf 'sdfgen-text 1\nsource s\ndims 2 2 2\norigin 0 0 0\nvoxel 1e-320\nmethod m\nvalues\n' >"$work/denormal.sdf"
 for _ in 1 2 3 4 5 6 7 8; do echo 1 >>"$work/denormal.sdf"; done

@@ -225,3 +225,33 @@ def test_sample_at_non_finite_points_raises_as_mesh_queries_do(sparse, bunny):
             sparse.sample(points)
         with pytest.raises(sdfgen.Error, match="query point 1 has a non-finite coordinate"):
             bunny.signed_distance(points)
+
+
+def test_overlapping_inside_boxes_are_refused(tmp_path):
+    # Two boxes of one row of bricks, the second starting inside the first: at() and to_dense()
+    # would disagree on the samples they share.
+    path = str(tmp_path / "overlap.npz")
+    np.savez(path, brick_origins=np.zeros((0, 3), np.int32), brick_values=np.zeros((8, 8, 8, 0), np.float32, order="F"),
+             inside_boxes=np.array([[0, 0, 0, 32, 8, 8], [8, 0, 0, 16, 8, 8]], np.int32), background=np.float32(1.5),
+             dims=np.array([32, 8, 8]), origin=np.zeros(3), voxel_size=np.float64(0.5), method=np.array("exact"),
+             source=np.array("overlap"))
+    for load in (sdfgen.load_field, sdfgen.SparseField.load):
+        with pytest.raises(sdfgen.Error, match="overlap.npz: inside boxes 0 and 1 overlap"):
+            load(path)
+
+
+def test_another_programs_level_set_loads_sparse(tmp_path):
+    # Two small spheres 10^6 voxels apart: the box of their active voxels is 10^6 x 29 x 29
+    # samples (3.4 GB dense); read sparse, about a hundred bricks.
+    vdb = pytest.importorskip("pyopenvdb")
+    spheres = vdb.createLevelSetSphere(radius=10.0, center=(0, 0, 0), voxelSize=1.0, halfWidth=3.0)
+    far = vdb.createLevelSetSphere(radius=10.0, center=(1e6, 0, 0), voxelSize=1.0, halfWidth=3.0)
+    spheres.combine(far, lambda a, b: min(a, b))
+    spheres.name = "spheres"
+    path = str(tmp_path / "far.vdb")
+    vdb.write(path, grids=[spheres])
+    field = sdfgen.load_field(path)
+    assert isinstance(field, sdfgen.SparseField)
+    assert field.dims[0] > 1000000 and len(field.brick_origins) < 1000
+    assert field.sample(np.array([[0.0, 0, 0], [1e6, 0, 0]])).max() < 0  # both centres inside
+    assert field.sample(np.array([[5e5, 0, 0]]))[0] > 0

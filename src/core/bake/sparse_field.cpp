@@ -169,6 +169,17 @@ void SparseField::check(const std::string& path) const {
         if (n > 0) {
             const auto& last = insideBoxes[n - 1];
             if (std::tie(last[2], last[1], last[0]) >= std::tie(box[2], box[1], box[0])) fail("the inside boxes are not in z, y, x order");
+            // at() looks in the last box of the row starting at or before a sample: boxes that
+            // overlap would make it disagree with toDense().
+            if (last[2] == box[2] && last[1] == box[1] && last[3] > box[0]) {
+                fail("inside boxes " + std::to_string(n - 1) + " and " + std::to_string(n) + " overlap");
+            }
+        }
+        // Boxes hold no stored brick of their own field (what compareSparseFields counts on).
+        const glm::ivec3 first(box[0] / kBrick, box[1] / kBrick, box[2] / kBrick);
+        const auto brick = std::lower_bound(bricks.begin(), bricks.end(), first, before);
+        if (brick != bricks.end() && brick->z == first.z && brick->y == first.y && brick->x * kBrick < box[3]) {
+            fail("inside box " + std::to_string(n) + " holds stored brick " + std::to_string(brick - bricks.begin()));
         }
     }
 }

@@ -62,9 +62,18 @@ void saveField(const Field& field, const std::string& path, const SaveOptions& o
     namingOutOfMemory(path, "writing it", [&] { formats::formatOf(path).save(field, path, options); });
 }
 
-Field loadField(const std::string& path) {
+namespace {
+
+// Before the extension is looked at: a folder's name has none that means anything.
+void refuseDirectory(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) throw Error(path + ": is a directory, not a field file");
+}
+
+} // namespace
+
+Field loadField(const std::string& path) {
+    refuseDirectory(path);
     Field field = namingOutOfMemory(path, "reading it", [&] { return formats::formatOf(path).load(path); });
     // A band field's dense form saved in a dense format keeps only its `band` parameter.
     if (field.background == 0 && !field.parameter("band").empty()) field.background = formats::bandBackground(field);
@@ -94,6 +103,7 @@ void saveSparseField(SparseField&& field, const std::string& path) {
 }
 
 SparseField loadSparseField(const std::string& path) {
+    refuseDirectory(path);
     const formats::FieldFormat& format = formats::formatOf(path);
     return namingOutOfMemory(path, "reading it", [&] {
         if (format.loadSparse) return format.loadSparse(path);
@@ -103,6 +113,7 @@ SparseField loadSparseField(const std::string& path) {
 }
 
 bool isSparseFieldFile(const std::string& path) {
+    refuseDirectory(path);
     const formats::FieldFormat& format = formats::formatOf(path);
     if (format.isSparse) return format.isSparse(path);
     if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
