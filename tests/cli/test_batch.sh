@@ -177,7 +177,7 @@ assert 'sdf' not in z.files and z['brick_origins'].shape[1] == 3 and z['brick_va
 check "a dense batch records no band" json_check "$work/status.jsonl" 'all(l["band"] is None for l in lines)'
 check "batch --band 0.5 is refused before any work" bash -c "
   ! '$sdfgen' batch '$work/meshes' --out '$work/band-half' --band 0.5 >'$work/band-half.txt' 2>&1 &&
-  grep -q 'at least 1 voxel (got 0.5)' '$work/band-half.txt' && test ! -e '$work/band-half'"
+  grep -q 'band must be 0 (a dense field) or a finite number of voxels from 1 to 1000000000 (got 0.5)' '$work/band-half.txt' && test ! -e '$work/band-half'"
 check "batch --band with --format samples is a one-line error" bash -c "
   ! '$sdfgen' batch '$work/meshes' --out '$work/band-samples' --format samples --band 2 2>'$work/band-samples.txt' &&
   grep -q 'band' '$work/band-samples.txt' && test \$(wc -l <'$work/band-samples.txt') -eq 1 && test ! -e '$work/band-samples'"
