@@ -66,19 +66,21 @@ double fanSolidAngle(const glm::dvec3& p, const Cap& cap, bool& onFan) {
     return 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
 }
 
+// The orientation of triangle (a, b, c) where the row through p (along +x) crosses it ahead of p,
+// else 0: the predicates and arithmetic of RowCrossings' scan, so that point queries and fans
+// measured on their own count what the bake's rows count.
+int crossingAhead(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    int orientation;
+    glm::dvec3 w;
+    if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return 0;
+    return w.x * a.x + w.y * b.x + w.z * c.x > p.x ? orientation : 0;
+}
+
 // The cap's fan triangles (loop[i + 1], loop[i], centre) that p's row crosses ahead of p, with
-// their orientations summed: the predicates and arithmetic of countAhead and RowCrossings, so that
-// the count is the one they make for this fan.
+// their orientations summed.
 int fanCrossingsAhead(const glm::dvec3& p, const std::vector<glm::dvec3>& loop, const glm::dvec3& centre) {
     int ahead = 0;
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-        const glm::dvec3& a = loop[(i + 1) % loop.size()];
-        const glm::dvec3& b = loop[i];
-        int orientation;
-        glm::dvec3 w;
-        if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {centre.y, centre.z}, orientation, w)) continue;
-        if (w.x * a.x + w.y * b.x + w.z * centre.x > p.x) ahead += orientation;
-    }
+    for (std::size_t i = 0; i < loop.size(); ++i) ahead += crossingAhead(p, loop[(i + 1) % loop.size()], loop[i], centre);
     return ahead;
 }
 
@@ -729,12 +731,7 @@ int countAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const
     // The row through p is the line at p's own (y, z), in double, as the row scan has it; its float
     // rounding only bounds the tree's walk (a triangle whose float box holds (y, z) holds its rounding).
     int ahead = 0;
-    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) {
-        int orientation;
-        glm::dvec3 w;
-        if (!pointInTriangle2d({p.y, p.z}, {a.y, a.z}, {b.y, b.z}, {c.y, c.z}, orientation, w)) return;
-        if (w.x * a.x + w.y * b.x + w.z * c.x > p.x) ahead += orientation * weight;
-    };
+    auto count = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, int weight) { ahead += crossingAhead(p, a, b, c) * weight; };
     forEachCandidate(std::nextafter(float(p.x), -std::numeric_limits<float>::infinity()), float(p.y), float(p.z), [&](std::uint32_t t) {
         count(glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)), int(tree.copies(t)));
     });
