@@ -3,6 +3,7 @@
 #include "core/bake/bake.hpp"
 #include "core/mesh/geometry.hpp"
 #include "core/distance/kernel.hpp"
+#include "core/bake/memory_estimate.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "sdfgen/error.hpp"

@@ -4,6 +4,7 @@
 #include "core/accel/bvh.hpp"
 #include "core/mesh/triangle_copies.hpp"
 #include "core/distance/exact.hpp"
+#include "core/bake/memory_estimate.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"

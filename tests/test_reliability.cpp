@@ -4,6 +4,7 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/formats/format.hpp"
 #include "core/mesh/input_file.hpp"
+#include "core/bake/memory_estimate.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/mesh/obj_scan.hpp"
 #include "sdfgen/error.hpp"

@@ -5,7 +5,7 @@
 #include "sdfgen/run_control.hpp"
 #include "core/bake/band_bake.hpp"
 #include "core/mesh/sample_positions.hpp"
-#include "core/runtime/memory.hpp"
+#include "sdfgen/memory.hpp"
 
 #include <imgui.h>
 #include <algorithm>

@@ -5,7 +5,7 @@
 // the step that replaced it, so undoing a load or a bake costs no copy of the field.
 #include "app/viewer_state.hpp"
 
-#include "core/runtime/memory.hpp"
+#include "sdfgen/memory.hpp"
 
 #include <imgui.h>
 #include <algorithm>

@@ -4,7 +4,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "cli/batch_plan.hpp"
-#include "core/runtime/memory.hpp"
+#include "sdfgen/memory.hpp"
 #include "core/runtime/out_of_memory.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"

@@ -1,5 +1,5 @@
 #include "render/band_display.hpp"
-#include "core/runtime/memory.hpp"
+#include "sdfgen/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "render/gl.hpp"
 

@@ -1,6 +1,7 @@
 #include "core/bake/bake.hpp"
 #include "core/bake/band_bake.hpp"
 #include "core/mesh/sample_positions.hpp"
+#include "core/bake/memory_estimate.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 #include "core/accel/bvh.hpp"
-#include "core/bake/methods.hpp"
+#include "core/method/methods.hpp"
 #include "sdfgen/bake.hpp"
 #include "sdfgen/mesh.hpp"
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "core/bake/methods.hpp"
+#include "core/method/methods.hpp"
 #include "sdfgen/bake.hpp"
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // problem(): the one check of BakeSettings that bake() and every front end share.
-#include "core/bake/methods.hpp"
+#include "core/method/methods.hpp"
 #include "sdfgen/bake.hpp"
 
 #include <cstdio>

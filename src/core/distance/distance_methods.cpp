@@ -1,6 +1,6 @@
 // The distance methods: exact nearest triangle, the report's ray sampling, and the reference.
 #include "core/distance/exact.hpp"
-#include "core/bake/methods.hpp"
+#include "core/method/methods.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/distance/ray_generator.hpp"
 #include "core/mesh/sample_positions.hpp"
@@ -105,7 +105,7 @@ void negateInside(std::vector<float>& distance, const std::vector<std::uint8_t>&
 
 namespace {
 
-// The memory estimates' parts (core/runtime/memory.cpp): exact distances go straight into the field; on a
+// The memory estimates' parts (core/bake/memory_estimate.cpp): exact distances go straight into the field; on a
 // compute device the distance pass's host-side tables are its tree (144-byte triangles, 32-byte
 // nodes of up to 4) and, signing by the pseudonormal, the seven normals per triangle twice (the
 // topology's and the upload's, 168 bytes each). The reference holds each triangle in double.

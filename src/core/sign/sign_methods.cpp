@@ -1,6 +1,6 @@
 // The sign methods: generalized winding number, angle-weighted pseudonormal, the report's ray vote.
 #include "core/distance/exact.hpp"
-#include "core/bake/methods.hpp"
+#include "core/method/methods.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/distance/ray_generator.hpp"
 #include "core/mesh/sample_positions.hpp"
@@ -75,7 +75,7 @@ void raySign(const BakeContext& context, DistancePass& pass, const RunControl& c
     }
 }
 
-// The memory estimates' parts (core/runtime/memory.cpp): the pseudonormal reads the topology, the winding
+// The memory estimates' parts (core/bake/memory_estimate.cpp): the pseudonormal reads the topology, the winding
 // sign the topology and its crossings; on a compute device the winding pass holds the closed
 // surface's corners twice (72 bytes each), its weights and its triangles' row ranges (16), and per
 // sample the crossings ahead (4) and the sides (1).

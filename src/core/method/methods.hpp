@@ -54,7 +54,7 @@ struct DistancePass {
     std::vector<std::int32_t> triangle;
 };
 
-// What the memory estimate (core/runtime/memory.cpp) is made of, for the registries' own parts of it.
+// What the memory estimate (core/bake/memory_estimate.cpp) is made of, for the registries' own parts of it.
 struct MemoryTerms {
     double samples = 0, triangles = 0;
     double topology = 0; // MeshTopology's bytes
