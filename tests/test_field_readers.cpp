@@ -4,7 +4,7 @@
 // text escaped.
 #include "core/io/formats/format.hpp"
 #include "core/io/formats/npy.hpp"
-#include "core/bake/surface.hpp"
+#include "sdfgen/surface.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 

@@ -1,5 +1,5 @@
 // Möller–Trumbore: hits, misses, edges and corners, parallel rays, faces, packet vs single ray.
-#include "core/distance/ray.hpp"
+#include "core/accel/ray.hpp"
 
 #include <gtest/gtest.h>
 #include <cmath>

@@ -2,7 +2,7 @@
 // .vdb is an OpenVDB level set as OpenVDB itself reads it; the dense formats hold the dense form or
 // refuse in one line; dense files read as band fields; hostile sparse files are refused before
 // anything is allocated for what they claim; compare and surface take band fields as they are.
-#include "core/bake/surface.hpp"
+#include "sdfgen/surface.hpp"
 #include "core/io/formats/format.hpp"
 #include "core/io/formats/npy.hpp"
 #include "core/mesh/topology.hpp"

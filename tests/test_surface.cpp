@@ -3,7 +3,7 @@
 // mesh by sdfgen's own mesh check, facing outwards, and it stays within a voxel of the input (or
 // of the patches that close its openings).
 #include "core/mesh/geometry.hpp"
-#include "core/bake/surface.hpp"
+#include "sdfgen/surface.hpp"
 #include "core/mesh/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"

@@ -1,5 +1,5 @@
 #include "support/binary_rays.hpp"
-#include "core/distance/ray.hpp"
+#include "core/accel/ray.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #pragma once
 #include "sdfgen/mesh.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/ray.hpp"
+#include "core/accel/ray.hpp"
 #include "sdfgen/run_control.hpp"
 
 #include <glm/common.hpp>

@@ -10,6 +10,6 @@
 #define SDFGEN_KERNEL_NAMESPACE avx2
 #define SDFGEN_KERNEL_AVX2 1
 #include "core/simd/avx2_begin.inc"
-#include "core/distance/ray_kernel.inc"
+#include "core/accel/ray_kernel.inc"
 #include "core/simd/avx2_end.inc"
 #endif

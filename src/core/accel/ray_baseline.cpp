@@ -8,4 +8,4 @@
 #include <limits>
 
 #define SDFGEN_KERNEL_NAMESPACE baseline
-#include "core/distance/ray_kernel.inc"
+#include "core/accel/ray_kernel.inc"

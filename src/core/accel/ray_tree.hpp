@@ -5,10 +5,11 @@
 // depth-first ray traversal (the child on the ray's side of each split first) reaches its
 // children, so a traversal over this tree meets the binary leaves in exactly the binary order and,
 // testing each leaf's box as that traversal does, finds bit for bit the same hits (see
-// core/distance/ray_kernel.inc for why). The kernel is compiled twice, for AVX2 (ray_avx2.cpp) and baseline
-// x86-64 (ray_baseline.cpp), in the exact kernel's dispatch table (core/distance/kernel.hpp).
+// core/accel/ray_kernel.inc for why). The kernel is compiled twice, for AVX2 (ray_avx2.cpp) and baseline
+// x86-64 (ray_baseline.cpp), and dispatched here (rays::activeTrace).
 #include "core/accel/bvh.hpp"
-#include "core/distance/ray.hpp"
+#include "core/accel/ray.hpp"
+#include "core/simd/path.hpp"
 #include "core/simd/simd.hpp"
 #include "core/accel/wide_node.hpp"
 #include "sdfgen/mesh.hpp"
@@ -65,8 +66,9 @@ struct RayBlock {
     simd::i8 backs;      // out: of those, the ones whose nearest hit was a back face
 };
 
-// The ray kernel's compiled copies (core/distance/ray_kernel.inc), reached through the SIMD dispatch
-// table of core/distance/kernel.hpp: the block's rays traced in every direction.
+// The ray kernel's compiled copies (core/accel/ray_kernel.inc: ray_avx2.cpp, ray_baseline.cpp): the
+// block's rays traced in every direction. This stage's own dispatch: the copy for simdPath()
+// (core/simd/path.hpp).
 namespace rays {
 namespace baseline {
 void traceBlock(const RayTree& tree, const glm::vec3* directions, int rays, RayBlock& block);
@@ -76,5 +78,12 @@ namespace avx2 {
 void traceBlock(const RayTree& tree, const glm::vec3* directions, int rays, RayBlock& block);
 }
 #endif
+using TraceKernel = void (*)(const RayTree&, const glm::vec3*, int, RayBlock&);
+inline TraceKernel activeTrace() {
+#if defined(__x86_64__) || defined(__i386__)
+    if (simdPath() == SimdPath::Avx2) return avx2::traceBlock;
+#endif
+    return baseline::traceBlock;
+}
 } // namespace rays
 } // namespace sdfgen

@@ -1,5 +1,4 @@
 #include "core/accel/wide_bvh.hpp"
-#include "core/distance/kernel.hpp"
 #include "core/runtime/parallel.hpp"
 
 #include <glm/geometric.hpp>
@@ -245,7 +244,7 @@ void WideBvh::refit(const Mesh& mesh, const RunControl& control) {
 }
 
 std::uint32_t WideBvh::nearest(float px, float py, float pz, NearestSoFar& best) const {
-    return kernel::active().nearest(*this, px, py, pz, best);
+    return wide::activeNearest()(*this, px, py, pz, best);
 }
 
 } // namespace sdfgen

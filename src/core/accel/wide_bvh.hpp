@@ -8,6 +8,7 @@
 // triangles, whatever the traversal order, the seeds or the candidate lists. A point query and a
 // baked sample at the same position therefore always find the same triangle.
 #include "core/accel/bvh.hpp"
+#include "core/simd/path.hpp"
 #include "core/simd/simd.hpp"
 #include "core/accel/wide_node.hpp"
 #include "sdfgen/mesh.hpp"
@@ -60,7 +61,7 @@ public:
     // triangles; its binary tree refit by Bvh::refit): packets and boxes again, in linear time.
     void refit(const Mesh& mesh, const RunControl& control = {});
 
-    // The searches run in the exact kernel's code for this CPU (core/distance/exact_kernel.inc).
+    // The search runs in this stage's copy for this CPU (core/accel/wide_nearest.inc).
     // The nearest triangle to p (local coordinates), starting from `best` (an upper bound that a
     // real triangle attains, or {FLT_MAX, any}). Explores everything within the bound, ties included.
     // Returns the packet that holds the answer, or kEmpty when the starting `best` stood.
@@ -112,5 +113,25 @@ private:
     std::vector<TrianglePacket> packets_;
     std::vector<Bounds> leafBounds_; // per packet
 };
+
+// The nearest-triangle search's compiled copies (core/accel/wide_nearest.inc: wide_avx2.cpp,
+// wide_baseline.cpp): this stage's own dispatch, the copy for simdPath() (core/simd/path.hpp).
+namespace wide {
+using NearestKernel = std::uint32_t (*)(const WideBvh&, float, float, float, NearestSoFar&);
+namespace baseline {
+std::uint32_t nearest(const WideBvh& tree, float px, float py, float pz, NearestSoFar& best);
+}
+#if defined(__x86_64__) || defined(__i386__)
+namespace avx2 {
+std::uint32_t nearest(const WideBvh& tree, float px, float py, float pz, NearestSoFar& best);
+}
+#endif
+inline NearestKernel activeNearest() {
+#if defined(__x86_64__) || defined(__i386__)
+    if (simdPath() == SimdPath::Avx2) return avx2::nearest;
+#endif
+    return baseline::nearest;
+}
+} // namespace wide
 
 } // namespace sdfgen

@@ -1,10 +1,9 @@
 #pragma once
 // The exact distance kernel (core/distance/exact_kernel.inc: the wide tree's searches and the brick
-// candidate lists) and the ray kernel (core/distance/ray_kernel.inc), compiled for AVX2
-// (exact_avx2.cpp, ray_avx2.cpp) and for baseline x86-64 (exact_baseline.cpp, ray_baseline.cpp):
-// this stage's table of copies, the one for simdPath() running (core/simd/path.hpp).
+// candidate lists), compiled for AVX2 (exact_avx2.cpp) and for baseline x86-64 (exact_baseline.cpp):
+// this stage's table of copies, the one for simdPath() running (core/simd/path.hpp). The tree's own
+// kernels (the nearest-triangle search, the rays) dispatch in core/accel/.
 #include "core/distance/exact.hpp"
-#include "core/accel/ray_tree.hpp"
 #include "core/simd/path.hpp"
 
 namespace sdfgen {
@@ -21,9 +20,6 @@ struct Table {
     std::vector<std::uint8_t> (*insideByClosestFeature)(const Mesh&, const WideBvh&, const Grid&, const MeshTopology&, bool,
                                                         const RunControl&);
     std::uint32_t (*nearestTriangle)(const WideBvh&, const glm::vec3&, std::uint32_t&);
-    std::uint32_t (*nearest)(const WideBvh&, float, float, float, NearestSoFar&);
-    // The ray kernel's copy for the same path (core/distance/ray_kernel.inc).
-    void (*traceBlock)(const RayTree&, const glm::vec3*, int, RayBlock&);
 };
 
 namespace baseline {

@@ -1,6 +1,5 @@
 #include "core/distance/ray_generator.hpp"
 #include "core/distance/directions.hpp"
-#include "core/distance/kernel.hpp"
 #include "core/accel/ray_tree.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/parallel.hpp"
@@ -38,9 +37,9 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
     // Eight neighbouring samples, a 2x2x2 block, trace each direction together as a packet:
     // parallel rays less than two voxels apart take nearly the same path through the tree. The
     // blocks are the same whatever the thread count (and each lane's hits are those of the binary
-    // tree's traversal for the block, see core/distance/ray_kernel.inc). One work item is a row of blocks.
+    // tree's traversal for the block, see core/accel/ray_kernel.inc). One work item is a row of blocks.
     const RayTree rayTree(mesh, tree);
-    const kernel::Table& kernels = kernel::active();
+    const rays::TraceKernel traceBlock = rays::activeTrace();
     const int blocksX = (nx + 1) / 2, blocksY = (grid.dims.y + 1) / 2, blocksZ = (grid.dims.z + 1) / 2;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control, [&](std::size_t blockRow) {
         const int j0 = 2 * int(blockRow % std::size_t(blocksY));
@@ -59,7 +58,7 @@ Field generateRayField(const Mesh& mesh, const Bvh& tree, const Grid& grid, int 
                 block.oz[lane] = p.z;
                 block.active[lane] = inGrid ? -1 : 0;
             }
-            kernels.traceBlock(rayTree, directions.data(), rays, block);
+            traceBlock(rayTree, directions.data(), rays, block);
             for (int lane = 0; lane < 8; ++lane) {
                 if (!block.active[lane]) continue;
                 const std::size_t index = grid.index(sample[lane].x, sample[lane].y, sample[lane].z);

@@ -1,7 +1,7 @@
 #pragma once
-// Which compiled copy of the SIMD kernels runs. Each stage's kernels (the distance and ray kernels
-// in distance/, the fan kernel in sign/) are compiled twice, for AVX2 and for baseline x86-64
-// (SSE2), both without fused multiply-adds, so that the two give bit-identical answers; each stage
+// Which compiled copy of the SIMD kernels runs. Each stage's kernels (the nearest-triangle search
+// and the rays in accel/, the exact distance in distance/, the fans in sign/) are compiled twice,
+// for AVX2 and for baseline x86-64 (SSE2), both without fused multiply-adds, so that the two give bit-identical answers; each stage
 // keeps its own table of copies and runs the one for simdPath(). The path is chosen once per
 // process from the CPU (AVX2 where it has it); the environment variable SDFGEN_SIMD=baseline (or
 // avx2) forces one, and setSimdPath does the same from code (tests, benchmarks).
