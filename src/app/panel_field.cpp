@@ -1,7 +1,7 @@
 // The panel's Field section: saving and loading fields in every format, exporting the iso-surface,
 // comparing with another field; and what the panel knows about the field shown.
 #include "app/viewer_state.hpp"
-#include "core/bake/surface.hpp"
+#include "sdfgen/surface.hpp"
 #include "render/band_display.hpp"
 #include "sdfgen/compare.hpp"
 #include "sdfgen/error.hpp"

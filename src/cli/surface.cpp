@@ -2,7 +2,7 @@
 // the automatic sign, so holes and self-intersections do not leak) or from a saved field.
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
-#include "core/bake/surface.hpp"
+#include "sdfgen/surface.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"

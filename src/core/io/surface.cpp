@@ -1,4 +1,4 @@
-#include "core/bake/surface.hpp"
+#include "sdfgen/surface.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/formats/format.hpp"
 #include "core/io/openvdb_plugin.hpp"
