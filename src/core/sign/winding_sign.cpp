@@ -1137,217 +1137,290 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
 
 } // namespace
 
+namespace {
+
+// One layer of bricks (8 planes of samples) of a narrow-band bake: each brick row's stored bricks
+// signed, its fan bricks decided, the sided ones taken as they are, and every other brick sided by
+// its first sample's count, in runs between the first row's crossings (band sides: see
+// bandWindingSigns).
+struct BandLayerSigns {
+    static constexpr int kEdge = BrickSigns::kEdge;
+    // What every layer reads.
+    struct Shared {
+        const Grid& grid;
+        const SampleAxes& axes;
+        const WindingCaps& caps;
+        const RowCrossings& scan;
+        BandSides& band;
+        glm::ivec3 brickDims;
+        // Where each layer's stored, fan and sided bricks begin (the lists are ordered by z, y, x).
+        std::vector<std::size_t> storedStart, fanStart, sidedStart;
+        std::vector<glm::ivec3> sidedCoordinates;
+    };
+    // What one layer leaves: its inside boxes, and its fan bricks with both sides and their
+    // samples' sides (1 inside: a quarter of their values' bytes until they are merged in).
+    struct Output {
+        std::vector<std::array<int, 6>> boxes;
+        std::vector<glm::ivec3> mixed;
+        std::vector<std::uint8_t> inside;
+    };
+
+    const Shared& shared;
+    Output& out;
+    int bz, k0, k1;
+    std::size_t stored, fan, sided;                 // each list's next brick
+    std::size_t storedEnd, fanEnd, sidedEnd;        // and the layer's end of it
+    std::vector<std::vector<Crossing>> rows;        // (j, k) at (k - k0) * ny + j
+    BrickSigns signs;
+    // The brick row being signed: its first sample row, whether it has bricks of the lists, and
+    // per row r = (j - j0) + 8 (k - k0) the crossings behind the cursor, their sum, and the total.
+    int by = 0, j0 = 0, j1 = 0;
+    bool listed = false;
+    std::size_t cursor[kEdge * kEdge];
+    int behind[kEdge * kEdge], total[kEdge * kEdge];
+    int counts[kEdge * kEdge * kEdge];
+    std::uint8_t flags[kEdge * kEdge * kEdge];
+    int runStart = -1; // the first brick of the open run of inside bricks
+
+    BandLayerSigns(const Shared& shared, Output& out, std::size_t layerIndex)
+        : shared(shared), out(out), bz(int(layerIndex)), k0(bz * kEdge), k1(std::min(shared.grid.dims.z, k0 + kEdge)),
+          stored(shared.storedStart[layerIndex]), fan(shared.fanStart[layerIndex]), sided(shared.sidedStart[layerIndex]),
+          storedEnd(shared.storedStart[layerIndex + 1]), fanEnd(shared.fanStart[layerIndex + 1]), sidedEnd(shared.sidedStart[layerIndex + 1]),
+          signs{shared.axes, shared.caps, {}, 0, 0, {}, {}} {}
+
+    void run() {
+        // A layer that no triangle reaches and that holds no brick of the lists is outside
+        // everywhere (every count 0): nothing to record, so empty space costs nothing.
+        if (shared.scan.crossesNothing(bz) && stored == storedEnd && fan == fanEnd && sided == sidedEnd) return;
+        rows.resize(std::size_t(kEdge) * std::size_t(shared.grid.dims.y));
+        shared.scan.fill(bz, rows.data());
+        for (by = 0; by < shared.brickDims.y; ++by) brickRow();
+    }
+
+    std::vector<Crossing>& rowAt(int j, int k) { return rows[std::size_t(k - k0) * std::size_t(shared.grid.dims.y) + std::size_t(j)]; }
+    bool inRow(const glm::ivec3& b) const { return b.y == by && b.z == bz; }
+    // The signed crossings ahead of sample i on row r (i ascending along each row).
+    int aheadAt(int r, int i) {
+        const std::vector<Crossing>& row = rowAt(j0 + r % kEdge, k0 + r / kEdge);
+        while (cursor[r] < row.size() && row[cursor[r]].x <= shared.axes.x[i]) behind[r] += row[cursor[r]++].sign;
+        return total[r] - behind[r];
+    }
+    void closeRun(int end) {
+        if (runStart >= 0) out.boxes.push_back(SparseField::insideBox(shared.grid.dims, runStart, end, by, bz));
+        runStart = -1;
+    }
+
+    void brickRow() {
+        const BandSides& band = shared.band;
+        j0 = by * kEdge, j1 = std::min(shared.grid.dims.y, j0 + kEdge);
+        listed = (stored < storedEnd && inRow(band.bricks[stored])) || (sided < sidedEnd && inRow(shared.sidedCoordinates[sided])) ||
+                 (fan < fanEnd && inRow(band.fanBricks[fan]));
+        const std::vector<Crossing>& firstRow = rowAt(j0, k0); // (j0, k0): the other bricks' sides
+        if (!listed && firstRow.empty()) return;              // outside throughout
+        // The brick row's rows, crossings in ascending x: ahead of x is the total minus those at
+        // or behind x. Without bricks of the lists, only the first row decides.
+        for (int r = 0; r < kEdge * kEdge; ++r) {
+            cursor[r] = 0, behind[r] = 0, total[r] = 0;
+            const int j = j0 + r % kEdge, k = k0 + r / kEdge;
+            if (j >= j1 || k >= k1 || (r > 0 && !listed)) continue;
+            std::vector<Crossing>& row = rowAt(j, k);
+            std::sort(row.begin(), row.end(), [](const Crossing& l, const Crossing& r) { return l.x < r.x; });
+            for (const Crossing& c : row) total[r] += c.sign;
+        }
+        runStart = -1;
+        for (int bx = 0; bx < shared.brickDims.x; ++bx) {
+            const int next = nextListed();
+            if (bx < next) {
+                bx = clearRun(bx, next, firstRow) - 1;
+                continue;
+            }
+            const int side = listedBrick(bx);
+            if (side == 1) {
+                if (runStart < 0) runStart = bx;
+            } else {
+                closeRun(bx);
+            }
+        }
+        closeRun(shared.brickDims.x);
+    }
+
+    // The brick row's next brick of the lists (the row's end when none is left).
+    int nextListed() const {
+        const BandSides& band = shared.band;
+        int next = shared.brickDims.x;
+        if (stored < storedEnd && inRow(band.bricks[stored])) next = std::min(next, band.bricks[stored].x);
+        if (sided < sidedEnd && inRow(shared.sidedCoordinates[sided])) next = std::min(next, shared.sidedCoordinates[sided].x);
+        if (fan < fanEnd && inRow(band.fanBricks[fan])) next = std::min(next, band.fanBricks[fan].x);
+        return next;
+    }
+
+    // Bricks [bx, next) are out of the band and clear of the fans: the surface is nowhere in them,
+    // so every sample has its first sample's count and, the fans' winding number being below 0.45
+    // there, is inside when that count is not 0 (as the dense bake decides). That count changes
+    // only where the first row crosses the surface: the bricks up to the next crossing go as one
+    // run. Returns the run's end.
+    int clearRun(int bx, int next, const std::vector<Crossing>& firstRow) {
+        const bool inside = aheadAt(0, bx * kEdge) != 0;
+        int end = next;
+        if (cursor[0] < firstRow.size()) { // the first brick whose first sample is at or past the next crossing
+            const double x = firstRow[cursor[0]].x;
+            int lo = bx + 1, hi = next;
+            while (lo < hi) {
+                const int mid = lo + (hi - lo) / 2;
+                if (shared.axes.x[std::size_t(mid) * kEdge] >= x) hi = mid;
+                else lo = mid + 1;
+            }
+            end = lo;
+        }
+        if (!inside) closeRun(bx);
+        else if (runStart < 0) runStart = bx;
+        return end;
+    }
+
+    // Every sample's count of brick bx, and its sides decided as the dense bake decides them.
+    void decide(int bx, const SignOutput& output) {
+        const int i0 = bx * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
+        for (int k = k0; k < k1; ++k)
+            for (int j = j0; j < j1; ++j) {
+                const int r = (j - j0) + kEdge * (k - k0);
+                for (int i = i0; i < i1; ++i) counts[r * kEdge + (i - i0)] = aheadAt(r, i);
+            }
+        signs.output = output;
+        signs.decide(i0, j0, k0, i1, j1, k1, counts, kEdge);
+    }
+
+    // The brick of the lists at bx: its side (1 inside, 0 outside, -1 both).
+    int listedBrick(int bx) {
+        BandSides& band = shared.band;
+        const glm::ivec3 brick(bx, by, bz);
+        const std::ptrdiff_t local = -(std::ptrdiff_t(bx) * kEdge + std::ptrdiff_t(j0) * kEdge + std::ptrdiff_t(k0) * kEdge * kEdge);
+        if (stored < storedEnd && band.bricks[stored] == brick) {
+            signStored(bx, &band.values[stored * std::size_t(SparseField::kBrickSamples)], local);
+            ++stored;
+            return -1;
+        }
+        if (sided < sidedEnd && shared.sidedCoordinates[sided] == brick) return band.sidedBricks[sided++].second;
+        // The fan list's brick (one of the lists has a brick at bx).
+        ++fan;
+        std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side
+        decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+        bool in = false, outside = false;
+        for (const std::uint8_t f : flags) in |= f == 1, outside |= f == 0;
+        if (in && outside) {
+            out.mixed.push_back(brick);
+            for (const std::uint8_t f : flags) out.inside.push_back(f == 1);
+            return -1;
+        }
+        return in ? 1 : 0;
+    }
+
+    // A stored brick's values signed where inside, and clamped to ±background out of the band.
+    void signStored(int bx, float* values, std::ptrdiff_t local) {
+        const BandSides& band = shared.band;
+        const int i0 = bx * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
+        if (band.signBricks && shared.axes.clearOfFans(shared.caps, i0, j0, k0, i1, j1, k1)) {
+            // Clear of the fans (most of the band): negated where the count is not 0, as BrickSigns decides.
+            for (int k = k0; k < k1; ++k)
+                for (int j = j0; j < j1; ++j) {
+                    const int r = (j - j0) + kEdge * (k - k0);
+                    float* row = values + r * kEdge;
+                    const std::vector<Crossing>& crossings = rowAt(j, k);
+                    for (int i = i0; i < i1;) { // by runs of samples with no crossing between them
+                        const bool inside = aheadAt(r, i) != 0;
+                        const double next = cursor[r] < crossings.size() ? crossings[cursor[r]].x : std::numeric_limits<double>::infinity();
+                        int end = i + 1;
+                        while (end < i1 && next > shared.axes.x[end]) ++end;
+                        if (inside) {
+                            for (int n = i; n < end; ++n) row[n - i0] = -row[n - i0];
+                        }
+                        i = end;
+                    }
+                }
+        } else if (band.signBricks) {
+            decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge});
+        } else {
+            // Signed as measured, but for the samples the distance pass skipped (out of the band,
+            // still +background): theirs are the winding sign's.
+            std::fill(std::begin(flags), std::end(flags), std::uint8_t(0));
+            decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+            for (int n = 0; n < SparseField::kBrickSamples; ++n) {
+                if (flags[n] == 1 && values[n] == band.background) values[n] = -band.background;
+            }
+        }
+        // Out of the band only the side is kept.
+        const float background = band.background;
+        for (int n = 0; n < SparseField::kBrickSamples; ++n) { // a select, so that it vectorizes
+            values[n] = std::fabs(values[n]) < background ? values[n] : std::copysign(background, values[n]);
+        }
+    }
+};
+
+// Where each layer's bricks of `bricks` (ordered by z, y, x) begin, for `layers` layers and the end.
+std::vector<std::size_t> layerStarts(const std::vector<glm::ivec3>& bricks, int layers) {
+    std::vector<std::size_t> starts(std::size_t(layers) + 1);
+    for (int z = 0; z <= layers; ++z) {
+        starts[std::size_t(z)] =
+            std::size_t(std::lower_bound(bricks.begin(), bricks.end(), z, [](const glm::ivec3& b, int layer) { return b.z < layer; }) -
+                        bricks.begin());
+    }
+    return starts;
+}
+
+// The layers' mixed fan bricks joined to the stored ones, in order (merged from the back, in place).
+void mergeMixedBricks(std::vector<BandLayerSigns::Output>& layers, BandSides& band) {
+    std::size_t added = 0;
+    for (const BandLayerSigns::Output& layer : layers) added += layer.mixed.size();
+    if (!added) return;
+    std::vector<glm::ivec3> mixed;
+    std::vector<std::uint8_t> mixedInside;
+    mixed.reserve(added), mixedInside.reserve(added * SparseField::kBrickSamples);
+    for (BandLayerSigns::Output& layer : layers) {
+        mixed.insert(mixed.end(), layer.mixed.begin(), layer.mixed.end());
+        mixedInside.insert(mixedInside.end(), layer.inside.begin(), layer.inside.end());
+        layer.mixed = {}, layer.inside = {};
+    }
+    std::size_t a = band.bricks.size(), b = mixed.size(), out = a + b;
+    band.bricks.resize(out);
+    band.values.resize(out * SparseField::kBrickSamples);
+    constexpr std::size_t n = SparseField::kBrickSamples;
+    const auto before = [](const glm::ivec3& l, const glm::ivec3& r) { return std::tie(l.z, l.y, l.x) < std::tie(r.z, r.y, r.x); };
+    while (b > 0) {
+        --out;
+        if (a > 0 && before(mixed[b - 1], band.bricks[a - 1])) {
+            --a;
+            band.bricks[out] = band.bricks[a];
+            std::copy(band.values.begin() + std::ptrdiff_t(a * n), band.values.begin() + std::ptrdiff_t((a + 1) * n),
+                      band.values.begin() + std::ptrdiff_t(out * n));
+        } else {
+            --b;
+            band.bricks[out] = mixed[b];
+            for (std::size_t k = 0; k < n; ++k) band.values[out * n + k] = mixedInside[b * n + k] ? -band.background : band.background;
+        }
+    }
+}
+
+} // namespace
+
 void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, BandSides& band,
                       const RunControl& control) {
-    constexpr int kEdge = BrickSigns::kEdge;
+    constexpr int kEdge = BandLayerSigns::kEdge;
     static_assert(kEdge == SparseField::kBrick, "the sign's bricks are the sparse field's");
-    const int nx = grid.dims.x, ny = grid.dims.y, nz = grid.dims.z;
     const glm::ivec3 brickDims = (grid.dims + (kEdge - 1)) / kEdge;
     const SampleAxes axes(mesh, grid);
     const RowCrossings scan(mesh, topology, caps, grid, axes, kEdge, control.phase(0.0, 0.1));
-    // Where each layer's stored and fan bricks begin (both lists are ordered by z, y, x).
-    auto layerStarts = [&](const std::vector<glm::ivec3>& bricks) {
-        std::vector<std::size_t> starts(std::size_t(brickDims.z) + 1);
-        for (int z = 0; z <= brickDims.z; ++z) {
-            starts[std::size_t(z)] = std::size_t(std::lower_bound(bricks.begin(), bricks.end(), z,
-                                                                  [](const glm::ivec3& b, int layer) { return b.z < layer; }) -
-                                                 bricks.begin());
-        }
-        return starts;
-    };
-    const std::vector<std::size_t> storedStart = layerStarts(band.bricks), fanStart = layerStarts(band.fanBricks);
-    std::vector<glm::ivec3> sidedCoordinates(band.sidedBricks.size());
-    for (std::size_t n = 0; n < band.sidedBricks.size(); ++n) sidedCoordinates[n] = band.sidedBricks[n].first;
-    const std::vector<std::size_t> sidedStart = layerStarts(sidedCoordinates);
-    struct Layer {
-        std::vector<std::array<int, 6>> boxes;
-        std::vector<glm::ivec3> mixed; // fan bricks with both sides, and their samples' sides (1 inside):
-        std::vector<std::uint8_t> inside; // a quarter of their values' bytes until they are merged in
-    };
-    std::vector<Layer> layers(std::size_t(brickDims.z));
-    const float background = band.background;
-    parallelFor(std::size_t(brickDims.z), control.phase(0.1, 1.0), [&](std::size_t layerIndex) {
-        const int bz = int(layerIndex), k0 = bz * kEdge, k1 = std::min(nz, k0 + kEdge);
-        Layer& layer = layers[layerIndex];
-        std::size_t stored = storedStart[layerIndex], fan = fanStart[layerIndex], sided = sidedStart[layerIndex];
-        // A layer that no triangle reaches and that holds no brick of the lists is outside
-        // everywhere (every count 0): nothing to record, so empty space costs nothing.
-        if (scan.crossesNothing(bz) && stored == storedStart[layerIndex + 1] && fan == fanStart[layerIndex + 1] &&
-            sided == sidedStart[layerIndex + 1]) {
-            return;
-        }
-        std::vector<std::vector<Crossing>> rows(std::size_t(kEdge) * std::size_t(ny));
-        scan.fill(bz, rows.data());
-        BrickSigns signs{axes, caps, {}, 0, 0, {}, {}};
-        int counts[kEdge * kEdge * kEdge];
-        std::uint8_t flags[kEdge * kEdge * kEdge];
-        std::size_t cursor[kEdge * kEdge];
-        int behind[kEdge * kEdge], total[kEdge * kEdge];
-        for (int by = 0; by < brickDims.y; ++by) {
-            const int j0 = by * kEdge, j1 = std::min(ny, j0 + kEdge);
-            // The brick row's bricks of the lists (each list's next brick, if in this row).
-            auto inRow = [&](const glm::ivec3& b) { return b.y == by && b.z == bz; };
-            const bool listed = (stored < storedStart[layerIndex + 1] && inRow(band.bricks[stored])) ||
-                                (sided < sidedStart[layerIndex + 1] && inRow(sidedCoordinates[sided])) ||
-                                (fan < fanStart[layerIndex + 1] && inRow(band.fanBricks[fan]));
-            const std::vector<Crossing>& firstRow = rows[std::size_t(j0)]; // (j0, k0): the other bricks' sides
-            if (!listed && firstRow.empty()) continue; // outside throughout
-            // The brick row's rows, crossings in ascending x: ahead of x is the total minus those at
-            // or behind x. Without bricks of the lists, only the first row decides.
-            for (int r = 0; r < kEdge * kEdge; ++r) {
-                cursor[r] = 0, behind[r] = 0, total[r] = 0;
-                const int j = j0 + r % kEdge, k = k0 + r / kEdge;
-                if (j >= j1 || k >= k1 || (r > 0 && !listed)) continue;
-                std::vector<Crossing>& row = rows[std::size_t(k - k0) * std::size_t(ny) + std::size_t(j)];
-                std::sort(row.begin(), row.end(), [](const Crossing& l, const Crossing& r) { return l.x < r.x; });
-                for (const Crossing& c : row) total[r] += c.sign;
-            }
-            auto aheadAt = [&](int r, int i) {
-                const std::vector<Crossing>& row = rows[std::size_t(r / kEdge) * std::size_t(ny) + std::size_t(j0 + r % kEdge)];
-                while (cursor[r] < row.size() && row[cursor[r]].x <= axes.x[i]) behind[r] += row[cursor[r]++].sign;
-                return total[r] - behind[r];
-            };
-            // Every sample's count of a brick, and its sides decided as the dense bake decides them.
-            auto decide = [&](int bx, const SignOutput& output) {
-                const int i0 = bx * kEdge, i1 = std::min(nx, i0 + kEdge);
-                for (int k = k0; k < k1; ++k)
-                    for (int j = j0; j < j1; ++j) {
-                        const int r = (j - j0) + kEdge * (k - k0);
-                        for (int i = i0; i < i1; ++i) counts[r * kEdge + (i - i0)] = aheadAt(r, i);
-                    }
-                signs.output = output;
-                signs.decide(i0, j0, k0, i1, j1, k1, counts, kEdge);
-            };
-            int runStart = -1; // the first brick of the open run of inside bricks
-            auto closeRun = [&](int end) {
-                if (runStart >= 0) layer.boxes.push_back(SparseField::insideBox(grid.dims, runStart, end, by, bz));
-                runStart = -1;
-            };
-            for (int bx = 0; bx < brickDims.x; ++bx) {
-                // Up to the next brick of the lists, the bricks are out of the band and clear of
-                // the fans: the surface is nowhere in them, so every sample has its first sample's
-                // count and, the fans' winding number being below 0.45 there, is inside when that
-                // count is not 0 (as the dense bake decides). That count changes only where the
-                // first row crosses the surface: the bricks between two crossings go as one run.
-                int next = brickDims.x;
-                if (stored < storedStart[layerIndex + 1] && inRow(band.bricks[stored])) next = std::min(next, band.bricks[stored].x);
-                if (sided < sidedStart[layerIndex + 1] && inRow(sidedCoordinates[sided])) next = std::min(next, sidedCoordinates[sided].x);
-                if (fan < fanStart[layerIndex + 1] && inRow(band.fanBricks[fan])) next = std::min(next, band.fanBricks[fan].x);
-                if (bx < next) {
-                    const bool inside = aheadAt(0, bx * kEdge) != 0;
-                    int end = next;
-                    if (cursor[0] < firstRow.size()) { // the first brick whose first sample is at or past the next crossing
-                        const double x = firstRow[cursor[0]].x;
-                        int lo = bx + 1, hi = next;
-                        while (lo < hi) {
-                            const int mid = lo + (hi - lo) / 2;
-                            if (axes.x[std::size_t(mid) * kEdge] >= x) hi = mid;
-                            else lo = mid + 1;
-                        }
-                        end = lo;
-                    }
-                    if (!inside) closeRun(bx);
-                    else if (runStart < 0) runStart = bx;
-                    bx = end - 1;
-                    continue;
-                }
-                const glm::ivec3 brick(bx, by, bz);
-                const std::ptrdiff_t local = -(std::ptrdiff_t(bx) * kEdge + std::ptrdiff_t(j0) * kEdge + std::ptrdiff_t(k0) * kEdge * kEdge);
-                int side; // 1 inside, 0 outside, -1 both
-                if (stored < storedStart[layerIndex + 1] && band.bricks[stored] == brick) {
-                    float* values = &band.values[stored * std::size_t(SparseField::kBrickSamples)];
-                    const int i0 = bx * kEdge, i1 = std::min(nx, i0 + kEdge);
-                    if (band.signBricks && axes.clearOfFans(caps, i0, j0, k0, i1, j1, k1)) {
-                        // Clear of the fans (most of the band): negated where the count is not 0, as BrickSigns decides.
-                        for (int k = k0; k < k1; ++k)
-                            for (int j = j0; j < j1; ++j) {
-                                const int r = (j - j0) + kEdge * (k - k0);
-                                float* row = values + r * kEdge;
-                                const std::vector<Crossing>& crossings = rows[std::size_t(k - k0) * std::size_t(ny) + std::size_t(j)];
-                                for (int i = i0; i < i1;) { // by runs of samples with no crossing between them
-                                    const bool inside = aheadAt(r, i) != 0;
-                                    const double next = cursor[r] < crossings.size() ? crossings[cursor[r]].x : std::numeric_limits<double>::infinity();
-                                    int end = i + 1;
-                                    while (end < i1 && next > axes.x[end]) ++end;
-                                    if (inside) {
-                                        for (int n = i; n < end; ++n) row[n - i0] = -row[n - i0];
-                                    }
-                                    i = end;
-                                }
-                            }
-                    } else if (band.signBricks) {
-                        decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge});
-                    } else {
-                        // Signed as measured, but for the samples the distance pass skipped (out of the
-                        // band, still +background): theirs are the winding sign's.
-                        std::fill(std::begin(flags), std::end(flags), std::uint8_t(0));
-                        decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
-                        for (int n = 0; n < SparseField::kBrickSamples; ++n) {
-                            if (flags[n] == 1 && values[n] == background) values[n] = -background;
-                        }
-                    }
-                    // Out of the band only the side is kept.
-                    for (int n = 0; n < SparseField::kBrickSamples; ++n) { // a select, so that it vectorizes
-                        values[n] = std::fabs(values[n]) < background ? values[n] : std::copysign(background, values[n]);
-                    }
-                    ++stored;
-                    side = -1;
-                } else if (sided < sidedStart[layerIndex + 1] && sidedCoordinates[sided] == brick) {
-                    side = band.sidedBricks[sided++].second;
-                } else { // the fan list's brick (one of the lists has a brick at bx)
-                    ++fan;
-                    std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side
-                    decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
-                    bool in = false, out = false;
-                    for (const std::uint8_t f : flags) in |= f == 1, out |= f == 0;
-                    side = in && out ? -1 : in ? 1 : 0;
-                    if (side < 0) {
-                        layer.mixed.push_back(brick);
-                        for (const std::uint8_t f : flags) layer.inside.push_back(f == 1);
-                    }
-                }
-                if (side == 1) {
-                    if (runStart < 0) runStart = bx;
-                } else {
-                    closeRun(bx);
-                }
-            }
-            closeRun(brickDims.x);
-        }
+    BandLayerSigns::Shared shared{grid, axes, caps, scan, band, brickDims, {}, {}, {}, {}};
+    shared.storedStart = layerStarts(band.bricks, brickDims.z);
+    shared.fanStart = layerStarts(band.fanBricks, brickDims.z);
+    shared.sidedCoordinates.resize(band.sidedBricks.size());
+    for (std::size_t n = 0; n < band.sidedBricks.size(); ++n) shared.sidedCoordinates[n] = band.sidedBricks[n].first;
+    shared.sidedStart = layerStarts(shared.sidedCoordinates, brickDims.z);
+    std::vector<BandLayerSigns::Output> layers(std::size_t(brickDims.z));
+    parallelFor(std::size_t(brickDims.z), control.phase(0.1, 1.0), [&](std::size_t layer) {
+        BandLayerSigns(shared, layers[layer], layer).run();
     });
-    // The mixed fan bricks join the stored ones, in order (merged from the back, in place).
-    std::size_t added = 0;
-    for (const Layer& layer : layers) added += layer.mixed.size();
-    if (added) {
-        std::vector<glm::ivec3> mixed;
-        std::vector<std::uint8_t> mixedInside;
-        mixed.reserve(added), mixedInside.reserve(added * SparseField::kBrickSamples);
-        for (Layer& layer : layers) {
-            mixed.insert(mixed.end(), layer.mixed.begin(), layer.mixed.end());
-            mixedInside.insert(mixedInside.end(), layer.inside.begin(), layer.inside.end());
-            layer.mixed = {}, layer.inside = {};
-        }
-        std::size_t a = band.bricks.size(), b = mixed.size(), out = a + b;
-        band.bricks.resize(out);
-        band.values.resize(out * SparseField::kBrickSamples);
-        constexpr std::size_t n = SparseField::kBrickSamples;
-        const auto before = [](const glm::ivec3& l, const glm::ivec3& r) { return std::tie(l.z, l.y, l.x) < std::tie(r.z, r.y, r.x); };
-        while (b > 0) {
-            --out;
-            if (a > 0 && before(mixed[b - 1], band.bricks[a - 1])) {
-                --a;
-                band.bricks[out] = band.bricks[a];
-                std::copy(band.values.begin() + std::ptrdiff_t(a * n), band.values.begin() + std::ptrdiff_t((a + 1) * n),
-                          band.values.begin() + std::ptrdiff_t(out * n));
-            } else {
-                --b;
-                band.bricks[out] = mixed[b];
-                for (std::size_t k = 0; k < n; ++k) band.values[out * n + k] = mixedInside[b * n + k] ? -background : background;
-            }
-        }
-    }
+    mergeMixedBricks(layers, band);
     band.insideBoxes.clear();
-    for (const Layer& layer : layers) band.insideBoxes.insert(band.insideBoxes.end(), layer.boxes.begin(), layer.boxes.end());
+    for (const BandLayerSigns::Output& layer : layers) band.insideBoxes.insert(band.insideBoxes.end(), layer.boxes.begin(), layer.boxes.end());
 }
 
 std::vector<std::uint8_t> insideByWinding(const Mesh& mesh, const MeshTopology& topology, const Grid& grid,
