@@ -40,19 +40,7 @@ EXPORTED = {
 }
 
 BASELINE = {
-    # Upward in the core, and between siblings: what issue 42 items 1 and 2 are to move.
-    # accel/ walks rays with distance/'s ray kernels and tables (the rays' dispatch table is to move to accel/).
-    "src/core/accel/bvh.hpp -> src/core/distance/ray.hpp",
-    "src/core/accel/ray_tree.hpp -> src/core/distance/ray.hpp",
-    "src/core/accel/wide_bvh.cpp -> src/core/distance/kernel.hpp",
-    # bake/surface.cpp meshes a field and saves the surface through io/ and the OpenVDB plug-in.
-    "src/core/bake/surface.cpp -> src/core/io/atomic_file.hpp",
-    "src/core/bake/surface.cpp -> src/core/io/file_extension.hpp",
-    "src/core/bake/surface.cpp -> src/core/io/formats/format.hpp",
-    "src/core/bake/surface.cpp -> src/core/io/openvdb_plugin.hpp",
-    # The method plug-in interface sits in the orchestrator's folder, bake/methods.hpp (to move to core/method/).
-    "src/core/distance/distance_methods.cpp -> src/core/bake/methods.hpp",
-    "src/core/sign/sign_methods.cpp -> src/core/bake/methods.hpp",
+    # Upward in the core, and between siblings.
     # The pseudonormal sign takes its closest features from the exact distance (insideByClosestFeature), the rays sign its
     # votes from the rays method (generateRayField).
     "src/core/sign/sign_methods.cpp -> src/core/distance/exact.hpp",
@@ -63,24 +51,15 @@ BASELINE = {
     "src/core/mesh/obj_scan.cpp -> src/core/io/printable.hpp",
     # The topology's self-intersection search walks the tree.
     "src/core/mesh/topology.hpp -> src/core/accel/bvh.hpp",
-    # runtime/memory.cpp holds the dense bake's memory model (to move up to bake/).
-    "src/core/runtime/memory.cpp -> src/core/accel/bvh.hpp",
-    "src/core/runtime/memory.cpp -> src/core/bake/methods.hpp",
     # Front ends through core internals (issue 42 item 4: through include/sdfgen/ instead).
     "python/module.cpp -> src/core/runtime/parallel.hpp",
     "python/nearest.cpp -> src/core/mesh/geometry.hpp",
     "python/nearest.cpp -> src/core/runtime/parallel.hpp",
-    "src/app/panel_field.cpp -> src/core/bake/surface.hpp",
     "src/app/panel_generation.cpp -> src/core/bake/band_bake.hpp",
     "src/app/panel_generation.cpp -> src/core/mesh/sample_positions.hpp",
-    "src/app/panel_generation.cpp -> src/core/runtime/memory.hpp",
-    "src/app/undo.cpp -> src/core/runtime/memory.hpp",
-    "src/cli/batch.cpp -> src/core/runtime/memory.hpp",
     "src/cli/batch.cpp -> src/core/runtime/out_of_memory.hpp",
     "src/cli/query.cpp -> src/core/io/formats/format.hpp",
     "src/cli/query.cpp -> src/core/io/formats/npy.hpp",
-    "src/cli/surface.cpp -> src/core/bake/surface.hpp",
-    "src/render/band_display.cpp -> src/core/runtime/memory.hpp",
     "src/render/band_display.cpp -> src/core/runtime/parallel.hpp",
 }
 
