@@ -35,7 +35,7 @@ FRONT_ENDS = {"cli", "app", "render", "python"}
 # alike, each including only the standard library and include/sdfgen/ (checked).
 EXPORTED = {
     "src/core/io/atomic_file.hpp",     # every output file is written atomically, the front ends' own too (PNG, query .npy)
-    "src/core/io/file_extension.hpp",  # the one way a file's format is read from its name
+    "src/core/runtime/file_extension.hpp",  # the one way a file's format is read from its name
     "src/core/simd/path.hpp",          # which copy of the SIMD kernels runs: for `sdfgen info`, tests and benchmarks
 }
 
@@ -45,10 +45,6 @@ BASELINE = {
     # votes from the rays method (generateRayField).
     "src/core/sign/sign_methods.cpp -> src/core/distance/exact.hpp",
     "src/core/sign/sign_methods.cpp -> src/core/distance/ray_generator.hpp",
-    # The mesh readers quote file names and pick readers by extension through io/.
-    "src/core/mesh/mesh_formats.cpp -> src/core/io/file_extension.hpp",
-    "src/core/mesh/mesh_readers.hpp -> src/core/io/printable.hpp",
-    "src/core/mesh/obj_scan.cpp -> src/core/io/printable.hpp",
     # The topology's self-intersection search walks the tree.
     "src/core/mesh/topology.hpp -> src/core/accel/bvh.hpp",
     # Front ends through core internals (issue 42 item 4: through include/sdfgen/ instead).
@@ -57,9 +53,6 @@ BASELINE = {
     "python/nearest.cpp -> src/core/runtime/parallel.hpp",
     "src/app/panel_generation.cpp -> src/core/bake/band_bake.hpp",
     "src/app/panel_generation.cpp -> src/core/mesh/sample_positions.hpp",
-    "src/cli/batch.cpp -> src/core/runtime/out_of_memory.hpp",
-    "src/cli/query.cpp -> src/core/io/formats/format.hpp",
-    "src/cli/query.cpp -> src/core/io/formats/npy.hpp",
     "src/render/band_display.cpp -> src/core/runtime/parallel.hpp",
 }
 

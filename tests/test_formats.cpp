@@ -136,6 +136,28 @@ TEST_F(Formats, NpyKeepsValuesAndShapeOnly) {
     EXPECT_EQ(double(loaded.grid.voxel), 1.0);
 }
 
+TEST_F(Formats, PointArraysRoundTripAndWrongOnesAreRefused) {
+    const std::vector<double> points = {0.5, -1.0, 2.25, 1e-300, 3.0, -0.0};
+    const std::string file = path("points.npy");
+    saveNpy(file, points, {2, 3});
+    EXPECT_EQ(loadPointsNpy(file), points);
+    // float32 points come back as the doubles of their floats
+    const std::vector<float> single = {0.1f, 0.2f, 0.3f};
+    saveNpy(path("single.npy"), single, {1, 3});
+    EXPECT_EQ(loadPointsNpy(path("single.npy")), (std::vector<double>{double(0.1f), double(0.2f), double(0.3f)}));
+    // not (N, 3), not float, a shape that does not hold the values: one line naming the file
+    saveNpy(path("flat.npy"), points, {6});
+    EXPECT_CONTAINS(errorFrom([&] { loadPointsNpy(path("flat.npy")); }), path("flat.npy") + ": points must be an (N, 3) array");
+    saveNpy(path("ints.npy"), std::vector<std::int64_t>{1, 2, 3}, {1, 3});
+    EXPECT_CONTAINS(errorFrom([&] { loadPointsNpy(path("ints.npy")); }), "points must be float32 or float64");
+    EXPECT_CONTAINS(errorFrom([&] { saveNpy(path("short.npy"), points, {3, 3}); }), path("short.npy") + ": 6 values do not fill an array of 9");
+    EXPECT_FALSE(fs::exists(path("short.npy")));
+    // a file cut short is refused, not read as fewer points
+    const std::string bytes = readBytes(file);
+    std::ofstream(path("cut.npy"), std::ios::binary) << bytes.substr(0, bytes.size() - 8);
+    EXPECT_CONTAINS(errorFrom([&] { loadPointsNpy(path("cut.npy")); }), "bytes of data, not the 48 its header declares");
+}
+
 TEST_F(Formats, NpyIsTheFieldBufferInFortranOrder) {
     const Field field = sampleField();
     const std::string file = path("field.npy");

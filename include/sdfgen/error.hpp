@@ -16,4 +16,12 @@ public:
     Cancelled() : Error("cancelled") {}
 };
 
+// An allocation that failed, named: "PATH: out of memory while DOING" (what the up-front memory
+// checks missed). Its own type, so that a caller that set a memory limit (batch's --memory) can
+// say which limit it was.
+class OutOfMemoryError : public Error {
+public:
+    using Error::Error;
+};
+
 } // namespace sdfgen

@@ -3,6 +3,7 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/sparse_field.hpp"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -56,5 +57,15 @@ struct FieldFormatInfo {
 std::vector<FieldFormatInfo> knownFieldFormats();
 // "A, B or C": the extensions of the formats that hold channels, for messages.
 std::string channelFormatList();
+
+// Points from an (N, 3) float32 or float64 .npy file (C or Fortran order) as x y z interleaved
+// doubles. Error naming `path` for another dtype or shape, or a file that holds more or fewer
+// bytes than its header declares.
+std::vector<double> loadPointsNpy(const std::string& path);
+// `values` as a C-order .npy array of `shape` (float32, float64 or int64, by their type), written
+// atomically. Error naming `path` when the shape does not hold exactly values.size() values.
+void saveNpy(const std::string& path, const std::vector<float>& values, const std::vector<std::uint64_t>& shape);
+void saveNpy(const std::string& path, const std::vector<double>& values, const std::vector<std::uint64_t>& shape);
+void saveNpy(const std::string& path, const std::vector<std::int64_t>& values, const std::vector<std::uint64_t>& shape);
 
 } // namespace sdfgen

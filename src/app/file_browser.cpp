@@ -1,6 +1,6 @@
 #include "app/file_browser.hpp"
 #include "app/wrapped_text.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>

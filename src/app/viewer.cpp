@@ -7,7 +7,7 @@
 #include "sdfgen/formats.hpp"
 #include "render/font.hpp"
 #include "render/image.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>

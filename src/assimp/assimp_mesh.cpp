@@ -10,7 +10,7 @@
 #include "core/mesh/assimp_reader.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>

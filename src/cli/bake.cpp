@@ -6,7 +6,7 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 
 #include <tbb/task_arena.h>
 #include <cstdio>

@@ -5,7 +5,6 @@
 #include "cli/progress.hpp"
 #include "cli/batch_plan.hpp"
 #include "sdfgen/memory.hpp"
-#include "core/runtime/out_of_memory.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"

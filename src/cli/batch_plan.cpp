@@ -1,6 +1,6 @@
 #include "cli/batch_plan.hpp"
 #include "sdfgen/error.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <algorithm>

@@ -6,7 +6,7 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/mesh.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -2,7 +2,7 @@
 // the field formats' .npz writer (stored zip members, written atomically).
 #include "core/io/formats/format.hpp"
 #include "core/io/formats/npy.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/sample.hpp"
 

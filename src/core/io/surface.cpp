@@ -3,7 +3,7 @@
 #include "core/io/formats/format.hpp"
 #include "core/io/openvdb_plugin.hpp"
 #include "sdfgen/error.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>

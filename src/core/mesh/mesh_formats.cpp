@@ -4,7 +4,7 @@
 #include "core/mesh/mesh_readers.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/out_of_memory.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 
 #include <algorithm>
 #include <cctype>

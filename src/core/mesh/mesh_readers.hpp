@@ -6,7 +6,7 @@
 // Each reader checks what a file declares (counts, sizes) against the file's size before it
 // allocates anything, refuses indices out of range, and reports in Mesh::warnings what it read
 // but could not use (faces of fewer than 3 vertices, data after the declared elements).
-#include "core/io/printable.hpp"
+#include "core/runtime/printable.hpp"
 #include "sdfgen/mesh.hpp"
 
 #include <charconv>

@@ -1,5 +1,5 @@
 #include "core/mesh/obj_scan.hpp"
-#include "core/io/printable.hpp"
+#include "core/runtime/printable.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
 

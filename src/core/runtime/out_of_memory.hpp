@@ -10,13 +10,6 @@
 
 namespace sdfgen {
 
-// The Error an allocation that failed becomes: its own type, so that a caller that set the limit
-// (batch's --memory) can say which limit it was.
-class OutOfMemoryError : public Error {
-public:
-    using Error::Error;
-};
-
 // work(); a std::bad_alloc from it becomes OutOfMemoryError("PATH: out of memory while DOING").
 template <class Work>
 decltype(auto) namingOutOfMemory(const std::string& path, const char* doing, Work&& work) {

@@ -1,7 +1,7 @@
 #pragma once
 // Field file formats as plug-ins: each format is one file in src/core/io/formats/ that defines its
 // save and load functions, plus one line in the table in registry.cpp.
-#include "core/io/printable.hpp"
+#include "core/runtime/printable.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 

@@ -2,7 +2,7 @@
 // folder plus one line here.
 #include "core/io/formats/format.hpp"
 #include "sdfgen/error.hpp"
-#include "core/io/file_extension.hpp"
+#include "core/runtime/file_extension.hpp"
 #include "core/runtime/out_of_memory.hpp"
 
 #include <algorithm>

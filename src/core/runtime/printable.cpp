@@ -1,4 +1,4 @@
-#include "core/io/printable.hpp"
+#include "core/runtime/printable.hpp"
 
 #include <cstdio>
 
