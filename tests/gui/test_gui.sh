@@ -529,7 +529,15 @@ xdotool mousemove --window "$window" 790 490
 shoot
 [ "$(md5sum <"$work/shots/scene-$((shots - 1)).png")" = "$scene_before" ] || fail "Cancel did not leave the scene as it was"
 echo "background load: live window (yaw $yaw_before -> $yaw_loading while loading), Cancel stopped it in $((SECONDS - cancelled_at)) s, the scene as it was"
-click field_load
+# A load asked for while another runs takes its place: the first is stopped, never shown.
+type_into field_path "$work/big.npz"
+until_ok grep -q "^text load_progress " "$work/shots/widgets.txt" || fail "the second load of big.npz shows no progress"
+type_into field_path "$work/bunny.sdf"
+until_ok grep -q "^message field info: loaded $work/bunny.sdf" "$work/log" || fail "the load that replaced another did not complete"
+grep -q "^message field info: stopped loading $work/big.npz to load $work/bunny.sdf" "$work/log" || fail "the replaced load was not said to be stopped"
+! grep -q "^message field .*: loaded $work/big.npz" "$work/log" || fail "the replaced load was shown"
+echo "a load asked for during another replaced it"
+type_into field_path "$work/big.npz"
 until_ok grep -q "^message field info: loaded $work/big.npz" "$work/log" || fail "the field did not load once not cancelled"
 until_ok grep -q "^text stats .* loaded" "$work/shots/widgets.txt" || fail "the loaded field's figures are not shown"
 grep -q "^undo step: load big.npz" "$work/log" || fail "the load made no undo step"
