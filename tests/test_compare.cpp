@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <cmath>
+#include <vector>
 
 namespace sdfgen {
 namespace {
@@ -74,6 +75,21 @@ TEST(CompareFields, IdenticalNegatedBandAndMismatch) {
     Field scaled = a;
     scaled.grid.voxel *= 1.5f;
     EXPECT_THROW(compareFields(a, scaled, 0.0), Error);
+}
+
+TEST(CompareFields, ListsWhereTheSignsDiffer) {
+    const Field a = rampField({8, 8, 8});
+    Field b = a;
+    const std::vector<std::size_t> flipped = {3, 70, 300, 511};
+    for (const std::size_t i : flipped) b.values[i] = -b.values[i];
+    std::vector<std::size_t> where = {42}; // replaced, not appended to
+    const FieldDifference d = compareFields(a, b, 0.0, &where);
+    EXPECT_EQ(where, flipped);
+    EXPECT_EQ(d.signDifferences, where.size());
+    // Within a band, as counted: the samples the band skips are not listed.
+    const FieldDifference banded = compareFields(a, b, 100.0, &where);
+    EXPECT_EQ(banded.signDifferences, 0u);
+    EXPECT_TRUE(where.empty());
 }
 
 } // namespace

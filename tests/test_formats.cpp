@@ -1,11 +1,13 @@
 // Field formats by extension (.sdf, .npy, .npz, .vdb, .nrrd): bit-exact round trips of values,
 // grid, method and source; one-line errors naming the file for truncated, corrupt, wrongly typed
 // and oversized files, checked before anything large is allocated; atomic saves.
+#include "core/io/formats/format.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 
 #include "support/checks.hpp"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 #if SDFGEN_HAS_OPENVDB
 #include <openvdb/io/File.h>
@@ -15,6 +17,7 @@
 #endif
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -535,6 +538,69 @@ TEST_F(Formats, FailedSaveLeavesTheOldFileAndNoTemporaries) {
     for (const std::string& extension : kBinaryExtensions) kept.push_back("keep" + extension);
     std::sort(kept.begin(), kept.end());
     EXPECT_EQ(folderContents(), kept);
+}
+
+// ---- Progress and Cancel -----------------------------------------------------------------------
+
+// A sphere's distances on a grid large enough for many blocks of every reader (13 MB of values).
+Field sphereField(int n) {
+    Field field;
+    field.source = "sphere";
+    field.method = "exact";
+    field.grid.dims = {n, n - 7, n - 13};
+    field.grid.origin = {-1.0, -1.0, -1.0};
+    field.grid.voxel = 2.0 / n;
+    field.values.resize(field.grid.sampleCount());
+    for (int k = 0; k < field.grid.dims.z; ++k)
+        for (int j = 0; j < field.grid.dims.y; ++j)
+            for (int i = 0; i < field.grid.dims.x; ++i) {
+                const glm::dvec3 p = glm::dvec3(field.grid.origin) + double(field.grid.voxel) * (glm::dvec3(i, j, k) + 0.5);
+                field.values[(std::size_t(k) * field.grid.dims.y + j) * field.grid.dims.x + i] = float(glm::length(p) - 0.6);
+            }
+    return field;
+}
+
+// Reads `file` with a control: the progress reported rises to 1 and the field is the one read
+// without; then a Cancel raised at the first report stops the read with Cancelled.
+template <class Load>
+void expectProgressAndCancel(const std::string& file, const Load& load) {
+    std::vector<double> reports;
+    RunControl control;
+    control.progress = [&](double fraction) { reports.push_back(fraction); };
+    load(control);
+    ASSERT_GE(reports.size(), 3u);
+    EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
+    EXPECT_EQ(reports.back(), 1.0);
+
+    std::atomic<bool> cancel{false};
+    int reportsAfterCancel = 0;
+    control.cancel = &cancel;
+    control.progress = [&](double) { reportsAfterCancel += cancel.exchange(true); };
+    EXPECT_THROW(load(control), Cancelled) << file;
+    EXPECT_EQ(reportsAfterCancel, 0) << "the read went on after the Cancel";
+}
+
+TEST_F(Formats, EveryReaderReportsProgressAndStopsWhenCancelled) {
+    const Field big = sphereField(160);
+    for (const std::string extension : {".sdf", ".npy", ".npz", ".vdb", ".nrrd"}) {
+        SCOPED_TRACE(extension);
+        if (extension == ".vdb" && !SDFGEN_HAS_OPENVDB) continue;
+        // The text format is slow to write: a smaller field still spans many checks.
+        const Field field = extension == ".sdf" ? sphereField(90) : big;
+        const std::string file = path("big" + extension);
+        saveField(field, file);
+        const Field plain = loadField(file);
+        expectProgressAndCancel(file, [&](const RunControl& control) { EXPECT_EQ(bitsOf(loadField(file, control).values), bitsOf(plain.values)); });
+    }
+    // Band fields, read as bricks.
+    const SparseField band = formats::sparseFromDense(big, float(12.0 * big.grid.voxel));
+    for (const std::string extension : {".npz", ".vdb"}) {
+        SCOPED_TRACE(extension);
+        if (extension == ".vdb" && !SDFGEN_HAS_OPENVDB) continue;
+        const std::string file = path("band" + extension);
+        saveSparseField(band, file);
+        expectProgressAndCancel(file, [&](const RunControl& control) { EXPECT_EQ(loadSparseField(file, control).values, band.values); });
+    }
 }
 
 TEST_F(Formats, SaveIntoAMissingFolderFails) {

@@ -3,6 +3,7 @@
 #include "sdfgen/sparse_field.hpp"
 
 #include <cstddef>
+#include <vector>
 
 namespace sdfgen {
 
@@ -20,8 +21,10 @@ struct FieldDifference {
 
 // Compares a and b sample by sample, skipping samples within `bandVoxels` voxels of the surface in
 // either field (0 compares all). A band field (Field::background > 0) is compared by value where
-// |value| < background and by sign elsewhere. Throws Error when the grids differ.
-FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels);
+// |value| < background and by sign elsewhere. Throws Error when the grids differ. With
+// `signDifferences`, it gets the indices (into Field::values) of the samples counted in
+// FieldDifference::signDifferences, in increasing order.
+FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels, std::vector<std::size_t>* signDifferences = nullptr);
 
 // compareFields for two band fields, without their dense forms: sample by sample where either
 // stores a brick, by counting elsewhere (time and memory grow with the bricks and inside boxes,

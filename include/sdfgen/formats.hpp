@@ -1,6 +1,7 @@
 #pragma once
 #include "sdfgen/bake.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/run_control.hpp"
 #include "sdfgen/sparse_field.hpp"
 
 #include <cstdint>
@@ -27,7 +28,8 @@ void checkFormatHoldsChannels(const std::string& path, const Channels& channels)
 
 // Loads a field in any of those formats, validated as strictly as the text format. A sparse file
 // (saveSparseField) is made dense (SparseField::toDense), or refused when that does not fit in memory.
-Field loadField(const std::string& path);
+// `control` gets the fraction of the file read and stops the read (Cancelled) when its cancel is raised.
+Field loadField(const std::string& path, const RunControl& control = {});
 
 // Saves a narrow-band field: .vdb (a level set: the band's voxels active, ±background tiles for the
 // rest) and .npz (its bricks and boxes as arrays, docs/field-format.md) keep it sparse; the dense formats
@@ -39,7 +41,7 @@ void saveSparseField(const SparseField& field, const std::string& path);
 void saveSparseField(SparseField&& field, const std::string& path);
 // Loads a field as sparse: a sparse .npz or a .vdb level set as it is, a dense file through its
 // samples (bricks where a sample lies within `band` voxels of the surface; 3 when the file names no band).
-SparseField loadSparseField(const std::string& path);
+SparseField loadSparseField(const std::string& path, const RunControl& control = {});
 // Whether the file at `path` holds a sparse field (a sparse .npz, or a .vdb whose grid is not dense);
 // reads the header only. Error for an unreadable file or an unknown extension.
 bool isSparseFieldFile(const std::string& path);

@@ -1,68 +1,112 @@
 #include "app/generation.hpp"
+#include "render/band_display.hpp"
 #include "sdfgen/error.hpp"
+#include "sdfgen/formats.hpp"
 #include "sdfgen/model.hpp"
 
 namespace sdfgen::app {
 
-void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options) {
+void BackgroundTask::start(int threads, std::function<void(RunControl&)> work) {
     stop();
     cancel_ = false;
     finished_ = false;
     progress_ = 0.0;
-    result_.reset();
     error_.clear();
-    warnings_.clear();
     started_ = std::chrono::steady_clock::now();
-    thread_ = std::thread([this, mesh, settings, options] {
-        std::optional<BakeResult> result;
-        std::string error;
-        std::vector<std::string> warnings;
-        // Made first, so that Cancel and the thread count reach the tree build too.
+    thread_ = std::thread([this, threads, work = std::move(work)] {
+        // Made first, so that Cancel and the thread count reach every step.
         RunControl control;
-        control.threads = options.threads;
+        control.threads = threads;
         control.cancel = &cancel_;
         control.progress = [this](double fraction) { progress_ = fraction; };
-        control.warn = [&warnings](const std::string& warning) { warnings.push_back(warning); };
+        std::string error;
         try {
-            // The tree takes a small share of the bar: it is built in a fraction of the bake's time.
-            const Model model(*mesh, control.phase(0.0, 0.1));
-            result = model.bake(settings, control.phase(0.1, 1.0));
+            work(control);
         } catch (const Cancelled&) {
-            error = "generation cancelled";
+            error = "cancelled";
         } catch (const std::exception& e) {
             error = e.what();
+            if (error.empty()) error = "failed";
         }
-        std::lock_guard<std::mutex> lock(mutex_);
-        result_ = std::move(result);
         error_ = error;
-        warnings_ = std::move(warnings);
         seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
         finished_ = true;
     });
 }
 
-void Generation::stop() {
+void BackgroundTask::stop() {
     if (!thread_.joinable()) return;
     cancel_ = true;
     thread_.join();
 }
 
-double Generation::elapsed() const {
+double BackgroundTask::elapsed() const {
     if (finished_) return seconds_;
     if (!thread_.joinable()) return 0.0;
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
 }
 
-bool Generation::collect(std::optional<BakeResult>& result, std::string& error, std::vector<std::string>& warnings, double& seconds) {
+bool BackgroundTask::finish(std::string& error, double& seconds) {
     if (!thread_.joinable() || !finished_) return false;
     thread_.join();
-    std::lock_guard<std::mutex> lock(mutex_);
+    error = error_;
+    seconds = seconds_;
+    return true;
+}
+
+void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options) {
+    stop();
+    result_.reset();
+    warnings_.clear();
+    task_.start(options.threads, [this, mesh, settings](RunControl& control) {
+        control.warn = [this](const std::string& warning) { warnings_.push_back(warning); };
+        // The tree takes a small share of the bar: it is built in a fraction of the bake's time.
+        const Model model(*mesh, control.phase(0.0, 0.1));
+        result_ = model.bake(settings, control.phase(0.1, 1.0));
+    });
+}
+
+bool Generation::collect(std::optional<BakeResult>& result, std::string& error, std::vector<std::string>& warnings, double& seconds) {
+    if (!task_.finish(error, seconds)) return false;
+    if (error == "cancelled") error = "generation cancelled";
     result = std::move(result_);
     result_.reset();
-    error = error_;
     warnings = std::move(warnings_);
     warnings_.clear();
-    seconds = seconds_;
+    return true;
+}
+
+void FieldLoad::start(const std::string& path, int threads, int textureLimit) {
+    stop();
+    path_ = path;
+    result_.reset();
+    task_.start(threads, [this, path, textureLimit, delay = delayPerReportMs](RunControl& control) {
+        if (delay > 0) {
+            control.progress = [report = control.progress, delay](double fraction) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(delay));
+                report(fraction);
+            };
+        }
+        LoadedField loaded;
+        if (isSparseFieldFile(path)) {
+            // Reading takes most of the time; the resampling the views show the rest.
+            SparseField band = loadSparseField(path, control.phase(0.0, 0.85));
+            render::BandDisplay shown = render::bandDisplay(band, textureLimit, control.phase(0.85, 1.0));
+            loaded.field = std::move(shown.field);
+            loaded.bandLine = std::move(shown.line);
+            loaded.band = std::move(band);
+        } else {
+            loaded.field = loadField(path, control);
+        }
+        result_ = std::move(loaded);
+    });
+}
+
+bool FieldLoad::collect(std::optional<LoadedField>& result, std::string& error) {
+    double seconds = 0.0;
+    if (!task_.finish(error, seconds)) return false;
+    result = std::move(result_);
+    result_.reset();
     return true;
 }
 

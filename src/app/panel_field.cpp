@@ -65,9 +65,13 @@ void Viewer::showBand(SparseField band, FieldInfo info) {
     RunControl control;
     control.threads = threads_;
     render::BandDisplay shown = render::bandDisplay(band, textureLimit_, control);
-    showField(std::move(shown.field), std::move(info));
+    showBand(std::move(band), std::move(shown.field), std::move(shown.line), std::move(info));
+}
+
+void Viewer::showBand(SparseField band, Field shown, std::string line, FieldInfo info) {
+    showField(std::move(shown), std::move(info));
     band_ = std::make_shared<const SparseField>(std::move(band));
-    bandLine_ = std::move(shown.line);
+    bandLine_ = std::move(line);
 }
 
 // A field saved next to the model (MODEL.sdf) is shown at once instead of being regenerated,
@@ -94,40 +98,72 @@ void Viewer::loadSavedField(const std::string& meshPath) {
     }
 }
 
+// Every field file the user opens is read on a background thread (FieldLoad): the window stays
+// live, the section the load was asked in shows its progress and a Cancel, and the scene changes
+// only when the field has been read. A load asked for while one runs replaces it.
 void Viewer::loadFieldFile(const std::string& path, Message* slot) {
-    // Said where the load was asked for (the Model box or Recent: under Model; else under Field);
-    // an error left in the other slot by an earlier try is stale once this one is said.
     Message& here = slot ? *slot : fieldMessage_;
+    if (fieldLoad_.pending()) setMessage(*loadSlot_, Message::Level::Info, "stopped loading " + fieldLoad_.path() + " to load " + path);
+    loadSlot_ = &here;
+    fieldLoad_.start(path, threads_, textureLimit_);
+    setMessage(here, Message::Level::Info, "loading " + path + "...");
+}
+
+// The load's progress bar and Cancel, under the message of the section it was asked in.
+void Viewer::fieldLoadProgress(const Message& slot) {
+    if (!fieldLoad_.pending() || loadSlot_ != &slot) return;
+    const float buttonWidth = ImGui::CalcTextSize("Cancel").x + ImGui::GetStyle().FramePadding.x * 2.0f;
+    if (ImGui::Button("Cancel##load", ImVec2(buttonWidth, 0))) fieldLoad_.cancel();
+    track("load_cancel");
+    ImGui::SameLine();
+    char overlay[64];
+    std::snprintf(overlay, sizeof(overlay), "loading: %.0f%%, %.1f s", 100.0 * fieldLoad_.progress(), fieldLoad_.elapsed());
+    ImGui::ProgressBar(float(fieldLoad_.progress()), ImVec2(-1.0f, 0.0f), overlay);
+    track("load_progress");
+    if (!debugDir_.empty()) {
+        char line[64];
+        std::snprintf(line, sizeof(line), "text load_progress %.3f\n", fieldLoad_.progress());
+        layout_ += line;
+    }
+}
+
+// A finished load: the field shown (one undo step), or why not where the load was asked for; an
+// error left in the other slot by an earlier try is stale once this one is said.
+void Viewer::collectFieldLoad() {
+    std::optional<LoadedField> loaded;
+    std::string error;
+    if (!fieldLoad_.collect(loaded, error)) return;
+    const std::string path = fieldLoad_.path();
+    Message& here = *loadSlot_;
     Message& other = &here == &fieldMessage_ ? modelMessage_ : fieldMessage_;
-    try {
-        bool noGrid = false;
-        fieldWarning_.clear();
-        if (isSparseFieldFile(path)) {
-            SparseField band = loadSparseField(path);
-            const std::string sign = band.parameter("sign");
-            FieldInfo info{"loaded from " + path, band.method, -1.0, 0.0, "sign: " + (sign.empty() ? std::string("not recorded in the file") : sign)};
-            showBand(std::move(band), info);
-        } else {
-            Field field = loadField(path);
-            noGrid = hasNoGrid(field);
-            FieldInfo info{"loaded from " + path, field.method, -1.0, 0.0, signSummaryOf(field)};
-            showField(std::move(field), info);
-        }
-        rememberRecent(path);
-        setMessage(generationMessage_, Message::Level::Info, ""); // the last bake is no longer shown
-        if (other.level == Message::Level::Error) setMessage(other, Message::Level::Info, "");
-        if (&here != &fieldMessage_) setMessage(fieldMessage_, Message::Level::Info, ""); // what was said of the last field
-        if (noGrid) {
-            setMessage(here, Message::Level::Warning,
-                       "loaded " + path + ", which has no grid (a .npy holds only the values): shown with unit voxels from the origin; "
-                       "save fields as .npz, .sdf, .vdb or .nrrd to keep their place");
-        } else if (!fieldWarning_.empty()) {
-            setMessage(here, Message::Level::Warning, "loaded " + path + ", but " + fieldWarning_);
-        } else {
-            setMessage(here, Message::Level::Info, "loaded " + path);
-        }
-    } catch (const std::exception& e) {
-        setMessage(here, Message::Level::Error, e.what());
+    if (!loaded) {
+        if (error == "cancelled") setMessage(here, Message::Level::Info, "not loaded: " + path + " (cancelled); the scene is as it was");
+        else setMessage(here, Message::Level::Error, error);
+        return;
+    }
+    bool noGrid = false;
+    fieldWarning_.clear();
+    if (loaded->band) {
+        const std::string sign = loaded->band->parameter("sign");
+        FieldInfo info{"loaded from " + path, loaded->band->method, -1.0, 0.0, "sign: " + (sign.empty() ? std::string("not recorded in the file") : sign)};
+        showBand(std::move(*loaded->band), std::move(*loaded->field), std::move(loaded->bandLine), info);
+    } else {
+        noGrid = hasNoGrid(*loaded->field);
+        FieldInfo info{"loaded from " + path, loaded->field->method, -1.0, 0.0, signSummaryOf(*loaded->field)};
+        showField(std::move(*loaded->field), info);
+    }
+    rememberRecent(path);
+    setMessage(generationMessage_, Message::Level::Info, ""); // the last bake is no longer shown
+    if (other.level == Message::Level::Error) setMessage(other, Message::Level::Info, "");
+    if (&here != &fieldMessage_) setMessage(fieldMessage_, Message::Level::Info, ""); // what was said of the last field
+    if (noGrid) {
+        setMessage(here, Message::Level::Warning,
+                   "loaded " + path + ", which has no grid (a .npy holds only the values): shown with unit voxels from the origin; "
+                   "save fields as .npz, .sdf, .vdb or .nrrd to keep their place");
+    } else if (!fieldWarning_.empty()) {
+        setMessage(here, Message::Level::Warning, "loaded " + path + ", but " + fieldWarning_);
+    } else {
+        setMessage(here, Message::Level::Info, "loaded " + path);
     }
 }
 
@@ -202,19 +238,73 @@ void Viewer::exportSurface() {
     }
 }
 
+namespace {
+// The "Sign errors" view's crosses: at most this many samples are drawn (evenly chosen among them).
+constexpr std::size_t kMostSignErrorCrosses = 200000;
+
+std::vector<glm::vec3> crossesAt(const Grid& grid, const std::vector<std::size_t>& samples, float size) {
+    std::vector<glm::vec3> segments;
+    const std::size_t step = (samples.size() + kMostSignErrorCrosses - 1) / kMostSignErrorCrosses;
+    const std::size_t nx = std::size_t(grid.dims.x), nxy = nx * std::size_t(grid.dims.y);
+    for (std::size_t s = 0; s < samples.size(); s += std::max<std::size_t>(step, 1)) {
+        const std::size_t i = samples[s];
+        const glm::vec3 p(grid.position(int(i % nx), int(i / nx % std::size_t(grid.dims.y)), int(i / nxy)));
+        for (int a = 0; a < 3; ++a) {
+            glm::vec3 d(0.0f);
+            d[a] = size;
+            segments.push_back(p - d);
+            segments.push_back(p + d);
+        }
+    }
+    return segments;
+}
+} // namespace
+
+// Compares the field shown with a field file (as `sdfgen compare`): the figures in the panel, and
+// where their signs differ as the "Sign errors" view, shown when there are any.
 void Viewer::compareWith(const std::string& path) {
     try {
         if (!field_) throw Error("no field to compare: Generate or Load one first");
         const Field other = loadField(path);
-        const FieldDifference d = compareFields(band_ ? band_->toDense() : *field_, other, 0.0);
+        std::optional<Field> bandDense;
+        if (band_) bandDense = band_->toDense();
+        const Field& mine = bandDense ? *bandDense : *field_;
+        std::vector<std::size_t> differ;
+        const FieldDifference d = compareFields(mine, other, 0.0, &differ);
         char text[320];
         std::snprintf(text, sizeof(text), "against %s: max |difference| %.4g (%.3g voxels), mean %.3g, rms %.3g; signs differ at %zu of %zu samples",
                       fs::path(path).filename().string().c_str(), d.maxAbs, d.maxAbs / d.voxel, d.meanAbs, d.rmsAbs, d.signDifferences,
                       d.compared);
         setMessage(fieldMessage_, Message::Level::Info, text);
+        signErrors_ = SignErrors{fs::path(path).filename().string(), d.signDifferences, d.compared + d.signOnly, fieldVersion_};
+        scene_.signErrors = crossesAt(mine.grid, differ, float(0.4 * mine.grid.voxel));
+        ++comparisons_;
+        if (!differ.empty()) scene_.views["sign_errors"] = true;
     } catch (const std::exception& e) {
         setMessage(fieldMessage_, Message::Level::Error, e.what());
     }
+}
+
+// What the last comparison found, while the field it was made with is shown.
+void Viewer::signErrorsLine() {
+    if (!signErrors_.against.empty() && signErrors_.fieldVersion != fieldVersion_) {
+        signErrors_ = SignErrors{};
+        scene_.signErrors.clear();
+        ++comparisons_;
+        return;
+    }
+    if (signErrors_.against.empty()) return;
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    if (signErrors_.count > kMostSignErrorCrosses) {
+        wrappedText("sign errors against %s: %zu of %zu samples (the Sign errors view shows %zu of them)", signErrors_.against.c_str(),
+                    signErrors_.count, signErrors_.samples, kMostSignErrorCrosses);
+    } else {
+        wrappedText("sign errors against %s: %zu of %zu samples%s", signErrors_.against.c_str(), signErrors_.count, signErrors_.samples,
+                    signErrors_.count ? " (the Sign errors view shows them)" : "");
+    }
+    ImGui::PopStyleColor();
+    track("sign_errors");
+    if (!debugDir_.empty()) layout_ += "text sign_errors " + std::to_string(signErrors_.count) + " " + std::to_string(scene_.signErrors.size() / 6) + "\n";
 }
 
 void Viewer::fieldSection() {
@@ -235,6 +325,7 @@ void Viewer::fieldSection() {
     if (ImGui::Button("Load##field") || enter) loadFieldFile(fieldPath_);
     track("field_load");
     messageLine("##field_message", fieldMessage_);
+    fieldLoadProgress(fieldMessage_);
 
     // The iso-surface (at the ray-marched view's level) as a mesh, and a comparison, as the CLI's
     // `surface` and `compare` do.
@@ -255,6 +346,7 @@ void Viewer::fieldSection() {
     if (ImGui::Button("Compare") || compareEnter) compareWith(comparePath_);
     track("compare");
     ImGui::EndDisabled();
+    signErrorsLine();
 }
 
 void Viewer::fileChosen() {

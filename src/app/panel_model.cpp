@@ -159,6 +159,7 @@ void Viewer::modelSection() {
     }
     track("model_recent");
     messageLine("##model_message", modelMessage_);
+    fieldLoadProgress(modelMessage_);
 
     ImGui::BeginDisabled(generation_.running());
     int remove = -1;

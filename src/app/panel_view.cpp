@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace sdfgen::app {
 
@@ -92,6 +93,149 @@ void Viewer::rangeControls(const char* label, const char* name, RangeChoice& cho
     }
     // A range with nothing on one side still needs a scale there (the bar shows 0 at that end).
     if (sceneRange != glm::vec2(0.0f)) sceneRange = glm::vec2(std::min(sceneRange.x, 0.0f), std::max(sceneRange.y, 1e-9f));
+    if (field_) rangeHistogram(name, choice, sceneRange);
+}
+
+const Viewer::ValueHistogram& Viewer::valueHistogram() {
+    if (histogram_.fieldVersion == fieldVersion_ || !field_) return histogram_;
+    constexpr int kBins = 64;
+    const glm::vec2 range = render::fieldValueRange(*field_);
+    histogram_ = ValueHistogram{fieldVersion_, range.x, std::max(range.y, range.x + 1e-9f), std::vector<float>(kBins, 0.0f), 0.0f};
+    const float scale = float(kBins) / (histogram_.high - histogram_.low);
+    std::vector<std::size_t> counts(kBins, 0);
+    for (const float v : field_->values) ++counts[std::size_t(std::clamp(int((v - histogram_.low) * scale), 0, kBins - 1))];
+    // Counts on a log scale: the few samples far from the surface stay visible beside the many near it.
+    for (int b = 0; b < kBins; ++b) {
+        histogram_.bins[std::size_t(b)] = std::log1p(float(counts[std::size_t(b)]));
+        histogram_.tallest = std::max(histogram_.tallest, histogram_.bins[std::size_t(b)]);
+    }
+    return histogram_;
+}
+
+// The field's values as a histogram under a view's range, with the range's ends (inside, left of
+// 0; outside, right of it) drawn as lines that can be dragged: dragging one makes the range fixed.
+void Viewer::rangeHistogram(const char* name, RangeChoice& choice, glm::vec2& sceneRange) {
+    const ValueHistogram& h = valueHistogram();
+    ImGui::PushID(name);
+    const float height = std::round(3.0f * ImGui::GetFrameHeight());
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const float width = ImGui::GetContentRegionAvail().x;
+    // The button that takes the drags first: an item drawn over another is not hovered.
+    ImGui::InvisibleButton("##ends", ImVec2(width, height));
+    const bool activated = ImGui::IsItemActivated(), active = ImGui::IsItemActive(), deactivated = ImGui::IsItemDeactivated();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag a line to set the colours' limit there (the range becomes fixed)");
+    ImGui::SetCursorScreenPos(at);
+    ImGui::PlotHistogram("##values", h.bins.data(), int(h.bins.size()), 0, nullptr, 0.0f, h.tallest, ImVec2(width, height));
+    const ImVec2 pad = ImGui::GetStyle().FramePadding;
+    const float x0 = at.x + pad.x, x1 = at.x + width - pad.x;
+    auto toX = [&](float v) { return x0 + (std::clamp(v, h.low, h.high) - h.low) / (h.high - h.low) * (x1 - x0); };
+    auto toValue = [&](float x) { return h.low + (std::clamp(x, x0, x1) - x0) / (x1 - x0) * (h.high - h.low); };
+    const glm::vec2 shown = scene_.effectiveRange(sceneRange);
+    static int dragged = 0; // 1 the inside end, 2 the outside end: one drag at a time in the whole panel
+    const float mouseX = ImGui::GetIO().MousePos.x;
+    if (activated) dragged = std::abs(mouseX - toX(shown.x)) <= std::abs(mouseX - toX(shown.y)) ? 1 : 2;
+    if (active && dragged != 0) {
+        choice.mode = 2;
+        choice.fixed = shown;
+        const float value = toValue(mouseX);
+        if (dragged == 1) choice.fixed.x = std::min(value, -1e-9f);
+        else choice.fixed.y = std::max(value, 1e-9f);
+        sceneRange = choice.fixed;
+    }
+    if (deactivated) dragged = 0;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const glm::vec2 ends = scene_.effectiveRange(sceneRange);
+    const ImU32 colours[2] = {IM_COL32(90, 140, 255, 255), IM_COL32(255, 120, 80, 255)}; // the diverging map's two sides
+    const float xs[2] = {toX(ends.x), toX(ends.y)};
+    for (int e = 0; e < 2; ++e) draw->AddLine(ImVec2(xs[e], at.y), ImVec2(xs[e], at.y + height), colours[e], 2.0f);
+    draw->AddLine(ImVec2(toX(0.0f), at.y + height - 4.0f), ImVec2(toX(0.0f), at.y + height), IM_COL32(255, 255, 255, 200)); // 0
+    track((std::string(name) + "_histogram").c_str());
+    ImGui::PopID();
+    if (!debugDir_.empty()) {
+        char line[160];
+        std::snprintf(line, sizeof(line), "text %s_ends %d %d %d %.6g %.6g\n", name, int(xs[0]), int(xs[1]), int(at.y + height / 2), double(ends.x),
+                      double(ends.y));
+        layout_ += line;
+    }
+}
+
+namespace {
+// "x y z" (commas allowed) as three finite numbers.
+bool parseVector(const char* text, glm::vec3& out) {
+    std::string s(text);
+    std::replace(s.begin(), s.end(), ',', ' ');
+    char rest = 0;
+    glm::vec3 v;
+    if (std::sscanf(s.c_str(), "%f %f %f %c", &v.x, &v.y, &v.z, &rest) != 3) return false;
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return false;
+    out = v;
+    return true;
+}
+} // namespace
+
+// The slice plane's pose, as the gizmo leaves it and as typed: a point on it (the one nearest the
+// field box's centre) and its unit normal. A typed normal turns the plane about that point.
+void Viewer::slicePose() {
+    const render::SliceGizmo gizmo = scene_.sliceGizmo();
+    const ImGuiID pointId = ImGui::GetID("Slice point"), normalId = ImGui::GetID("Slice normal");
+    // Shown as the plane is, except while being typed into.
+    if (ImGui::GetActiveID() != pointId) {
+        std::snprintf(slicePointText_, sizeof(slicePointText_), "%.5g %.5g %.5g", double(gizmo.centre.x), double(gizmo.centre.y), double(gizmo.centre.z));
+    }
+    if (ImGui::GetActiveID() != normalId) {
+        std::snprintf(sliceNormalText_, sizeof(sliceNormalText_), "%.4f %.4f %.4f", double(gizmo.normal.x), double(gizmo.normal.y), double(gizmo.normal.z));
+    }
+    const glm::vec3 boxMin = scene_.fieldBoxMin(), boxSize = scene_.fieldBoxSize();
+    if (ImGui::InputText("Slice point", slicePointText_, sizeof(slicePointText_), ImGuiInputTextFlags_EnterReturnsTrue)) {
+        glm::vec3 point;
+        if (!parseVector(slicePointText_, point)) {
+            setMessage(sliceMessage_, Message::Level::Error, std::string("the slice point '") + slicePointText_ + "' is not three numbers");
+        } else {
+            const float position = render::slicePositionThrough(boxMin, boxSize, gizmo.normal, point);
+            scene_.slicePosition = std::clamp(position, 0.0f, 1.0f);
+            if (position < 0.0f || position > 1.0f) {
+                setMessage(sliceMessage_, Message::Level::Warning, "the plane through that point misses the field's box: it is placed at the box's edge");
+            } else {
+                setMessage(sliceMessage_, Message::Level::Info, "");
+            }
+        }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("A point of the slice's plane (x y z, Enter applies)");
+    track("slice_point");
+    if (ImGui::InputText("Slice normal", sliceNormalText_, sizeof(sliceNormalText_), ImGuiInputTextFlags_EnterReturnsTrue)) {
+        glm::vec3 normal;
+        if (!parseVector(sliceNormalText_, normal) || !(glm::length(normal) > 1e-6f)) {
+            setMessage(sliceMessage_, Message::Level::Error, std::string("the slice normal '") + sliceNormalText_ + "' is not three numbers, not all 0");
+        } else {
+            scene_.sliceNormal = glm::normalize(normal);
+            scene_.slicePosition = std::clamp(render::slicePositionThrough(boxMin, boxSize, scene_.sliceNormal, gizmo.centre), 0.0f, 1.0f);
+            setMessage(sliceMessage_, Message::Level::Info, "");
+        }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("The plane's normal (x y z, made unit length; Enter applies): the plane turns about its point");
+    track("slice_normal");
+    messageLine("##slice_message", sliceMessage_);
+    if (!debugDir_.empty()) {
+        const std::string line = "text slice_pose " + std::string(slicePointText_) + " / " + sliceNormalText_ + "\n";
+        layout_ += line;
+        glm::vec2 arrow, tip, ring;
+        const std::vector<glm::vec3> arrowSegments = gizmo.segments(render::SliceGizmo::Part::Arrow);
+        const std::vector<glm::vec3> ringSegments = gizmo.segments(render::SliceGizmo::Part::Ring);
+        // Points to grab: two thirds up the arrow (with its tip, for the direction to drag it), and
+        // the ring's point most to the right on screen.
+        if (toPointer(glm::mix(arrowSegments[0], arrowSegments[1], 0.67f), arrow) && toPointer(arrowSegments[1], tip)) {
+            layout_ += "text gizmo_arrow " + std::to_string(int(arrow.x)) + " " + std::to_string(int(arrow.y)) + " " + std::to_string(int(tip.x)) + " " +
+                       std::to_string(int(tip.y)) + "\n";
+        }
+        glm::vec2 rightmost(-1e9f);
+        for (const glm::vec3& p : ringSegments) {
+            if (toPointer(p, ring) && ring.x > rightmost.x) rightmost = ring;
+        }
+        layout_ += "text gizmo_ring " + std::to_string(int(rightmost.x)) + " " + std::to_string(int(rightmost.y)) + "\n";
+    }
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    wrappedText("in the view: drag the slice's arrow to move it, its ring to tilt it (or Ctrl+left-drag, Ctrl+Shift+left-drag)");
+    ImGui::PopStyleColor();
 }
 
 void Viewer::viewSection() {
@@ -144,10 +288,7 @@ void Viewer::viewSection() {
     sliceCut_ = cut == 0 ? 0 : cut == 1 ? 1 : -1;
     scene_.sliceCut = v["slice"] ? sliceCut_ : 0;
     track("slice_cut");
-    const glm::vec3 n = scene_.sliceNormal;
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
-    wrappedText("normal (%.2f %.2f %.2f); in the view: Ctrl+left-drag moves, Ctrl+Shift+left-drag tilts", double(n.x), double(n.y), double(n.z));
-    ImGui::PopStyleColor();
+    if (v["slice"] && field_) slicePose();
     ImGui::Combo("Colour map", &scene_.colormap, "diverging\0viridis\0grey\0");
     track("colormap");
     rangeControls("Slice colours", "slice_range", sliceColours_, scene_.sliceRange, true);

@@ -162,10 +162,12 @@ std::size_t drawDataHash(const ImDrawData* data) {
 Viewer::Viewer(GlfwContext& context, Inbox& inbox) : context_(context), inbox_(inbox) {
     debugDir_ = std::getenv("SDFGEN_SCREENSHOT_DIR") ? std::getenv("SDFGEN_SCREENSHOT_DIR") : "";
     if (const char* delay = std::getenv("SDFGEN_DEBUG_FRAME_DELAY_MS")) frameDelayMs_ = std::max(0, std::atoi(delay));
+    if (const char* delay = std::getenv("SDFGEN_DEBUG_READ_DELAY_MS"); delay && !debugDir_.empty()) fieldLoad_.delayPerReportMs = std::max(0, std::atoi(delay));
     GLint limit = 2048;
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &limit);
     textureLimit_ = limit;
     scene_.views["box"] = true;
+    scene_.sliceGizmoShown = true;
     if (!debugDir_.empty()) {
         fileBrowser_.onItem = [this](const std::string& name) {
             track(name.c_str());
@@ -212,15 +214,16 @@ int Viewer::run() {
     committedThreads_ = threads_;
     fieldStep_.reset();
     while (!glfwWindowShouldClose(window)) {
-        // Sleep until something happens; while a bake runs, wake ten times a second for its progress.
+        // Sleep until something happens; while a bake or a field load runs, wake ten times a second for its progress.
         const bool busy = !inbox_.input.empty() || inbox_.wake > 0 || inbox_.shortcuts.arrowsHeld();
         if (busy) glfwPollEvents();
-        else if (generation_.pending()) glfwWaitEventsTimeout(0.1);
+        else if (generation_.pending() || fieldLoad_.pending()) glfwWaitEventsTimeout(0.1);
         else glfwWaitEvents();
         if (!inbox_.input.empty()) settleFrames_ = 0;
         if (inbox_.shortcuts.quit) glfwSetWindowShouldClose(window, GLFW_TRUE);
         handleDrops();
         collectGeneration();
+        collectFieldLoad();
 
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
@@ -248,6 +251,7 @@ int Viewer::run() {
         if (frameDelayMs_ > 0) std::this_thread::sleep_for(std::chrono::milliseconds(frameDelayMs_));
     }
     generation_.stop();
+    fieldLoad_.stop();
     return 0;
 }
 
@@ -256,7 +260,7 @@ void Viewer::setMessage(Message& slot, Message::Level level, const std::string& 
     inbox_.wake = std::max(inbox_.wake, 2); // show it (and what the action changed) next frame too
     if (!debugDir_.empty() && !text.empty()) {
         const char* kind = &slot == &modelMessage_ ? "model" : &slot == &generationMessage_ ? "generation"
-                         : &slot == &fieldMessage_ ? "field" : "screenshot";
+                         : &slot == &fieldMessage_ ? "field" : &slot == &sliceMessage_ ? "slice" : "screenshot";
         const char* levels[] = {"info", "warning", "error"};
         pendingOut_ += std::string("message ") + kind + " " + levels[int(level)] + ": " + text + "\n";
     }
@@ -341,10 +345,22 @@ void Viewer::sceneInput(const FrameInput& input) {
         if (input.pressed == b) sceneDrag_[b] = !io.WantCaptureMouse && !fileBrowser_.isOpen();
         if (input.released == b) sceneDrag_[b] = false;
     }
+    using Part = render::SliceGizmo::Part;
+    const glm::vec2 pointer(float(input.x), float(input.y));
     if (input.pressed == 0) {
         const bool slice = (input.pressMods & GLFW_MOD_CONTROL) != 0 && scene_.views["slice"] && field_;
-        leftDrag_ = !slice ? LeftDrag::Orbit : (input.pressMods & GLFW_MOD_SHIFT) != 0 ? LeftDrag::TiltSlice : LeftDrag::MoveSlice;
+        gizmoDragged_ = slice || !sceneDrag_[0] ? Part::None : gizmoPartAt(pointer);
+        leftDrag_ = gizmoDragged_ == Part::Arrow ? LeftDrag::MoveSlice
+                  : gizmoDragged_ == Part::Ring  ? LeftDrag::TiltSlice
+                  : !slice                       ? LeftDrag::Orbit
+                  : (input.pressMods & GLFW_MOD_SHIFT) != 0 ? LeftDrag::TiltSlice
+                                                            : LeftDrag::MoveSlice;
     }
+    if (!sceneDrag_[0]) gizmoDragged_ = Part::None;
+    // The part under the pointer (or dragged) is drawn brighter: it shows what a press grabs.
+    scene_.sliceGizmoHighlight = gizmoDragged_ != Part::None ? gizmoDragged_
+                               : io.WantCaptureMouse || sceneDrag_[0] || sceneDrag_[1] || sceneDrag_[2] ? Part::None
+                                                                                                        : gizmoPartAt(pointer);
     if (input.wheel != 0.0 && !io.WantCaptureMouse) camera_.zoom(float(input.wheel));
 
     Shortcuts& s = inbox_.shortcuts;
@@ -386,6 +402,37 @@ void Viewer::dragSlice(float dx, float dy) {
     const float length2 = glm::dot(along, along);
     if (length2 < 1.0f) return; // the normal points at the viewer: no direction to drag along
     scene_.slicePosition = std::clamp(scene_.slicePosition + glm::dot(glm::vec2(dx, dy), along) / length2, 0.0f, 1.0f);
+}
+
+bool Viewer::toPointer(glm::vec3 world, glm::vec2& pointer) const {
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const glm::vec4 c = camera_.projection(display.x / std::max(display.y, 1.0f)) * camera_.view() * glm::vec4(world, 1.0f);
+    if (c.w <= 1e-6f) return false;
+    pointer = glm::vec2((c.x / c.w * 0.5f + 0.5f) * display.x, (0.5f - c.y / c.w * 0.5f) * display.y);
+    return true;
+}
+
+render::SliceGizmo::Part Viewer::gizmoPartAt(glm::vec2 pointer) const {
+    using Part = render::SliceGizmo::Part;
+    if (!scene_.views["slice"] || !field_ || pointer.x < panelWidth_ || fileBrowser_.isOpen()) return Part::None;
+    const render::SliceGizmo gizmo = scene_.sliceGizmo();
+    Part nearest = Part::None;
+    float best = 8.0f * std::max(ImGui::GetFontSize() / 13.0f, 1.0f); // pixels: grabbing distance
+    for (const Part part : {Part::Arrow, Part::Ring}) {
+        const std::vector<glm::vec3> segments = gizmo.segments(part);
+        for (std::size_t s = 0; s + 1 < segments.size(); s += 2) {
+            glm::vec2 a, b;
+            if (!toPointer(segments[s], a) || !toPointer(segments[s + 1], b)) continue;
+            const glm::vec2 ab = b - a;
+            const float t = glm::dot(ab, ab) > 0.0f ? std::clamp(glm::dot(pointer - a, ab) / glm::dot(ab, ab), 0.0f, 1.0f) : 0.0f;
+            const float distance = glm::length(pointer - (a + t * ab));
+            if (distance < best) {
+                best = distance;
+                nearest = part;
+            }
+        }
+    }
+    return nearest;
 }
 
 // The probe follows the cursor over the scene: the surface drawn under it (mesh, ray-marched
@@ -553,7 +600,7 @@ void Viewer::drawScene() {
           << scene_.sliceNormal.x << ' ' << scene_.sliceNormal.y << ' ' << scene_.sliceNormal.z << ' ' << scene_.slicePosition << ' '
           << scene_.volumeDensity << scene_.shadows << scene_.wireSeeThrough << scene_.headlight << scene_.colourBar << ' ' << scene_.iso
           << ' ' << scene_.colormap << ' ' << scene_.sliceRange.x << ' ' << scene_.sliceRange.y << ' ' << scene_.volumeRange.x << ' '
-          << scene_.volumeRange.y << ' ' << scene_.sliceCut << ' ' << meshVersion_ << ' ' << fieldVersion_;
+          << scene_.volumeRange.y << ' ' << scene_.sliceCut << ' ' << int(scene_.sliceGizmoHighlight) << ' ' << comparisons_ << ' ' << meshVersion_ << ' ' << fieldVersion_;
     for (const render::MeshStyle& s : scene_.meshStyles) state << ' ' << s.colour.r << ' ' << s.colour.g << ' ' << s.colour.b << s.visible;
     for (const glm::vec3& m : scene_.markers) state << ' ' << m.x << ' ' << m.y << ' ' << m.z;
     if (state.str() != lastSceneState_) {

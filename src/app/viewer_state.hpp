@@ -133,6 +133,10 @@ private:
     // viewer.cpp: the loop, the scene, its input and drawing.
     void sceneInput(const FrameInput& input);
     void dragSlice(float dx, float dy);
+    // Where `world` is drawn, in window pixels from the top left; false behind the camera.
+    bool toPointer(glm::vec3 world, glm::vec2& pointer) const;
+    // The part of the slice's gizmo within grabbing distance of the pointer.
+    render::SliceGizmo::Part gizmoPartAt(glm::vec2 pointer) const;
     void probeAt(const FrameInput& input);
     std::optional<glm::dvec3> marchedSurfaceAt(glm::ivec2 pixel, glm::vec3 drawn) const;
     void probeOverlay();
@@ -172,20 +176,34 @@ private:
     void checkFieldAgainstScene();
     void showField(Field field, FieldInfo info);
     void showBand(SparseField band, FieldInfo info);
+    void showBand(SparseField band, Field shown, std::string line, FieldInfo info); // shown: its render::bandDisplay
     void loadSavedField(const std::string& meshPath);
     // Loads a field file; its messages go to `slot` (the section the action was taken in).
     void loadFieldFile(const std::string& path, Message* slot = nullptr);
+    void fieldLoadProgress(const Message& slot);
+    void collectFieldLoad();
     void askOverwrite(const std::string& path, int action);
     void overwriteQuestion();
     void saveFieldNow();
     void fieldSection();
     void exportSurface();
     void compareWith(const std::string& path);
+    void signErrorsLine();
     void fileChosen();
 
     // panel_view.cpp
     class PanelOptions;
     void viewSection();
+    void slicePose();
+    // A histogram of the field's values (log counts), made once per field version.
+    struct ValueHistogram {
+        int fieldVersion = -1;
+        float low = 0.0f, high = 0.0f;
+        std::vector<float> bins;
+        float tallest = 0.0f;
+    };
+    const ValueHistogram& valueHistogram();
+    void rangeHistogram(const char* name, RangeChoice& choice, glm::vec2& sceneRange);
     void rangeControls(const char* label, const char* name, RangeChoice& choice, glm::vec2& sceneRange, bool slice);
     void cameraSection();
     void probeSection();
@@ -208,6 +226,15 @@ private:
     FieldInfo fieldInfo_;
     std::string fieldWarning_;
     Generation generation_;
+    FieldLoad fieldLoad_;
+    // The last comparison's sign differences, for the field (version) it was made with.
+    struct SignErrors {
+        std::string against; // the compared file's name; empty: none
+        std::size_t count = 0, samples = 0;
+        int fieldVersion = -1;
+    } signErrors_;
+    int comparisons_ = 0; // for redrawing: the crosses changed
+    Message* loadSlot_ = nullptr; // where the running load was asked for (modelMessage_ or fieldMessage_)
     BakeSettings settings_;
     int threads_ = 0;
     int textureLimit_ = 2048;
@@ -215,7 +242,7 @@ private:
     char fieldPath_[1024] = "";
     char comparePath_[1024] = "";
     char surfacePath_[1024] = "";
-    Message modelMessage_, generationMessage_, fieldMessage_, screenshotMessage_;
+    Message modelMessage_, generationMessage_, fieldMessage_, screenshotMessage_, sliceMessage_;
     std::uint64_t messagesSaid_ = 0; // an info message said before the last message is stale: greyed
     RecentFiles recent_;
     FileBrowser fileBrowser_;
@@ -245,7 +272,10 @@ private:
     bool sceneDrag_[3] = {false, false, false};
     // What a left-drag does, from the modifiers at its press: orbit (as in MeshLab and polyscope),
     // or with Ctrl over a shown slice move it along its normal, with Ctrl+Shift tilt it.
+    // A press on the slice's gizmo drags the plane without Ctrl: its arrow moves it, its ring tilts it.
     enum class LeftDrag { Orbit, MoveSlice, TiltSlice } leftDrag_ = LeftDrag::Orbit;
+    render::SliceGizmo::Part gizmoDragged_ = render::SliceGizmo::Part::None;
+    char slicePointText_[96] = "", sliceNormalText_[96] = ""; // the pose as typed (refreshed while not edited)
     bool probeOn_ = true, probeValid_ = false;
     // probe_ holds a reading of the scene shown (the last one, once the pointer left the scene):
     // the panel keeps it, so that its top line does not come and go under the pointer.
@@ -253,6 +283,7 @@ private:
     ProbeResult probe_;
     glm::ivec2 probePointer_{0, 0};
     RangeChoice sliceColours_, volumeColours_;
+    ValueHistogram histogram_;
     int screenshotSize_[2] = {0, 0}; // 0 0: the scene area's size
     float panelWidth_ = 300.0f;
     float sceneAspect_ = 0.0f; // of the scene area (beside the panel) in the last frame; 0 before the first

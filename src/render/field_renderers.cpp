@@ -114,6 +114,16 @@ glm::vec4 slicePlane(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, floa
     return glm::vec4(normal, lowest + (highest - lowest) * std::clamp(position, 1e-4f, 1.0f - 1e-4f));
 }
 
+float slicePositionThrough(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, glm::vec3 point) {
+    float lowest = INFINITY, highest = -INFINITY;
+    for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner = boxMin + boxSize * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+        lowest = std::min(lowest, glm::dot(normal, corner));
+        highest = std::max(highest, glm::dot(normal, corner));
+    }
+    return highest > lowest ? (glm::dot(normal, point) - lowest) / (highest - lowest) : 0.5f;
+}
+
 std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position) {
     glm::vec3 corners[8];
     for (int c = 0; c < 8; ++c) corners[c] = boxMin + boxSize * glm::vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));

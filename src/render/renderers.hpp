@@ -147,6 +147,8 @@ private:
 std::vector<glm::vec3> slicePolygon(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position);
 // That plane as (normal, level): the points p with dot(normal, p) = level.
 glm::vec4 slicePlane(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, float position);
+// The position (0..1, unclamped) of the plane with unit `normal` through `point`: slicePlane's inverse.
+float slicePositionThrough(glm::vec3 boxMin, glm::vec3 boxSize, glm::vec3 normal, glm::vec3 point);
 
 // A plane through the box at any orientation (see slicePolygon), coloured by signed distance with
 // the colour map, iso-distance contours and an emphasised zero contour.

@@ -96,6 +96,42 @@ glm::vec4 Scene::cutPlane() const {
     return sliceCut > 0 ? plane : -plane;
 }
 
+std::vector<glm::vec3> SliceGizmo::segments(Part part) const {
+    std::vector<glm::vec3> out;
+    if (size <= 0.0f || part == Part::None) return out;
+    // Two directions in the plane.
+    const glm::vec3 helper = std::abs(normal.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const glm::vec3 u = glm::normalize(glm::cross(normal, helper)), v = glm::cross(normal, u);
+    if (part == Part::Arrow) {
+        const glm::vec3 tip = centre + normal * size, head = tip - normal * (0.2f * size);
+        out = {centre, tip};
+        for (int k = 0; k < 4; ++k) { // the head: four barbs
+            const float a = float(k) * 1.5707964f;
+            out.push_back(tip);
+            out.push_back(head + 0.08f * size * (std::cos(a) * u + std::sin(a) * v));
+        }
+        return out;
+    }
+    constexpr int kSides = 48;
+    for (int k = 0; k < kSides; ++k) {
+        const float a0 = float(k) * 6.2831853f / kSides, a1 = float(k + 1) * 6.2831853f / kSides;
+        out.push_back(centre + size * (std::cos(a0) * u + std::sin(a0) * v));
+        out.push_back(centre + size * (std::cos(a1) * u + std::sin(a1) * v));
+    }
+    return out;
+}
+
+SliceGizmo Scene::sliceGizmo() const {
+    SliceGizmo gizmo;
+    if (field_.empty()) return gizmo;
+    gizmo.normal = glm::normalize(sliceNormal);
+    const glm::vec4 plane = slicePlane(field_.boxMin(), field_.boxSize(), gizmo.normal, slicePosition);
+    const glm::vec3 centre = field_.boxMin() + 0.5f * field_.boxSize();
+    gizmo.centre = centre + gizmo.normal * (plane.w - glm::dot(gizmo.normal, centre));
+    gizmo.size = 0.3f * std::min({field_.boxSize().x, field_.boxSize().y, field_.boxSize().z, 0.5f * glm::length(field_.boxSize())});
+    return gizmo;
+}
+
 std::vector<ColourBar> Scene::colourBars() const {
     std::vector<ColourBar> bars;
     if (views["slice"]) bars.push_back({effectiveRange(sliceRange), "slice"});
@@ -218,6 +254,15 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glDisable(GL_DEPTH_TEST);
     if (!markers.empty()) lines_.draw(frame, markers, glm::vec4(1.0f, 0.95f, 0.2f, 1.0f));
+    if (sliceGizmoShown && views["slice"] && !field_.empty()) {
+        const SliceGizmo gizmo = sliceGizmo();
+        using Part = SliceGizmo::Part;
+        for (const Part part : {Part::Arrow, Part::Ring}) {
+            const glm::vec4 colour = part == sliceGizmoHighlight ? glm::vec4(1.0f) : part == Part::Arrow ? glm::vec4(1.0f, 0.55f, 0.15f, 1.0f)
+                                                                                                          : glm::vec4(0.3f, 0.8f, 1.0f, 1.0f);
+            lines_.draw(frame, gizmo.segments(part), colour);
+        }
+    }
     if (colourBar && !field_.empty() && distanceShown) colourBar_.draw(size, colourBars(), colormap, "(model units)");
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);

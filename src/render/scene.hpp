@@ -24,6 +24,18 @@ glm::vec3 axisNormal(int axis);
 glm::vec2 sliceValueRange(const Field& field, glm::vec3 normal, float position);
 glm::vec2 fieldValueRange(const Field& field);
 
+// The slice's gizmo, drawn over the scene while the slice is shown (Scene::sliceGizmoShown): an
+// arrow along the normal from the plane's centre, grabbed to move the plane along it, and a ring
+// on the plane about that centre, grabbed to turn the normal.
+struct SliceGizmo {
+    enum class Part { None, Arrow, Ring };
+    glm::vec3 centre{0.0f}; // the point of the plane nearest the field box's centre
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    float size = 0.0f; // the arrow's length and the ring's radius
+    // The part's line segments (pairs of points).
+    std::vector<glm::vec3> segments(Part part) const;
+};
+
 // Which views (view.hpp's registry) are shown, by name; any combination.
 class Views {
 public:
@@ -78,6 +90,9 @@ public:
     int sliceCut = 0;
     std::vector<MeshStyle> meshStyles; // one per mesh of setMeshes
     std::vector<glm::vec3> markers; // segments drawn on top (the probe's point and nearest point)
+    std::vector<glm::vec3> signErrors; // segments: crosses at samples where two fields' signs differ (view "sign_errors")
+    bool sliceGizmoShown = false;   // the viewer's handle on the slice (not in `sdfgen render`'s images)
+    SliceGizmo::Part sliceGizmoHighlight = SliceGizmo::Part::None; // drawn brighter: under the pointer or dragged
     glm::vec3 background{0.16f, 0.17f, 0.19f};
 
     // The range a view's colours use: `range`, or the symmetric automatic one where it is (0, 0).
@@ -87,6 +102,8 @@ public:
     std::vector<ColourBar> colourBars() const;
     // The plane that cuts (as the shaders take it: dot(xyz, p) > w is cut), (0, 0, 0, 1) for none.
     glm::vec4 cutPlane() const;
+    // The slice plane's gizmo for the field shown (size 0 without a field).
+    SliceGizmo sliceGizmo() const;
     float gridHeight() const { return gridHeight_; } // the grid's plane: y = the meshes' lowest point (the field's box's without)
     glm::vec3 fieldBoxMin() const { return field_.boxMin(); }
     glm::vec3 fieldBoxSize() const { return field_.boxSize(); }

@@ -4,10 +4,10 @@
 
 namespace sdfgen::render {
 
-extern const ViewType kMeshView, kWireView, kSliceView, kRaymarchView, kBoxView, kGridView, kVolumeView;
+extern const ViewType kMeshView, kWireView, kSliceView, kRaymarchView, kBoxView, kGridView, kVolumeView, kSignErrorsView;
 
 const std::vector<ViewType>& viewTypes() {
-    static const std::vector<ViewType> types = {kMeshView, kWireView, kSliceView, kRaymarchView, kBoxView, kGridView, kVolumeView};
+    static const std::vector<ViewType> types = {kMeshView, kWireView, kSliceView, kRaymarchView, kBoxView, kGridView, kVolumeView, kSignErrorsView};
     return types;
 }
 

@@ -13,6 +13,7 @@
 #include "core/io/formats/format.hpp"
 #include "core/io/openvdb_plugin.hpp"
 #include "core/runtime/memory.hpp"
+#include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/common.hpp>
@@ -34,6 +35,8 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <istream>
+#include <streambuf>
 #include <limits>
 #include <memory>
 #include <tuple>
@@ -664,20 +667,61 @@ SdfgenMetadata sdfgenMetadata(const openvdb::GridBase& grid, const std::string& 
     return meta;
 }
 
-// What the rest of the reading needs from the file, read by OpenVDB.
-openvdb::FloatGrid::Ptr readFloatGrid(const std::string& path, std::uint64_t fileBytes) {
+// The file as OpenVDB reads it, a block at a time through a ReadWatch: OpenVDB's stream reader
+// reports no progress of its own, and a Cancelled thrown here reaches the caller through the
+// stream (which rethrows it, badbit being in its exceptions).
+class WatchedFileBuffer : public std::streambuf {
+public:
+    WatchedFileBuffer(std::streambuf& file, ReadWatch& watch) : file_(file), watch_(watch), block_(std::size_t(1) << 20) {}
+
+protected:
+    int_type underflow() override {
+        blockStart_ += egptr() - eback();
+        const std::streamsize n = file_.sgetn(block_.data(), std::streamsize(block_.size()));
+        setg(block_.data(), block_.data(), block_.data() + std::max<std::streamsize>(n, 0));
+        if (n <= 0) return traits_type::eof();
+        watch_.advance(std::uint64_t(n));
+        return traits_type::to_int_type(*gptr());
+    }
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode which) override {
+        const off_type here = blockStart_ + (gptr() - eback());
+        if (dir == std::ios_base::cur && off == 0) return pos_type(here); // tellg: the block stays
+        if (dir == std::ios_base::cur) return seekpos(pos_type(here + off), which);
+        return moved(file_.pubseekoff(off, dir, std::ios_base::in));
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode) override { return moved(file_.pubseekpos(pos, std::ios_base::in)); }
+
+private:
+    pos_type moved(pos_type pos) {
+        if (pos != pos_type(off_type(-1))) {
+            blockStart_ = off_type(pos);
+            setg(block_.data(), block_.data(), block_.data());
+        }
+        return pos;
+    }
+    std::streambuf& file_;
+    ReadWatch& watch_;
+    std::vector<char> block_;
+    off_type blockStart_ = 0; // the file offset of the block's first byte
+};
+
+// What the rest of the reading needs from the file, read by OpenVDB; `control` as loadField's.
+openvdb::FloatGrid::Ptr readFloatGrid(const std::string& path, std::uint64_t fileBytes, const RunControl& control) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     VdbLayout(in, fileBytes, path).check();
     in.seekg(0);
+    ReadWatch watch(control, fileBytes);
+    WatchedFileBuffer watched(*in.rdbuf(), watch);
+    std::istream watchedIn(&watched);
     // OpenVDB does not look at the stream's state while it reads a tree: a read past the end must
     // throw at once, or a truncated file's counts make it allocate node after empty node.
-    in.exceptions(std::ios::failbit | std::ios::badbit);
+    watchedIn.exceptions(std::ios::failbit | std::ios::badbit);
     // Read as a stream, not memory-mapped: a truncated file must fail, not fault, and it must end
     // exactly where the last grid does.
-    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    openvdb::io::Stream stream(watchedIn, /*delayLoad=*/false);
     const openvdb::GridPtrVecPtr grids = stream.getGrids();
-    if (in.tellg() != std::streampos(fileBytes)) throw Error(path + ": not a readable OpenVDB file (data after the last grid)");
+    if (watchedIn.tellg() != std::streampos(fileBytes)) throw Error(path + ": not a readable OpenVDB file (data after the last grid)");
     // The grid named "surface", else the first float grid.
     for (const bool byName : {true, false}) {
         for (const openvdb::GridBase::Ptr& candidate : *grids) {
@@ -758,7 +802,8 @@ void checkBytesFit(double bytes, const std::string& what, const std::string& pat
 // A level set (sdfgen's band field, or another program's) as a band field: each leaf a brick, the
 // inactive negative tiles the inside boxes (runs of whole bricks per row of bricks). `first` is
 // the index of sample (0, 0, 0), on the leaves' 8-voxel grid.
-SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const openvdb::Coord& first, const std::string& path) {
+SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const openvdb::Coord& first, const std::string& path,
+                         const RunControl& control) {
     constexpr int B = SparseField::kBrick;
     SparseField field;
     field.source = std::move(frame.source);
@@ -787,6 +832,7 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     field.bricks.reserve(leaves.size());
     field.values.resize(leaves.size() * SparseField::kBrickSamples);
     for (std::size_t b = 0; b < leaves.size(); ++b) {
+        if (b % 4096 == 0) throwIfCancelled(control);
         const openvdb::Coord o = leaves[b]->origin() - first;
         field.bricks.emplace_back(o.x() / B, o.y() / B, o.z() / B);
         float* values = &field.values[b * SparseField::kBrickSamples];
@@ -848,13 +894,13 @@ bool readsAsBand(const openvdb::FloatGrid& grid, const SdfgenMetadata& meta) {
     return meta.present ? meta.band > 0 : grid.getGridClass() == openvdb::GRID_LEVEL_SET;
 }
 
-Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
+Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path, const RunControl& control) {
     Field field;
     openvdb::CoordBBox box;
     const SdfgenMetadata meta = readFrame(grid, field, box, path);
     if (readsAsBand(grid, meta)) { // the dense form of what loadSparseGrid reads
         try {
-            return gridToSparse(grid, std::move(field), box.min(), path).toDense();
+            return gridToSparse(grid, std::move(field), box.min(), path, control).toDense();
         } catch (const Error& e) {
             const std::string message = e.what();
             throw Error(message.rfind(path, 0) == 0 ? message : path + ": " + message);
@@ -869,15 +915,15 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
     return field;
 }
 
-SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& path) {
+SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& path, const RunControl& control) {
     Field field;
     openvdb::CoordBBox box;
     const SdfgenMetadata meta = readFrame(grid, field, box, path);
     // Another program's level set too: never made dense over the box of its active voxels, which
     // two small spheres far apart make huge.
-    if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path);
+    if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path, control);
     // A dense grid, or another program's grid of no class: its samples, read as any dense field.
-    const Field dense = loadGrid(grid, path);
+    const Field dense = loadGrid(grid, path, control);
     return sparseFromDense(dense, bandBackground(dense));
 }
 
@@ -903,12 +949,12 @@ auto readVdb(const std::string& path, const Read& read) {
     }
 }
 
-Field loadVdbFile(const std::string& path) {
-    return readVdb(path, [&](std::uint64_t bytes) { return loadGrid(*readFloatGrid(path, bytes), path); });
+Field loadVdbFile(const std::string& path, const RunControl& control) {
+    return readVdb(path, [&](std::uint64_t bytes) { return loadGrid(*readFloatGrid(path, bytes, control), path, control); });
 }
 
-SparseField loadSparseVdbFile(const std::string& path) {
-    return readVdb(path, [&](std::uint64_t bytes) { return loadSparseGrid(*readFloatGrid(path, bytes), path); });
+SparseField loadSparseVdbFile(const std::string& path, const RunControl& control) {
+    return readVdb(path, [&](std::uint64_t bytes) { return loadSparseGrid(*readFloatGrid(path, bytes, control), path, control); });
 }
 
 // Whether the grid loadField reads (named "surface", else the first float grid) is a band

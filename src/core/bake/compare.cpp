@@ -16,18 +16,21 @@ class Tally {
 public:
     Tally(double band, float backgroundA, float backgroundB) : band_(band), backgroundA_(backgroundA), backgroundB_(backgroundB) {}
 
-    void add(double va, double vb) {
-        if (std::min(std::fabs(va), std::fabs(vb)) < band_) return;
-        d_.signDifferences += (va < 0) != (vb < 0);
+    // Returns whether the pair counts as a sign difference.
+    bool add(double va, double vb) {
+        if (std::min(std::fabs(va), std::fabs(vb)) < band_) return false;
+        const bool differ = (va < 0) != (vb < 0);
+        d_.signDifferences += differ;
         if ((backgroundA_ > 0 && std::fabs(va) >= backgroundA_) || (backgroundB_ > 0 && std::fabs(vb) >= backgroundB_)) {
             ++d_.signOnly;
-            return;
+            return differ;
         }
         const double diff = std::fabs(va - vb);
         d_.maxAbs = std::max(d_.maxAbs, diff);
         sum_ += diff;
         sumSquares_ += diff * diff;
         ++d_.compared;
+        return differ;
     }
 
     // `count` samples outside both band fields' bricks (each +-background), `differ` of them on
@@ -94,10 +97,13 @@ void checkSameGrid(const Grid& ga, const Grid& gb) {
     }
 }
 
-FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels) {
+FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels, std::vector<std::size_t>* signDifferences) {
     checkSameGrid(a.grid, b.grid);
     Tally tally(bandVoxels * a.grid.voxel, a.background, b.background);
-    for (std::size_t i = 0; i < a.values.size(); ++i) tally.add(a.values[i], b.values[i]);
+    if (signDifferences) signDifferences->clear();
+    for (std::size_t i = 0; i < a.values.size(); ++i) {
+        if (tally.add(a.values[i], b.values[i]) && signDifferences) signDifferences->push_back(i);
+    }
     return tally.result(a.grid.voxel);
 }
 

@@ -31,9 +31,9 @@ void saveVdb(const Field& field, const std::string& path, const SaveOptions& opt
     openVdbPlugin().save(field, path, options);
 }
 
-Field loadVdb(const std::string& path) {
+Field loadVdb(const std::string& path, const RunControl& control) {
     if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
-    return openVdbPlugin().load(path);
+    return openVdbPlugin().load(path, control);
 }
 
 void saveSparseVdb(const SparseField& field, const std::string& path) {
@@ -46,9 +46,9 @@ void saveSparseVdbGivenUp(SparseField&& field, const std::string& path) {
     openVdbPlugin().saveSparseGivenUp(std::move(field), path);
 }
 
-SparseField loadSparseVdb(const std::string& path) {
+SparseField loadSparseVdb(const std::string& path, const RunControl& control) {
     if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
-    return openVdbPlugin().loadSparse(path);
+    return openVdbPlugin().loadSparse(path, control);
 }
 
 bool isSparseVdb(const std::string& path) {

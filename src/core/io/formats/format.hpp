@@ -1,6 +1,7 @@
 #pragma once
 // Field file formats as plug-ins: each format is one file in src/core/io/formats/ that defines its
 // save and load functions, plus one line in the table in registry.cpp.
+#include "core/io/read_watch.hpp"
 #include "core/runtime/printable.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
@@ -20,7 +21,8 @@ namespace sdfgen {
 void saveFieldText(const Field& field, const std::string& path);
 
 // Reads and validates an sdfgen-text file; errors name the file and the line of the first problem.
-Field loadFieldText(const std::string& path);
+// `control` as loadField's.
+Field loadFieldText(const std::string& path, const RunControl& control = {});
 
 } // namespace sdfgen
 
@@ -31,12 +33,12 @@ struct FieldFormat {
     const char* description; // for help texts (knownFieldFormats)
     bool holdsChannels;      // writes Field::gradient, closest and triangle (see sdfgen::Channels)
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
-    Field (*load)(const std::string& path);
+    Field (*load)(const std::string& path, const RunControl& control);
     // The narrow-band side, null for the dense-only formats (saveSparseField writes those the
     // field's dense form; loadSparseField reads their samples). loadSparse reads any file of the
     // format, dense ones through sparseFromDense; isSparse reads only what tells the two apart.
     void (*saveSparse)(const SparseField& field, const std::string& path) = nullptr;
-    SparseField (*loadSparse)(const std::string& path) = nullptr;
+    SparseField (*loadSparse)(const std::string& path, const RunControl& control) = nullptr;
     bool (*isSparse)(const std::string& path) = nullptr;
     // saveSparse for a field given up (saveSparseField(SparseField&&)); null where saveSparse needs no second copy.
     void (*saveSparseGivenUp)(SparseField&& field, const std::string& path) = nullptr;
@@ -79,10 +81,10 @@ void parseMethodLine(const std::string& line, Field& field, const std::string& p
 
 // The sdfgen-text format (text.cpp).
 void saveText(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadText(const std::string& path);
+Field loadText(const std::string& path, const RunControl& control);
 // NumPy .npy (npy.cpp) and .npz (npz.cpp), OpenVDB (vdb.cpp), NRRD (nrrd.cpp).
 void saveNpy(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadNpy(const std::string& path);
+Field loadNpy(const std::string& path, const RunControl& control);
 // One .npy member of an .npz archive: its header (or whole small array) and the data after it.
 struct NpzMember {
     std::string name;
@@ -94,17 +96,17 @@ struct NpzMember {
 void writeNpz(const std::string& path, const std::vector<NpzMember>& members);
 
 void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadNpz(const std::string& path);
+Field loadNpz(const std::string& path, const RunControl& control);
 void saveSparseNpz(const SparseField& field, const std::string& path);
-SparseField loadSparseNpz(const std::string& path);
+SparseField loadSparseNpz(const std::string& path, const RunControl& control);
 bool isSparseNpz(const std::string& path);
 void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadVdb(const std::string& path);
+Field loadVdb(const std::string& path, const RunControl& control);
 void saveSparseVdb(const SparseField& field, const std::string& path);
 void saveSparseVdbGivenUp(SparseField&& field, const std::string& path);
-SparseField loadSparseVdb(const std::string& path);
+SparseField loadSparseVdb(const std::string& path, const RunControl& control);
 bool isSparseVdb(const std::string& path);
 void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadNrrd(const std::string& path);
+Field loadNrrd(const std::string& path, const RunControl& control);
 
 } // namespace sdfgen::formats

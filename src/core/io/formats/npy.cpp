@@ -254,7 +254,7 @@ NpyHeader readNpyHeader(const ReadBytes& read, const std::string& where) {
 }
 
 void readNpyFieldValues(const NpyHeader& header, const ReadBytes& read, std::uint64_t dataBytes, Field& field,
-                        const std::string& where) {
+                        const std::string& where, const RunControl& control) {
     if (header.descr != "<f4") {
         throw Error(where + ": dtype '" + printable(header.descr) + "' is not supported (a field is little-endian float32, '<f4')");
     }
@@ -281,6 +281,7 @@ void readNpyFieldValues(const NpyHeader& header, const ReadBytes& read, std::uin
         throw Error(where + ": not enough memory for the " + std::to_string(expected >> 20) + " MiB of data its header declares");
     }
     constexpr std::size_t kBlock = std::size_t(1) << 20; // values
+    ReadWatch watch(control, expected);
     while (data.size() < field.grid.sampleCount()) {
         const std::size_t start = data.size();
         const std::size_t n = std::min(kBlock, field.grid.sampleCount() - start);
@@ -288,6 +289,7 @@ void readNpyFieldValues(const NpyHeader& header, const ReadBytes& read, std::uin
         if (read(data.data() + start, n * sizeof(float)) != n * sizeof(float)) {
             throw Error(where + ": data ends before the " + std::to_string(expected) + " bytes its header declares (truncated or corrupt)");
         }
+        watch.advance(n * sizeof(float));
     }
     if (header.fortranOrder) {
         field.values = std::move(data);
@@ -397,7 +399,7 @@ void saveNpy(const Field& field, const std::string& path, const SaveOptions&) {
     });
 }
 
-Field loadNpy(const std::string& path) {
+Field loadNpy(const std::string& path, const RunControl& control) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
     if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     struct stat info;
@@ -406,7 +408,7 @@ Field loadNpy(const std::string& path) {
     const NpyHeader header = readNpyHeader(read, path);
     Field field;
     field.method = "unknown"; // a bare .npy holds only the values: unit voxels at the origin
-    readNpyFieldValues(header, read, std::uint64_t(info.st_size) - header.headerBytes, field, path);
+    readNpyFieldValues(header, read, std::uint64_t(info.st_size) - header.headerBytes, field, path, control);
     checkField(field, path);
     return field;
 }

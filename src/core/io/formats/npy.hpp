@@ -2,6 +2,7 @@
 // The NumPy .npy array format (numpy.lib.format, versions 1 to 3), shared by the .npy and .npz
 // formats: header writing and strict parsing, and the field's float32 (nx, ny, nz) array.
 #include "sdfgen/field.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -40,9 +41,9 @@ NpyHeader readNpyHeader(const ReadBytes& read, const std::string& where);
 
 // The field's array: float32 little-endian, 3 dimensions; Fortran order is the field's own layout,
 // C order is transposed. `dataBytes` is how many bytes follow the header (checked against the
-// shape before anything is allocated). Sets field.grid.dims and field.values.
+// shape before anything is allocated). Sets field.grid.dims and field.values. `control` as loadField's.
 void readNpyFieldValues(const NpyHeader& header, const ReadBytes& read, std::uint64_t dataBytes, Field& field,
-                        const std::string& where);
+                        const std::string& where, const RunControl& control);
 
 // A .npy holding the field's values as (nx, ny, nz) float32 in Fortran order (x fastest), the
 // layout of Field::values, so the data is the buffer as is.

@@ -267,7 +267,7 @@ std::vector<std::int32_t> readIntRows(const ArchiveReader& archive, const std::s
 }
 
 // brick_values: float32 (8, 8, 8, bricks), in Fortran order (SparseField::values as is) or in C order.
-std::vector<float> readBrickValues(const ArchiveReader& archive, std::uint64_t bricks, const std::string& path) {
+std::vector<float> readBrickValues(const ArchiveReader& archive, std::uint64_t bricks, const std::string& path, const RunControl& control) {
     const std::string where = path + ": " + kBrickValues;
     zip_uint64_t size = 0;
     auto file = archive.open(kBrickValues, size);
@@ -285,7 +285,17 @@ std::vector<float> readBrickValues(const ArchiveReader& archive, std::uint64_t b
     }
     checkBytesFit(header.fortranOrder ? bytes : 2 * bytes, where);
     std::vector<float> values(header.count(where));
-    if (read(values.data(), bytes) != bytes) throw Error(where + ": is truncated or corrupt (" + zip_file_strerror(file.get()) + ")");
+    // A block at a time, so that the read can report progress and stop at a Cancel.
+    ReadWatch watch(control, bytes);
+    constexpr std::uint64_t kBlock = std::uint64_t(1) << 20;
+    for (std::uint64_t done = 0; done < bytes;) {
+        const std::uint64_t n = std::min(kBlock, bytes - done);
+        if (read(reinterpret_cast<char*>(values.data()) + done, n) != n) {
+            throw Error(where + ": is truncated or corrupt (" + zip_file_strerror(file.get()) + ")");
+        }
+        done += n;
+        watch.advance(n);
+    }
     archive.checkAtEnd(file.get(), kBrickValues);
     if (header.fortranOrder) return values;
     // C order: [i, j, k, b] at ((i * 8 + j) * 8 + k) * bricks + b.
@@ -345,11 +355,11 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     writeNpz(path, members);
 }
 
-Field loadNpz(const std::string& path) {
+Field loadNpz(const std::string& path, const RunControl& control) {
     const ArchiveReader archive(path);
     if (archive.has(kBrickOrigins)) {
         try {
-            return loadSparseNpz(path).toDense();
+            return loadSparseNpz(path, control).toDense();
         } catch (const Error& e) {
             const std::string message = e.what();
             throw Error(message.rfind(path, 0) == 0 ? message : path + ": " + message);
@@ -363,7 +373,7 @@ Field loadNpz(const std::string& path) {
         const ReadBytes read = ArchiveReader::reader(file.get());
         const NpyHeader header = readNpyHeader(read, where);
         if (header.headerBytes > size) throw Error(where + ": member is shorter than its header");
-        readNpyFieldValues(header, read, size - header.headerBytes, field, where);
+        readNpyFieldValues(header, read, size - header.headerBytes, field, where, control);
         archive.checkAtEnd(file.get(), "sdf.npy");
     }
     readGridAndNames(archive, path, field, false);
@@ -401,10 +411,10 @@ void saveSparseNpz(const SparseField& field, const std::string& path) {
     writeNpz(path, members);
 }
 
-SparseField loadSparseNpz(const std::string& path) {
+SparseField loadSparseNpz(const std::string& path, const RunControl& control) {
     const ArchiveReader archive(path);
     if (!archive.has(kBrickOrigins)) {
-        const Field dense = loadNpz(path);
+        const Field dense = loadNpz(path, control);
         return sparseFromDense(dense, bandBackground(dense));
     }
     Field names;
@@ -430,7 +440,7 @@ SparseField loadSparseNpz(const std::string& path) {
             field.bricks[b][a] = first / SparseField::kBrick;
         }
     }
-    field.values = readBrickValues(archive, bricks, path);
+    field.values = readBrickValues(archive, bricks, path, control);
     const std::vector<std::int32_t> boxes = readIntRows(archive, kInsideBoxes, 6, path);
     field.insideBoxes.resize(boxes.size() / 6);
     if (!boxes.empty()) std::memcpy(field.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));

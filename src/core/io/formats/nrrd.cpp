@@ -99,7 +99,7 @@ void saveNrrd(const Field& field, const std::string& path, const SaveOptions&) {
     });
 }
 
-Field loadNrrd(const std::string& path) {
+Field loadNrrd(const std::string& path, const RunControl& control) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
     if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     struct stat info;
@@ -269,7 +269,15 @@ Field loadNrrd(const std::string& path) {
     }
     if (available > expected) throw Error(path + ": " + std::to_string(available - expected) + " unexpected bytes after the data");
     field.values.resize(field.grid.sampleCount());
-    if (std::fread(field.values.data(), 1, expected, file.get()) != expected) throw Error(path + ": read error");
+    // A block at a time, so that the read can report progress and stop at a Cancel.
+    ReadWatch watch(control, expected);
+    constexpr std::uint64_t kBlock = std::uint64_t(1) << 20;
+    for (std::uint64_t done = 0; done < expected;) {
+        const std::uint64_t n = std::min(kBlock, expected - done);
+        if (std::fread(reinterpret_cast<char*>(field.values.data()) + done, 1, n, file.get()) != n) throw Error(path + ": read error");
+        done += n;
+        watch.advance(n);
+    }
     if (bigEndian) {
         for (float& v : field.values) {
             std::uint32_t bits;

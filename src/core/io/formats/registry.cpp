@@ -72,9 +72,9 @@ void refuseDirectory(const std::string& path) {
 
 } // namespace
 
-Field loadField(const std::string& path) {
+Field loadField(const std::string& path, const RunControl& control) {
     refuseDirectory(path);
-    Field field = namingOutOfMemory(path, "reading it", [&] { return formats::formatOf(path).load(path); });
+    Field field = namingOutOfMemory(path, "reading it", [&] { return formats::formatOf(path).load(path, control); });
     // A band field's dense form saved in a dense format keeps only its `band` parameter.
     if (field.background == 0 && !field.parameter("band").empty()) field.background = formats::bandBackground(field);
     return field;
@@ -102,12 +102,12 @@ void saveSparseField(SparseField&& field, const std::string& path) {
     saveSparseField(mine, path);
 }
 
-SparseField loadSparseField(const std::string& path) {
+SparseField loadSparseField(const std::string& path, const RunControl& control) {
     refuseDirectory(path);
     const formats::FieldFormat& format = formats::formatOf(path);
     return namingOutOfMemory(path, "reading it", [&] {
-        if (format.loadSparse) return format.loadSparse(path);
-        const Field dense = loadField(path);
+        if (format.loadSparse) return format.loadSparse(path, control);
+        const Field dense = loadField(path, control);
         return formats::sparseFromDense(dense, formats::bandBackground(dense));
     });
 }

@@ -146,7 +146,7 @@ void saveFieldText(const Field& field, const std::string& path) {
     });
 }
 
-Field loadFieldText(const std::string& path) {
+Field loadFieldText(const std::string& path, const RunControl& control) {
     std::string text = readInputFile(path, InputKind::Text);
     if (withoutByteOrderMark(text).size() != text.size()) text.erase(0, 3);
 
@@ -222,7 +222,10 @@ Field loadFieldText(const std::string& path) {
                     std::to_string(lines) + " of " + std::to_string(count) + " values");
     }
     field.values.resize(count);
+    ReadWatch watch(control, count);
+    constexpr std::size_t kValuesPerCheck = std::size_t(1) << 16;
     for (std::size_t i = 0; i < count; ++i) {
+        if (i % kValuesPerCheck == 0) watch.advance(std::min(kValuesPerCheck, count - i));
         if (reader.atEnd()) {
             reader.fail("file ends after " + std::to_string(i) + " of " + std::to_string(count) + " values");
         }
@@ -244,6 +247,6 @@ Field loadFieldText(const std::string& path) {
 namespace sdfgen::formats {
 
 void saveText(const Field& field, const std::string& path, const SaveOptions&) { saveFieldText(field, path); }
-Field loadText(const std::string& path) { return loadFieldText(path); }
+Field loadText(const std::string& path, const RunControl& control) { return loadFieldText(path, control); }
 
 } // namespace sdfgen::formats
