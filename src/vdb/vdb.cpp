@@ -36,6 +36,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <tuple>
 #include <sys/stat.h>
 
@@ -333,6 +334,110 @@ private:
     std::vector<GridSummary> grids_;
 };
 
+// OpenVDB 10's RootNode::readTopology news each root child and reads its subtree before the tree
+// owns it, so a read that throws there (a corrupt compressed block the layout walk cannot judge
+// without decompressing it) leaks the child's whole subtree, 270 KB and up per bad file: a process
+// that reads many bad files grows without bound. Nor could the tree simply own it: a node whose
+// read threw has a child mask naming children it never made. So the grid types sdfgen reads are
+// registered with OwningReadGrid, whose topology read is OpenVDB's (file versions 222 and later,
+// the only ones VdbLayout lets through) but gives each node to its parent before reading it and,
+// when a read throws, drops from each node's child mask the children it had not made yet: the
+// same tree from a valid file, and everything freed after an invalid one.
+
+// An InternalNode's protected masks and table (a derived class may name them).
+template <class Node>
+struct InternalNodeParts : Node {
+    static typename Node::NodeMaskType& childMask(Node& node) { return node.*(&InternalNodeParts::mChildMask); }
+    static typename Node::NodeMaskType& valueMask(Node& node) { return node.*(&InternalNodeParts::mValueMask); }
+    static typename Node::UnionType* table(Node& node) { return node.*(&InternalNodeParts::mNodes); }
+};
+
+template <class Node>
+void readInternalTopology(Node& node, std::istream& is, bool fromHalf, const typename Node::ValueType& background) {
+    using Parts = InternalNodeParts<Node>;
+    using Child = typename Node::ChildNodeType;
+    typename Node::NodeMaskType& children = Parts::childMask(node);
+    typename Node::UnionType* table = Parts::table(node);
+    try {
+        children.load(is);
+        Parts::valueMask(node).load(is);
+        std::unique_ptr<typename Node::ValueType[]> values(new typename Node::ValueType[Node::NUM_VALUES]);
+        openvdb::io::readCompressedValues(is, values.get(), Node::NUM_VALUES, Parts::valueMask(node), fromHalf);
+        for (auto value = node.beginValueAll(); value; ++value) table[value.pos()].setValue(values[value.pos()]);
+    } catch (...) {
+        children.setOff(); // none made yet
+        throw;
+    }
+    for (auto on = children.beginOn(); on; ++on) {
+        const openvdb::Index i = on.pos();
+        auto* child = new Child(openvdb::PartialCreate(), node.offsetToGlobalCoord(i), background);
+        table[i].setChild(child);
+        try {
+            if constexpr (Child::LEVEL > 0) readInternalTopology(*child, is, fromHalf, background);
+            else child->readTopology(is, fromHalf);
+        } catch (...) {
+            for (openvdb::Index later = i + 1; later < Node::NUM_VALUES; ++later) children.setOff(later); // not made
+            throw;
+        }
+    }
+}
+
+template <class GridT>
+class OwningReadGrid final : public GridT {
+public:
+    static openvdb::GridBase::Ptr factory() { return std::make_shared<OwningReadGrid>(); }
+    // In place of GridT in OpenVDB's registry (GridBase's registration is for its subclasses).
+    static void registerInPlaceOfBase() {
+        openvdb::GridBase::unregisterGrid(GridT::gridType());
+        openvdb::GridBase::registerGrid(GridT::gridType(), factory);
+    }
+    // Tree::readTopology, then RootNode::readTopology.
+    void readTopology(std::istream& is) override {
+        using Tree = typename GridT::TreeType;
+        using Root = typename Tree::RootNodeType;
+        using Value = typename Root::ValueType;
+        std::int32_t bufferCount = 0; // always 1 since file version 220 (read and ignored, as TreeBase does)
+        is.read(reinterpret_cast<char*>(&bufferCount), sizeof bufferCount);
+        Value background;
+        is.read(reinterpret_cast<char*>(&background), sizeof(Value));
+        const typename Tree::Ptr tree = std::make_shared<Tree>(background);
+        this->setTree(tree);
+        Root& root = tree->root();
+        openvdb::io::setGridBackgroundValuePtr(is, &root.background());
+        openvdb::Index tiles = 0, children = 0;
+        is.read(reinterpret_cast<char*>(&tiles), sizeof tiles);
+        is.read(reinterpret_cast<char*>(&children), sizeof children);
+        std::int32_t xyz[3];
+        for (openvdb::Index n = 0; n < tiles; ++n) {
+            Value value;
+            char active = 0;
+            is.read(reinterpret_cast<char*>(xyz), sizeof xyz);
+            is.read(reinterpret_cast<char*>(&value), sizeof(Value));
+            is.read(&active, 1);
+            root.addTile(openvdb::Coord(xyz), value, active != 0);
+        }
+        for (openvdb::Index n = 0; n < children; ++n) {
+            is.read(reinterpret_cast<char*>(xyz), sizeof xyz);
+            auto* child = new typename Root::ChildNodeType(openvdb::PartialCreate(), openvdb::Coord(xyz), root.background());
+            root.addChild(child); // the tree owns it (and frees one it replaces)
+            readInternalTopology(*child, is, this->saveFloatAsHalf(), root.background());
+        }
+    }
+};
+
+// openvdb::initialize(), with the grid types sdfgen reads (the surface and the channels) made as
+// OwningReadGrids. Once per process: the registry is OpenVDB's, shared with any other user of the
+// library in the process (a pyopenvdb beside the Python module gets the same grids from it).
+void initializeOpenVdb() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        openvdb::initialize();
+        OwningReadGrid<openvdb::FloatGrid>::registerInPlaceOfBase();
+        OwningReadGrid<openvdb::Vec3SGrid>::registerInPlaceOfBase();
+        OwningReadGrid<openvdb::Int32Grid>::registerInPlaceOfBase();
+    });
+}
+
 // The grid's index-to-world map as voxel size and translation; Error unless it is axis-aligned
 // with cubic voxels, which is what a Field can hold.
 void linearMap(const openvdb::math::Transform& transform, double& h, openvdb::Vec3d& translation, const std::string& path) {
@@ -409,7 +514,7 @@ public:
 // A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
 // h, translation origin + h/2), every sample an active voxel. Initializes OpenVDB.
 openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
-    openvdb::initialize();
+    initializeOpenVdb();
     // The background is just beyond the largest distance, so that no sample equals it
     // (copyFromDense makes samples equal to the background inactive).
     float largest = 0.0f;
@@ -429,7 +534,7 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
 // goes back to the system as they become leaves, and they are emptied.
 openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, SparseField* givenUp = nullptr) {
     constexpr int B = SparseField::kBrick;
-    openvdb::initialize();
+    initializeOpenVdb();
     const float background = std::ldexp(field.background, exponent);
     const openvdb::FloatGrid::Ptr grid = std::make_shared<ParallelBuffersGrid>(background);
     openvdb::FloatTree& tree = grid->tree();
@@ -887,7 +992,7 @@ auto readVdb(const std::string& path, const Read& read) {
     struct stat info;
     if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     if (!S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
-    openvdb::initialize();
+    initializeOpenVdb();
     try {
         return read(std::uint64_t(info.st_size));
     } catch (const openvdb::Exception& e) {
