@@ -72,6 +72,10 @@ public:
         bool sparse() const {
             return band > 0 || (!fromSdfgen && gridClass == openvdb::GridBase::gridClassToString(openvdb::GRID_LEVEL_SET));
         }
+        // Another program's grid of no class, or of class unknown (OpenVDB reads any other name as unknown).
+        bool unclassed() const {
+            return !fromSdfgen && openvdb::GridBase::stringToGridClass(gridClass) == openvdb::GRID_UNKNOWN;
+        }
     };
     const std::vector<GridSummary>& grids() const { return grids_; }
 
@@ -948,9 +952,28 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     return field;
 }
 
-// A band field's grid (sdfgen's), or another program's level set: read as bricks and inside boxes.
+// Whether another program's grid of no class (or of class "unknown") is a level set in all but
+// name: a positive background, no active tiles, every leaf value within +-background (so reading
+// it as a band clamps nothing), and active voxels that do not fill their box (a band around a
+// surface, not a dense grid). Such a grid read dense over the box of its active voxels could take
+// gigabytes for a file of kilobytes, as a level set could.
+bool levelSetButForItsClass(const openvdb::FloatGrid& grid) {
+    const float background = grid.background();
+    if (!(background > 0.0f) || !std::isfinite(background) || grid.tree().hasActiveTiles()) return false;
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+        for (auto value = leaf->cbeginValueAll(); value; ++value) {
+            if (!(std::fabs(*value) <= background)) return false;
+        }
+    }
+    const openvdb::CoordBBox active = grid.evalActiveVoxelBoundingBox();
+    return !active.empty() && grid.tree().activeVoxelCount() < active.volume();
+}
+
+// A band field's grid (sdfgen's), or another program's level set, named so or not: read as bricks
+// and inside boxes.
 bool readsAsBand(const openvdb::FloatGrid& grid, const SdfgenMetadata& meta) {
-    return meta.present ? meta.band > 0 : grid.getGridClass() == openvdb::GRID_LEVEL_SET;
+    if (meta.present) return meta.band > 0;
+    return grid.getGridClass() == openvdb::GRID_LEVEL_SET || (grid.getGridClass() == openvdb::GRID_UNKNOWN && levelSetButForItsClass(grid));
 }
 
 Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path) {
@@ -981,7 +1004,8 @@ SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& pa
     // Another program's level set too: never made dense over the box of its active voxels, which
     // two small spheres far apart make huge.
     if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path);
-    // A dense grid, or another program's grid of no class: its samples, read as any dense field.
+    // A dense grid, or another program's grid of no class that is not a level set: its samples,
+    // read as any dense field (refused when they do not fit in memory).
     const Field dense = loadGrid(grid, path);
     return sparseFromDense(dense, bandBackground(dense));
 }
@@ -1027,7 +1051,10 @@ bool isSparseVdbFile(const std::string& path) {
         auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
         for (const bool byName : {true, false}) {
             for (const VdbLayout::GridSummary& grid : layout.grids()) {
-                if (isFloat(grid.type) && (!byName || grid.name == kGridName)) return grid.sparse();
+                if (!isFloat(grid.type) || (byName && grid.name != kGridName)) continue;
+                // Another program's grid of no class is a level set or not by its tree.
+                if (grid.unclassed()) return readsAsBand(*readFloatGrid(path, bytes), SdfgenMetadata{});
+                return grid.sparse();
             }
         }
         throw Error(path + ": the file holds no float grid");
