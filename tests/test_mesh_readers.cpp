@@ -553,6 +553,26 @@ TEST_F(MeshReaders, GltfExternalFilesAreConfinedToItsFolder) {
     unsetenv("SDFGEN_GLTF_FOLDERS");
 }
 
+TEST_F(MeshReaders, GltfUnderAnotherNameIsCheckedAllTheSame) {
+    // Assimp takes a file whose extension no importer (or several) claims for glTF by its content:
+    // a glTF named .xml had its buffers read from wherever its URIs led. Every name Assimp is
+    // handed gets the guard by content; .obj, .ply, .off, .stl and no extension are sdfgen's own readers.
+    std::filesystem::create_directories(dir_ / "model");
+    write("outside.bin", triangleBytes());
+    write("model/inside.bin", triangleBytes());
+    for (const char* name : {"t.xml", "t.mesh.xml", "t.fbx", "t.dae", "t.x"}) {
+        SCOPED_TRACE(name);
+        const std::string base = std::string("model/") + name;
+        EXPECT_CONTAINS(loadError(base, gltfWithBufferFile("../outside.bin")), "buffer 0's uri '../outside.bin' leads outside the glTF's folder");
+        EXPECT_CONTAINS(loadError("model/bom-" + std::string(name), "\xEF\xBB\xBF \n" + gltfWithBufferFile("../outside.bin")),
+                        "leads outside the glTF's folder");
+        EXPECT_CONTAINS(loadError("model/bin-" + std::string(name), glb(gltfTriangle(2), triangleBytes(4000000000u))),
+                        "buffer 0 has a uri, but in a GLB file buffer 0 is read from the binary chunk");
+    }
+    // Where Assimp does read it as glTF (JSON named .xml; it takes GLB by its name only), the guarded glTF is read.
+    EXPECT_EQ(loadMesh(write("model/good.xml", gltfWithBufferFile("inside.bin"))).triangleCount(), 1u);
+}
+
 TEST_F(MeshReaders, GltfIndicesAreCheckedAsAssimpReadsThem) {
     const auto replace = [](std::string& text, const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
     // A sparse accessor patching index 0 with the bytes of the float 1.0 (vertex 1065353216).

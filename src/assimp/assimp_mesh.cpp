@@ -1,5 +1,5 @@
 // Mesh files sdfgen has no reader of its own for (glTF/GLB, FBX, DAE, 3DS, 3MF, ...) through
-// Assimp; glTF files are checked first (gltf_guard.hpp). Node transforms are applied and every
+// Assimp; glTF files, by content whatever their names, are checked first (gltf_guard.hpp). Node transforms are applied and every
 // mesh of the scene is merged into one; Assimp only triangulates polygons and joins identical
 // vertices, so no geometry is "repaired" or dropped behind the user's back (buildMesh drops and
 // counts zero-area triangles, as for OBJ; points and lines are counted in a warning).
@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <string_view>
 
 namespace sdfgen {
 
@@ -125,6 +126,25 @@ std::string firstLine(std::string text) {
     return text;
 }
 
+// Whether Assimp may read the file as glTF, and as which kind: Assimp picks its importer by the
+// name's extension, but by content when no importer or several claim the extension (a glTF named
+// .xml is read as glTF, its buffers opened wherever its URIs lead). So the guard runs by content
+// too: a GLB by its magic, JSON by its first character after a byte-order mark and white space
+// (no other format Assimp reads starts with '{').
+enum class GltfKind { None, Json, Binary };
+GltfKind gltfKind(const std::string& path, const std::string& extension) {
+    if (extension == ".gltf") return GltfKind::Json;
+    if (extension == ".glb") return GltfKind::Binary;
+    char head[256] = {};
+    std::ifstream file(path, std::ios::binary);
+    file.read(head, sizeof head);
+    const std::string_view start(head, std::size_t(std::max<std::streamsize>(file.gcount(), 0)));
+    if (start.substr(0, 4) == "glTF") return GltfKind::Binary;
+    std::size_t first = start.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
+    while (first < start.size() && std::strchr(" \t\r\n", start[first]) && start[first] != '\0') ++first;
+    return first < start.size() && start[first] == '{' ? GltfKind::Json : GltfKind::None;
+}
+
 Mesh loadWithAssimp(const std::string& path) {
     Assimp::Importer importer;
     // Without normals, colours and texture coordinates, identical positions are identical
@@ -135,8 +155,8 @@ Mesh loadWithAssimp(const std::string& path) {
     const std::string extension = lowerExtension(path);
     bool gltfCounted = false;
     std::uint64_t gltfTriangles = 0;
-    if (extension == ".gltf" || extension == ".glb") {
-        GltfCheck gltf = guardGltf(path, extension == ".glb");
+    if (const GltfKind kind = gltfKind(path, extension); kind != GltfKind::None) {
+        GltfCheck gltf = guardGltf(path, kind == GltfKind::Binary);
         gltfCounted = gltf.counted;
         gltfTriangles = gltf.triangles;
         importer.SetIOHandler(new GuardedGltfIOSystem(path, std::move(gltf)));

@@ -39,6 +39,7 @@
 #include <streambuf>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <tuple>
 #include <sys/stat.h>
 
@@ -73,6 +74,10 @@ public:
         // Read as a SparseField: a band field sdfgen wrote, or another program's level set.
         bool sparse() const {
             return band > 0 || (!fromSdfgen && gridClass == openvdb::GridBase::gridClassToString(openvdb::GRID_LEVEL_SET));
+        }
+        // Another program's grid of no class, or of class unknown (OpenVDB reads any other name as unknown).
+        bool unclassed() const {
+            return !fromSdfgen && openvdb::GridBase::stringToGridClass(gridClass) == openvdb::GRID_UNKNOWN;
         }
     };
     const std::vector<GridSummary>& grids() const { return grids_; }
@@ -336,6 +341,110 @@ private:
     std::vector<GridSummary> grids_;
 };
 
+// OpenVDB 10's RootNode::readTopology news each root child and reads its subtree before the tree
+// owns it, so a read that throws there (a corrupt compressed block the layout walk cannot judge
+// without decompressing it) leaks the child's whole subtree, 270 KB and up per bad file: a process
+// that reads many bad files grows without bound. Nor could the tree simply own it: a node whose
+// read threw has a child mask naming children it never made. So the grid types sdfgen reads are
+// registered with OwningReadGrid, whose topology read is OpenVDB's (file versions 222 and later,
+// the only ones VdbLayout lets through) but gives each node to its parent before reading it and,
+// when a read throws, drops from each node's child mask the children it had not made yet: the
+// same tree from a valid file, and everything freed after an invalid one.
+
+// An InternalNode's protected masks and table (a derived class may name them).
+template <class Node>
+struct InternalNodeParts : Node {
+    static typename Node::NodeMaskType& childMask(Node& node) { return node.*(&InternalNodeParts::mChildMask); }
+    static typename Node::NodeMaskType& valueMask(Node& node) { return node.*(&InternalNodeParts::mValueMask); }
+    static typename Node::UnionType* table(Node& node) { return node.*(&InternalNodeParts::mNodes); }
+};
+
+template <class Node>
+void readInternalTopology(Node& node, std::istream& is, bool fromHalf, const typename Node::ValueType& background) {
+    using Parts = InternalNodeParts<Node>;
+    using Child = typename Node::ChildNodeType;
+    typename Node::NodeMaskType& children = Parts::childMask(node);
+    typename Node::UnionType* table = Parts::table(node);
+    try {
+        children.load(is);
+        Parts::valueMask(node).load(is);
+        std::unique_ptr<typename Node::ValueType[]> values(new typename Node::ValueType[Node::NUM_VALUES]);
+        openvdb::io::readCompressedValues(is, values.get(), Node::NUM_VALUES, Parts::valueMask(node), fromHalf);
+        for (auto value = node.beginValueAll(); value; ++value) table[value.pos()].setValue(values[value.pos()]);
+    } catch (...) {
+        children.setOff(); // none made yet
+        throw;
+    }
+    for (auto on = children.beginOn(); on; ++on) {
+        const openvdb::Index i = on.pos();
+        auto* child = new Child(openvdb::PartialCreate(), node.offsetToGlobalCoord(i), background);
+        table[i].setChild(child);
+        try {
+            if constexpr (Child::LEVEL > 0) readInternalTopology(*child, is, fromHalf, background);
+            else child->readTopology(is, fromHalf);
+        } catch (...) {
+            for (openvdb::Index later = i + 1; later < Node::NUM_VALUES; ++later) children.setOff(later); // not made
+            throw;
+        }
+    }
+}
+
+template <class GridT>
+class OwningReadGrid final : public GridT {
+public:
+    static openvdb::GridBase::Ptr factory() { return std::make_shared<OwningReadGrid>(); }
+    // In place of GridT in OpenVDB's registry (GridBase's registration is for its subclasses).
+    static void registerInPlaceOfBase() {
+        openvdb::GridBase::unregisterGrid(GridT::gridType());
+        openvdb::GridBase::registerGrid(GridT::gridType(), factory);
+    }
+    // Tree::readTopology, then RootNode::readTopology.
+    void readTopology(std::istream& is) override {
+        using Tree = typename GridT::TreeType;
+        using Root = typename Tree::RootNodeType;
+        using Value = typename Root::ValueType;
+        std::int32_t bufferCount = 0; // always 1 since file version 220 (read and ignored, as TreeBase does)
+        is.read(reinterpret_cast<char*>(&bufferCount), sizeof bufferCount);
+        Value background;
+        is.read(reinterpret_cast<char*>(&background), sizeof(Value));
+        const typename Tree::Ptr tree = std::make_shared<Tree>(background);
+        this->setTree(tree);
+        Root& root = tree->root();
+        openvdb::io::setGridBackgroundValuePtr(is, &root.background());
+        openvdb::Index tiles = 0, children = 0;
+        is.read(reinterpret_cast<char*>(&tiles), sizeof tiles);
+        is.read(reinterpret_cast<char*>(&children), sizeof children);
+        std::int32_t xyz[3];
+        for (openvdb::Index n = 0; n < tiles; ++n) {
+            Value value;
+            char active = 0;
+            is.read(reinterpret_cast<char*>(xyz), sizeof xyz);
+            is.read(reinterpret_cast<char*>(&value), sizeof(Value));
+            is.read(&active, 1);
+            root.addTile(openvdb::Coord(xyz), value, active != 0);
+        }
+        for (openvdb::Index n = 0; n < children; ++n) {
+            is.read(reinterpret_cast<char*>(xyz), sizeof xyz);
+            auto* child = new typename Root::ChildNodeType(openvdb::PartialCreate(), openvdb::Coord(xyz), root.background());
+            root.addChild(child); // the tree owns it (and frees one it replaces)
+            readInternalTopology(*child, is, this->saveFloatAsHalf(), root.background());
+        }
+    }
+};
+
+// openvdb::initialize(), with the grid types sdfgen reads (the surface and the channels) made as
+// OwningReadGrids. Once per process: the registry is OpenVDB's, shared with any other user of the
+// library in the process (a pyopenvdb beside the Python module gets the same grids from it).
+void initializeOpenVdb() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        openvdb::initialize();
+        OwningReadGrid<openvdb::FloatGrid>::registerInPlaceOfBase();
+        OwningReadGrid<openvdb::Vec3SGrid>::registerInPlaceOfBase();
+        OwningReadGrid<openvdb::Int32Grid>::registerInPlaceOfBase();
+    });
+}
+
 // The grid's index-to-world map as voxel size and translation; Error unless it is axis-aligned
 // with cubic voxels, which is what a Field can hold.
 void linearMap(const openvdb::math::Transform& transform, double& h, openvdb::Vec3d& translation, const std::string& path) {
@@ -412,7 +521,7 @@ public:
 // A level-set FloatGrid named "surface" whose index (i, j, k) is at sample (i, j, k) (voxel size
 // h, translation origin + h/2), every sample an active voxel. Initializes OpenVDB.
 openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
-    openvdb::initialize();
+    initializeOpenVdb();
     // The background is just beyond the largest distance, so that no sample equals it
     // (copyFromDense makes samples equal to the background inactive).
     float largest = 0.0f;
@@ -432,7 +541,7 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
 // goes back to the system as they become leaves, and they are emptied.
 openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, SparseField* givenUp = nullptr) {
     constexpr int B = SparseField::kBrick;
-    openvdb::initialize();
+    initializeOpenVdb();
     const float background = std::ldexp(field.background, exponent);
     const openvdb::FloatGrid::Ptr grid = std::make_shared<ParallelBuffersGrid>(background);
     openvdb::FloatTree& tree = grid->tree();
@@ -889,9 +998,28 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     return field;
 }
 
-// A band field's grid (sdfgen's), or another program's level set: read as bricks and inside boxes.
+// Whether another program's grid of no class (or of class "unknown") is a level set in all but
+// name: a positive background, no active tiles, every leaf value within +-background (so reading
+// it as a band clamps nothing), and active voxels that do not fill their box (a band around a
+// surface, not a dense grid). Such a grid read dense over the box of its active voxels could take
+// gigabytes for a file of kilobytes, as a level set could.
+bool levelSetButForItsClass(const openvdb::FloatGrid& grid) {
+    const float background = grid.background();
+    if (!(background > 0.0f) || !std::isfinite(background) || grid.tree().hasActiveTiles()) return false;
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+        for (auto value = leaf->cbeginValueAll(); value; ++value) {
+            if (!(std::fabs(*value) <= background)) return false;
+        }
+    }
+    const openvdb::CoordBBox active = grid.evalActiveVoxelBoundingBox();
+    return !active.empty() && grid.tree().activeVoxelCount() < active.volume();
+}
+
+// A band field's grid (sdfgen's), or another program's level set, named so or not: read as bricks
+// and inside boxes.
 bool readsAsBand(const openvdb::FloatGrid& grid, const SdfgenMetadata& meta) {
-    return meta.present ? meta.band > 0 : grid.getGridClass() == openvdb::GRID_LEVEL_SET;
+    if (meta.present) return meta.band > 0;
+    return grid.getGridClass() == openvdb::GRID_LEVEL_SET || (grid.getGridClass() == openvdb::GRID_UNKNOWN && levelSetButForItsClass(grid));
 }
 
 Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path, const RunControl& control) {
@@ -922,7 +1050,8 @@ SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& pa
     // Another program's level set too: never made dense over the box of its active voxels, which
     // two small spheres far apart make huge.
     if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path, control);
-    // A dense grid, or another program's grid of no class: its samples, read as any dense field.
+    // A dense grid, or another program's grid of no class that is not a level set: its samples,
+    // read as any dense field (refused when they do not fit in memory).
     const Field dense = loadGrid(grid, path, control);
     return sparseFromDense(dense, bandBackground(dense));
 }
@@ -933,7 +1062,7 @@ auto readVdb(const std::string& path, const Read& read) {
     struct stat info;
     if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     if (!S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
-    openvdb::initialize();
+    initializeOpenVdb();
     try {
         return read(std::uint64_t(info.st_size));
     } catch (const openvdb::Exception& e) {
@@ -968,7 +1097,10 @@ bool isSparseVdbFile(const std::string& path) {
         auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
         for (const bool byName : {true, false}) {
             for (const VdbLayout::GridSummary& grid : layout.grids()) {
-                if (isFloat(grid.type) && (!byName || grid.name == kGridName)) return grid.sparse();
+                if (!isFloat(grid.type) || (byName && grid.name != kGridName)) continue;
+                // Another program's grid of no class is a level set or not by its tree.
+                if (grid.unclassed()) return readsAsBand(*readFloatGrid(path, bytes), SdfgenMetadata{});
+                return grid.sparse();
             }
         }
         throw Error(path + ": the file holds no float grid");

@@ -99,23 +99,44 @@ void saveNrrd(const Field& field, const std::string& path, const SaveOptions&) {
     });
 }
 
-Field loadNrrd(const std::string& path, const RunControl& control) {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
-    if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    struct stat info;
-    if (fstat(fileno(file.get()), &info) != 0 || !S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
+namespace {
 
-    // The header: lines up to the first empty one. Each field and key may appear once (NRRD's
-    // rule); a field's other spelling counts as the same field.
+// An NRRD header: its fields (by canonical name) and key/value pairs, and its length in bytes.
+struct NrrdHeader {
+    std::string path;
     std::map<std::string, std::string> fields;    // "field: value", by canonical name
     std::map<std::string, std::string> keyValues; // "key:=value"
+    std::size_t bytes = 0;
+
+    const std::string& require(const char* name) const {
+        const auto it = fields.find(name);
+        if (it == fields.end()) throw Error(path + ": the NRRD header has no '" + name + "' (sdfgen reads 3D grids with 'space directions')");
+        return it->second;
+    }
+    // The field's value, one of `accepted` (the first named as what sdfgen reads).
+    const std::string& requireValue(const char* name, std::initializer_list<const char*> accepted) const {
+        const std::string& value = require(name);
+        for (const char* ok : accepted) {
+            if (value == ok) return value;
+        }
+        throw Error(path + ": NRRD " + name + " '" + printable(value) + "' is not supported (sdfgen reads " + *accepted.begin() + ")");
+    }
+};
+
+// The header: lines up to the first empty one. Each field and key may appear once (NRRD's rule);
+// a field's other spelling counts as the same field.
+NrrdHeader readNrrdHeader(std::FILE* file, const std::string& path) {
+    NrrdHeader header;
+    header.path = path;
+    std::map<std::string, std::string>& fields = header.fields;
+    std::map<std::string, std::string>& keyValues = header.keyValues;
+    std::size_t& headerBytes = header.bytes;
     std::string line;
-    std::size_t headerBytes = 0;
     std::size_t lineNumber = 0;
     for (;;) {
         line.clear();
         int c;
-        while ((c = std::fgetc(file.get())) != EOF && c != '\n') {
+        while ((c = std::fgetc(file)) != EOF && c != '\n') {
             line += char(c);
             if (++headerBytes > kMaxHeaderBytes) throw Error(path + ": no end of the NRRD header in the first MiB");
         }
@@ -152,23 +173,18 @@ Field loadNrrd(const std::string& path, const RunControl& control) {
             throw Error(where + ": not an NRRD header line: '" + printable(line, 40) + "'");
         }
     }
+    return header;
+}
 
-    auto require = [&](const char* name) -> const std::string& {
-        const auto it = fields.find(name);
-        if (it == fields.end()) throw Error(path + ": the NRRD header has no '" + name + "' (sdfgen reads 3D grids with 'space directions')");
-        return it->second;
-    };
-    auto requireValue = [&](const char* name, std::initializer_list<const char*> accepted) -> const std::string& {
-        const std::string& value = require(name);
-        for (const char* ok : accepted) {
-            if (value == ok) return value;
-        }
-        throw Error(path + ": NRRD " + name + " '" + printable(value) + "' is not supported (sdfgen reads " + *accepted.begin() + ")");
-    };
-    requireValue("type", {"float"});
-    requireValue("dimension", {"3"});
-    requireValue("encoding", {"raw"});
-    const bool bigEndian = requireValue("endian", {"little", "big"}) == "big";
+// The fields sdfgen reads an NRRD by, checked: one raw float per sample of a 3D grid placed by
+// 'space directions'. Returns whether the data is big-endian.
+bool checkNrrdFields(const NrrdHeader& header) {
+    const std::string& path = header.path;
+    const std::map<std::string, std::string>& fields = header.fields;
+    header.requireValue("type", {"float"});
+    header.requireValue("dimension", {"3"});
+    header.requireValue("encoding", {"raw"});
+    const bool bigEndian = header.requireValue("endian", {"little", "big"}) == "big";
     if (fields.count("data file")) throw Error(path + ": detached NRRD data files are not supported");
     for (const char* unsupported : {"line skip", "byte skip"}) {
         const auto it = fields.find(unsupported);
@@ -193,7 +209,7 @@ Field loadNrrd(const std::string& path, const RunControl& control) {
             throw Error(path + ": NRRD space '" + printable(space->second) + "' is not a 3D space (sdfgen reads 3D grids)");
         }
     } else {
-        requireValue("space dimension", {"3"});
+        header.requireValue("space dimension", {"3"});
     }
     // A field is one scalar per sample: every axis is a domain axis (NRRD's kinds domain and space,
     // or none given). A range kind (RGB-color, vector, list, ...) would make an axis components.
@@ -210,8 +226,15 @@ Field loadNrrd(const std::string& path, const RunControl& control) {
         }
         if (axes != 3) throw Error(path + ": NRRD 'kinds' has " + std::to_string(axes) + " entries for 3 axes");
     }
+    return bigEndian;
+}
 
-    const std::vector<double> sizes = numbers(require("sizes"), path, "sizes");
+// The grid the header places (sdfgen's exact origin and voxel when its keys give them), and the
+// method and source it names, into `field`.
+void readNrrdGrid(const NrrdHeader& header, Field& field) {
+    const std::string& path = header.path;
+    const std::map<std::string, std::string>& keyValues = header.keyValues;
+    const std::vector<double> sizes = numbers(header.require("sizes"), path, "sizes");
     if (sizes.size() != 3) throw Error(path + ": 'sizes' does not have 3 values");
     std::uint64_t dims[3];
     for (int a = 0; a < 3; ++a) {
@@ -222,7 +245,7 @@ Field loadNrrd(const std::string& path, const RunControl& control) {
     }
     checkDimsFit(dims, path);
 
-    const std::vector<double> directions = numbers(require("space directions"), path, "space directions");
+    const std::vector<double> directions = numbers(header.require("space directions"), path, "space directions");
     if (directions.size() != 9) throw Error(path + ": 'space directions' does not hold 3 vectors of 3");
     const double h = directions[0];
     for (int r = 0; r < 3; ++r) {
@@ -233,10 +256,9 @@ Field loadNrrd(const std::string& path, const RunControl& control) {
         }
     }
     if (!(h > 0)) throw Error(path + ": voxel size in 'space directions' must be positive");
-    const std::vector<double> firstSample = numbers(require("space origin"), path, "space origin");
+    const std::vector<double> firstSample = numbers(header.require("space origin"), path, "space origin");
     if (firstSample.size() != 3) throw Error(path + ": 'space origin' does not have 3 values");
 
-    Field field;
     for (int a = 0; a < 3; ++a) field.grid.dims[a] = int(dims[a]);
     field.grid.voxel = h;
     // sdfgen's own exact origin and voxel when present (the centre form adds a rounding step).
@@ -261,9 +283,22 @@ Field loadNrrd(const std::string& path, const RunControl& control) {
     field.method = "unknown";
     if (const auto it = keyValues.find("sdfgen_method"); it != keyValues.end()) parseMethodLine(it->second, field, path);
     if (const auto it = keyValues.find("sdfgen_source"); it != keyValues.end()) field.source = it->second;
+}
+
+} // namespace
+
+Field loadNrrd(const std::string& path, const RunControl& control) {
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
+    if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+    struct stat info;
+    if (fstat(fileno(file.get()), &info) != 0 || !S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
+    const NrrdHeader header = readNrrdHeader(file.get(), path);
+    const bool bigEndian = checkNrrdFields(header);
+    Field field;
+    readNrrdGrid(header, field);
 
     const std::uint64_t expected = std::uint64_t(field.grid.sampleCount()) * sizeof(float);
-    const std::uint64_t available = std::uint64_t(info.st_size) - headerBytes;
+    const std::uint64_t available = std::uint64_t(info.st_size) - header.bytes;
     if (available < expected) {
         throw Error(path + ": file is truncated: " + std::to_string(expected) + " bytes of data expected, " + std::to_string(available) + " found");
     }
