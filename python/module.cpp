@@ -293,9 +293,34 @@ py::array_t<std::int64_t> facesOf(const Mesh& mesh) {
     return toNumpy(std::move(faces), {py::ssize_t(mesh.triangles.size()), 3});
 }
 
-// `previous`: the mesh these vertices moved (Model::refit: its tree refit, its check kept), or null.
-PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads,
-                      const Model* previous = nullptr) {
+// The model of (N, 3) float32 or float64 `vertices` and `triangles`. `previous`: the model whose
+// vertices these are, moved (Model::refit: refit where its vertices group as before), or null.
+PyMesh meshFromVertices(const py::array& vertices, std::vector<glm::uvec3> triangles, const std::string& name, int threads,
+                        const Model* previous = nullptr) {
+    checkReal(vertices, "vertices");
+    auto build = [&](auto&& positions) {
+        PyMesh mesh;
+        mesh.model = runReleased([&](const RunControl& control) {
+            Mesh built = buildMesh(name, std::move(positions), std::move(triangles));
+            return std::make_shared<const Model>(previous ? previous->refit(std::move(built), control) : Model(std::move(built), control));
+        }, threads);
+        return mesh;
+    };
+    if (vertices.dtype().is(py::dtype::of<float>())) {
+        // Float input keeps its float values (buildMesh warns when float cannot resolve the mesh).
+        const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
+        std::vector<glm::vec3> positions(std::size_t(v.shape(0)));
+        std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::vec3));
+        return build(std::move(positions));
+    }
+    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+    if (!v) throw py::value_error("vertices must be numbers");
+    std::vector<glm::dvec3> positions(std::size_t(v.shape(0)));
+    std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::dvec3));
+    return build(std::move(positions));
+}
+
+PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
     if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
     checkReal(vertices, "vertices");
     if (faces.ndim() != 2 || faces.shape(1) != 3) throw py::value_error("faces must have shape (M, 3)");
@@ -321,26 +346,7 @@ PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const s
     };
     if (faces.dtype().kind() == 'u') readIndices(std::uint64_t{});
     else readIndices(std::int64_t{});
-    auto build = [&](auto&& positions) {
-        PyMesh mesh;
-        mesh.model = runReleased([&](const RunControl& control) {
-            Mesh built = buildMesh(name, std::move(positions), std::move(triangles));
-            return std::make_shared<const Model>(previous ? previous->refit(std::move(built), control) : Model(std::move(built), control));
-        }, threads);
-        return mesh;
-    };
-    if (vertices.dtype().is(py::dtype::of<float>())) {
-        // Float input keeps its float values (buildMesh warns when float cannot resolve the mesh).
-        const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
-        std::vector<glm::vec3> positions(std::size_t(v.shape(0)));
-        std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::vec3));
-        return build(std::move(positions));
-    }
-    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
-    if (!v) throw py::value_error("vertices must be numbers");
-    std::vector<glm::dvec3> positions(std::size_t(v.shape(0)));
-    std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::dvec3));
-    return build(std::move(positions));
+    return meshFromVertices(vertices, std::move(triangles), name, threads);
 }
 
 // A baked or loaded field; `values` views its buffer.
@@ -487,16 +493,16 @@ PYBIND11_MODULE(_sdfgen, m) {
         .def(
             "with_vertices",
             [](const PyMesh& m, const py::array& vertices, int threads) {
-                if (vertices.ndim() != 2 || vertices.shape(1) != 3 || std::size_t(vertices.shape(0)) != m.model->mesh().positions.size()) {
-                    throw py::value_error("vertices must be the mesh's " + std::to_string(m.model->mesh().positions.size()) +
-                                          " vertices, of shape (V, 3)");
+                const Mesh& mesh = m.model->mesh();
+                if (vertices.ndim() != 2 || vertices.shape(1) != 3 || std::size_t(vertices.shape(0)) != mesh.positions.size()) {
+                    throw py::value_error("vertices must be the mesh's " + std::to_string(mesh.positions.size()) + " vertices, of shape (V, 3)");
                 }
-                return meshFromArrays(vertices, facesOf(m.model->mesh()), m.model->mesh().source, threads, m.model.get());
+                return meshFromVertices(vertices, mesh.triangles, mesh.source, threads, m.model.get());
             },
             py::arg("vertices"), py::arg("threads") = 0,
-            "The mesh with its vertices moved to (V, 3) new positions (float32 or float64), its faces kept: the tree is refit, "
-            "not built again, and the mesh check (auto's sign decision) is kept while the edges hold; queries equal those of "
-            "a Mesh built from the new vertices")
+            "The mesh with its vertices moved to (V, 3) new positions (float32 or float64), its faces kept: while the vertices "
+            "group by position as before, the trees are refit, not built again, and the mesh check (auto's sign decision) is "
+            "kept; otherwise it is built afresh. Queries equal those of a Mesh built from the new vertices")
         .def_property_readonly("source", [](const PyMesh& m) { return m.model->mesh().source; })
         .def_property_readonly("triangle_count", [](const PyMesh& m) { return m.model->mesh().triangleCount(); })
         .def_property_readonly("vertex_count", [](const PyMesh& m) { return m.model->mesh().positions.size(); })

@@ -9,6 +9,7 @@
 #include "core/runtime/parallel.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "core/mesh/topology.hpp"
+#include "core/mesh/vertex_groups.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/grid.hpp"
 
@@ -26,26 +27,30 @@ namespace sdfgen {
 
 struct Model::Impl {
     Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control) {}
-    // `refitTree`: the previous model's tree, refit to m; `previous` that model, whose wide tree (if
-    // built) is refit too, whose topology (if built) is kept while the vertices merge as before,
-    // and whose check (if made) is kept while the edges hold (see check).
-    Impl(Mesh m, Bvh refitTree, const Impl& previous, const RunControl& control)
-        : mesh(std::move(m)), tree(std::move(refitTree)) {
+    // `m` is `previous`'s mesh with its vertices moved, grouped by `groups` as before (so the same
+    // connectivity and triangle copies): the trees and, where `previous` had built it, the topology
+    // are refit side by side; `previous`'s check (if made) is kept while the orientation holds (see check).
+    Impl(Mesh m, const Impl& previous, std::shared_ptr<const VertexGroups> groups, const RunControl& control)
+        : mesh(std::move(m)), tree(previous.tree, mesh, control), groups_(std::move(groups)) {
         if (previous.checked_.load(std::memory_order_acquire)) previousCheck_ = previous.check_;
-        // The connectivity stands while the vertices merge as before: only positions are measured again.
-        if (previous.topologyBuilt_.load(std::memory_order_acquire) && previous.topology_->sameMerges(mesh)) {
-            std::call_once(topologyOnce, [&] {
-                topology_.emplace(*previous.topology_, mesh, control);
-                topologyBuilt_.store(true, std::memory_order_release);
+        const bool refitWide = previous.wideBuilt_.load(std::memory_order_acquire);
+        const bool refitTopology = previous.topologyBuilt_.load(std::memory_order_acquire);
+        parallelInvoke(
+            control,
+            [&] {
+                if (!refitWide) return;
+                std::call_once(wideOnce, [&] {
+                    wide_.emplace(*previous.wide_, mesh, control);
+                    wideBuilt_.store(true, std::memory_order_release);
+                });
+            },
+            [&] {
+                if (!refitTopology) return;
+                std::call_once(topologyOnce, [&] {
+                    topology_.emplace(*previous.topology_, mesh, control);
+                    topologyBuilt_.store(true, std::memory_order_release);
+                });
             });
-        }
-        if (previous.wideBuilt_.load(std::memory_order_acquire)) {
-            std::call_once(wideOnce, [&] {
-                wide_.emplace(*previous.wide_);
-                wide_->refit(mesh, control);
-                wideBuilt_.store(true, std::memory_order_release);
-            });
-        }
     }
 
     // Built on first use, with the control of that use (a cancelled build is retried by the next).
@@ -86,6 +91,16 @@ struct Model::Impl {
         return check_;
     }
 
+    // How the vertices group by position: the topology's when it is built, else found now; kept by
+    // the models refit from this one.
+    std::shared_ptr<const VertexGroups> groups(const RunControl& control = {}) const {
+        std::call_once(groupsOnce, [&] {
+            if (!groups_) groups_ = topologyBuilt_.load(std::memory_order_acquire) ? topology_->groups()
+                                                                                   : std::make_shared<const VertexGroups>(mesh.positions, control);
+        });
+        return groups_;
+    }
+
     const WindingCaps& caps(const RunControl& control = {}) const {
         std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
         return *caps_;
@@ -95,7 +110,8 @@ struct Model::Impl {
     Bvh tree;
 
 private:
-    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce;
+    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce, groupsOnce;
+    mutable std::shared_ptr<const VertexGroups> groups_;
     mutable std::optional<WideBvh> wide_;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
@@ -137,12 +153,15 @@ Model::Model(Mesh mesh, const RunControl& control) {
 Model Model::refit(Mesh moved, const RunControl& control) const {
     const Impl& m = *impl_;
     checkedControl(control);
+    // The same triangles over vertices that group as before have the same connectivity and the
+    // same exact copies: everything built on them stands, and only positions are measured again.
+    // Anything else is built afresh, and decides as a new model does.
     if (moved.triangles != m.mesh.triangles) return Model(std::move(moved), control);
-    Bvh tree = m.tree;
-    if (!tree.refit(moved, control)) return Model(std::move(moved), control);
+    std::shared_ptr<const VertexGroups> groups = m.groups(quiet(control));
+    if (!groups->holdFor(moved.positions)) return Model(std::move(moved), control);
     warnAboutMesh(moved, control);
     Model result;
-    result.impl_ = std::make_unique<Impl>(std::move(moved), std::move(tree), m, control);
+    result.impl_ = std::make_unique<Impl>(std::move(moved), m, std::move(groups), control);
     return result;
 }
 
