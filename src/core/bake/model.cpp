@@ -160,8 +160,14 @@ Model Model::refit(Mesh moved, const RunControl& control) const {
     std::shared_ptr<const VertexGroups> groups = m.groups(quiet(control));
     if (!groups->holdFor(moved.positions)) return Model(std::move(moved), control);
     warnAboutMesh(moved, control);
+    // Each refit pass is a few streaming loops: below this many triangles they take less time than
+    // waking the thread pool for them (and its threads' spinning between the passes), so they run
+    // on the calling thread alone. Results never depend on the thread count.
+    constexpr std::size_t kParallelRefit = std::size_t(1) << 17;
+    RunControl refitControl = control;
+    if (moved.triangleCount() < kParallelRefit) refitControl.threads = 1;
     Model result;
-    result.impl_ = std::make_unique<Impl>(std::move(moved), m, std::move(groups), control);
+    result.impl_ = std::make_unique<Impl>(std::move(moved), m, std::move(groups), refitControl);
     return result;
 }
 
