@@ -219,8 +219,17 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     for (std::size_t i = 0; i < n; ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
-Bvh::Bvh(const Bvh& previous, const Mesh& mesh, const RunControl& control)
-    : nodes_(previous.nodes_), triangles_(previous.triangles_.size()), triangleIds_(previous.triangleIds_), copies_(previous.copies_) {
+Bvh::Bvh(const Bvh& previous, const Mesh& mesh, const RunControl& control, Bvh* spare) {
+    if (spare) { // its memory, every element written below
+        nodes_ = std::move(spare->nodes_);
+        triangles_ = std::move(spare->triangles_);
+        triangleIds_ = std::move(spare->triangleIds_);
+        copies_ = std::move(spare->copies_);
+    }
+    nodes_.assign(previous.nodes_.begin(), previous.nodes_.end());
+    triangles_.resize(previous.triangles_.size());
+    triangleIds_.assign(previous.triangleIds_.begin(), previous.triangleIds_.end());
+    copies_.assign(previous.copies_.begin(), previous.copies_.end());
     // The leaves in parallel (their triangles set up and boxed: one read of each triangle's corners),
     // then the inner nodes bottom-up: children follow their parent in the depth-first layout, so in
     // reverse every child is done first.

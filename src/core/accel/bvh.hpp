@@ -42,7 +42,9 @@ public:
     // exact copies are the same (the vertices group as before, VertexGroups::holdFor). Every box is
     // refit bottom-up to the new positions in linear time; the search answers as a tree built on
     // `mesh` does (the nearest triangle, ties to the lower index, whatever the tree's shape).
-    Bvh(const Bvh& previous, const Mesh& mesh, const RunControl& control = {});
+    // `spare`, when given, is a dead tree of the same mesh (a refit chain's): its arrays' memory is
+    // reused, already mapped, instead of fresh memory the system must zero and map in page by page.
+    Bvh(const Bvh& previous, const Mesh& mesh, const RunControl& control = {}, Bvh* spare = nullptr);
 
     // Calls visit(triangle) for every triangle whose bounding box overlaps `box`.
     template <class Visit>

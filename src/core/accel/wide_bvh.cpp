@@ -222,8 +222,15 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     leafBounds_ = std::move(layout.leafBounds);
 }
 
-WideBvh::WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control)
-    : nodes_(previous.nodes_), packets_(previous.packets_.size()), leafBounds_(previous.leafBounds_.size()) {
+WideBvh::WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control, WideBvh* spare) {
+    if (spare) { // its memory, every element written below
+        nodes_ = std::move(spare->nodes_);
+        packets_ = std::move(spare->packets_);
+        leafBounds_ = std::move(spare->leafBounds_);
+    }
+    nodes_.assign(previous.nodes_.begin(), previous.nodes_.end());
+    packets_.resize(previous.packets_.size());
+    leafBounds_.resize(previous.leafBounds_.size());
     constexpr std::size_t kPacketsPerItem = 1024;
     parallelFor((packets_.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
         for (std::size_t i = item * kPacketsPerItem; i < std::min(packets_.size(), (item + 1) * kPacketsPerItem); ++i) {

@@ -59,7 +59,8 @@ public:
     // The tree `previous` over `mesh`, its mesh with the vertices moved (the same triangles, the
     // same exact copies; its binary tree refit by Bvh's refit constructor): the same nodes and
     // packets, their boxes and frames measured again, in linear time.
-    WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control = {});
+    // `spare`: as Bvh's refit constructor's, a dead tree of the same mesh whose memory is reused.
+    WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control = {}, WideBvh* spare = nullptr);
 
     // The searches run in the exact kernel's code for this CPU (core/distance/exact_kernel.inc).
     // The nearest triangle to p (local coordinates), starting from `best` (an upper bound that a

@@ -20,18 +20,55 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 
 namespace sdfgen {
 
+namespace {
+
+// The trees of the dead models of a refit chain (models refit one from another), kept for the next
+// refit to reuse their memory (Bvh's and WideBvh's refit constructors): an optimisation loop's step
+// then writes into memory already mapped, instead of memory the system zeroes and maps in page by
+// page, which cost as much as the refit itself. At most one of each per chain.
+struct RefitSpares {
+    std::mutex mutex;
+    std::optional<Bvh> tree;
+    std::optional<WideBvh> wide;
+
+    template <class Tree>
+    std::optional<Tree> take(std::optional<Tree>& spare) {
+        std::lock_guard<std::mutex> lock(mutex);
+        std::optional<Tree> taken = std::move(spare);
+        spare.reset();
+        return taken;
+    }
+};
+
+// The tree a taken spare holds, or null; it lives until the end of the full expression that took it.
+template <class Tree>
+Tree* valueOrNull(std::optional<Tree>&& spare) {
+    return spare ? &*spare : nullptr;
+}
+
+} // namespace
+
 struct Model::Impl {
     Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control) {}
+    // A model that dies gives its trees to its refit chain's spares.
+    ~Impl() {
+        if (!spares_) return;
+        std::lock_guard<std::mutex> lock(spares_->mutex);
+        if (!spares_->tree) spares_->tree.emplace(std::move(tree));
+        if (wideBuilt_.load(std::memory_order_acquire) && !spares_->wide) spares_->wide.emplace(std::move(*wide_));
+    }
     // `m` is `previous`'s mesh with its vertices moved, grouped by `groups` as before (so the same
     // connectivity and triangle copies): the trees and, where `previous` had built it, the topology
     // are refit side by side; `previous`'s check (if made) is kept while the orientation holds (see check).
     Impl(Mesh m, const Impl& previous, std::shared_ptr<const VertexGroups> groups, const RunControl& control)
-        : mesh(std::move(m)), tree(previous.tree, mesh, control), groups_(std::move(groups)) {
+        : mesh(std::move(m)), tree(previous.tree, mesh, control, valueOrNull(previous.chainSpares()->take(previous.chainSpares()->tree))),
+          groups_(std::move(groups)), spares_(previous.chainSpares()) {
         if (previous.checked_.load(std::memory_order_acquire)) previousCheck_ = previous.check_;
         const bool refitWide = previous.wideBuilt_.load(std::memory_order_acquire);
         const bool refitTopology = previous.topologyBuilt_.load(std::memory_order_acquire);
@@ -40,7 +77,7 @@ struct Model::Impl {
             [&] {
                 if (!refitWide) return;
                 std::call_once(wideOnce, [&] {
-                    wide_.emplace(*previous.wide_, mesh, control);
+                    wide_.emplace(*previous.wide_, mesh, control, valueOrNull(spares_->take(spares_->wide)));
                     wideBuilt_.store(true, std::memory_order_release);
                 });
             },
@@ -101,6 +138,14 @@ struct Model::Impl {
         return groups_;
     }
 
+    // The spares of the refit chain this model is in, made when it is first refit.
+    const std::shared_ptr<RefitSpares>& chainSpares() const {
+        std::call_once(sparesOnce, [&] {
+            if (!spares_) spares_ = std::make_shared<RefitSpares>();
+        });
+        return spares_;
+    }
+
     const WindingCaps& caps(const RunControl& control = {}) const {
         std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
         return *caps_;
@@ -110,8 +155,9 @@ struct Model::Impl {
     Bvh tree;
 
 private:
-    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce, groupsOnce;
+    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce, groupsOnce, sparesOnce;
     mutable std::shared_ptr<const VertexGroups> groups_;
+    mutable std::shared_ptr<RefitSpares> spares_;
     mutable std::optional<WideBvh> wide_;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
