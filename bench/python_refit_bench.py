@@ -5,7 +5,8 @@
 A step is signed_distance (sign auto) at fixed points and its backward pass. Three steps alternate:
 on an sdfgen.Mesh built once (the bar: no mesh work per step), on the vertices and faces as tensors
 (the tree refit and the sign decision kept, Mesh.with_vertices), and the same with the mesh built
-afresh every step (sdfgen.torch's cache emptied first: what every step cost before). Prints the
+afresh every step (sdfgen.torch's kept meshes set aside: what every step cost before); the refit
+steps form one chain, each refitting the previous refit step's mesh. Prints the
 median wall-clock and CPU (all threads) milliseconds per step of each and their ratios to the first.
 The icosphere is tests/python/test_refit.py's."""
 import argparse
@@ -59,12 +60,17 @@ def on_built_mesh(step):
     st.signed_distance(p, built_once, threads=args.threads).sum().backward()
 
 
+refit_chain = []  # sdfgen.torch's kept meshes of the refit steps: each refits the previous refit's mesh, as in a training loop
+
+
 def on_tensors(step, afresh):
-    if afresh:
-        st._tensor_meshes.clear()
     v = torch.from_numpy(moved(step)).requires_grad_()
     p = points.clone().requires_grad_()
+    # The afresh steps run with nothing kept, and leave the refit chain's meshes as they were.
+    st._tensor_meshes[:] = [] if afresh else refit_chain
     st.signed_distance(p, v, f, threads=args.threads).sum().backward()
+    if not afresh:
+        refit_chain[:] = st._tensor_meshes
 
 
 steps = {"Mesh built once (points)": on_built_mesh,

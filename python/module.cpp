@@ -293,9 +293,34 @@ py::array_t<std::int64_t> facesOf(const Mesh& mesh) {
     return toNumpy(std::move(faces), {py::ssize_t(mesh.triangles.size()), 3});
 }
 
-// `previous`: the mesh these vertices moved (Model::refit: its tree refit, its check kept), or null.
-PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads,
-                      const Model* previous = nullptr) {
+// The model of (N, 3) float32 or float64 `vertices` and `triangles`. `previous`: the model whose
+// vertices these are, moved (Model::refit: refit where its vertices group as before), or null.
+PyMesh meshFromVertices(const py::array& vertices, std::vector<glm::uvec3> triangles, const std::string& name, int threads,
+                        const Model* previous = nullptr) {
+    checkReal(vertices, "vertices");
+    auto build = [&](auto&& positions) {
+        PyMesh mesh;
+        mesh.model = runReleased([&](const RunControl& control) {
+            Mesh built = buildMesh(name, std::move(positions), std::move(triangles));
+            return std::make_shared<const Model>(previous ? previous->refit(std::move(built), control) : Model(std::move(built), control));
+        }, threads);
+        return mesh;
+    };
+    if (vertices.dtype().is(py::dtype::of<float>())) {
+        // Float input keeps its float values (buildMesh warns when float cannot resolve the mesh).
+        const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
+        std::vector<glm::vec3> positions(std::size_t(v.shape(0)));
+        std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::vec3));
+        return build(std::move(positions));
+    }
+    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+    if (!v) throw py::value_error("vertices must be numbers");
+    std::vector<glm::dvec3> positions(std::size_t(v.shape(0)));
+    std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::dvec3));
+    return build(std::move(positions));
+}
+
+PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
     if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
     checkReal(vertices, "vertices");
     if (faces.ndim() != 2 || faces.shape(1) != 3) throw py::value_error("faces must have shape (M, 3)");
@@ -321,26 +346,7 @@ PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const s
     };
     if (faces.dtype().kind() == 'u') readIndices(std::uint64_t{});
     else readIndices(std::int64_t{});
-    auto build = [&](auto&& positions) {
-        PyMesh mesh;
-        mesh.model = runReleased([&](const RunControl& control) {
-            Mesh built = buildMesh(name, std::move(positions), std::move(triangles));
-            return std::make_shared<const Model>(previous ? previous->refit(std::move(built), control) : Model(std::move(built), control));
-        }, threads);
-        return mesh;
-    };
-    if (vertices.dtype().is(py::dtype::of<float>())) {
-        // Float input keeps its float values (buildMesh warns when float cannot resolve the mesh).
-        const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
-        std::vector<glm::vec3> positions(std::size_t(v.shape(0)));
-        std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::vec3));
-        return build(std::move(positions));
-    }
-    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
-    if (!v) throw py::value_error("vertices must be numbers");
-    std::vector<glm::dvec3> positions(std::size_t(v.shape(0)));
-    std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::dvec3));
-    return build(std::move(positions));
+    return meshFromVertices(vertices, std::move(triangles), name, threads);
 }
 
 // A baked or loaded field; `values` views its buffer.
@@ -406,20 +412,13 @@ py::array sparseView(const py::object& self, const T* data, std::vector<py::ssiz
     return view;
 }
 
-} // namespace
-
-} // namespace sdfgen::python
-
-using namespace sdfgen;
-using namespace sdfgen::python;
-
-// The compiled part of the package sdfgen (python/sdfgen/__init__.py re-exports it).
-PYBIND11_MODULE(_sdfgen, m) {
+// The module's notes (its methods, signs, devices and formats, from the registries), its version,
+// and the error, warning and result types every call shares.
+void registerModuleInfo(py::module_& m) {
     // The names the arguments take, from the library's registries.
-    std::string fieldFormats, meshFormats, extensions;
+    std::string fieldFormats, meshFormats;
     for (const FieldFormatInfo& format : knownFieldFormats()) {
         fieldFormats += (fieldFormats.empty() ? "" : ", ") + std::string(format.extension) + " (" + format.description + ")";
-        extensions += (extensions.empty() ? "" : ", ") + std::string(format.extension);
     }
     for (const std::string& extension : meshFormatExtensions()) meshFormats += (meshFormats.empty() ? "" : ", ") + extension;
     m.doc() = "sdfgen: exact signed distance fields, point queries and DeepSDF-style samples from triangle meshes\n\n"
@@ -432,19 +431,6 @@ PYBIND11_MODULE(_sdfgen, m) {
     py::tuple querySignNames(querySigns.size());
     for (std::size_t i = 0; i < querySigns.size(); ++i) querySignNames[i] = querySigns[i].name;
     m.attr("_point_query_signs") = querySignNames; // for sdfgen.torch's messages
-    // pybind11 keeps a docstring's pointer: these live as long as the module.
-    static const std::string signedDistanceDoc =
-        "Signed distances (negative inside) at (..., 3) points, float32 of shape (...); sign: " + namesOf(querySigns);
-    static const std::string saveDoc = "Saves in the format the extension names (" + extensions + "), atomically";
-    static const std::string bakeDoc =
-        "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
-        "Ctrl+C cancels. method: " + namesOf(distanceMethodChoices()) + "; sign: " + namesOf(signMethodChoices()) +
-        " (see the module's notes). device: where exact distances and winding signs run: " + describeChoices(deviceChoices()) +
-        ". channels: 'sdf' or a comma-separated list (or sequence) adding gradient, closest and triangle (method exact, "
-        "on the CPU): Field.gradient, .closest, .triangle. band > 0: a narrow-band bake (method exact, on the CPU): exact "
-        "distances only within band voxels of the surface, returned as a SparseField; the dense grid is never allocated. "
-        "ValueError, before any work, for settings out of their limits (res and rays 1 to 65536, padding 0 to 100, band 0 or "
-        "1 to 1e9) or that do not go together, as sdfgen bake refuses them.";
     m.attr("__version__") = "0.1.0";
 #if SDFGEN_PYTHON_GPU
     gpu::registerGlDevice();
@@ -468,68 +454,25 @@ PYBIND11_MODULE(_sdfgen, m) {
     closestHitClass.attr("__doc__") = "What a query found at each point (Mesh.closest, sdfgen.torch.closest): triangle, point, barycentric, "
                                       "distance, sign, gradient";
     m.attr("ClosestHit") = closestHitClass;
+}
 
-    py::class_<PyMesh>(m, "Mesh", "A triangle mesh with its distance tree, built once and kept for every query")
-        .def(py::init([](const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
-                 return meshFromArrays(vertices, faces, name, threads);
-             }),
-             py::arg("vertices"), py::arg("faces"), py::arg("name") = "<arrays>", py::arg("threads") = 0,
-             "From (N, 3) float32 or float64 vertices and (M, 3) integer faces (counter-clockwise seen from outside)")
-        .def_static(
-            "load",
-            [](const std::string& path, int threads) {
-                PyMesh mesh;
-                mesh.model = runReleased([&](const RunControl& control) { return std::make_shared<const Model>(Model::load(path, control)); },
-                                         threads);
-                return mesh;
-            },
-            py::arg("path"), py::arg("threads") = 0, "Loads a mesh file and builds its tree")
-        .def(
-            "with_vertices",
-            [](const PyMesh& m, const py::array& vertices, int threads) {
-                if (vertices.ndim() != 2 || vertices.shape(1) != 3 || std::size_t(vertices.shape(0)) != m.model->mesh().positions.size()) {
-                    throw py::value_error("vertices must be the mesh's " + std::to_string(m.model->mesh().positions.size()) +
-                                          " vertices, of shape (V, 3)");
-                }
-                return meshFromArrays(vertices, facesOf(m.model->mesh()), m.model->mesh().source, threads, m.model.get());
-            },
-            py::arg("vertices"), py::arg("threads") = 0,
-            "The mesh with its vertices moved to (V, 3) new positions (float32 or float64), its faces kept: the tree is refit, "
-            "not built again, and the mesh check (auto's sign decision) is kept while the edges hold; queries equal those of "
-            "a Mesh built from the new vertices")
-        .def_property_readonly("source", [](const PyMesh& m) { return m.model->mesh().source; })
-        .def_property_readonly("triangle_count", [](const PyMesh& m) { return m.model->mesh().triangleCount(); })
-        .def_property_readonly("vertex_count", [](const PyMesh& m) { return m.model->mesh().positions.size(); })
-        .def_property_readonly("dropped_degenerate", [](const PyMesh& m) { return m.model->mesh().droppedDegenerate; })
-        .def_property_readonly("warnings", [](const PyMesh& m) { return m.model->mesh().warnings; })
-        .def_property_readonly(
-            "vertices",
-            [](const PyMesh& m) {
-                const Mesh& mesh = m.model->mesh();
-                std::vector<double> world(3 * mesh.positions.size());
-                for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-                    const glm::dvec3 p = mesh.toWorld(glm::dvec3(mesh.positions[i]));
-                    for (int a = 0; a < 3; ++a) world[3 * i + std::size_t(a)] = p[a];
-                }
-                return toNumpy(std::move(world), {py::ssize_t(mesh.positions.size()), 3});
-            },
-            "(N, 3) float64 world positions (a copy)")
-        .def_property_readonly(
-            "faces",
-            [](const PyMesh& m) { return facesOf(m.model->mesh()); },
-            "(M, 3) int64 triangles (zero-area ones dropped; the indices of nearest_triangle)")
-        .def_property_readonly("bounds",
-                               [](const PyMesh& m) {
-                                   const WorldBounds b = m.model->mesh().worldBounds();
-                                   return py::make_tuple(tuple3(b.min), tuple3(b.max));
-                               },
-                               "((xmin, ymin, zmin), (xmax, ymax, zmax)) in world coordinates")
-        .def(
-            "check",
-            [](const PyMesh& m, int threads) {
-                return checkToDict(runReleased([&](const RunControl& control) { return m.model->check(control); }, threads));
-            },
-            py::arg("threads") = 0, "The mesh check (holes, non-manifold edges and vertices, flipped faces, self-intersections) as a dict")
+// "Saves in the format ...": the docstring of both fields' save (pybind11 keeps its pointer).
+const char* saveDoc() {
+    static const std::string doc = [] {
+        std::string extensions;
+        for (const FieldFormatInfo& format : knownFieldFormats()) extensions += (extensions.empty() ? "" : ", ") + std::string(format.extension);
+        return "Saves in the format the extension names (" + extensions + "), atomically";
+    }();
+    return doc.c_str();
+}
+
+// Mesh's point queries (numpy in, numpy out) and its normalization.
+void addMeshQueries(py::class_<PyMesh>& mesh) {
+    // pybind11 keeps a docstring's pointer: this lives as long as the module.
+    const std::vector<Choice<SignMethod>> querySigns = pointQuerySignChoices();
+    static const std::string signedDistanceDoc =
+        "Signed distances (negative inside) at (..., 3) points, float32 of shape (...); sign: " + namesOf(querySigns);
+    mesh
         .def(
             "signed_distance",
             [](const PyMesh& m, const py::array& points, const std::string& sign, int threads) {
@@ -605,15 +548,85 @@ PYBIND11_MODULE(_sdfgen, m) {
             },
             "DeepSDF's normalization (centre, scale): normalized = (world - centre) / scale, with centre the bounding box's centre "
             "and scale 1.03 x the farthest vertex's distance from it (the mesh in the unit sphere with a 3% buffer); the units "
-            "of sample()'s variances and of sample(normalize=True)")
+            "of sample()'s variances and of sample(normalize=True)");
+}
+
+// Mesh: built from arrays, a file or moved vertices; what it holds, its check, its queries, pickling.
+void registerMesh(py::module_& m) {
+    py::class_<PyMesh> mesh(m, "Mesh", "A triangle mesh with its distance tree, built once and kept for every query");
+    mesh
+        .def(py::init([](const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
+                 return meshFromArrays(vertices, faces, name, threads);
+             }),
+             py::arg("vertices"), py::arg("faces"), py::arg("name") = "<arrays>", py::arg("threads") = 0,
+             "From (N, 3) float32 or float64 vertices and (M, 3) integer faces (counter-clockwise seen from outside)")
+        .def_static(
+            "load",
+            [](const std::string& path, int threads) {
+                PyMesh mesh;
+                mesh.model = runReleased([&](const RunControl& control) { return std::make_shared<const Model>(Model::load(path, control)); },
+                                         threads);
+                return mesh;
+            },
+            py::arg("path"), py::arg("threads") = 0, "Loads a mesh file and builds its tree")
+        .def(
+            "with_vertices",
+            [](const PyMesh& m, const py::array& vertices, int threads) {
+                const Mesh& mesh = m.model->mesh();
+                if (vertices.ndim() != 2 || vertices.shape(1) != 3 || std::size_t(vertices.shape(0)) != mesh.positions.size()) {
+                    throw py::value_error("vertices must be the mesh's " + std::to_string(mesh.positions.size()) + " vertices, of shape (V, 3)");
+                }
+                return meshFromVertices(vertices, mesh.triangles, mesh.source, threads, m.model.get());
+            },
+            py::arg("vertices"), py::arg("threads") = 0,
+            "The mesh with its vertices moved to (V, 3) new positions (float32 or float64), its faces kept: while the vertices "
+            "group by position as before, the trees are refit, not built again, and the mesh check (auto's sign decision) is "
+            "kept; otherwise it is built afresh. Queries equal those of a Mesh built from the new vertices")
+        .def_property_readonly("source", [](const PyMesh& m) { return m.model->mesh().source; })
+        .def_property_readonly("triangle_count", [](const PyMesh& m) { return m.model->mesh().triangleCount(); })
+        .def_property_readonly("vertex_count", [](const PyMesh& m) { return m.model->mesh().positions.size(); })
+        .def_property_readonly("dropped_degenerate", [](const PyMesh& m) { return m.model->mesh().droppedDegenerate; })
+        .def_property_readonly("warnings", [](const PyMesh& m) { return m.model->mesh().warnings; })
+        .def_property_readonly(
+            "vertices",
+            [](const PyMesh& m) {
+                const Mesh& mesh = m.model->mesh();
+                std::vector<double> world(3 * mesh.positions.size());
+                for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+                    const glm::dvec3 p = mesh.toWorld(glm::dvec3(mesh.positions[i]));
+                    for (int a = 0; a < 3; ++a) world[3 * i + std::size_t(a)] = p[a];
+                }
+                return toNumpy(std::move(world), {py::ssize_t(mesh.positions.size()), 3});
+            },
+            "(N, 3) float64 world positions (a copy)")
+        .def_property_readonly(
+            "faces",
+            [](const PyMesh& m) { return facesOf(m.model->mesh()); },
+            "(M, 3) int64 triangles (zero-area ones dropped; the indices of nearest_triangle)")
+        .def_property_readonly("bounds",
+                               [](const PyMesh& m) {
+                                   const WorldBounds b = m.model->mesh().worldBounds();
+                                   return py::make_tuple(tuple3(b.min), tuple3(b.max));
+                               },
+                               "((xmin, ymin, zmin), (xmax, ymax, zmax)) in world coordinates")
+        .def(
+            "check",
+            [](const PyMesh& m, int threads) {
+                return checkToDict(runReleased([&](const RunControl& control) { return m.model->check(control); }, threads));
+            },
+            py::arg("threads") = 0, "The mesh check (holes, non-manifold edges and vertices, flipped faces, self-intersections) as a dict");
+    addMeshQueries(mesh);
+    mesh
         .def(py::pickle([](const PyMesh& m) { return meshState(m); }, [](const py::tuple& state) { return meshFromState(state); }))
         .def("__repr__", [](const PyMesh& m) {
             return "<sdfgen.Mesh " + m.model->mesh().source + ": " + std::to_string(m.model->mesh().triangleCount()) + " triangles>";
         });
+}
 
-    // For sdfgen.torch (python/sdfgen/torch.py): the nearest-point terms of its values and gradients,
-    // flat per point (python/nearest.hpp); None for those not asked for. `vertices` (V, 3): the
-    // full-precision coordinates the mesh was built from; no sign gives unsigned distances.
+// For sdfgen.torch (python/sdfgen/torch.py): the nearest-point terms of its values and gradients,
+// flat per point (python/nearest.hpp); None for those not asked for. `vertices` (V, 3): the
+// full-precision coordinates the mesh was built from; no sign gives unsigned distances.
+void registerTorchTerms(py::module_& m) {
     m.def(
         "_nearest_terms",
         [](const PyMesh& mesh, const py::array& points, const std::optional<py::array>& vertices, const std::optional<std::string>& sign,
@@ -667,7 +680,10 @@ PYBIND11_MODULE(_sdfgen, m) {
         },
         py::arg("mesh"), py::arg("points"), py::arg("vertices") = py::none(), py::arg("sign") = py::none(), py::arg("gradient") = false,
         py::arg("closest") = false, py::arg("features") = false, py::arg("hit") = false, py::arg("threads") = 0);
+}
 
+// Field: a dense field's values and channels as numpy views, its sample positions, saving.
+void registerField(py::module_& m) {
     py::class_<PyField> fieldClass(m, "Field", "A signed distance field on a grid of cubic voxels (samples at voxel centres)");
     addFieldInfo(fieldClass);
     fieldClass
@@ -723,13 +739,16 @@ PYBIND11_MODULE(_sdfgen, m) {
                 py::gil_scoped_release release;
                 saveField(f.field, path, options);
             },
-            py::arg("path"), py::arg("band") = 0.0, saveDoc.c_str())
+            py::arg("path"), py::arg("band") = 0.0, saveDoc())
         .def("__repr__", [](const PyField& f) {
             const Grid& g = f.field.grid;
             return "<sdfgen.Field " + std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
                    " of " + f.field.source + ", " + f.field.method + " sign=" + f.field.parameter("sign") + ">";
         });
+}
 
+// SparseField: a narrow-band field's bricks as numpy views, lookups, saving and loading.
+void registerSparseField(py::module_& m) {
     py::class_<PySparseField> sparseClass(
         m, "SparseField",
         "A narrow-band field (bake with band > 0, or a sparse .npz or .vdb file): exact distances within the band, in "
@@ -861,7 +880,20 @@ PYBIND11_MODULE(_sdfgen, m) {
                    " of " + f.field.source + ", " + std::to_string(f.field.bricks.size()) + " bricks, " + f.field.method +
                    " sign=" + f.field.parameter("sign") + ">";
         });
+}
 
+// bake (a Field, or a SparseField for a band) and load_field.
+void registerBakeAndLoad(py::module_& m) {
+    // pybind11 keeps a docstring's pointer: this lives as long as the module.
+    static const std::string bakeDoc =
+        "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
+        "Ctrl+C cancels. method: " + namesOf(distanceMethodChoices()) + "; sign: " + namesOf(signMethodChoices()) +
+        " (see the module's notes). device: where exact distances and winding signs run: " + describeChoices(deviceChoices()) +
+        ". channels: 'sdf' or a comma-separated list (or sequence) adding gradient, closest and triangle (method exact, "
+        "on the CPU): Field.gradient, .closest, .triangle. band > 0: a narrow-band bake (method exact, on the CPU): exact "
+        "distances only within band voxels of the surface, returned as a SparseField; the dense grid is never allocated. "
+        "ValueError, before any work, for settings out of their limits (res and rays 1 to 65536, padding 0 to 100, band 0 or "
+        "1 to 1e9) or that do not go together, as sdfgen bake refuses them.";
     m.def(
         "bake",
         [](const PyMesh& mesh, int res, double padding, const std::string& method, const std::string& sign, int threads,
@@ -920,7 +952,10 @@ PYBIND11_MODULE(_sdfgen, m) {
         py::arg("path"),
         "Loads a field saved in any format sdfgen writes: a SparseField for a sparse file (a sparse .npz, a .vdb level set "
         "with inactive voxels), a Field otherwise (SparseField.load loads any file as sparse)");
+}
 
+// sample: DeepSDF-style training samples.
+void registerSample(py::module_& m) {
     m.def(
         "sample",
         [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double wideVariance, double narrowVariance,
@@ -969,4 +1004,21 @@ PYBIND11_MODULE(_sdfgen, m) {
         "near_variance and far_variance are their old names), the rest uniform in the padded box. "
         "channels ('sdf' or a list adding gradient, closest, triangle) appends, in that order, gradient (n, 3) float32, "
         "closest (n, 3) float32 (normalized too) and triangle (n,) int32 to the tuple.");
+}
+
+} // namespace
+
+} // namespace sdfgen::python
+
+using namespace sdfgen::python;
+
+// The compiled part of the package sdfgen (python/sdfgen/__init__.py re-exports it).
+PYBIND11_MODULE(_sdfgen, m) {
+    registerModuleInfo(m);
+    registerMesh(m);
+    registerTorchTerms(m);
+    registerField(m);
+    registerSparseField(m);
+    registerBakeAndLoad(m);
+    registerSample(m);
 }

@@ -2,6 +2,7 @@
 #include "sdfgen/compare.hpp"
 #include "core/mesh/predicates.hpp"
 #include "core/mesh/topology.hpp"
+#include "core/mesh/vertex_groups.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"
 #include "support/reference.hpp"
@@ -272,7 +273,7 @@ TEST(MeshTopologyRefit, EqualsAFreshBuildWhileTheMergesHold) {
     std::vector<glm::dvec3> moved = positions;
     for (glm::dvec3& p : moved) p += 0.1 * glm::dvec3(std::sin(3.0 * p.y), std::cos(2.0 * p.z), p.x * p.y);
     const Mesh movedMesh = buildMesh("moved", moved, triangles);
-    ASSERT_TRUE(topology.sameMerges(movedMesh));
+    ASSERT_TRUE(topology.groups()->holdFor(movedMesh.positions));
     const MeshTopology refit(topology, movedMesh), fresh(movedMesh);
     EXPECT_EQ(refit.boundaryLoops(), fresh.boundaryLoops());
     ASSERT_FALSE(fresh.boundaryLoops().empty());
@@ -290,7 +291,7 @@ TEST(MeshTopologyRefit, EqualsAFreshBuildWhileTheMergesHold) {
     // A seam opened (one copy of a vertex moved alone), and two vertices brought together.
     std::vector<glm::dvec3> opened = moved;
     opened[0] += glm::dvec3(1e-3, 0.0, 0.0);
-    EXPECT_FALSE(topology.sameMerges(buildMesh("opened", opened, triangles)));
+    EXPECT_FALSE(topology.groups()->holdFor(buildMesh("opened", opened, triangles).positions));
     std::vector<glm::dvec3> joined = moved;
     const glm::dvec3 target = moved[0];
     std::size_t farthest = 0;
@@ -303,7 +304,51 @@ TEST(MeshTopologyRefit, EqualsAFreshBuildWhileTheMergesHold) {
     }
     const Mesh joinedMesh = buildMesh("joined", joined, triangles);
     ASSERT_EQ(joinedMesh.triangleCount(), movedMesh.triangleCount());
-    EXPECT_FALSE(topology.sameMerges(joinedMesh));
+    EXPECT_FALSE(topology.groups()->holdFor(joinedMesh.positions));
+}
+
+} // namespace
+} // namespace sdfgen
+
+namespace sdfgen {
+namespace {
+
+// Vertex groups (coincident vertices merged) and the linear test of whether moved vertices keep
+// them, which decides whether a model is refit or built afresh.
+TEST(VertexGroups, HoldWhileEveryGroupMovesTogetherAndNoTwoMeet) {
+    // Vertices 0 and 2 coincide, as do 1 and 4 (-0 and +0 alike); 3 is alone.
+    const std::vector<glm::vec3> start{{0, 0, 0}, {1, -0.0f, 2}, {0, 0, 0}, {5, 5, 5}, {1, 0, 2}};
+    const VertexGroups groups(start);
+    ASSERT_EQ(groups.count(), 3u);
+    EXPECT_EQ(groups.groupOf(0), 0u);
+    EXPECT_EQ(groups.groupOf(2), 0u);
+    EXPECT_EQ(groups.groupOf(1), 1u);
+    EXPECT_EQ(groups.groupOf(4), 1u);
+    EXPECT_EQ(groups.groupOf(3), 2u);
+    EXPECT_EQ(groups.firstVertex(1), 1u);
+    EXPECT_TRUE(groups.holdFor(start));
+    std::vector<glm::vec3> moved{{0.5f, 0, 0}, {1, 1, 2}, {0.5f, 0, 0}, {5, 6, 5}, {1, 1, 2}};
+    EXPECT_TRUE(groups.holdFor(moved));
+    std::vector<glm::vec3> split = moved;
+    split[2].x = 0.25f; // vertex 2 leaves vertex 0
+    EXPECT_FALSE(groups.holdFor(split));
+    std::vector<glm::vec3> joined = moved;
+    joined[3] = joined[1]; // vertex 3 lands on group 1
+    EXPECT_FALSE(groups.holdFor(joined));
+    std::vector<glm::vec3> signedZero = {{0, 0, 0}, {1, 1, 2}, {0, 0, 0}, {-0.0f, 0, -0.0f}, {1, 1, 2}};
+    EXPECT_FALSE(groups.holdFor(signedZero)); // -0 lands on +0: one position
+    EXPECT_FALSE(groups.holdFor(std::vector<glm::vec3>(moved.begin(), moved.end() - 1)));
+    // Many groups (the hash table's probes): every vertex of a grid moved, then one pair made to meet.
+    std::vector<glm::vec3> grid;
+    for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j)
+            for (int k = 0; k < 10; ++k) grid.emplace_back(float(i), float(j), float(k)); // integers: equal low mantissa bits
+    const VertexGroups gridGroups(grid);
+    ASSERT_EQ(gridGroups.count(), grid.size());
+    for (glm::vec3& p : grid) p *= 2.0f;
+    EXPECT_TRUE(gridGroups.holdFor(grid));
+    grid[12345] = grid[777];
+    EXPECT_FALSE(gridGroups.holdFor(grid));
 }
 
 } // namespace

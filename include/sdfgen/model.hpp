@@ -89,12 +89,14 @@ public:
     // build, and its warn receives the mesh's warnings (Mesh::warnings, dropped zero-area triangles).
     explicit Model(Mesh mesh, const RunControl& control = {});
     // A model of `mesh`, this model's mesh with its vertices moved (an optimisation step): the same
-    // triangles in the same order. This model's tree is refit to the new positions (linear time)
-    // instead of built again, and its mesh check is kept, its search for self-intersections not
-    // run again, while the edges it counts (holes, non-manifold and flipped edges, orientation)
-    // stay as they were: auto then decides the sign as it did. Queries and bakes give exactly what
-    // a Model built from `mesh` gives when that decision is the same. Builds afresh where the
-    // triangles differ, or copies of a triangle were made or parted. `control` as the constructor's.
+    // triangles in the same order. While the vertices group by position as before (the vertices
+    // that coincided still coincide, and no others have met: so the same connectivity and the
+    // same exact copies of triangles), this model's trees and topology are refit to the new
+    // positions in linear time instead of built again, and its mesh check is kept, its search for
+    // self-intersections not run again, while the orientation holds: auto then decides the sign as
+    // it did. Queries and bakes give exactly what a Model built from `mesh` gives when that
+    // decision is the same. Anything else (other triangles, a zero-area triangle dropped, vertices
+    // parted or met) is built afresh, and decides as a new model does. `control` as the constructor's.
     Model refit(Mesh mesh, const RunControl& control = {}) const;
     ~Model();
     Model(Model&&) noexcept;

@@ -84,6 +84,68 @@ def test_the_check_is_kept_and_a_changed_triangle_list_builds_afresh():
     assert np.array_equal(moved.signed_distance(points), fresh.signed_distance(points))
 
 
+def unwelded(vertices, faces):
+    """Every triangle with its own three vertices, as an OBJ exporter may write them: the vertices
+    merged by position make the mesh closed."""
+    return vertices[faces.reshape(-1)].copy(), np.arange(3 * len(faces), dtype=np.int64).reshape(-1, 3)
+
+
+def assert_same_answers(mesh, fresh, points):
+    assert mesh.check() == fresh.check()
+    for sign in ("auto", "winding", "pseudonormal"):
+        assert np.array_equal(mesh.signed_distance(points, sign=sign), fresh.signed_distance(points, sign=sign))
+        for mine, theirs in zip(mesh.closest(points, sign=sign), fresh.closest(points, sign=sign)):
+            assert np.array_equal(mine, theirs)
+    assert np.array_equal(mesh.winding_number(points), fresh.winding_number(points))
+
+
+def test_a_weld_that_parts_or_joins_builds_afresh():
+    # Moved together, the copies of each vertex stay one merged vertex: the refit keeps the
+    # connectivity. A seam opened or two vertices brought together change it: what a fresh build
+    # checks and decides, not the kept check.
+    welded_vertices, welded_faces = icosphere(2)
+    vertices, faces = unwelded(welded_vertices, welded_faces)
+    points = points_around(1500, seed=4)
+    mesh = sdfgen.Mesh(vertices, faces)
+    assert mesh.check()["closed_and_clean"]
+    moved = wobble(vertices, 1)
+    mesh = mesh.with_vertices(moved)
+    assert_same_answers(mesh, sdfgen.Mesh(moved, faces), points)
+
+    opened = moved.copy()
+    opened[0] *= 1.05  # one of the copies of a vertex, out of its seam: a hole of two edges
+    parted, fresh = mesh.with_vertices(opened), sdfgen.Mesh(opened, faces)
+    assert fresh.check()["boundary_edges"] > 0
+    assert_same_answers(parted, fresh, points)
+
+    joined = moved.copy()
+    # The copies of the vertex farthest from vertex 0 moved onto vertex 0: no triangle collapses,
+    # but the two merged vertices become one (a pinch).
+    far = np.argmax(np.linalg.norm(moved - moved[0], axis=1))
+    joined[np.all(moved == moved[far], axis=1)] = moved[0]
+    met, fresh = mesh.with_vertices(joined), sdfgen.Mesh(joined, faces)
+    assert met.triangle_count == fresh.triangle_count == len(faces)
+    assert fresh.check()["non_manifold_vertices"] > 0
+    assert_same_answers(met, fresh, points)
+
+
+def test_refit_chains_over_unsigned_then_signed_queries_and_float32():
+    # A mesh that answered unsigned queries only has no topology to refit: its vertex groups are
+    # found once and kept; signed queries later build the topology, which later steps refit.
+    vertices, faces = icosphere(3)
+    points = points_around(1000, seed=5)
+    mesh = sdfgen.Mesh(vertices.astype(np.float32), faces)
+    mesh.unsigned_distance(points)
+    for step in range(1, 5):
+        moved = wobble(vertices, step).astype(np.float32)
+        mesh = mesh.with_vertices(moved)
+        fresh = sdfgen.Mesh(moved, faces)
+        if step < 3:
+            assert np.array_equal(mesh.unsigned_distance(points), fresh.unsigned_distance(points))
+        else:
+            assert_same_answers(mesh, fresh, points)
+
+
 def test_with_vertices_refuses_another_vertex_count():
     vertices, faces = icosphere(1)
     with pytest.raises(ValueError, match="vertices must be the mesh's 42 vertices"):
@@ -116,3 +178,24 @@ def test_torch_steps_refit_and_equal_fresh_meshes():
         assert len(st._tensor_meshes) == 1  # one topology, its latest mesh
         for mine, theirs in zip(refit, step(moved, fresh=True)):
             assert torch.equal(mine, theirs)
+
+
+def test_torch_faces_changed_in_place_build_afresh():
+    torch = pytest.importorskip("torch", reason="torch is not installed (Debian: apt-get install python3-torch)")
+    import sdfgen.torch as st
+
+    vertices, faces = icosphere(2)
+    f = torch.from_numpy(faces.copy())
+    centre = vertices[faces[0]].mean(axis=0)
+    points = torch.from_numpy(np.concatenate([points_around(300, seed=6), [0.9 * centre, 1.1 * centre]]))
+    st._tensor_meshes.clear()
+    st.signed_distance(points, torch.from_numpy(vertices), f)
+    # The same tensor changed in place (triangle 0 replaced by a copy of triangle 1: a hole): the
+    # mesh kept for the old faces must not serve it.
+    f[0] = f[1]
+    moved = torch.from_numpy(wobble(vertices, 1))
+    mine = st.signed_distance(points, moved, f)
+    assert len(st._tensor_meshes) == 2
+    st._tensor_meshes.clear()
+    assert torch.equal(mine, st.signed_distance(points, moved, f))
+    assert not torch.equal(mine, st.signed_distance(points, moved, torch.from_numpy(faces)))  # the change shows

@@ -219,45 +219,51 @@ Bvh::Bvh(const Mesh& mesh, const RunControl& control) {
     for (std::size_t i = 0; i < n; ++i) copies_[copies.unique[i]] = copies.count[i];
 }
 
-bool Bvh::refit(const Mesh& mesh, const RunControl& control) {
-    if (mesh.triangleCount() != copies_.size()) return false;
-    tbb::task_arena arena(arenaSize(control));
-    TriangleCopies copies;
-    arena.execute([&] { copies = findTriangleCopies(mesh); });
-    // The tree holds each first copy once and counts the others: that must hold as it did.
-    if (copies.unique.size() != triangleIds_.size()) return false;
-    for (std::size_t i = 0; i < copies.unique.size(); ++i) {
-        if (copies_[copies.unique[i]] != copies.count[i]) return false;
+Bvh::Bvh(const Bvh& previous, const Mesh& mesh, const RunControl& control, Bvh* spare) {
+    if (spare) { // its memory, every element written below
+        nodes_ = std::move(spare->nodes_);
+        triangles_ = std::move(spare->triangles_);
+        triangleIds_ = std::move(spare->triangleIds_);
+        copies_ = std::move(spare->copies_);
     }
-    arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangleIds_.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                const std::uint32_t id = triangleIds_[i];
-                triangles_[i] = prepareTriangle(mesh.vertex(id, 0), mesh.vertex(id, 1), mesh.vertex(id, 2));
+    nodes_.assign(previous.nodes_.begin(), previous.nodes_.end());
+    triangles_.resize(previous.triangles_.size());
+    triangleIds_.assign(previous.triangleIds_.begin(), previous.triangleIds_.end());
+    copies_.assign(previous.copies_.begin(), previous.copies_.end());
+    // The leaves in parallel (their triangles set up and boxed: one read of each triangle's corners),
+    // then the inner nodes bottom-up: children follow their parent in the depth-first layout, so in
+    // reverse every child is done first.
+    auto boxOf = [](const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, glm::vec3& lo, glm::vec3& hi) {
+        lo = glm::min(lo, glm::min(a, glm::min(b, c)));
+        hi = glm::max(hi, glm::max(a, glm::max(b, c)));
+    };
+    auto setBox = [](Node& n, const glm::vec3& lo, const glm::vec3& hi) {
+        for (int a = 0; a < 3; ++a) n.min[a] = lo[a], n.max[a] = hi[a];
+    };
+    constexpr std::size_t kNodesPerItem = 2048;
+    parallelFor((nodes_.size() + kNodesPerItem - 1) / kNodesPerItem, quiet(control), [&](std::size_t item) {
+        for (std::size_t i = item * kNodesPerItem; i < std::min(nodes_.size(), (item + 1) * kNodesPerItem); ++i) {
+            Node& n = nodes_[i];
+            if (n.count == 0) continue;
+            glm::vec3 lo(kMax), hi(-kMax);
+            for (std::uint32_t slot = n.index; slot < n.index + n.count; ++slot) {
+                const std::uint32_t id = triangleIds_[slot];
+                const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
+                triangles_[slot] = prepareTriangle(a, b, c);
+                boxOf(a, b, c, lo, hi);
             }
-        });
+            setBox(n, lo, hi);
+        }
     });
-    // Children follow their parent in the depth-first layout: in reverse, every child is done first.
     for (std::size_t i = nodes_.size(); i-- > 0;) {
         Node& n = nodes_[i];
-        glm::vec3 lo(kMax), hi(-kMax);
-        auto add = [&lo, &hi](const glm::vec3& min, const glm::vec3& max) { lo = glm::min(lo, min), hi = glm::max(hi, max); };
-        if (n.count > 0) {
-            for (std::uint32_t k = 0; k < n.count; ++k) {
-                const std::uint32_t id = triangleIds_[n.index + k];
-                const glm::vec3 a = mesh.vertex(id, 0), b = mesh.vertex(id, 1), c = mesh.vertex(id, 2);
-                add(glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c)));
-            }
-        } else {
-            for (const Node* child : {&nodes_[i + 1], &nodes_[n.index]}) {
-                add({child->min[0], child->min[1], child->min[2]}, {child->max[0], child->max[1], child->max[2]});
-            }
-        }
-        for (int a = 0; a < 3; ++a) n.min[a] = lo[a], n.max[a] = hi[a];
+        if (n.count > 0) continue;
+        const Node &first = nodes_[i + 1], &second = nodes_[n.index];
+        setBox(n, glm::min(glm::vec3(first.min[0], first.min[1], first.min[2]), glm::vec3(second.min[0], second.min[1], second.min[2])),
+               glm::max(glm::vec3(first.max[0], first.max[1], first.max[2]), glm::vec3(second.max[0], second.max[1], second.max[2])));
     }
     bounds_ = {glm::vec3(nodes_[0].min[0], nodes_[0].min[1], nodes_[0].min[2]),
                glm::vec3(nodes_[0].max[0], nodes_[0].max[1], nodes_[0].max[2])};
-    return true;
 }
 
 std::uint32_t Bvh::build(Subtree& out, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end,

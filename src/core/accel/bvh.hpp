@@ -38,11 +38,13 @@ public:
     // Cancelled soon after control.cancel is raised.
     explicit Bvh(const Mesh& mesh, const RunControl& control = {});
 
-    // The same tree over `mesh`, whose vertices have moved from those this tree was built (or last
-    // refit) on: the same triangles in the same order, and the same exact copies (refit returns false,
-    // leaving the tree unusable, when they are not: build a new one). Every box is refit bottom-up
-    // to the new positions, in linear time; the search answers as a tree built on `mesh` does.
-    bool refit(const Mesh& mesh, const RunControl& control = {});
+    // The tree `previous` over `mesh`, its mesh with the vertices moved: the same triangles, whose
+    // exact copies are the same (the vertices group as before, VertexGroups::holdFor). Every box is
+    // refit bottom-up to the new positions in linear time; the search answers as a tree built on
+    // `mesh` does (the nearest triangle, ties to the lower index, whatever the tree's shape).
+    // `spare`, when given, is a dead tree of the same mesh (a refit chain's): its arrays' memory is
+    // reused, already mapped, instead of fresh memory the system must zero and map in page by page.
+    Bvh(const Bvh& previous, const Mesh& mesh, const RunControl& control = {}, Bvh* spare = nullptr);
 
     // Calls visit(triangle) for every triangle whose bounding box overlaps `box`.
     template <class Visit>

@@ -153,6 +153,14 @@ float inverse(double length2) {
 void fillPacket(const Mesh& mesh, const PacketIds& ids, TrianglePacket& p) {
     for (int lane = 0; lane < kWidth; ++lane) {
         const std::uint32_t id = ids[std::size_t(lane)];
+        if (lane > 0 && id == ids[0]) { // a lane past the leaf's triangles: the first one's values
+            for (simd::f8* field : {&p.ax, &p.ay, &p.az, &p.e1x, &p.e1y, &p.e1z, &p.e2x, &p.e2y, &p.e2z, &p.nx, &p.ny, &p.nz, &p.length,
+                                    &p.cu, &p.cv, &p.bcu, &p.invAC, &p.invBC}) {
+                (*field)[lane] = (*field)[0];
+            }
+            p.id[lane] = p.id[0];
+            continue;
+        }
         glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
         // The longest edge as the base (a cyclic rotation keeps the orientation): the frame of a
         // sliver or a needle is then as accurate as its longest side allows.
@@ -213,12 +221,20 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     leafBounds_ = std::move(layout.leafBounds);
 }
 
-void WideBvh::refit(const Mesh& mesh, const RunControl& control) {
+WideBvh::WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control, WideBvh* spare) {
+    if (spare) { // its memory, every element written below
+        nodes_ = std::move(spare->nodes_);
+        packets_ = std::move(spare->packets_);
+        leafBounds_ = std::move(spare->leafBounds_);
+    }
+    nodes_.assign(previous.nodes_.begin(), previous.nodes_.end());
+    packets_.resize(previous.packets_.size());
+    leafBounds_.resize(previous.leafBounds_.size());
     constexpr std::size_t kPacketsPerItem = 1024;
     parallelFor((packets_.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
         for (std::size_t i = item * kPacketsPerItem; i < std::min(packets_.size(), (item + 1) * kPacketsPerItem); ++i) {
             PacketIds ids;
-            for (int lane = 0; lane < kWidth; ++lane) ids[std::size_t(lane)] = std::uint32_t(packets_[i].id[lane]);
+            for (int lane = 0; lane < kWidth; ++lane) ids[std::size_t(lane)] = std::uint32_t(previous.packets_[i].id[lane]);
             fillPacket(mesh, ids, packets_[i]);
             leafBounds_[i] = packetBox(mesh, ids);
         }

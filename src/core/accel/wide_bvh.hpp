@@ -57,9 +57,11 @@ public:
 
     // The SoA packets are filled on control.threads threads; the tree is the same for any count.
     WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control = {});
-    // The same tree over `mesh`, whose vertices have moved from those it was built on (the same
-    // triangles; its binary tree refit by Bvh::refit): packets and boxes again, in linear time.
-    void refit(const Mesh& mesh, const RunControl& control = {});
+    // The tree `previous` over `mesh`, its mesh with the vertices moved (the same triangles, the
+    // same exact copies; its binary tree refit by Bvh's refit constructor): the same nodes and
+    // packets, their boxes and frames measured again, in linear time.
+    // `spare`: as Bvh's refit constructor's, a dead tree of the same mesh whose memory is reused.
+    WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control = {}, WideBvh* spare = nullptr);
 
     // The search runs in this stage's copy for this CPU (core/accel/wide_nearest.inc).
     // The nearest triangle to p (local coordinates), starting from `best` (an upper bound that a

@@ -9,6 +9,7 @@
 #include "core/runtime/parallel.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "core/mesh/topology.hpp"
+#include "core/mesh/vertex_groups.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/grid.hpp"
 
@@ -19,33 +20,74 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 
 namespace sdfgen {
 
+namespace {
+
+// The trees of the dead models of a refit chain (models refit one from another), kept for the next
+// refit to reuse their memory (Bvh's and WideBvh's refit constructors): an optimisation loop's step
+// then writes into memory already mapped, instead of memory the system zeroes and maps in page by
+// page, which cost as much as the refit itself. At most one of each per chain.
+struct RefitSpares {
+    std::mutex mutex;
+    std::optional<Bvh> tree;
+    std::optional<WideBvh> wide;
+
+    template <class Tree>
+    std::optional<Tree> take(std::optional<Tree>& spare) {
+        std::lock_guard<std::mutex> lock(mutex);
+        std::optional<Tree> taken = std::move(spare);
+        spare.reset();
+        return taken;
+    }
+};
+
+// The tree a taken spare holds, or null; it lives until the end of the full expression that took it.
+template <class Tree>
+Tree* valueOrNull(std::optional<Tree>&& spare) {
+    return spare ? &*spare : nullptr;
+}
+
+} // namespace
+
 struct Model::Impl {
     Impl(Mesh m, const RunControl& control) : mesh(std::move(m)), tree(mesh, control) {}
-    // `refitTree`: the previous model's tree, refit to m; `previous` that model, whose wide tree (if
-    // built) is refit too, whose topology (if built) is kept while the vertices merge as before,
-    // and whose check (if made) is kept while the edges hold (see check).
-    Impl(Mesh m, Bvh refitTree, const Impl& previous, const RunControl& control)
-        : mesh(std::move(m)), tree(std::move(refitTree)) {
+    // A model that dies gives its trees to its refit chain's spares.
+    ~Impl() {
+        if (!spares_) return;
+        std::lock_guard<std::mutex> lock(spares_->mutex);
+        if (!spares_->tree) spares_->tree.emplace(std::move(tree));
+        if (wideBuilt_.load(std::memory_order_acquire) && !spares_->wide) spares_->wide.emplace(std::move(*wide_));
+    }
+    // `m` is `previous`'s mesh with its vertices moved, grouped by `groups` as before (so the same
+    // connectivity and triangle copies): the trees and, where `previous` had built it, the topology
+    // are refit side by side; `previous`'s check (if made) is kept while the orientation holds (see check).
+    Impl(Mesh m, const Impl& previous, std::shared_ptr<const VertexGroups> groups, const RunControl& control)
+        : mesh(std::move(m)), tree(previous.tree, mesh, control, valueOrNull(previous.chainSpares()->take(previous.chainSpares()->tree))),
+          groups_(std::move(groups)), spares_(previous.chainSpares()) {
         if (previous.checked_.load(std::memory_order_acquire)) previousCheck_ = previous.check_;
-        // The connectivity stands while the vertices merge as before: only positions are measured again.
-        if (previous.topologyBuilt_.load(std::memory_order_acquire) && previous.topology_->sameMerges(mesh)) {
-            std::call_once(topologyOnce, [&] {
-                topology_.emplace(*previous.topology_, mesh, control);
-                topologyBuilt_.store(true, std::memory_order_release);
+        const bool refitWide = previous.wideBuilt_.load(std::memory_order_acquire);
+        const bool refitTopology = previous.topologyBuilt_.load(std::memory_order_acquire);
+        parallelInvoke(
+            control,
+            [&] {
+                if (!refitWide) return;
+                std::call_once(wideOnce, [&] {
+                    wide_.emplace(*previous.wide_, mesh, control, valueOrNull(spares_->take(spares_->wide)));
+                    wideBuilt_.store(true, std::memory_order_release);
+                });
+            },
+            [&] {
+                if (!refitTopology) return;
+                std::call_once(topologyOnce, [&] {
+                    topology_.emplace(*previous.topology_, mesh, control);
+                    topologyBuilt_.store(true, std::memory_order_release);
+                });
             });
-        }
-        if (previous.wideBuilt_.load(std::memory_order_acquire)) {
-            std::call_once(wideOnce, [&] {
-                wide_.emplace(*previous.wide_);
-                wide_->refit(mesh, control);
-                wideBuilt_.store(true, std::memory_order_release);
-            });
-        }
     }
 
     // Built on first use, with the control of that use (a cancelled build is retried by the next).
@@ -86,6 +128,24 @@ struct Model::Impl {
         return check_;
     }
 
+    // How the vertices group by position: the topology's when it is built, else found now; kept by
+    // the models refit from this one.
+    std::shared_ptr<const VertexGroups> groups(const RunControl& control = {}) const {
+        std::call_once(groupsOnce, [&] {
+            if (!groups_) groups_ = topologyBuilt_.load(std::memory_order_acquire) ? topology_->groups()
+                                                                                   : std::make_shared<const VertexGroups>(mesh.positions, control);
+        });
+        return groups_;
+    }
+
+    // The spares of the refit chain this model is in, made when it is first refit.
+    const std::shared_ptr<RefitSpares>& chainSpares() const {
+        std::call_once(sparesOnce, [&] {
+            if (!spares_) spares_ = std::make_shared<RefitSpares>();
+        });
+        return spares_;
+    }
+
     const WindingCaps& caps(const RunControl& control = {}) const {
         std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
         return *caps_;
@@ -95,7 +155,9 @@ struct Model::Impl {
     Bvh tree;
 
 private:
-    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce;
+    mutable std::once_flag wideOnce, topologyOnce, checkOnce, capsOnce, groupsOnce, sparesOnce;
+    mutable std::shared_ptr<const VertexGroups> groups_;
+    mutable std::shared_ptr<RefitSpares> spares_;
     mutable std::optional<WideBvh> wide_;
     mutable std::optional<MeshTopology> topology_;
     mutable MeshCheck check_;
@@ -137,12 +199,21 @@ Model::Model(Mesh mesh, const RunControl& control) {
 Model Model::refit(Mesh moved, const RunControl& control) const {
     const Impl& m = *impl_;
     checkedControl(control);
+    // The same triangles over vertices that group as before have the same connectivity and the
+    // same exact copies: everything built on them stands, and only positions are measured again.
+    // Anything else is built afresh, and decides as a new model does.
     if (moved.triangles != m.mesh.triangles) return Model(std::move(moved), control);
-    Bvh tree = m.tree;
-    if (!tree.refit(moved, control)) return Model(std::move(moved), control);
+    std::shared_ptr<const VertexGroups> groups = m.groups(quiet(control));
+    if (!groups->holdFor(moved.positions)) return Model(std::move(moved), control);
     warnAboutMesh(moved, control);
+    // Each refit pass is a few streaming loops: below this many triangles they take less time than
+    // waking the thread pool for them (and its threads' spinning between the passes), so they run
+    // on the calling thread alone. Results never depend on the thread count.
+    constexpr std::size_t kParallelRefit = std::size_t(1) << 17;
+    RunControl refitControl = control;
+    if (moved.triangleCount() < kParallelRefit) refitControl.threads = 1;
     Model result;
-    result.impl_ = std::make_unique<Impl>(std::move(moved), std::move(tree), m, control);
+    result.impl_ = std::make_unique<Impl>(std::move(moved), m, std::move(groups), refitControl);
     return result;
 }
 

@@ -104,7 +104,10 @@ double unitFor(double halfExtent) {
 
 namespace {
 
-constexpr std::size_t kGrain = 16384; // items per parallel chunk
+// Items per parallel chunk: each pass is a few nanoseconds an item, so a mesh of fewer items is
+// done on the calling thread alone, sooner than the thread pool would wake (a refit step builds
+// one every call).
+constexpr std::size_t kGrain = 65536;
 
 // The lowest i in [0, n) for which bad(i) holds, or n: the answer of a serial search, in parallel.
 template <class Bad>

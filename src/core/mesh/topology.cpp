@@ -3,15 +3,10 @@
 #include "core/runtime/parallel.hpp"
 #include "core/mesh/predicates.hpp"
 
-#include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
-
 #include <glm/geometric.hpp>
 #include <algorithm>
-#include <array>
 #include <cfloat>
 #include <cmath>
-#include <cstring>
 #include <numeric>
 #include <tuple>
 #include <unordered_map>
@@ -112,64 +107,26 @@ MeshTopology::MeshTopology(const Mesh& mesh, const RunControl& control) : MeshTo
 MeshTopology::MeshTopology(const Mesh& mesh, const Bvh& tree, const RunControl& control)
     : MeshTopology(mesh, copiesOf(mesh, tree), control) {}
 
-MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control) : copies_(std::move(copies)) {
-    // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
-    constexpr std::size_t kStages = 5;
-    ProgressCounter progress(control, kStages);
-    tbb::task_arena arena(arenaSize(control));
-    // Merge vertices with identical coordinates (-0 and +0 alike; coordinates are finite, so equal
-    // floats have equal bits): sorted by (bits, index) in parallel, a total order, each vertex
-    // goes to the first of its group, and merged vertices are numbered in order of first use.
-    const std::size_t vertexCount = mesh.positions.size();
-    std::vector<std::array<std::uint32_t, 3>> keys(vertexCount);
-    for (std::size_t i = 0; i < vertexCount; ++i) {
-        const glm::vec3 p = mesh.positions[i] + glm::vec3(0.0f);
-        std::memcpy(keys[i].data(), &p, sizeof(p));
-    }
-    std::vector<std::uint32_t> byPosition(vertexCount);
-    std::iota(byPosition.begin(), byPosition.end(), 0u);
-    arena.execute([&] {
-        tbb::parallel_sort(byPosition.begin(), byPosition.end(),
-                           [&](std::uint32_t x, std::uint32_t y) { return std::tie(keys[x][0], keys[x][1], keys[x][2], x) <
-                                                                                  std::tie(keys[y][0], keys[y][1], keys[y][2], y); });
-    });
-    std::vector<std::uint32_t> remap(vertexCount);
-    for (std::size_t k = 0; k < vertexCount; ++k) {
-        const std::uint32_t i = byPosition[k];
-        remap[i] = k > 0 && keys[byPosition[k - 1]] == keys[i] ? remap[byPosition[k - 1]] : i;
-    }
-    for (std::size_t i = 0; i < vertexCount; ++i) {
-        if (remap[i] == i) {
-            remap[i] = std::uint32_t(positions_.size());
-            positions_.emplace_back(mesh.positions[i] + glm::vec3(0.0f));
-        } else {
-            remap[i] = remap[remap[i]]; // the first of the group, already numbered
-        }
-    }
-    merged_ = remap;
-    const std::size_t n = mesh.triangleCount();
-    corners_.resize(n);
-    faceNormals_.resize(n);
-    for (std::size_t t = 0; t < n; ++t) {
-        for (int c = 0; c < 3; ++c) corners_[t][c] = remap[mesh.triangles[t][c]];
-        faceNormals_[t] = mesh.faceNormals[t];
-    }
+namespace {
 
-    progress.add(1);
-    // Every triangle edge as (low vertex, high vertex, triangle, which edge, runs low->high).
-    struct EdgeUse {
-        std::uint32_t lo, hi, triangle;
-        std::uint8_t edge;
-        bool forward;
-    };
-    // Sorted by (lo, hi, triangle, edge), a total order (each triangle's edge is used once): placed
-    // by their low vertex in triangle order (a counting sort, linear), then each vertex's few
-    // uses sorted by the high vertex, in parallel; the one list any sort gives, for any thread count.
-    std::vector<std::size_t> firstUse(positions_.size() + 1, 0);
+// Every triangle edge as (low vertex, high vertex, triangle, which edge, runs low->high).
+struct EdgeUse {
+    std::uint32_t lo, hi, triangle;
+    std::uint8_t edge;
+    bool forward;
+};
+
+// The edge pass: every edge of the triangles over merged vertices (edges collapsed by merging left
+// out), sorted by (lo, hi, triangle, edge), a total order (each triangle's edge is used once):
+// placed by their low vertex in triangle order (a counting sort, linear), then each vertex's few
+// uses sorted by the high vertex, in parallel; the one list any sort gives, for any thread count.
+std::vector<EdgeUse> sortedEdgeUses(const std::vector<glm::uvec3>& corners, std::size_t vertexCount, const RunControl& control) {
+    const std::size_t n = corners.size();
+    std::vector<std::size_t> firstUse(vertexCount + 1, 0);
     for (std::uint32_t t = 0; t < n; ++t) {
         for (std::uint8_t e = 0; e < 3; ++e) {
-            const std::uint32_t u = corners_[t][e], v = corners_[t][(e + 1) % 3];
-            if (u != v) ++firstUse[std::min(u, v) + 1]; // else collapsed by merging
+            const std::uint32_t u = corners[t][e], v = corners[t][(e + 1) % 3];
+            if (u != v) ++firstUse[std::min(u, v) + 1];
         }
     }
     std::partial_sum(firstUse.begin(), firstUse.end(), firstUse.begin());
@@ -178,34 +135,46 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
         std::vector<std::size_t> next(firstUse.begin(), firstUse.end() - 1);
         for (std::uint32_t t = 0; t < n; ++t) {
             for (std::uint8_t e = 0; e < 3; ++e) {
-                const std::uint32_t u = corners_[t][e], v = corners_[t][(e + 1) % 3];
+                const std::uint32_t u = corners[t][e], v = corners[t][(e + 1) % 3];
                 if (u != v) uses[next[std::min(u, v)]++] = {std::min(u, v), std::max(u, v), t, e, u < v};
             }
         }
     }
     constexpr std::size_t kVerticesPerItem = 4096;
-    parallelFor((positions_.size() + kVerticesPerItem - 1) / kVerticesPerItem, quiet(control), [&](std::size_t item) {
-        const std::size_t from = item * kVerticesPerItem, to = std::min(positions_.size(), from + kVerticesPerItem);
+    parallelFor((vertexCount + kVerticesPerItem - 1) / kVerticesPerItem, quiet(control), [&](std::size_t item) {
+        const std::size_t from = item * kVerticesPerItem, to = std::min(vertexCount, from + kVerticesPerItem);
         for (std::size_t vertex = from; vertex < to; ++vertex) {
             std::sort(uses.begin() + std::ptrdiff_t(firstUse[vertex]), uses.begin() + std::ptrdiff_t(firstUse[vertex + 1]),
                       [](const EdgeUse& x, const EdgeUse& y) { return std::tie(x.hi, x.triangle, x.edge) < std::tie(y.hi, y.triangle, y.edge); });
         }
     });
-    firstUse = {};
+    return uses;
+}
 
-    progress.add(1);
-    edgeNeighbours_.assign(3 * n, kNoNeighbour);
-    // Corners (3 per triangle) around a vertex are joined across manifold edges; more than one
-    // group at a vertex means its triangles form separate fans.
-    std::vector<std::uint32_t> parent(3 * n);
-    std::iota(parent.begin(), parent.end(), 0u);
+// What the pairing pass leaves for the later ones.
+struct EdgePairing {
+    // Corners (3 per triangle) around a vertex joined across manifold edges (a union-find forest):
+    // more than one group at a vertex means its triangles form separate fans.
+    std::vector<std::uint32_t> cornerParent;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary; // directed edges, with multiplicity
+};
+
+// The pairing pass: each run of uses of one edge counted (boundary, non-manifold, inconsistent),
+// the two triangles of a manifold edge made neighbours and their corners joined, and the uses
+// that do not cancel out kept as boundary edges.
+EdgePairing pairEdges(const std::vector<EdgeUse>& uses, MeshTopology::Links& links) {
+    const std::vector<glm::uvec3>& corners = links.corners;
+    links.edgeNeighbours.assign(3 * corners.size(), MeshTopology::kNoNeighbour);
+    EdgePairing pairing;
+    pairing.cornerParent.resize(3 * corners.size());
+    std::iota(pairing.cornerParent.begin(), pairing.cornerParent.end(), 0u);
     auto cornerOf = [&](std::uint32_t t, std::uint32_t vertex) {
         for (std::uint32_t c = 0; c < 3; ++c) {
-            if (corners_[t][c] == vertex) return 3 * t + c;
+            if (corners[t][c] == vertex) return 3 * t + c;
         }
         return 3 * t;
     };
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary; // directed, with multiplicity
+    MeshCheck& counts = links.edgeCounts;
     for (std::size_t begin = 0; begin < uses.size();) {
         std::size_t end = begin;
         int net = 0;
@@ -215,46 +184,47 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
         }
         const std::size_t count = end - begin;
         const EdgeUse& first = uses[begin];
-        if (count == 1) ++edgeCheck_.boundaryEdges;
-        if (count > 2) ++edgeCheck_.nonManifoldEdges;
+        if (count == 1) ++counts.boundaryEdges;
+        if (count > 2) ++counts.nonManifoldEdges;
         if (count == 2) {
             const EdgeUse& second = uses[begin + 1];
-            if (first.forward == second.forward) ++edgeCheck_.inconsistentEdges;
+            if (first.forward == second.forward) ++counts.inconsistentEdges;
             // The edge's pseudonormal is the sum of its two face normals (each face's angle is π).
-            edgeNeighbours_[3 * first.triangle + first.edge] = second.triangle;
-            edgeNeighbours_[3 * second.triangle + second.edge] = first.triangle;
+            links.edgeNeighbours[3 * first.triangle + first.edge] = second.triangle;
+            links.edgeNeighbours[3 * second.triangle + second.edge] = first.triangle;
             for (std::uint32_t vertex : {first.lo, first.hi}) {
-                const std::uint32_t a = findRoot(parent, cornerOf(first.triangle, vertex));
-                const std::uint32_t b = findRoot(parent, cornerOf(second.triangle, vertex));
-                parent[a] = b;
+                const std::uint32_t a = findRoot(pairing.cornerParent, cornerOf(first.triangle, vertex));
+                const std::uint32_t b = findRoot(pairing.cornerParent, cornerOf(second.triangle, vertex));
+                pairing.cornerParent[a] = b;
             }
         }
         for (int k = 0; k < std::abs(net); ++k) {
-            boundary.emplace_back(net > 0 ? first.lo : first.hi, net > 0 ? first.hi : first.lo);
+            pairing.boundary.emplace_back(net > 0 ? first.lo : first.hi, net > 0 ? first.hi : first.lo);
         }
         begin = end;
     }
+    return pairing;
+}
 
-    progress.add(1);
-    // The fans around each vertex.
-    std::vector<std::uint32_t> fanRoot(positions_.size(), UINT32_MAX);
-    std::vector<bool> pinched(positions_.size(), false);
-    for (std::uint32_t t = 0; t < n; ++t) {
+// The vertices whose corners form more than one fan (see EdgePairing::cornerParent).
+std::size_t countPinchedVertices(const std::vector<glm::uvec3>& corners, std::vector<std::uint32_t>& cornerParent, std::size_t vertexCount) {
+    std::vector<std::uint32_t> fanRoot(vertexCount, UINT32_MAX);
+    std::vector<bool> pinched(vertexCount, false);
+    for (std::uint32_t t = 0; t < corners.size(); ++t) {
         for (std::uint32_t c = 0; c < 3; ++c) {
-            const std::uint32_t v = corners_[t][c];
-            const std::uint32_t root = findRoot(parent, 3 * t + c);
+            const std::uint32_t v = corners[t][c];
+            const std::uint32_t root = findRoot(cornerParent, 3 * t + c);
             if (fanRoot[v] == UINT32_MAX) fanRoot[v] = root;
             else if (fanRoot[v] != root) pinched[v] = true;
         }
     }
-    edgeCheck_.nonManifoldVertices = std::size_t(std::count(pinched.begin(), pinched.end(), true));
-    edgeCheck_.selfIntersectionsSearched = false;
-    measurePositions(control);
+    return std::size_t(std::count(pinched.begin(), pinched.end(), true));
+}
 
-    progress.add(1);
-    // Split the boundary edges into closed loops (a boundary is a cycle, so every walk returns).
-    // Each vertex keeps a cursor to its first possibly unused outgoing edge, so many copies of one
-    // edge (a stack of duplicated open triangles) cost linear time, not quadratic.
+// The loops pass: the boundary edges split into closed loops (a boundary is a cycle, so every
+// walk returns). Each vertex keeps a cursor to its first possibly unused outgoing edge, so many
+// copies of one edge (a stack of duplicated open triangles) cost linear time, not quadratic.
+std::vector<std::vector<std::uint32_t>> boundaryLoopsOf(std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary) {
     std::sort(boundary.begin(), boundary.end());
     std::vector<bool> used(boundary.size(), false);
     std::unordered_map<std::uint32_t, std::size_t> nextOut; // vertex -> its first outgoing edge not known used
@@ -266,6 +236,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
         while (next < boundary.size() && boundary[next].first == vertex && used[next]) ++next;
         return next < boundary.size() && boundary[next].first == vertex ? next : boundary.size();
     };
+    std::vector<std::vector<std::uint32_t>> loops;
     for (std::size_t start = 0; start < boundary.size(); ++start) {
         if (used[start]) continue;
         std::vector<std::uint32_t> loop;
@@ -278,17 +249,57 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
             edge = takeOut(head);
             if (edge >= boundary.size()) break; // cannot happen for a cycle
         }
-        loops_.push_back(std::move(loop));
+        loops.push_back(std::move(loop));
     }
+    return loops;
+}
 
+} // namespace
+
+MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control) {
+    // Serial stages, each about as long as a pass over the triangles: progress and cancel between them.
+    constexpr std::size_t kStages = 5;
+    ProgressCounter progress(control, kStages);
+    groups_ = std::make_shared<const VertexGroups>(mesh.positions, control);
+    auto links = std::make_shared<Links>();
+    links->copies = std::move(copies);
+    links->corners.resize(mesh.triangleCount());
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        for (int c = 0; c < 3; ++c) links->corners[t][c] = groups_->groupOf(mesh.triangles[t][c]);
+    }
+    takePositions(mesh);
+    progress.add(1);
+    const std::vector<EdgeUse> uses = sortedEdgeUses(links->corners, groups_->count(), control);
+    progress.add(1);
+    EdgePairing pairing = pairEdges(uses, *links);
+    progress.add(1);
+    links->edgeCounts.nonManifoldVertices = countPinchedVertices(links->corners, pairing.cornerParent, groups_->count());
+    links->edgeCounts.selfIntersectionsSearched = false;
+    links->loops = boundaryLoopsOf(std::move(pairing.boundary));
+    progress.add(1);
+    links_ = std::move(links);
+    edgeCheck_ = links_->edgeCounts;
+    measurePositions(control);
     progress.add(1);
     progress.finish();
+}
+
+MeshTopology::MeshTopology(const MeshTopology& previous, const Mesh& mesh, const RunControl& control)
+    : groups_(previous.groups_), links_(previous.links_), edgeCheck_(previous.links_->edgeCounts) {
+    takePositions(mesh);
+    measurePositions(control);
+}
+
+void MeshTopology::takePositions(const Mesh& mesh) {
+    positions_.resize(groups_->count());
+    for (std::size_t g = 0; g < positions_.size(); ++g) positions_[g] = glm::dvec3(mesh.positions[groups_->firstVertex(g)] + glm::vec3(0.0f));
+    faceNormals_.assign(mesh.faceNormals.begin(), mesh.faceNormals.end());
 }
 
 void MeshTopology::measurePositions(const RunControl& control) {
     // Signed volume by the divergence theorem, about the first vertex to keep the sum precise.
     double volume = 0.0;
-    for (const glm::uvec3& t : corners_) {
+    for (const glm::uvec3& t : links_->corners) {
         const glm::dvec3 o = positions_.front();
         volume += glm::dot(positions_[t[0]] - o, glm::cross(positions_[t[1]] - o, positions_[t[2]] - o));
     }
@@ -300,34 +311,8 @@ void MeshTopology::measurePositions(const RunControl& control) {
     if (edgeCheck_.closedAndClean()) buildVertexNormals(&control);
 }
 
-bool MeshTopology::sameMerges(const Mesh& mesh) const {
-    if (mesh.positions.size() != merged_.size() || mesh.triangleCount() != corners_.size()) return false;
-    // Each group at its first vertex's position (merged vertices are numbered by first use, so the
-    // first vertex of group g is where firstOf[g] points), bit for bit (-0 and +0 alike).
-    constexpr std::uint32_t kUnset = 0xffffffffu;
-    std::vector<std::uint32_t> firstOf(positions_.size(), kUnset);
-    for (std::uint32_t i = 0; i < merged_.size(); ++i) {
-        std::uint32_t& first = firstOf[merged_[i]];
-        if (first == kUnset) first = i;
-        else if (!(mesh.positions[i] == mesh.positions[first])) return false;
-    }
-    // No two groups at one position: the groups' positions sorted, then compared neighbour to neighbour.
-    std::vector<glm::vec3> at(positions_.size());
-    for (std::size_t g = 0; g < at.size(); ++g) at[g] = mesh.positions[firstOf[g]] + glm::vec3(0.0f);
-    std::sort(at.begin(), at.end(), [](const glm::vec3& l, const glm::vec3& r) { return std::tie(l.x, l.y, l.z) < std::tie(r.x, r.y, r.z); });
-    return std::adjacent_find(at.begin(), at.end()) == at.end();
-}
-
-MeshTopology::MeshTopology(const MeshTopology& previous, const Mesh& mesh, const RunControl& control)
-    : merged_(previous.merged_), corners_(previous.corners_), faceNormals_(mesh.faceNormals.begin(), mesh.faceNormals.end()),
-      edgeNeighbours_(previous.edgeNeighbours_), loops_(previous.loops_), copies_(previous.copies_), edgeCheck_(previous.edgeCheck_) {
-    positions_.resize(previous.positions_.size());
-    for (std::size_t i = 0; i < merged_.size(); ++i) positions_[merged_[i]] = glm::dvec3(mesh.positions[i] + glm::vec3(0.0f));
-    measurePositions(control);
-}
-
 bool MeshTopology::trianglesCross(std::uint32_t t, std::uint32_t u) const {
-    const glm::uvec3 a = corners_[t], b = corners_[u];
+    const glm::uvec3 a = links_->corners[t], b = links_->corners[u];
     int shared = 0;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) shared += a[i] == b[j];
@@ -462,28 +447,29 @@ MeshCheck MeshTopology::check(const Mesh& mesh, const Bvh& tree, const RunContro
 
 std::size_t MeshTopology::countMisorientedShells(const Mesh& mesh, const Bvh& tree, int outward, const RunControl& control) const {
     // Shells: the triangles' connected parts over merged vertices, numbered by their first triangle.
+    const std::vector<glm::uvec3>& corners = links_->corners;
     std::vector<std::uint32_t> parent(positions_.size());
     std::iota(parent.begin(), parent.end(), 0u);
-    for (const glm::uvec3& t : corners_) {
+    for (const glm::uvec3& t : corners) {
         for (int c = 1; c < 3; ++c) {
             const std::uint32_t a = findRoot(parent, t[0]), b = findRoot(parent, t[c]);
             if (a != b) parent[std::max(a, b)] = std::min(a, b);
         }
     }
-    std::vector<std::uint32_t> shellOfRoot(positions_.size(), UINT32_MAX), shellOf(corners_.size());
+    std::vector<std::uint32_t> shellOfRoot(positions_.size(), UINT32_MAX), shellOf(corners.size());
     std::vector<std::uint32_t> anchor; // per shell: a vertex of it
-    for (std::size_t t = 0; t < corners_.size(); ++t) {
-        std::uint32_t& shell = shellOfRoot[findRoot(parent, corners_[t][0])];
+    for (std::size_t t = 0; t < corners.size(); ++t) {
+        std::uint32_t& shell = shellOfRoot[findRoot(parent, corners[t][0])];
         if (shell == UINT32_MAX) {
             shell = std::uint32_t(anchor.size());
-            anchor.push_back(corners_[t][0]);
+            anchor.push_back(corners[t][0]);
         }
         shellOf[t] = shell;
     }
     if (anchor.size() < 2) return 0; // one closed shell faces as its volume says
     std::vector<double> volume(anchor.size(), 0.0); // six times each shell's, about its anchor
-    for (std::size_t t = 0; t < corners_.size(); ++t) {
-        const glm::uvec3& c = corners_[t];
+    for (std::size_t t = 0; t < corners.size(); ++t) {
+        const glm::uvec3& c = corners[t];
         const glm::dvec3& o = positions_[anchor[shellOf[t]]];
         volume[shellOf[t]] += glm::dot(positions_[c[0]] - o, glm::cross(positions_[c[1]] - o, positions_[c[2]] - o));
     }
@@ -519,16 +505,17 @@ glm::dvec3 MeshTopology::pseudonormal(std::uint32_t triangle, TriangleFeature fe
     case TriangleFeature::EdgeAB: return edgeNormal(triangle, 0);
     case TriangleFeature::EdgeBC: return edgeNormal(triangle, 1);
     case TriangleFeature::EdgeCA: return edgeNormal(triangle, 2);
-    case TriangleFeature::VertexA: return vertexNormal(corners_[triangle][0]);
-    case TriangleFeature::VertexB: return vertexNormal(corners_[triangle][1]);
-    case TriangleFeature::VertexC: return vertexNormal(corners_[triangle][2]);
+    case TriangleFeature::VertexA: return vertexNormal(links_->corners[triangle][0]);
+    case TriangleFeature::VertexB: return vertexNormal(links_->corners[triangle][1]);
+    case TriangleFeature::VertexC: return vertexNormal(links_->corners[triangle][2]);
     }
     return glm::dvec3(faceNormals_[triangle]);
 }
 
 void MeshTopology::buildVertexNormals(const RunControl* control) const {
     std::call_once(vertexNormalsOnce_, [&] {
-        const std::size_t n = corners_.size();
+        const std::vector<glm::uvec3>& corners = links_->corners;
+        const std::size_t n = corners.size();
         vertexNormals_.assign(positions_.size(), glm::dvec3(0.0));
         // The corners' angles (the costly part) in parallel, a block of triangles at a time, then
         // summed per vertex in triangle order. Built on first use (no control) they are measured
@@ -540,9 +527,9 @@ void MeshTopology::buildVertexNormals(const RunControl* control) const {
                 const std::size_t from = block + chunk * kCornerChunk, to = std::min(blockEnd, from + kCornerChunk);
                 for (std::size_t t = from; t < to; ++t) {
                     for (std::uint32_t c = 0; c < 3; ++c) {
-                        const std::uint32_t v = corners_[t][c];
-                        const glm::dvec3 e1 = positions_[corners_[t][(c + 1) % 3]] - positions_[v];
-                        const glm::dvec3 e2 = positions_[corners_[t][(c + 2) % 3]] - positions_[v];
+                        const std::uint32_t v = corners[t][c];
+                        const glm::dvec3 e1 = positions_[corners[t][(c + 1) % 3]] - positions_[v];
+                        const glm::dvec3 e2 = positions_[corners[t][(c + 2) % 3]] - positions_[v];
                         const double l1 = glm::length(e1), l2 = glm::length(e2);
                         angle[3 * (t - block) + c] =
                             l1 > 0.0 && l2 > 0.0 ? std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) : -1.0;
@@ -558,7 +545,7 @@ void MeshTopology::buildVertexNormals(const RunControl* control) const {
             for (std::size_t t = block; t < blockEnd; ++t) {
                 for (std::uint32_t c = 0; c < 3; ++c) {
                     const double a = angle[3 * (t - block) + c]; // -1: a collapsed corner, no angle
-                    if (a >= 0.0) vertexNormals_[corners_[t][c]] += a * glm::dvec3(faceNormals_[t]);
+                    if (a >= 0.0) vertexNormals_[corners[t][c]] += a * glm::dvec3(faceNormals_[t]);
                 }
             }
         }
@@ -573,7 +560,7 @@ const glm::dvec3& MeshTopology::vertexNormal(std::uint32_t vertex) const {
 
 glm::dvec3 MeshTopology::edgeNormal(std::uint32_t triangle, int edge) const {
     // The sum of the two face normals (each face's angle at the edge is π), in double.
-    const std::uint32_t neighbour = edgeNeighbours_[3 * triangle + std::uint32_t(edge)];
+    const std::uint32_t neighbour = links_->edgeNeighbours[3 * triangle + std::uint32_t(edge)];
     if (neighbour == kNoNeighbour) return glm::dvec3(faceNormals_[triangle]);
     return glm::dvec3(faceNormals_[triangle]) + glm::dvec3(faceNormals_[neighbour]);
 }

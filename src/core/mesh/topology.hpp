@@ -1,6 +1,7 @@
 #pragma once
 #include "core/mesh/geometry.hpp"
 #include "core/accel/bvh.hpp"
+#include "core/mesh/vertex_groups.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/mesh_check.hpp"
 #include "sdfgen/run_control.hpp"
@@ -8,6 +9,7 @@
 #include <glm/vec3.hpp>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -23,12 +25,12 @@ public:
     // already (Bvh::copies), instead of finding them again.
     MeshTopology(const Mesh& mesh, const Bvh& tree, const RunControl& control = {});
     // The topology of `mesh`, which is `previous`'s mesh with its vertices moved (the same
-    // triangles and copies), where sameMerges(mesh) holds: the connectivity is kept and only what
-    // depends on positions is measured again, equal to a fresh build's.
+    // triangles) where previous.groups().holdFor(mesh.positions): the connectivity is shared, and
+    // only what depends on positions is measured again, equal to a fresh build's.
     MeshTopology(const MeshTopology& previous, const Mesh& mesh, const RunControl& control = {});
-    // Whether `mesh` (this topology's mesh with its vertices moved) merges its vertices as this
-    // one does: every group still at one position, and no two groups at the same.
-    bool sameMerges(const Mesh& mesh) const;
+
+    // The mesh's vertices grouped by position: group g is merged vertex g.
+    const std::shared_ptr<const VertexGroups>& groups() const { return groups_; }
 
     // The counts MeshCheck lists; self-intersections are found with the tree, a crossing pair of
     // repeated triangles counted once per pair of copies (as triangle by triangle).
@@ -39,11 +41,11 @@ public:
 
     // The boundary as closed loops of merged vertex indices, oriented like the triangles that own
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
-    const std::vector<std::vector<std::uint32_t>>& boundaryLoops() const { return loops_; }
+    const std::vector<std::vector<std::uint32_t>>& boundaryLoops() const { return links_->loops; }
     const glm::dvec3& position(std::uint32_t vertex) const { return positions_[vertex]; }
     // How often triangle t occurs in the mesh if it is the first of its exact copies, else 0 (see
     // TriangleCopies): passes that stack triangles weigh the first copy and skip the others.
-    std::uint32_t copies(std::uint32_t triangle) const { return copies_[triangle]; }
+    std::uint32_t copies(std::uint32_t triangle) const { return links_->copies[triangle]; }
     // Closed and consistently oriented with negative volume (see MeshCheck::insideOut).
     bool insideOut() const { return edgeCheck_.insideOut; }
 
@@ -52,8 +54,22 @@ public:
     // built by the first call that needs one.
     glm::dvec3 pseudonormal(std::uint32_t triangle, TriangleFeature feature) const;
 
+    // 3 per triangle (AB, BC, CA): the other triangle of an edge used by exactly two, else kNoNeighbour.
+    static constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
+    // What depends on the triangles and the vertex groups alone, shared by the topologies of a mesh
+    // whose vertices move (the refit constructor).
+    struct Links {
+        std::vector<glm::uvec3> corners;           // per triangle, merged vertex indices
+        std::vector<std::uint32_t> edgeNeighbours; // 3 per triangle, see kNoNeighbour
+        std::vector<std::vector<std::uint32_t>> loops;
+        std::vector<std::uint32_t> copies;
+        MeshCheck edgeCounts; // boundary, non-manifold and inconsistent edges, non-manifold vertices
+    };
+
 private:
     MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
+    // The merged positions (double, exact) and the face normals, from the mesh.
+    void takePositions(const Mesh& mesh);
     // The signed volume, insideOut and (for a clean mesh) the vertex normals, from positions_.
     void measurePositions(const RunControl& control);
     glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
@@ -66,21 +82,16 @@ private:
     // a mesh inside out as a whole, else 1.
     std::size_t countMisorientedShells(const Mesh& mesh, const Bvh& tree, int outward, const RunControl& control) const;
 
+    std::shared_ptr<const VertexGroups> groups_;
+    std::shared_ptr<const Links> links_;
     std::vector<glm::dvec3> positions_;  // merged vertices
-    std::vector<std::uint32_t> merged_;   // per mesh vertex, its merged vertex
-    std::vector<glm::uvec3> corners_;    // per triangle, merged vertex indices
     std::vector<glm::vec3> faceNormals_;  // the mesh's (float, exact in double)
     mutable std::once_flag vertexNormalsOnce_;
     // Set once they are built: the per-sample check is one load, where std::call_once's own fast
     // path writes thread-locals on every call.
     mutable std::atomic<bool> vertexNormalsBuilt_{false};
     mutable std::vector<glm::dvec3> vertexNormals_; // empty until buildVertexNormals
-    // 3 per triangle (AB, BC, CA): the other triangle of an edge used by exactly two, else kNoNeighbour.
-    static constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
-    std::vector<std::uint32_t> edgeNeighbours_;
-    std::vector<std::vector<std::uint32_t>> loops_;
-    std::vector<std::uint32_t> copies_;
-    MeshCheck edgeCheck_; // everything but self-intersections
+    MeshCheck edgeCheck_; // everything but self-intersections: links_->edgeCounts and the volume
 };
 
 } // namespace sdfgen
