@@ -1099,7 +1099,7 @@ bool isSparseVdbFile(const std::string& path) {
             for (const VdbLayout::GridSummary& grid : layout.grids()) {
                 if (!isFloat(grid.type) || (byName && grid.name != kGridName)) continue;
                 // Another program's grid of no class is a level set or not by its tree.
-                if (grid.unclassed()) return readsAsBand(*readFloatGrid(path, bytes), SdfgenMetadata{});
+                if (grid.unclassed()) return readsAsBand(*readFloatGrid(path, bytes, RunControl{}), SdfgenMetadata{});
                 return grid.sparse();
             }
         }
