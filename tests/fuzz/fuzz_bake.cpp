@@ -1,17 +1,20 @@
 // Fuzzes load -> tree -> bake: the first byte picks the method and sign from the registries, the
 // second the grid resolution (1-8) and ray count (1-16); the rest is an OBJ file. Any input either
 // gives a field of finite values on the grid or an Error. For exact distances with the winding
-// sign, the band bake of the same mesh and grid must match that field: the dense values in the
-// band, their sides beyond.
+// sign, the band bake of the same mesh and grid must match that field (the dense values in the
+// band, their sides beyond), and so must point queries at its samples (whose counts of crossings
+// may run on the other side of a row).
 #include "fuzz_input.hpp"
 #include "core/bake/bake.hpp"
 #include "core/accel/bvh.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
+#include "sdfgen/model.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size < 2) return 0;
@@ -54,6 +57,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                         std::abort();
                     }
                 }
+        // Point queries at the samples (world positions, as Model::query takes them).
+        std::vector<double> xyz;
+        for (int k = 0; k < grid.dims.z; ++k)
+            for (int j = 0; j < grid.dims.y; ++j)
+                for (int i = 0; i < grid.dims.x; ++i) {
+                    const glm::dvec3 p = grid.position(i, j, k);
+                    xyz.insert(xyz.end(), {p.x, p.y, p.z});
+                }
+        std::vector<float> queried(grid.sampleCount());
+        sdfgen::PointQueryOutputs out;
+        out.signedDistance = queried.data();
+        const sdfgen::Model model(mesh, control);
+        model.query(xyz.data(), grid.sampleCount(), out, sdfgen::SignMethod::Winding, control);
+        for (std::size_t n = 0; n < queried.size(); ++n) {
+            if (queried[n] != result.field.values[n]) {
+                std::fprintf(stderr, "query at sample %zu: %g, the dense bake's %g\n", n, queried[n], result.field.values[n]);
+                std::abort();
+            }
+        }
     } catch (const sdfgen::Error&) {
     }
     return 0;

@@ -69,32 +69,8 @@ public:
     // Returns the packet that holds the answer, or kEmpty when the starting `best` stood.
     std::uint32_t nearest(float px, float py, float pz, NearestSoFar& best) const;
 
-    // Calls visit(t) once for each distinct triangle t of every packet whose box holds the row
-    // through (y, z) at or ahead of x: every triangle whose box that part of the row meets (lanes
-    // past a leaf's triangles repeat its first, and are left out). For the winding sign's count of
-    // crossings ahead of a point (crossingsAhead), which decides each triangle exactly.
-    template <class Visit>
-    void forEachOnRow(float x, float y, float z, Visit&& visit) const {
-        const simd::f8 vx = simd::splat(x), vy = simd::splat(y), vz = simd::splat(z);
-        std::uint32_t stack[kStackSize];
-        int top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const Node& n = nodes_[stack[--top]];
-            for (unsigned hits = simd::mask((n.minY <= vy) & (n.maxY >= vy) & (n.minZ <= vz) & (n.maxZ >= vz) & (n.maxX >= vx)); hits != 0;
-                 hits &= hits - 1) {
-                const std::uint32_t child = n.child[__builtin_ctz(hits)];
-                if (!(child & kLeaf)) {
-                    stack[top++] = child;
-                    continue;
-                }
-                const TrianglePacket& packet = packets_[child & ~kLeaf];
-                for (int lane = 0; lane < kWidth; ++lane) {
-                    if (lane == 0 || packet.id[lane] != packet.id[0]) visit(std::uint32_t(packet.id[lane]));
-                }
-            }
-        }
-    }
+    // Which part of a row a walk covers (core/accel/wide_row.inc): at or ahead of x (+x), or at or behind it.
+    enum class RowSide { Ahead, Behind };
 
     const std::vector<TrianglePacket>& packets() const { return packets_; }
     const Bounds& leafBounds(std::uint32_t packet) const { return leafBounds_[packet]; }

@@ -147,9 +147,14 @@ struct Model::Impl {
     }
 
     const WindingCaps& caps(const RunControl& control = {}) const {
-        std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
+        std::call_once(capsOnce, [&] {
+            caps_.emplace(topology(control));
+            fansClose_ = fansCloseMesh(*topology_);
+        });
         return *caps_;
     }
+    // fansCloseMesh, found with the caps.
+    bool fansClose() const { return fansClose_; }
 
     Mesh mesh;
     Bvh tree;
@@ -164,6 +169,7 @@ private:
     mutable std::atomic<bool> checked_{false}, wideBuilt_{false}, topologyBuilt_{false}; // set once made (for refit)
     std::optional<MeshCheck> previousCheck_; // a refit model's: the check of the model it was refit from
     mutable std::optional<WindingCaps> caps_;
+    mutable bool fansClose_ = false;
 };
 
 namespace {
@@ -313,7 +319,9 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     const bool needWinding = out.windingNumber || (needSign && sign == SignMethod::Winding);
     // Build what the workers share before they start.
     const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
-    if (needWinding) m.caps(quiet(control));
+    // Taken once: call_once's own fast path costs a thread-local write on every call.
+    const WindingCaps* caps = needWinding ? &m.caps(quiet(control)) : nullptr;
+    const bool fansClose = needWinding && m.fansClose();
 
     // Points are visited in Morton order of their position, so that each point's search is seeded
     // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
@@ -372,7 +380,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     if (sign == SignMethod::Pseudonormal) {
                         inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
                     } else {
-                        inside = m.caps().inside(p, crossingsAhead(mesh, *wide, m.tree, m.caps(), p));
+                        inside = caps->insideSooner(p, crossingsAhead(mesh, *wide, m.tree, *caps, p, fansClose));
                     }
                     if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
                     if (out.gradient) {
@@ -384,7 +392,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                 }
             }
             if (out.windingNumber) {
-                out.windingNumber[index] = m.caps().winding(p, crossingsAhead(mesh, m.tree, m.caps(), p));
+                out.windingNumber[index] = caps->winding(p, crossingsAhead(mesh, m.tree, *caps, p));
             }
         }
     });

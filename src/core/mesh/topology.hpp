@@ -43,6 +43,9 @@ public:
     // the edges; an edge used twice the same way appears twice. Empty for a closed mesh.
     const std::vector<std::vector<std::uint32_t>>& boundaryLoops() const { return links_->loops; }
     const glm::dvec3& position(std::uint32_t vertex) const { return positions_[vertex]; }
+    std::size_t triangleCount() const { return links_->corners.size(); }
+    // Triangle t's corners as merged vertex indices.
+    const glm::uvec3& corners(std::uint32_t triangle) const { return links_->corners[triangle]; }
     // How often triangle t occurs in the mesh if it is the first of its exact copies, else 0 (see
     // TriangleCopies): passes that stack triangles weigh the first copy and skip the others.
     std::uint32_t copies(std::uint32_t triangle) const { return links_->copies[triangle]; }

@@ -54,6 +54,10 @@ public:
     // every fan exactly; so the answer is that of w in double and p pays only for the fans that can
     // move w across 1/2 or -1/2. `evaluations` (when given) counts the fans measured.
     bool inside(const glm::dvec3& p, int ahead, std::size_t* evaluations = nullptr) const;
+    // inside(), with fewer fans measured where many are far (point queries): waiting nodes count as
+    // their dipoles where that bounds them more tightly, and a point that the bounds leave within
+    // kDecisionMargin of 1/2 takes inside()'s own steps, so that the answer is inside()'s.
+    bool insideSooner(const glm::dvec3& p, int ahead) const;
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
@@ -171,7 +175,8 @@ private:
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
     // from 1/2 or every fan is measured: w as measured, and whether it is still in doubt.
-    std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations) const;
+    // `dipoles`: waiting nodes count as their dipoles where that bounds them more tightly.
+    std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles = false) const;
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
     // Sets node's plane (normal, thickness, tilt) from the fans order[begin, end).
     void flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const;
@@ -225,7 +230,17 @@ private:
 // finds for a sample at p (copies of a triangle and caps counted with their weight).
 int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p);
 // The same count found through the wide tree built from `tree` (its 8-wide nodes: fewer steps).
-int crossingsAhead(const Mesh& mesh, const WideBvh& wide, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p);
+// With `fansClose` (fansCloseMesh), on the row's side nearer the mesh's bounds: minus the crossings
+// behind p, where fewer nodes lie (the same integer: see fansCloseMesh).
+int crossingsAhead(const Mesh& mesh, const WideBvh& wide, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p,
+                   bool fansClose = false);
+// Whether the fans close the mesh exactly: the boundary of its triangles (each set of copies once,
+// with its number as weight, as the counts weigh them) is, edge for edge and way for way, its
+// boundary loops, which WindingCaps closes exactly. Then the mesh and the fans form a cycle, which
+// every line crosses as often one way as the other under the counts' predicates (each edge's tie
+// is broken one way for both its triangles), so the crossings behind a point are minus those
+// ahead. Linear in the triangles, plus a sort of their edges.
+bool fansCloseMesh(const MeshTopology& topology);
 
 // What the winding sign did, for tests and benchmarks.
 struct WindingStats {
