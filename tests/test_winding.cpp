@@ -505,6 +505,49 @@ TEST(WindingSign, CountsBehindEqualCountsAheadWhereTheFansCloseTheMesh) {
     EXPECT_GT(compared, 100000u);
 }
 
+// A sample a few ulps from a fan's plane bounds that fan by about 1e30: once the fan is measured,
+// the running sum of the other nodes' bounds must not be what is left of 1e30 minus 1e30 (0), or
+// a fan bounded by 0.99 goes unmeasured and the side is wrong (found by the bake fuzzer: queries
+// said inside where w = 0.45).
+TEST(WindingSign, BoundsOutliveANodeThatAllButTouchesItsBox) {
+    const Mesh mesh = buildMesh("cube corner and copies",
+                                std::vector<glm::dvec3>{{1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {1, 0, 1}},
+                                std::vector<glm::uvec3>{{0, 3, 2}, {0, 2, 1}, {4, 5, 0}, {0, 3, 2}, {0, 2, 1}, {5, 6, 7}});
+    const MeshTopology topology(mesh);
+    const WindingCaps caps(topology);
+    const Bvh tree(mesh);
+    const Grid grid = makeGrid(mesh.worldBounds(), 6, 0.1); // samples a few ulps from the fans' planes
+    std::size_t compared = 0;
+    for (int k = 0; k < grid.dims.z; ++k)
+        for (int j = 0; j < grid.dims.y; ++j)
+            for (int i = 0; i < grid.dims.x; ++i) {
+                const glm::dvec3 q = localPosition(mesh, grid, i, j, k);
+                const double w = windingNumber(mesh, q);
+                double distance = std::numeric_limits<double>::infinity();
+                for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+                    const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+                    distance = std::min(distance, glm::length(closestPointOnTriangle(q, a, b, c).point - q));
+                }
+                if (std::fabs(std::fabs(w) - 0.5) < 1e-9 || distance < 1e-9) continue; // a tie, or on the mesh
+                const int ahead = crossingsAhead(mesh, tree, caps, q);
+                ASSERT_EQ(caps.inside(q, ahead), std::fabs(w) > 0.5) << i << "," << j << "," << k << ": w = " << w;
+                ASSERT_EQ(caps.insideSooner(q, ahead), std::fabs(w) > 0.5) << i << "," << j << "," << k << ": w = " << w;
+                ++compared;
+            }
+    EXPECT_GT(compared, 100u);
+    const Model model(mesh);
+    BakeSettings settings;
+    settings.res = 6;
+    settings.sign = SignMethod::Winding;
+    const Field field = model.bake(settings).field;
+    const std::vector<double> xyz = test::samplePositions(field.grid);
+    std::vector<float> values(field.grid.sampleCount());
+    PointQueryOutputs out;
+    out.signedDistance = values.data();
+    model.query(xyz.data(), field.grid.sampleCount(), out, SignMethod::Winding);
+    for (std::size_t n = 0; n < values.size(); ++n) ASSERT_EQ(values[n], field.values[n]) << n;
+}
+
 TEST(WindingSign, PointQueriesEqualTheBakedField) {
     for (const Mesh& mesh : {withHoles(test::torus(1.0f, 0.4f, 32, 16), 5), heightfield(30, true)}) {
         SCOPED_TRACE(mesh.source);

@@ -361,7 +361,11 @@ struct WindingCaps::Search {
     double margin;
     double w;
     std::vector<Pending>& pending;
-    double farSum = 0.0;
+    double farSum = 0.0; // the bounds of the ball's nodes still waiting (a cut's, each small)
+    // The bounds of the heap's nodes, with a bound on the rounding of their running sum: a node
+    // bounded as p all but touches its box (1e30 a few ulps from a fan's plane) would leave
+    // nothing of the others' bounds once it is subtracted, so the sum is then taken afresh.
+    double heapSum = 0.0, heapRounding = 0.0;
     std::size_t measured = 0;
     // Whether a waiting node counts as its dipole where that bounds it more tightly (the bake's
     // samples in doubt; inside(), the reference, counts waiting nodes as 0).
@@ -392,7 +396,8 @@ struct WindingCaps::Search {
                     }
                 }
                 pending.push_back({b, index, estimate});
-                farSum += b;
+                heapSum += b;
+                heapRounding += kUlp * heapSum;
             } else if (node.leaf) {
                 measure(node.first);
             } else {
@@ -401,8 +406,20 @@ struct WindingCaps::Search {
             }
         }
     }
+    static constexpr double kUlp = 0x1p-52;
     // The margin's factor covers the rounding of the running sums.
-    bool doubtful() const { return std::fabs(std::fabs(w) - 0.5) <= farSum * (1.0 + 1e-12) + margin; }
+    bool doubtful() const { return std::fabs(std::fabs(w) - 0.5) <= (farSum + heapSum + heapRounding) * (1.0 + 1e-12) + margin; }
+    // A heap node opened: its bound leaves the sum, which is taken afresh where that subtraction
+    // may have lost the rest.
+    void leaveHeap(double bound) {
+        heapSum -= bound;
+        heapRounding += kUlp * (std::fabs(heapSum) + bound);
+        if (heapRounding > 1e-9 * heapSum) {
+            heapSum = 0.0;
+            for (const Pending& node : pending) heapSum += node.bound;
+            heapRounding = double(pending.size()) * kUlp * heapSum;
+        }
+    }
     // Nodes bounded over a ball that holds p (a cut's far nodes, loosest first): each is opened
     // when it is the loosest, without being bounded again at p (that would shave little off a
     // ball's bound and cost a trip through the heap).
@@ -430,7 +447,8 @@ struct WindingCaps::Search {
         std::make_heap(pending.begin(), pending.end());
         while ((!pending.empty() || ballNext != ballEnd) && doubtful()) {
             Pending loosest;
-            if (ballNext != ballEnd && (pending.empty() || pending.front().bound < ballNext->bound)) {
+            const bool fromBall = ballNext != ballEnd && (pending.empty() || pending.front().bound < ballNext->bound);
+            if (fromBall) {
                 loosest = *ballNext++;
             } else {
                 std::pop_heap(pending.begin(), pending.end());
@@ -442,7 +460,8 @@ struct WindingCaps::Search {
                 w += dipole.value + glm::dot(dipole.gradient, offset);
                 farSum -= dipole.error + dipole.curvature * glm::dot(offset, offset);
             } else {
-                farSum -= loosest.bound;
+                if (fromBall) farSum -= loosest.bound;
+                else leaveHeap(loosest.bound);
                 w += loosest.estimate;
             }
             open(loosest.node);
