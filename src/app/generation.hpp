@@ -30,7 +30,7 @@ public:
     // Asks the task to stop without waiting (the UI thread stays live): it ends soon, with
     // "cancelled" and no result, even when its work had just finished.
     void cancel() { cancel_ = true; }
-    bool cancelled() const { return cancel_; }
+    bool cancelled() const { return cancel_; } // since the last start: a running task is winding down
     bool running() const { return thread_.joinable() && !finished_; }
     // Running, or finished and not collected yet.
     bool pending() const { return thread_.joinable(); }
