@@ -28,6 +28,7 @@ void BackgroundTask::start(int threads, std::function<void(RunControl&)> work) {
             error = e.what();
             if (error.empty()) error = "failed";
         }
+        if (error.empty() && cancel_) error = "cancelled"; // asked after the work's last check: its result is dropped
         error_ = error;
         seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
         finished_ = true;
@@ -58,7 +59,7 @@ void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& set
     stop();
     result_.reset();
     warnings_.clear();
-    task_.start(options.threads, [this, mesh, settings](RunControl& control) {
+    BackgroundTask::start(options.threads, [this, mesh, settings](RunControl& control) {
         control.warn = [this](const std::string& warning) { warnings_.push_back(warning); };
         // The tree takes a small share of the bar: it is built in a fraction of the bake's time.
         const Model model(*mesh, control.phase(0.0, 0.1));
@@ -67,9 +68,9 @@ void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& set
 }
 
 bool Generation::collect(std::optional<BakeResult>& result, std::string& error, std::vector<std::string>& warnings, double& seconds) {
-    if (!task_.finish(error, seconds)) return false;
+    if (!finish(error, seconds)) return false;
     if (error == "cancelled") error = "generation cancelled";
-    result = std::move(result_);
+    if (error.empty()) result = std::move(result_); // none when cancelled after it was made
     result_.reset();
     warnings = std::move(warnings_);
     warnings_.clear();
@@ -80,10 +81,11 @@ void FieldLoad::start(const std::string& path, int threads, int textureLimit) {
     stop();
     path_ = path;
     result_.reset();
-    task_.start(threads, [this, path, textureLimit, delay = delayPerReportMs](RunControl& control) {
+    BackgroundTask::start(threads, [this, path, textureLimit, delay = delayPerReportMs](RunControl& control) {
         if (delay > 0) {
-            control.progress = [report = control.progress, delay](double fraction) {
-                std::this_thread::sleep_for(std::chrono::milliseconds(delay));
+            control.progress = [report = control.progress, delay, cancel = control.cancel](double fraction) {
+                const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(delay);
+                while (std::chrono::steady_clock::now() < until && !*cancel) std::this_thread::sleep_for(std::chrono::milliseconds(10));
                 report(fraction);
             };
         }
@@ -104,8 +106,33 @@ void FieldLoad::start(const std::string& path, int threads, int textureLimit) {
 
 bool FieldLoad::collect(std::optional<LoadedField>& result, std::string& error) {
     double seconds = 0.0;
-    if (!task_.finish(error, seconds)) return false;
-    result = std::move(result_);
+    if (!finish(error, seconds)) return false;
+    if (error.empty()) result = std::move(result_); // none when cancelled after it was made
+    result_.reset();
+    return true;
+}
+
+void FieldComparison::start(std::shared_ptr<const Field> shown, std::shared_ptr<const SparseField> band, const std::string& path, int threads) {
+    stop();
+    path_ = path;
+    result_.reset();
+    BackgroundTask::start(threads, [this, shown, band, path](RunControl& control) {
+        // Reading takes most of the time; the comparison (one pass, without checks) the rest.
+        const Field other = loadField(path, control.phase(0.0, 0.8));
+        std::optional<Field> bandDense;
+        if (band) bandDense = band->toDense();
+        const Field& mine = bandDense ? *bandDense : *shown;
+        ComparedFields compared;
+        compared.difference = compareFields(mine, other, 0.0, &compared.signDifferences);
+        compared.grid = mine.grid;
+        result_ = std::move(compared);
+    });
+}
+
+bool FieldComparison::collect(std::optional<ComparedFields>& result, std::string& error) {
+    double seconds = 0.0;
+    if (!finish(error, seconds)) return false;
+    if (error.empty()) result = std::move(result_); // none when cancelled after it was made
     result_.reset();
     return true;
 }

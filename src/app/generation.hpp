@@ -1,6 +1,7 @@
 #pragma once
 #include "sdfgen/field.hpp"
 #include "sdfgen/bake.hpp"
+#include "sdfgen/compare.hpp"
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/run_control.hpp"
 #include "sdfgen/sparse_field.hpp"
@@ -19,22 +20,29 @@ namespace sdfgen::app {
 
 // Long work on a background thread, watched from the UI thread through the core's RunControl:
 // progress, Cancel, elapsed time. The work runs with a control whose cancel flag and progress
-// this task holds; Cancelled (or any exception) ends it with a message.
+// this task holds; Cancelled (or any exception) ends it with a message. The jobs below derive
+// from it, each adding what its work makes and how that is handed over; each stops its work in
+// its own destructor (the work writes the job's members).
 class BackgroundTask {
 public:
-    ~BackgroundTask() { stop(); }
-    // Starts `work` (stopping any task still running) with `threads` worker threads (0: all cores).
-    // `work` returns normally on success; an exception's message becomes error(), "cancelled"
-    // for Cancelled.
-    void start(int threads, std::function<void(RunControl&)> work);
     // Asks the task to stop and waits for it; its result is dropped.
     void stop();
+    // Asks the task to stop without waiting (the UI thread stays live): it ends soon, with
+    // "cancelled" and no result, even when its work had just finished.
     void cancel() { cancel_ = true; }
+    bool cancelled() const { return cancel_; } // since the last start: a running task is winding down
     bool running() const { return thread_.joinable() && !finished_; }
     // Running, or finished and not collected yet.
     bool pending() const { return thread_.joinable(); }
     double progress() const { return progress_; }
     double elapsed() const;
+
+protected:
+    ~BackgroundTask() { stop(); }
+    // Starts `work` (stopping any task still running) with `threads` worker threads (0: all cores).
+    // `work` returns normally on success; an exception's message becomes the error, "cancelled"
+    // for Cancelled.
+    void start(int threads, std::function<void(RunControl&)> work);
     // When the task has finished since the last call: joins it, sets `error` (empty on success)
     // and `seconds`, and returns true. False while running or idle.
     bool finish(std::string& error, double& seconds);
@@ -55,23 +63,17 @@ struct GenerationOptions {
 };
 
 // A bake running on a background thread: progress, cancel, result.
-class Generation {
+class Generation : public BackgroundTask {
 public:
+    ~Generation() { stop(); }
     // Starts baking `mesh` (shared, so it outlives the job).
     void start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options);
-    void stop() { task_.stop(); }
-    void cancel() { task_.cancel(); }
-    bool running() const { return task_.running(); }
-    bool pending() const { return task_.pending(); }
-    double progress() const { return task_.progress(); }
-    double elapsed() const { return task_.elapsed(); }
     // When the job has finished since the last call: hands over the result (empty on failure,
     // with the message in `error`) and the warnings of the mesh and the bake (one line each,
     // naming the mesh), and returns true. False while running or idle.
     bool collect(std::optional<BakeResult>& result, std::string& error, std::vector<std::string>& warnings, double& seconds);
 
 private:
-    BackgroundTask task_;
     // Written by the worker, read once it has finished.
     std::optional<BakeResult> result_;
     std::vector<std::string> warnings_;
@@ -85,29 +87,47 @@ struct LoadedField {
     std::string bandLine;              // render::BandDisplay::line of band
 };
 
-class FieldLoad {
+class FieldLoad : public BackgroundTask {
 public:
+    ~FieldLoad() { stop(); }
     // Starts reading `path` (stopping a load still running); `textureLimit` is the largest 3D
     // texture, for a band field's resampling.
     void start(const std::string& path, int threads, int textureLimit);
-    void stop() { task_.stop(); }
-    void cancel() { task_.cancel(); }
-    bool running() const { return task_.running(); }
-    bool pending() const { return task_.pending(); }
-    double progress() const { return task_.progress(); }
-    double elapsed() const { return task_.elapsed(); }
     const std::string& path() const { return path_; }
     // The GUI test's stand-in for a slow disk (SDFGEN_DEBUG_READ_DELAY_MS): each progress report
-    // of a load waits this long.
+    // of a load waits this long (less when cancelled meanwhile).
     int delayPerReportMs = 0;
     // When the load has finished since the last call: hands over the field (empty on failure,
     // with the message in `error`: "cancelled" when cancelled) and returns true.
     bool collect(std::optional<LoadedField>& result, std::string& error);
 
 private:
-    BackgroundTask task_;
     std::string path_;
     std::optional<LoadedField> result_; // written by the worker, read once it has finished
+};
+
+// What a comparison found: the figures of `sdfgen compare` and where the signs differ.
+struct ComparedFields {
+    FieldDifference difference;
+    std::vector<std::size_t> signDifferences; // indices into the values of `grid`
+    Grid grid;
+};
+
+// The field shown compared with a field file, on a background thread: the file is read (with
+// progress and Cancel), then compared. The field shown is shared, so it outlives the job.
+class FieldComparison : public BackgroundTask {
+public:
+    ~FieldComparison() { stop(); }
+    // A band field (`band`) is compared by its own samples, made dense on the job's thread.
+    void start(std::shared_ptr<const Field> shown, std::shared_ptr<const SparseField> band, const std::string& path, int threads);
+    const std::string& path() const { return path_; }
+    // When the comparison has finished since the last call: hands over what it found (empty on
+    // failure, with the message in `error`) and returns true.
+    bool collect(std::optional<ComparedFields>& result, std::string& error);
+
+private:
+    std::string path_;
+    std::optional<ComparedFields> result_; // written by the worker, read once it has finished
 };
 
 } // namespace sdfgen::app

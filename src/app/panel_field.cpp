@@ -45,7 +45,7 @@ void Viewer::showField(Field field, FieldInfo info) {
     const std::string source = info.origin.compare(0, loadedFrom.size(), loadedFrom) == 0 ? info.origin.substr(loadedFrom.size()) : info.origin;
     fieldChanging(info.origin == "baked" ? "bake" : ("load " + fs::path(source).filename().string()).c_str());
     scene_.setField(field);
-    field_ = std::move(field);
+    field_ = std::make_shared<const Field>(std::move(field));
     band_.reset();
     bandLine_.clear();
     fieldInfo_ = std::move(info);
@@ -74,28 +74,61 @@ void Viewer::showBand(SparseField band, Field shown, std::string line, FieldInfo
     bandLine_ = std::move(line);
 }
 
-// A field saved next to the model (MODEL.sdf) is shown at once instead of being regenerated,
-// when it was made from a file of the same name, is newer than the model and was made with the
-// panel's settings; otherwise (stale or unreadable) it is ignored.
+// A field saved next to the model (MODEL.sdf) is shown instead of being regenerated, when it was
+// made from a file of the same name, is newer than the model and was made with the panel's
+// settings. It is read in the background as every field is (the model is shown at once), under
+// the Model section where the model was opened; what it holds is checked once it is read.
 void Viewer::loadSavedField(const std::string& meshPath) {
     const fs::path saved = fs::path(meshPath).replace_extension(".sdf");
     std::error_code ec;
     if (!fs::exists(saved, ec) || fs::last_write_time(saved, ec) < fs::last_write_time(meshPath, ec)) return;
-    try {
-        Field field = loadField(saved.string());
-        if (fs::path(field.source).filename() != fs::path(meshPath).filename()) return;
-        char padding[32];
-        std::snprintf(padding, sizeof(padding), "%g", double(settings_.padding));
-        if (field.method != toString(settings_.method) || field.parameter("res") != std::to_string(settings_.res) ||
-            field.parameter("padding") != padding) {
-            return;
-        }
-        FieldInfo info{"loaded from " + saved.string(), field.method, -1.0, 0.0, signSummaryOf(field)};
-        showField(std::move(field), info);
-        setMessage(fieldMessage_, Message::Level::Info, "the saved field " + saved.filename().string() + " was loaded with the model");
-    } catch (const std::exception&) {
-        // A broken saved field is not an error for loading the model: generate a new one.
+    const std::string said = modelMessage_.text;
+    loadFieldFile(saved.string(), &modelMessage_);
+    setMessage(modelMessage_, Message::Level::Info, said + "; reading the field saved beside it, " + saved.filename().string() + "...");
+    savedField_ = SavedFieldLoad{meshPath, said};
+}
+
+namespace {
+// Why a field saved beside `meshPath` is not the one the panel's settings would bake ("" when it is).
+template <class AnyField>
+std::string savedFieldMismatch(const AnyField& field, const std::string& meshPath, const BakeSettings& settings) {
+    if (fs::path(field.source).filename() != fs::path(meshPath).filename()) return "it was made from " + fs::path(field.source).filename().string();
+    char padding[32];
+    std::snprintf(padding, sizeof(padding), "%g", double(settings.padding));
+    if (field.method != toString(settings.method) || field.parameter("res") != std::to_string(settings.res) || field.parameter("padding") != padding) {
+        return "it was made with other settings (" + field.method + " res " + field.parameter("res") + " padding " + field.parameter("padding") + ")";
     }
+    return "";
+}
+} // namespace
+
+// The saved field read: shown when it fits the model and the settings, as part of the model's
+// load (that step's undo brings back the field before it too); otherwise the model stays without
+// a field, and the Model section says why.
+void Viewer::collectSavedField(std::optional<LoadedField> loaded, const std::string& error) {
+    const std::string said = savedField_.said + "; the field saved beside it, " + fs::path(fieldLoad_.path()).filename().string() + ", ";
+    if (!loaded) {
+        if (error == "cancelled") setMessage(modelMessage_, Message::Level::Info, said + "was not loaded (cancelled)");
+        else setMessage(modelMessage_, Message::Level::Warning, said + "could not be read: " + error);
+        return;
+    }
+    const std::string mismatch = loaded->band ? savedFieldMismatch(*loaded->band, savedField_.model, settings_)
+                                              : savedFieldMismatch(*loaded->field, savedField_.model, settings_);
+    if (!mismatch.empty()) {
+        setMessage(modelMessage_, Message::Level::Info, said + "is not shown: " + mismatch + "; Generate makes one");
+        return;
+    }
+    const std::string origin = "loaded from " + fieldLoad_.path();
+    noUndoStep_ = true; // the field completes the model's load, whose step holds the field before it
+    if (loaded->band) {
+        FieldInfo info{origin, loaded->band->method, -1.0, 0.0, "sign: " + loaded->band->parameter("sign")};
+        showBand(std::move(*loaded->band), std::move(*loaded->field), std::move(loaded->bandLine), info);
+    } else {
+        FieldInfo info{origin, loaded->field->method, -1.0, 0.0, signSummaryOf(*loaded->field)};
+        showField(std::move(*loaded->field), info);
+    }
+    noUndoStep_ = false;
+    setMessage(modelMessage_, Message::Level::Info, said + "is shown");
 }
 
 // Every field file the user opens is read on a background thread (FieldLoad): the window stays
@@ -104,27 +137,33 @@ void Viewer::loadSavedField(const std::string& meshPath) {
 void Viewer::loadFieldFile(const std::string& path, Message* slot) {
     Message& here = slot ? *slot : fieldMessage_;
     if (fieldLoad_.pending()) setMessage(*loadSlot_, Message::Level::Info, "stopped loading " + fieldLoad_.path() + " to load " + path);
+    savedField_ = SavedFieldLoad{};
     loadSlot_ = &here;
     fieldLoad_.start(path, threads_, textureLimit_);
     setMessage(here, Message::Level::Info, "loading " + path + "...");
 }
 
-// The load's progress bar and Cancel, under the message of the section it was asked in.
-void Viewer::fieldLoadProgress(const Message& slot) {
-    if (!fieldLoad_.pending() || loadSlot_ != &slot) return;
+void Viewer::taskProgress(BackgroundTask& task, const char* doing, const char* name) {
+    const std::string id = name;
     const float buttonWidth = ImGui::CalcTextSize("Cancel").x + ImGui::GetStyle().FramePadding.x * 2.0f;
-    if (ImGui::Button("Cancel##load", ImVec2(buttonWidth, 0))) fieldLoad_.cancel();
-    track("load_cancel");
+    if (ImGui::Button(("Cancel##" + id).c_str(), ImVec2(buttonWidth, 0))) task.cancel();
+    track((id + "_cancel").c_str());
     ImGui::SameLine();
     char overlay[64];
-    std::snprintf(overlay, sizeof(overlay), "loading: %.0f%%, %.1f s", 100.0 * fieldLoad_.progress(), fieldLoad_.elapsed());
-    ImGui::ProgressBar(float(fieldLoad_.progress()), ImVec2(-1.0f, 0.0f), overlay);
-    track("load_progress");
+    if (task.cancelled()) std::snprintf(overlay, sizeof(overlay), "cancelling, %.1f s", task.elapsed());
+    else std::snprintf(overlay, sizeof(overlay), "%s: %.0f%%, %.1f s", doing, 100.0 * task.progress(), task.elapsed());
+    ImGui::ProgressBar(float(task.progress()), ImVec2(-1.0f, 0.0f), overlay);
+    track((id + "_progress").c_str());
     if (!debugDir_.empty()) {
         char line[64];
-        std::snprintf(line, sizeof(line), "text load_progress %.3f\n", fieldLoad_.progress());
+        std::snprintf(line, sizeof(line), "text %s_progress %.3f\n", name, task.progress());
         layout_ += line;
     }
+}
+
+// The load's progress bar and Cancel, under the message of the section it was asked in.
+void Viewer::fieldLoadProgress(const Message& slot) {
+    if (fieldLoad_.pending() && loadSlot_ == &slot) taskProgress(fieldLoad_, "loading", "load");
 }
 
 // A finished load: the field shown (one undo step), or why not where the load was asked for; an
@@ -133,6 +172,11 @@ void Viewer::collectFieldLoad() {
     std::optional<LoadedField> loaded;
     std::string error;
     if (!fieldLoad_.collect(loaded, error)) return;
+    if (!savedField_.model.empty()) {
+        collectSavedField(std::move(loaded), error);
+        savedField_ = SavedFieldLoad{};
+        return;
+    }
     const std::string path = fieldLoad_.path();
     Message& here = *loadSlot_;
     Message& other = &here == &fieldMessage_ ? modelMessage_ : fieldMessage_;
@@ -260,29 +304,43 @@ std::vector<glm::vec3> crossesAt(const Grid& grid, const std::vector<std::size_t
 }
 } // namespace
 
-// Compares the field shown with a field file (as `sdfgen compare`): the figures in the panel, and
-// where their signs differ as the "Sign errors" view, shown when there are any.
+// Compares the field shown with a field file (as `sdfgen compare`) in the background: the figures
+// in the panel, and where their signs differ as the "Sign errors" view, shown when there are any.
 void Viewer::compareWith(const std::string& path) {
-    try {
-        if (!field_) throw Error("no field to compare: Generate or Load one first");
-        const Field other = loadField(path);
-        std::optional<Field> bandDense;
-        if (band_) bandDense = band_->toDense();
-        const Field& mine = bandDense ? *bandDense : *field_;
-        std::vector<std::size_t> differ;
-        const FieldDifference d = compareFields(mine, other, 0.0, &differ);
-        char text[320];
-        std::snprintf(text, sizeof(text), "against %s: max |difference| %.4g (%.3g voxels), mean %.3g, rms %.3g; signs differ at %zu of %zu samples",
-                      fs::path(path).filename().string().c_str(), d.maxAbs, d.maxAbs / d.voxel, d.meanAbs, d.rmsAbs, d.signDifferences,
-                      d.compared);
-        setMessage(fieldMessage_, Message::Level::Info, text);
-        signErrors_ = SignErrors{fs::path(path).filename().string(), d.signDifferences, d.compared + d.signOnly, fieldVersion_};
-        scene_.signErrors = crossesAt(mine.grid, differ, float(0.4 * mine.grid.voxel));
-        ++comparisons_;
-        if (!differ.empty()) scene_.views["sign_errors"] = true;
-    } catch (const std::exception& e) {
-        setMessage(fieldMessage_, Message::Level::Error, e.what());
+    if (!field_) {
+        setMessage(fieldMessage_, Message::Level::Error, "no field to compare: Generate or Load one first");
+        return;
     }
+    comparison_.start(field_, band_, path, threads_);
+    comparedVersion_ = fieldVersion_;
+    setMessage(fieldMessage_, Message::Level::Info, "comparing with " + path + "...");
+}
+
+// A finished comparison, said under Field, for the field it was made with (a comparison with a
+// field no longer shown is dropped).
+void Viewer::collectComparison() {
+    std::optional<ComparedFields> compared;
+    std::string error;
+    if (!comparison_.collect(compared, error)) return;
+    const std::string path = comparison_.path();
+    if (!compared) {
+        if (error == "cancelled") setMessage(fieldMessage_, Message::Level::Info, "not compared with " + path + " (cancelled)");
+        else setMessage(fieldMessage_, Message::Level::Error, error);
+        return;
+    }
+    if (comparedVersion_ != fieldVersion_) {
+        setMessage(fieldMessage_, Message::Level::Info, "not compared with " + path + ": the field shown changed meanwhile");
+        return;
+    }
+    const FieldDifference& d = compared->difference;
+    char text[320];
+    std::snprintf(text, sizeof(text), "against %s: max |difference| %.4g (%.3g voxels), mean %.3g, rms %.3g; signs differ at %zu of %zu samples",
+                  fs::path(path).filename().string().c_str(), d.maxAbs, d.maxAbs / d.voxel, d.meanAbs, d.rmsAbs, d.signDifferences, d.compared);
+    setMessage(fieldMessage_, Message::Level::Info, text);
+    signErrors_ = SignErrors{fs::path(path).filename().string(), d.signDifferences, d.compared + d.signOnly, fieldVersion_};
+    scene_.signErrors = crossesAt(compared->grid, compared->signDifferences, float(0.4 * compared->grid.voxel));
+    ++comparisons_;
+    if (!compared->signDifferences.empty()) scene_.views["sign_errors"] = true;
 }
 
 // What the last comparison found, while the field it was made with is shown.
@@ -346,6 +404,7 @@ void Viewer::fieldSection() {
     if (ImGui::Button("Compare") || compareEnter) compareWith(comparePath_);
     track("compare");
     ImGui::EndDisabled();
+    if (comparison_.pending()) taskProgress(comparison_, "comparing", "compare");
     signErrorsLine();
 }
 

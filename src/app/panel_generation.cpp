@@ -166,6 +166,11 @@ void Viewer::generationSection() {
         ImGui::BeginDisabled(!problem.empty() || !sceneMesh_);
         if (ImGui::Button("Generate", ImVec2(buttonWidth, 0))) {
             setMessage(generationMessage_, Message::Level::Info, "generating...");
+            if (!savedField_.model.empty()) { // a field is baked instead of the saved one being read
+                fieldLoad_.stop();
+                setMessage(modelMessage_, Message::Level::Info, savedField_.said);
+                savedField_ = SavedFieldLoad{};
+            }
             generation_.start(sceneMesh_, settings_, GenerationOptions{threads_});
         }
         ImGui::EndDisabled();
@@ -174,7 +179,9 @@ void Viewer::generationSection() {
     }
     ImGui::SameLine();
     char overlay[64];
-    std::snprintf(overlay, sizeof(overlay), busy ? "%.0f%%, %.1f s" : "idle", 100.0 * generation_.progress(), generation_.elapsed());
+    if (!busy) std::snprintf(overlay, sizeof(overlay), "idle");
+    else if (generation_.cancelled()) std::snprintf(overlay, sizeof(overlay), "cancelling, %.1f s", generation_.elapsed());
+    else std::snprintf(overlay, sizeof(overlay), "%.0f%%, %.1f s", 100.0 * generation_.progress(), generation_.elapsed());
     ImGui::ProgressBar(busy ? float(generation_.progress()) : 0.0f, ImVec2(-1.0f, 0.0f), overlay);
     messageLine("##generation_message", generationMessage_);
 
@@ -241,7 +248,9 @@ void Viewer::bakeQuestion() {
     for (const std::string& p : pendingPaths_) names += (names.empty() ? "" : ", ") + fs::path(p).filename().string();
     ImGui::Text("Loading %s stops the bake that is running.", names.c_str());
     if (ImGui::Button("Cancel the bake and load")) {
-        generation_.stop();
+        // Not waited for: a bake notices Cancel soon, but not inside one step (allocating a res-400
+        // grid takes seconds on a busy machine), and the window stays live meanwhile.
+        generation_.cancel();
         setMessage(generationMessage_, Message::Level::Info, "generation cancelled to load " + names);
         ImGui::CloseCurrentPopup();
         openModels(pendingPaths_, pendingAdd_);

@@ -22,7 +22,7 @@ std::string describePaths(const std::vector<std::string>& paths) {
 
 void Viewer::openModels(const std::vector<std::string>& paths, bool add) {
     if (paths.empty()) return;
-    if (generation_.running()) {
+    if (baking()) {
         pendingPaths_ = paths;
         pendingAdd_ = add;
         askAboutBake_ = true;
@@ -36,6 +36,10 @@ void Viewer::openModels(const std::vector<std::string>& paths, bool add) {
         return;
     }
     if (!add) {
+        if (!savedField_.model.empty()) { // the last model's saved field, still being read
+            fieldLoad_.stop();
+            savedField_ = SavedFieldLoad{};
+        }
         fieldChanging(("load " + describePaths(paths)).c_str()); // undoing the load brings the field back too
         models_.clear();
         field_.reset();
@@ -161,7 +165,7 @@ void Viewer::modelSection() {
     messageLine("##model_message", modelMessage_);
     fieldLoadProgress(modelMessage_);
 
-    ImGui::BeginDisabled(generation_.running());
+    ImGui::BeginDisabled(baking());
     int remove = -1;
     bool moved = false, styled = false;
     for (std::size_t i = 0; i < models_.size(); ++i) {

@@ -1,7 +1,8 @@
 // The undo stack of scene edits (Ctrl+Z, Ctrl+Shift+Z): models added, removed, moved, rotated,
-// scaled, recoloured or hidden, the bake's settings, and the field shown (loaded or baked).
-// Model and setting edits are found by comparing with the state the last step left, once no
-// widget is active (a drag or a typed value is one step); a field that is replaced is moved into
+// scaled, recoloured or hidden, the bake's settings, the slice's pose, and the field shown (loaded
+// or baked). Model, setting and slice edits are found by comparing with the state the last step
+// left, once no widget is active and the slice is not being dragged (a drag or a typed value is
+// one step); a field that is replaced is moved into
 // the step that replaced it, so undoing a load or a bake costs no copy of the field.
 #include "app/viewer_state.hpp"
 
@@ -75,13 +76,15 @@ std::string Viewer::describeEdit() const {
         if (a.visible != b.visible) return b.visible ? "show" : "hide";
     }
     if (!sameSettings(settings_, committedSettings_) || threads_ != committedThreads_) return "settings";
+    if (slice().normal != committedSlice_.normal) return "turn the slice";
+    if (slice().position != committedSlice_.position) return "move the slice";
     return "";
 }
 
 // The field shown is about to be replaced (a load, a bake, a new scene): it goes into the step
 // being made, with the models and settings as they were.
 void Viewer::fieldChanging(const char* what) {
-    if (replaying_ || fieldStep_) return;
+    if (noUndoStep_ || fieldStep_) return;
     UndoEntry step;
     step.what = what;
     step.hasField = true;
@@ -93,10 +96,12 @@ void Viewer::fieldChanging(const char* what) {
     fieldStep_ = std::move(step);
 }
 
-// Once no widget is active (or a field was replaced): one step for what changed since the last.
+// Once no widget is active and no slice drag runs (or a field was replaced): one step for what
+// changed since the last.
 void Viewer::commitEdits() {
-    const bool changed = models_ != committedModels_ || !sameSettings(settings_, committedSettings_) || threads_ != committedThreads_;
-    if (!fieldStep_ && (!changed || ImGui::IsAnyItemActive())) return;
+    const bool changed = models_ != committedModels_ || !sameSettings(settings_, committedSettings_) || threads_ != committedThreads_ ||
+                         slice() != committedSlice_;
+    if (!fieldStep_ && (!changed || ImGui::IsAnyItemActive() || draggingSlice())) return;
     UndoEntry step = fieldStep_ ? std::move(*fieldStep_) : UndoEntry{};
     fieldStep_.reset();
     const std::string edit = describeEdit();
@@ -104,6 +109,7 @@ void Viewer::commitEdits() {
     step.models = committedModels_;
     step.settings = committedSettings_;
     step.threads = committedThreads_;
+    step.slice = committedSlice_;
     undo_.push_back(std::move(step));
     if (trim(undo_) > 0 && undo_.empty()) {
         // The field replaced was too large to keep: this step cannot be undone.
@@ -113,14 +119,19 @@ void Viewer::commitEdits() {
     committedModels_ = models_;
     committedSettings_ = settings_;
     committedThreads_ = threads_;
+    committedSlice_ = slice();
     if (!debugDir_.empty()) pendingOut_ += "undo step: " + undo_.back().what + "\n";
 }
 
 // Ctrl+Z (redo: Ctrl+Shift+Z): swaps the scene with the step's, which then redoes (undoes) it.
 void Viewer::undoStep(bool redo) {
-    if (generation_.running()) {
+    if (baking()) {
         setMessage(modelMessage_, Message::Level::Info, "nothing undone while a bake runs");
         return;
+    }
+    if (!savedField_.model.empty()) { // the saved field being read belongs to the model's load: undone with it
+        fieldLoad_.stop();
+        savedField_ = SavedFieldLoad{};
     }
     commitEdits(); // an edit not yet a step becomes one
     std::vector<UndoEntry>& from = redo ? redo_ : undo_;
@@ -134,6 +145,10 @@ void Viewer::undoStep(bool redo) {
     std::swap(step.models, models_);
     std::swap(step.settings, settings_);
     std::swap(step.threads, threads_);
+    const SlicePose shown = slice();
+    scene_.sliceNormal = step.slice.normal;
+    scene_.slicePosition = step.slice.position;
+    step.slice = shown;
     const bool modelsChanged = step.models != models_;
     if (step.hasField) {
         std::swap(step.field, field_);
@@ -148,13 +163,14 @@ void Viewer::undoStep(bool redo) {
     committedModels_ = models_;
     committedSettings_ = settings_;
     committedThreads_ = threads_;
-    replaying_ = true;
+    committedSlice_ = slice();
+    noUndoStep_ = true;
     if (modelsChanged) rebuildScene(false);
     else if (step.hasField) checkFieldAgainstScene();
     if (modelsChanged) {
         for (std::size_t i = 0; i < models_.size() && i < scene_.meshStyles.size(); ++i) scene_.meshStyles[i] = {models_[i].colour, models_[i].visible};
     }
-    replaying_ = false;
+    noUndoStep_ = false;
     updateTitle();
     const std::string what = step.what;
     to.push_back(std::move(step));
@@ -164,7 +180,7 @@ void Viewer::undoStep(bool redo) {
 
 // Undo and Redo on the panel (the same as Ctrl+Z and Ctrl+Shift+Z), each naming its step.
 void Viewer::undoButtons() {
-    ImGui::BeginDisabled(undo_.empty() || generation_.running());
+    ImGui::BeginDisabled(undo_.empty() || baking());
     if (ImGui::SmallButton("Undo")) undoStep(false);
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
         ImGui::SetTooltip("Ctrl+Z%s%s", undo_.empty() ? "" : ": ", undo_.empty() ? "" : undo_.back().what.c_str());
@@ -172,7 +188,7 @@ void Viewer::undoButtons() {
     ImGui::EndDisabled();
     track("undo");
     ImGui::SameLine();
-    ImGui::BeginDisabled(redo_.empty() || generation_.running());
+    ImGui::BeginDisabled(redo_.empty() || baking());
     if (ImGui::SmallButton("Redo")) undoStep(true);
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
         ImGui::SetTooltip("Ctrl+Shift+Z%s%s", redo_.empty() ? "" : ": ", redo_.empty() ? "" : redo_.back().what.c_str());

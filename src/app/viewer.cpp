@@ -126,6 +126,7 @@ void onKey(GLFWwindow* w, int key, int scancode, int action, int mods) {
     }
     if (in.textInput || in.listKeys) return;
     if (action == GLFW_PRESS && key == GLFW_KEY_F && plain) ++s.frameRequests;
+    if (action == GLFW_PRESS && key == GLFW_KEY_ESCAPE) ++s.cancelRequests;
 }
 void onDrop(GLFWwindow* w, int count, const char** paths) {
     Inbox& in = inboxOf(w);
@@ -212,18 +213,21 @@ int Viewer::run() {
     committedModels_ = models_;
     committedSettings_ = settings_;
     committedThreads_ = threads_;
+    committedSlice_ = slice();
     fieldStep_.reset();
     while (!glfwWindowShouldClose(window)) {
-        // Sleep until something happens; while a bake or a field load runs, wake ten times a second for its progress.
+        // Sleep until something happens; while a bake, a field load or a comparison runs, wake ten
+        // times a second for its progress.
         const bool busy = !inbox_.input.empty() || inbox_.wake > 0 || inbox_.shortcuts.arrowsHeld();
         if (busy) glfwPollEvents();
-        else if (generation_.pending() || fieldLoad_.pending()) glfwWaitEventsTimeout(0.1);
+        else if (generation_.pending() || fieldLoad_.pending() || comparison_.pending()) glfwWaitEventsTimeout(0.1);
         else glfwWaitEvents();
         if (!inbox_.input.empty()) settleFrames_ = 0;
         if (inbox_.shortcuts.quit) glfwSetWindowShouldClose(window, GLFW_TRUE);
         handleDrops();
         collectGeneration();
         collectFieldLoad();
+        collectComparison();
 
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
@@ -232,6 +236,8 @@ int Viewer::run() {
         sceneInput(input);
         for (; inbox_.shortcuts.undoRequests > 0; --inbox_.shortcuts.undoRequests) undoStep(false);
         for (; inbox_.shortcuts.redoRequests > 0; --inbox_.shortcuts.redoRequests) undoStep(true);
+        if (inbox_.shortcuts.cancelRequests > 0) cancelTasks();
+        inbox_.shortcuts.cancelRequests = 0;
         panel();
         sceneHint();
         probeOverlay();
@@ -252,7 +258,16 @@ int Viewer::run() {
     }
     generation_.stop();
     fieldLoad_.stop();
+    comparison_.stop();
     return 0;
+}
+
+// Escape: the bake, the field load and the comparison running are cancelled (each says so when it
+// has stopped; the scene stays as it was).
+void Viewer::cancelTasks() {
+    for (BackgroundTask* task : std::initializer_list<BackgroundTask*>{&generation_, &fieldLoad_, &comparison_}) {
+        if (task->running()) task->cancel();
+    }
 }
 
 void Viewer::setMessage(Message& slot, Message::Level level, const std::string& text) {

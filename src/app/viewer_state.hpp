@@ -35,6 +35,7 @@ constexpr float kArrowDegreesPerSecond = 90.0f;
 struct Shortcuts {
     int frameRequests = 0;
     int undoRequests = 0, redoRequests = 0; // Ctrl+Z, Ctrl+Shift+Z (or Ctrl+Y) outside text boxes
+    int cancelRequests = 0;                 // Escape outside text boxes, lists and dialogs (which it closes first)
     bool quit = false;
     double arrowPressedAt[4] = {-1.0, -1.0, -1.0, -1.0}; // left, right, up, down: glfwGetTime of the press; < 0 released
     double arrowTurnedUntil[4] = {0.0, 0.0, 0.0, 0.0};   // held turning applied up to this time
@@ -102,7 +103,15 @@ struct RangeChoice {
     glm::vec4 valuesPlane{0.0f};
 };
 
-// One step of the undo stack: the scene's models and the bake's settings as they were, and the
+// The slice's plane: its normal and its place along it across the field's box (0..1).
+struct SlicePose {
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    float position = 0.5f;
+    bool operator==(const SlicePose& o) const { return normal == o.normal && position == o.position; }
+    bool operator!=(const SlicePose& o) const { return !(*this == o); }
+};
+
+// One step of the undo stack: the scene's models, the bake's settings and the slice as they were, and the
 // field shown (moved here, not copied) when the step changed it. Undoing swaps it with the
 // viewer's own, so the same entry then redoes the step.
 struct UndoEntry {
@@ -110,8 +119,9 @@ struct UndoEntry {
     std::vector<SceneModel> models;
     BakeSettings settings;
     int threads = 0;
+    SlicePose slice;
     bool hasField = false;
-    std::optional<Field> field;
+    std::shared_ptr<const Field> field;
     std::shared_ptr<const SparseField> band;
     std::string bandLine;
     FieldInfo info;
@@ -159,11 +169,17 @@ private:
     void undoButtons();
 
     // undo.cpp: the undo stack of scene edits.
+    SlicePose slice() const { return {scene_.sliceNormal, scene_.slicePosition}; }
+    bool draggingSlice() const { return sceneDrag_[0] && leftDrag_ != LeftDrag::Orbit; }
+    // A bake runs and was not cancelled (a cancelled one may take a moment to stop: the scene can
+    // change meanwhile, its result is dropped).
+    bool baking() const { return generation_.running() && !generation_.cancelled(); }
     void fieldChanging(const char* what);
     void commitEdits();
     void undoStep(bool redo);
     std::string describeEdit() const;
     void handleDrops();
+    void cancelTasks();
     void modelSection();
 
     // panel_generation.cpp
@@ -180,8 +196,12 @@ private:
     void loadSavedField(const std::string& meshPath);
     // Loads a field file; its messages go to `slot` (the section the action was taken in).
     void loadFieldFile(const std::string& path, Message* slot = nullptr);
+    // A background task's Cancel and progress bar (`doing` on the bar; `name` for the GUI test).
+    void taskProgress(BackgroundTask& task, const char* doing, const char* name);
     void fieldLoadProgress(const Message& slot);
     void collectFieldLoad();
+    void collectSavedField(std::optional<LoadedField> loaded, const std::string& error);
+    void collectComparison();
     void askOverwrite(const std::string& path, int action);
     void overwriteQuestion();
     void saveFieldNow();
@@ -220,13 +240,21 @@ private:
     std::vector<SceneModel> models_;
     std::shared_ptr<const Mesh> sceneMesh_;
     std::unique_ptr<Model> probeModel_; // the scene mesh's, for the probe; built on first use
-    std::optional<Field> field_; // what the views show: for a band field, render::bandDisplay's field
+    // What the views show: for a band field, render::bandDisplay's field (shared with a comparison
+    // reading it on its thread).
+    std::shared_ptr<const Field> field_;
     std::shared_ptr<const SparseField> band_; // the band field shown, if it is one
     std::string bandLine_;                    // render::BandDisplay::line of band_
     FieldInfo fieldInfo_;
     std::string fieldWarning_;
     Generation generation_;
     FieldLoad fieldLoad_;
+    FieldComparison comparison_;
+    // The field saved beside a model (MODEL.sdf) while the running load reads it: the model's
+    // path and what was said of the model (the load's outcome is said after it); empty otherwise.
+    struct SavedFieldLoad {
+        std::string model, said;
+    } savedField_;
     // The last comparison's sign differences, for the field (version) it was made with.
     struct SignErrors {
         std::string against; // the compared file's name; empty: none
@@ -234,6 +262,7 @@ private:
         int fieldVersion = -1;
     } signErrors_;
     int comparisons_ = 0; // for redrawing: the crosses changed
+    int comparedVersion_ = -1; // the field version the running comparison reads
     Message* loadSlot_ = nullptr; // where the running load was asked for (modelMessage_ or fieldMessage_)
     BakeSettings settings_;
     int threads_ = 0;
@@ -253,8 +282,11 @@ private:
     std::vector<SceneModel> committedModels_;
     BakeSettings committedSettings_;
     int committedThreads_ = 0;
+    SlicePose committedSlice_;
     std::optional<UndoEntry> fieldStep_;
-    bool replaying_ = false;
+    // The scene changes without a step of its own: an undo or redo, or the saved field completing
+    // a model's load.
+    bool noUndoStep_ = false;
     // Overwrite confirmation: the file and the action (1 save the field, 2 export the surface).
     std::string overwritePath_;
     int overwriteAction_ = 0;

@@ -20,7 +20,10 @@
 # and a bake, Save and Export ask before replacing, a band's own memory estimate, keys in Recent
 # and the file dialog, the cut following the slice, errors under the Model box, an empty view's
 # hint, a field loaded in the background with progress and Cancel, the slice gizmo and its typed pose,
-# the histogram range editor and the sign errors of a comparison; Ctrl+Q exits with status 0. Every wait
+# the histogram range editor and the sign errors of a comparison, the field saved beside a model
+# loaded in the background (the window live meanwhile), Escape closing a list first and then
+# cancelling a load, and a slice move (dragged or typed) as one undo step; Ctrl+Q exits with
+# status 0. Every wait
 # polls with a deadline.
 #
 # Usage: tests/gui/test_gui.sh SDFGEN_BINARY REPO_ROOT   (ctest runs it under xvfb-run)
@@ -62,7 +65,9 @@ echo "$work/bunny.npz" >"$work/config/sdfgen/recent.txt" # a field among the rec
 window=""
 shots=0
 # start [ENV...]: runs the viewer on the bunny (in $work, so its screenshots land there), waits
-# for its window and resizes it to 800x500. SDFGEN_GUI_OPEN names another file to open.
+# for its window, resizes it to 800x500 and waits for the field saved beside the model to load.
+# SDFGEN_GUI_OPEN names another file to open; with SDFGEN_GUI_LOADING set, start does not wait for
+# the field.
 start() {
   shots=0
   rm -f "$work/shots/"*
@@ -74,6 +79,7 @@ start() {
   xdotool windowsize --sync "$window" 800 500 || fail "cannot resize the window"
   until_ok xdotool windowfocus --sync "$window" 2>/dev/null || fail "cannot focus the window"
   until_ok grep -qs "^panel 0 0 [0-9]* 500 1$" "$work/shots/widgets.txt" || fail "the panel did not fill the 500-pixel height"
+  [ -n "${SDFGEN_GUI_LOADING:-}" ] || until_ok eval '! grep -q "^text load_progress " "$work/shots/widgets.txt"' || fail "the saved field did not load"
 }
 stop() {
   xdotool key ctrl+q
@@ -277,6 +283,8 @@ until_ok grep -q "^bake_cancel_and_load .* 1$" "$work/shots/widgets.txt" || fail
 click bake_cancel_and_load
 until_ok grep -q "^message generation info: generation cancelled" "$work/log" || fail "the bake was not cancelled"
 until_ok grep -q "^message model info: loaded bunny.obj" "$work/log" || fail "the model was not loaded after cancelling the bake"
+# The model is loaded without waiting for the bake to stop (the window stays live); Generate comes back once it has.
+until_ok grep -q "^generate " "$work/shots/widgets.txt" || fail "the cancelled bake did not stop"
 echo "loading during a bake asked first, then cancelled it and loaded"
 type_into resolution 32
 
@@ -495,6 +503,53 @@ shoot
 grid_after=$(grep "^screenshot 3:" "$work/log" | grep -o 'Grid=[01]')
 [ "$grid_before" != "$grid_after" ] || fail "a click at 400 ms per frame was lost"
 echo "click at 400 ms/frame: $grid_before -> $grid_after"
+stop
+
+# --- the field saved beside a model loads in the background too: with each progress report of the
+# read held back 6 s, the model shows at once, the saved field's progress shows under Model and the
+# window stays live (an arrow turns the camera); then the field is shown, as part of the model's load.
+SDFGEN_GUI_LOADING=1 start SDFGEN_DEBUG_READ_DELAY_MS=6000
+until_ok grep -q "^text load_progress " "$work/shots/widgets.txt" || fail "no progress while the saved field loads"
+grep -q "^text ##model_message loaded bunny.obj: .*; reading the field saved beside it, bunny.sdf...$" "$work/shots/widgets.txt" ||
+  fail "the Model section does not say the saved field is being read: $(message '##model_message')"
+read -r _ py0 _ _ _ <<<"$(widget load_progress)"
+read -r _ _ _ my1 _ <<<"$(widget '##model_message')"
+[ "$py0" -ge "$my1" ] && [ "$py0" -lt "$(widget model_0 | cut -d' ' -f2)" ] || fail "the saved field's progress is not under the Model message"
+xdotool mousemove --window "$window" 790 490
+shoot
+xdotool key Left
+shoot
+grep -q "^text load_progress " "$work/shots/widgets.txt" || fail "the saved field loaded before the window was checked (too fast to test)"
+yaw0=$(camera_of $((shots - 2)) | cut -d, -f1)
+yaw1=$(camera_of $((shots - 1)) | cut -d, -f1)
+awk -v a="$yaw0" -v b="$yaw1" 'BEGIN { d = a - b; exit !(d > 2.9 && d < 3.1) }' || fail "the view did not turn while the saved field loaded ($yaw0 -> $yaw1)"
+until_ok grep -q "^message model info: loaded bunny.obj: .*; the field saved beside it, bunny.sdf, is shown" "$work/log" || fail "the saved field was not shown"
+until_ok grep -q "^text stats method exact loaded" "$work/shots/widgets.txt" || fail "the saved field's figures are not shown"
+! grep -q "^undo step: load bunny.sdf" "$work/log" || fail "the saved field made an undo step of its own"
+echo "saved field loaded in the background: the view turned $yaw0 -> $yaw1 meanwhile"
+# Escape first closes an open list, then cancels the load, leaving the scene as it was.
+xdotool mousemove --window "$window" 790 490
+shoot
+scene_before=$(md5sum <"$work/shots/scene-$((shots - 1)).png")
+stats_before=$(grep "^text stats " "$work/shots/widgets.txt")
+cancels() { grep -c "^message field info: not loaded: $work/bunny.npz (cancelled)" "$work/log" || true; }
+cancels0=$(cancels)
+type_into field_path "$work/bunny.npz"
+until_ok grep -q "^text load_progress " "$work/shots/widgets.txt" || fail "no progress for the load to cancel with Escape"
+click model_recent
+until_ok grep -q "^recent_0 .* 1$" "$work/shots/widgets.txt" || fail "Recent did not open during the load"
+xdotool key Escape
+until_ok eval '! grep -q "^recent_0 " "$work/shots/widgets.txt"' || fail "Escape did not close Recent first"
+grep -q "^text load_progress " "$work/shots/widgets.txt" || fail "the Escape that closed Recent stopped the load (or it ended too soon to test)"
+[ "$(cancels)" = "$cancels0" ] || fail "the Escape that closed Recent cancelled the load"
+xdotool mousemove --window "$window" 790 490 key Escape
+cancelled_at=$SECONDS
+until_ok eval '[ "$(cancels)" -gt "$cancels0" ]' || fail "Escape did not cancel the load"
+[ $((SECONDS - cancelled_at)) -le 3 ] || fail "Escape took $((SECONDS - cancelled_at)) s to stop the load"
+[ "$(grep "^text stats " "$work/shots/widgets.txt")" = "$stats_before" ] || fail "Escape changed the field's figures"
+shoot
+[ "$(md5sum <"$work/shots/scene-$((shots - 1)).png")" = "$scene_before" ] || fail "Escape did not leave the scene as it was"
+echo "Escape closed Recent, then cancelled the load in $((SECONDS - cancelled_at)) s; the scene as it was"
 stop
 
 # --- a field loads in the background (issue 40, item 4): a 25 MB field, each progress report of
@@ -793,6 +848,18 @@ read -r pos0 normal0 <<<"$(pose_of $((shots - 2)))"
 read -r pos1 normal1 <<<"$(pose_of $((shots - 1)))"
 awk -v a="$pos0" -v b="$pos1" 'BEGIN { exit !(b > a + 0.02) }' || fail "dragging the arrow towards its tip did not move the slice ($pos0 -> $pos1)"
 [ "$normal1" = "$normal0" ] || fail "dragging the arrow tilted the slice"
+# The drag is one undo step (not one per frame): Ctrl+Z puts the slice back, Ctrl+Shift+Z moves it again.
+until_ok grep -q "^undo step: move the slice" "$work/log" || fail "the slice's drag made no undo step"
+[ "$(grep -c "^undo step: move the slice" "$work/log")" = 1 ] || fail "the drag made $(grep -c "^undo step: move the slice" "$work/log") undo steps"
+xdotool key ctrl+z
+until_ok grep -q "^message model info: undone: move the slice" "$work/log" || fail "Ctrl+Z did not undo the slice's move"
+shoot
+[ "$(pose_of $((shots - 1)))" = "$pos0 $normal0" ] || fail "Ctrl+Z left the slice at $(pose_of $((shots - 1))), not $pos0 $normal0"
+xdotool key ctrl+shift+z
+until_ok grep -q "^message model info: redone: move the slice" "$work/log" || fail "Ctrl+Shift+Z did not redo the slice's move"
+shoot
+[ "$(pose_of $((shots - 1)))" = "$pos1 $normal1" ] || fail "Ctrl+Shift+Z left the slice at $(pose_of $((shots - 1))), not $pos1 $normal1"
+echo "the slice's drag is one undo step: undone to $pos0, redone to $pos1"
 read -r rx ry <<<"$(grep '^text gizmo_ring ' "$work/shots/widgets.txt" | cut -d' ' -f3-)"
 drag_from "$rx" "$ry" 0 60
 [ "$(camera_of $((shots - 1)))" = "$(camera_of $((shots - 2)))" ] || fail "dragging the gizmo's ring turned the camera"
@@ -808,11 +875,19 @@ shoot
 grep "^screenshot $((shots - 1)):" "$work/log" | grep -q " normal=1.00000,0.00000,0.00000 " || fail "the typed normal was not taken: $(pose_of $((shots - 1)))"
 read -r bx0 _ _ bx1 _ <<<"$(grep '^text scene_bounds ' "$work/shots/widgets.txt" | cut -d' ' -f3-)"
 x=$(awk -v a="$bx0" -v b="$bx1" 'BEGIN { printf "%.5g", a + 0.3 * (b - a) }')
+pose_before_point=$(pose_of $((shots - 1)))
 type_into slice_point "$x 0 0"
 until_ok eval 'grep "^text slice_pose " "$work/shots/widgets.txt" | awk -v x="$x" -v a="$bx0" -v b="$bx1" "{ d = \$3 - x; exit !(d * d < 1e-6 * (b - a) * (b - a)) }"' ||
   fail "the typed point was not taken: $(grep '^text slice_pose ' "$work/shots/widgets.txt") (typed x $x)"
 type_into slice_normal "0 0 0"
 until_ok grep -q "^message slice error: the slice normal '0 0 0' is not three numbers, not all 0" "$work/log" || fail "a zero normal was not refused"
+# A typed pose is one undo step too.
+xdotool mousemove --window "$window" 790 490
+undone=$(grep -c "^message model info: undone: move the slice" "$work/log" || true)
+xdotool key ctrl+z
+until_ok eval '[ "$(grep -c "^message model info: undone: move the slice" "$work/log")" -gt "$undone" ]' || fail "Ctrl+Z did not undo the typed point"
+shoot
+[ "$(pose_of $((shots - 1)))" = "$pose_before_point" ] || fail "Ctrl+Z left the slice at $(pose_of $((shots - 1))), not $pose_before_point"
 echo "slice pose typed: $(grep '^text slice_pose ' "$work/shots/widgets.txt")"
 click slice_z
 # The slice's colour range over a histogram of the values: dragging its outside end (the right
