@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace sdfgen::python {
@@ -102,6 +103,37 @@ void measureNearest(const Model& model, const double* points, std::size_t count,
             }
         }
     });
+}
+
+void measureNearestBatch(const std::vector<NearestJob>& jobs, std::optional<SignMethod> sign, const RunControl& control) {
+    // From this many points a job's own parallel query keeps the pool busy.
+    constexpr std::size_t kJobAlone = 16384;
+    std::vector<std::size_t> together;
+    for (std::size_t j = 0; j < jobs.size(); ++j) {
+        if (jobs[j].count < kJobAlone) together.push_back(j);
+    }
+    // Warnings are collected per job and passed on from the calling thread (RunControl::warn is
+    // never called concurrently).
+    std::vector<std::vector<std::string>> warnings(jobs.size());
+    auto controlOf = [&](std::size_t j, int threads) {
+        RunControl part = quiet(control);
+        part.threads = threads;
+        part.warn = [&warnings, j](const std::string& warning) { warnings[j].push_back(warning); };
+        return part;
+    };
+    parallelFor(together.size(), quiet(control), [&](std::size_t k) {
+        const NearestJob& job = jobs[together[k]];
+        measureNearest(*job.model, job.points, job.count, job.vertices, sign, job.out, controlOf(together[k], 1));
+    });
+    for (std::size_t j = 0; j < jobs.size(); ++j) {
+        const NearestJob& job = jobs[j];
+        if (job.count >= kJobAlone) measureNearest(*job.model, job.points, job.count, job.vertices, sign, job.out, controlOf(j, control.threads));
+    }
+    if (control.warn) {
+        for (const std::vector<std::string>& jobWarnings : warnings) {
+            for (const std::string& warning : jobWarnings) control.warn(warning);
+        }
+    }
 }
 
 } // namespace sdfgen::python

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 namespace sdfgen::python {
 
@@ -31,5 +32,21 @@ struct NearestTerms {
 // Model::query; none gives unsigned distances. Throws Error as Model::query does.
 void measureNearest(const Model& model, const double* points, std::size_t count, const double* vertices,
                     std::optional<SignMethod> sign, const NearestTerms& out, const RunControl& control);
+
+// One mesh's share of a batch: its model, points, coordinates and outputs, as measureNearest takes them.
+struct NearestJob {
+    const Model* model = nullptr;
+    const double* points = nullptr;
+    std::size_t count = 0;
+    const double* vertices = nullptr;
+    NearestTerms out;
+};
+
+// measureNearest for every job, in one pass over the thread pool: the jobs of few points (where a
+// call of their own costs more in waking the pool than in work) run side by side on one thread
+// each; a job of many points runs alone on all of control's threads, its points searched in one
+// Morton order. Each job's results are those of its own measureNearest, bit for bit, as a query's
+// never depend on the thread count. Warnings reach control.warn in job order.
+void measureNearestBatch(const std::vector<NearestJob>& jobs, std::optional<SignMethod> sign, const RunControl& control);
 
 } // namespace sdfgen::python
