@@ -13,7 +13,11 @@ Each function takes the mesh in one of two forms:
 - ``f(points, vertices, faces)`` with (B, V, 3) ``vertices``: B meshes of V vertices, with (F, 3)
   ``faces`` shared or (B, F, 3) faces of their own, and (B, ..., 3) ``points``, ``points[b]`` for
   mesh b; results have a first dimension B, each equal to the single call's, and gradients reach
-  each mesh's vertices. (Meshes of different sizes: a list of single calls.)
+  each mesh's vertices.
+- ``f([points, ...], [mesh, ...])`` or ``f([points, ...], [vertices, ...], [faces, ...])`` (or one
+  faces tensor shared): lists of meshes of any sizes, a list of results, each the single call's.
+  A batch's meshes are built or refit in one pass over the thread pool, their points answered in
+  another.
 
 ``points`` is a float32 or float64 tensor of shape (..., 3); results come in its dtype, on its
 device (the work runs on the CPU: tensors on another device are copied there and the results
