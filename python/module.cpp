@@ -813,6 +813,22 @@ void registerTorchTerms(py::module_& m) {
         },
         py::arg("meshes"), py::arg("points"), py::arg("vertices"), py::arg("sign") = py::none(), py::arg("gradient") = false,
         py::arg("closest") = false, py::arg("features") = false, py::arg("hit") = false, py::arg("threads") = 0);
+    // The vertices' gradient in a backward pass of sdfgen.torch's distances, from the forward pass's
+    // terms: (V, 3) float64 (scatterVertexGradient).
+    m.def(
+        "_vertex_gradient",
+        [](const py::array_t<std::int64_t, py::array::c_style>& corners, const py::array_t<double, py::array::c_style>& weights,
+           const py::array_t<double, py::array::c_style>& gradient, const py::array_t<double, py::array::c_style>& upstream,
+           std::size_t vertexCount) {
+            const std::size_t count = std::size_t(upstream.size());
+            if (std::size_t(corners.size()) != 3 * count || std::size_t(weights.size()) != 3 * count || std::size_t(gradient.size()) != 3 * count) {
+                throw py::value_error("corners, weights and gradient must have 3 values per upstream value");
+            }
+            std::vector<double> vertexGradient(3 * vertexCount, 0.0);
+            scatterVertexGradient(corners.data(), weights.data(), gradient.data(), upstream.data(), count, vertexGradient.data(), vertexCount);
+            return toNumpy(std::move(vertexGradient), {py::ssize_t(vertexCount), 3});
+        },
+        py::arg("corners"), py::arg("weights"), py::arg("gradient"), py::arg("upstream"), py::arg("vertex_count"));
     // A batch's meshes in one pass: vertices[b] moved from previous[b] (Mesh.with_vertices), or,
     // where previous[b] is None, a new mesh of vertices[b] and faces[b] (Mesh(vertices, faces)).
     m.def(

@@ -2,6 +2,7 @@
 
 #include "core/mesh/geometry.hpp"
 #include "core/runtime/parallel.hpp"
+#include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -103,6 +104,18 @@ void measureNearest(const Model& model, const double* points, std::size_t count,
             }
         }
     });
+}
+
+void scatterVertexGradient(const std::int64_t* corners, const double* weights, const double* gradient, const double* upstream,
+                           std::size_t count, double* vertexGradient, std::size_t vertexCount) {
+    for (std::size_t i = 0; i < count; ++i) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::int64_t corner = corners[3 * i + k];
+            if (corner < 0 || std::uint64_t(corner) >= vertexCount) throw Error("vertex gradient: corner " + std::to_string(corner) + " out of range");
+            const double weighted = weights[3 * i + k] * upstream[i];
+            for (std::size_t a = 0; a < 3; ++a) vertexGradient[3 * std::size_t(corner) + a] += weighted * -gradient[3 * i + a];
+        }
+    }
 }
 
 void measureNearestBatch(const std::vector<NearestJob>& jobs, std::optional<SignMethod> sign, const RunControl& control) {

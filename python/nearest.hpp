@@ -33,6 +33,14 @@ struct NearestTerms {
 void measureNearest(const Model& model, const double* points, std::size_t count, const double* vertices,
                     std::optional<SignMethod> sign, const NearestTerms& out, const RunControl& control);
 
+// The gradient of sum_i upstream[i] * distance_i with respect to the vertices, into the zeroed
+// (vertexCount, 3) `vertexGradient`: each point's -w * gradient on the corners of its nearest
+// triangle (`corners`, `weights` and `gradient` as NearestTerms gives them), summed per vertex in
+// point order and corner order, as torch's scatter_add_ sums them (so bit for bit its result).
+// Throws Error for a corner index out of range.
+void scatterVertexGradient(const std::int64_t* corners, const double* weights, const double* gradient, const double* upstream,
+                           std::size_t count, double* vertexGradient, std::size_t vertexCount);
+
 // One mesh's share of a batch: its model, points, coordinates and outputs, as measureNearest takes them.
 struct NearestJob {
     const Model* model = nullptr;
