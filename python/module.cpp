@@ -693,38 +693,44 @@ void registerMesh(py::module_& m) {
 // The nearest-point terms sdfgen.torch asks of one mesh's points (python/nearest.hpp), read from
 // Python with the GIL held and measured on a worker: the outputs not wanted stay empty.
 struct TorchTerms {
+    // An output as the numpy array handed back (allocated, not zeroed: every element is written), or None.
+    template <class T>
+    struct Output {
+        py::object array = py::none();
+        T* data = nullptr;
+    };
+    template <class T>
+    static Output<T> output(std::size_t count, py::ssize_t per) {
+        const py::ssize_t n = py::ssize_t(count);
+        py::array_t<T> values(per == 1 ? std::vector<py::ssize_t>{n} : std::vector<py::ssize_t>{n, per});
+        return {values, values.mutable_data()};
+    }
+
     const Model* model = nullptr;
     py::array_t<double, py::array::c_style> points;
     std::optional<py::array_t<double, py::array::c_style>> vertices;
     std::size_t count = 0;
-    std::vector<double> distance, gradients, closests, weights, barycentric;
-    std::vector<std::int64_t> corners, triangle;
-    std::vector<std::int8_t> featureSize;
+    Output<double> distance, gradient, closest, weights, barycentric;
+    Output<std::int64_t> corners, triangle;
+    Output<std::int8_t> featureSize;
 
-    NearestJob job() {
+    NearestJob job() const {
         NearestTerms out;
-        out.distance = distance.data();
-        auto wanted = [](auto& values) { return values.empty() ? nullptr : values.data(); };
-        out.gradient = wanted(gradients);
-        out.closest = wanted(closests);
-        out.corners = wanted(corners);
-        out.weights = wanted(weights);
-        out.featureSize = wanted(featureSize);
-        out.triangle = wanted(triangle);
-        out.barycentric = wanted(barycentric);
+        out.distance = distance.data;
+        out.gradient = gradient.data;
+        out.closest = closest.data;
+        out.corners = corners.data;
+        out.weights = weights.data;
+        out.featureSize = featureSize.data;
+        out.triangle = triangle.data;
+        out.barycentric = barycentric.data;
         return {model, points.data(), count, vertices ? vertices->data() : nullptr, out};
     }
 
     // (distance, gradient, closest, corners, weights, feature_size, triangle, barycentric), None for those not wanted.
-    py::tuple toPython() {
-        const py::ssize_t n = py::ssize_t(count);
-        auto optional = [n](auto&& values, py::ssize_t per) -> py::object {
-            if (values.empty() && n > 0) return py::none();
-            return per == 1 ? py::object(toNumpy(std::move(values), {n})) : py::object(toNumpy(std::move(values), {n, per}));
-        };
-        return py::make_tuple(toNumpy(std::move(distance), {n}), optional(std::move(gradients), 3), optional(std::move(closests), 3),
-                              optional(std::move(corners), 3), optional(std::move(weights), 3), optional(std::move(featureSize), 1),
-                              optional(std::move(triangle), 1), optional(std::move(barycentric), 3));
+    py::tuple toPython() const {
+        return py::make_tuple(distance.array, gradient.array, closest.array, corners.array, weights.array, featureSize.array,
+                              triangle.array, barycentric.array);
     }
 };
 
@@ -747,19 +753,18 @@ TorchTerms torchTerms(const PyMesh& mesh, const py::array& points, const std::op
             throw py::value_error("vertices must be the mesh's " + std::to_string(vertexCount) + " vertices, of shape (V, 3)");
         }
     }
-    const std::size_t n = terms.count;
-    terms.distance.resize(n);
-    if (want.gradient) terms.gradients.resize(3 * n);
-    if (want.closest) terms.closests.resize(3 * n);
-    if (want.features) {
-        terms.corners.resize(3 * n);
-        terms.weights.resize(3 * n);
-        terms.featureSize.resize(n);
-    }
-    if (want.hit) {
-        terms.triangle.resize(n);
-        terms.barycentric.resize(3 * n);
-    }
+    // Not wanted: None (for no points, an empty array all the same, as numpy gives it).
+    auto wanted = [&terms](bool want, auto& out, py::ssize_t per) {
+        if (want || terms.count == 0) out = TorchTerms::output<std::remove_pointer_t<decltype(out.data)>>(terms.count, per);
+    };
+    wanted(true, terms.distance, 1);
+    wanted(want.gradient, terms.gradient, 3);
+    wanted(want.closest, terms.closest, 3);
+    wanted(want.features, terms.corners, 3);
+    wanted(want.features, terms.weights, 3);
+    wanted(want.features, terms.featureSize, 1);
+    wanted(want.hit, terms.triangle, 1);
+    wanted(want.hit, terms.barycentric, 3);
     return terms;
 }
 
