@@ -340,26 +340,9 @@ std::shared_ptr<const Model> modelOf(MeshInput& input, const RunControl& control
 std::vector<std::shared_ptr<const Model>> modelsOf(std::vector<MeshInput>& inputs, const RunControl& control) {
     constexpr std::size_t kMeshAlone = std::size_t(1) << 16; // triangles
     std::vector<std::shared_ptr<const Model>> models(inputs.size());
-    std::vector<std::vector<std::string>> warnings(inputs.size());
-    auto controlOf = [&](std::size_t b, int threads) {
-        RunControl part = quiet(control);
-        part.threads = threads;
-        part.warn = [&warnings, b](const std::string& warning) { warnings[b].push_back(warning); };
-        return part;
-    };
-    std::vector<std::size_t> together;
-    for (std::size_t b = 0; b < inputs.size(); ++b) {
-        if (inputs[b].triangles.size() < kMeshAlone) together.push_back(b);
-    }
-    parallelFor(together.size(), quiet(control), [&](std::size_t k) { models[together[k]] = modelOf(inputs[together[k]], controlOf(together[k], 1)); });
-    for (std::size_t b = 0; b < inputs.size(); ++b) {
-        if (!models[b]) models[b] = modelOf(inputs[b], controlOf(b, control.threads));
-    }
-    if (control.warn) {
-        for (const std::vector<std::string>& meshWarnings : warnings) {
-            for (const std::string& warning : meshWarnings) control.warn(warning);
-        }
-    }
+    runSideBySide(
+        inputs.size(), [&](std::size_t b) { return inputs[b].triangles.size() >= kMeshAlone; },
+        [&](std::size_t b, const RunControl& part) { models[b] = modelOf(inputs[b], part); }, control);
     return models;
 }
 

@@ -118,35 +118,38 @@ void scatterVertexGradient(const std::int64_t* corners, const double* weights, c
     }
 }
 
+void runSideBySide(std::size_t count, const std::function<bool(std::size_t)>& alone,
+                   const std::function<void(std::size_t, const RunControl&)>& work, const RunControl& control) {
+    std::vector<std::size_t> together, apart; // asked once: work may change what alone() reads
+    for (std::size_t i = 0; i < count; ++i) (alone(i) ? apart : together).push_back(i);
+    // Warnings are collected per item and passed on from the calling thread (RunControl::warn is
+    // never called concurrently).
+    std::vector<std::vector<std::string>> warnings(count);
+    auto controlOf = [&](std::size_t i, int threads) {
+        RunControl part = quiet(control);
+        part.threads = threads;
+        part.warn = [&warnings, i](const std::string& warning) { warnings[i].push_back(warning); };
+        return part;
+    };
+    parallelFor(together.size(), quiet(control), [&](std::size_t k) { work(together[k], controlOf(together[k], 1)); });
+    for (std::size_t i : apart) work(i, controlOf(i, control.threads));
+    if (control.warn) {
+        for (const std::vector<std::string>& itemWarnings : warnings) {
+            for (const std::string& warning : itemWarnings) control.warn(warning);
+        }
+    }
+}
+
 void measureNearestBatch(const std::vector<NearestJob>& jobs, std::optional<SignMethod> sign, const RunControl& control) {
     // From this many points a job's own parallel query keeps the pool busy.
     constexpr std::size_t kJobAlone = 16384;
-    std::vector<std::size_t> together;
-    for (std::size_t j = 0; j < jobs.size(); ++j) {
-        if (jobs[j].count < kJobAlone) together.push_back(j);
-    }
-    // Warnings are collected per job and passed on from the calling thread (RunControl::warn is
-    // never called concurrently).
-    std::vector<std::vector<std::string>> warnings(jobs.size());
-    auto controlOf = [&](std::size_t j, int threads) {
-        RunControl part = quiet(control);
-        part.threads = threads;
-        part.warn = [&warnings, j](const std::string& warning) { warnings[j].push_back(warning); };
-        return part;
-    };
-    parallelFor(together.size(), quiet(control), [&](std::size_t k) {
-        const NearestJob& job = jobs[together[k]];
-        measureNearest(*job.model, job.points, job.count, job.vertices, sign, job.out, controlOf(together[k], 1));
-    });
-    for (std::size_t j = 0; j < jobs.size(); ++j) {
-        const NearestJob& job = jobs[j];
-        if (job.count >= kJobAlone) measureNearest(*job.model, job.points, job.count, job.vertices, sign, job.out, controlOf(j, control.threads));
-    }
-    if (control.warn) {
-        for (const std::vector<std::string>& jobWarnings : warnings) {
-            for (const std::string& warning : jobWarnings) control.warn(warning);
-        }
-    }
+    runSideBySide(
+        jobs.size(), [&](std::size_t j) { return jobs[j].count >= kJobAlone; },
+        [&](std::size_t j, const RunControl& part) {
+            const NearestJob& job = jobs[j];
+            measureNearest(*job.model, job.points, job.count, job.vertices, sign, job.out, part);
+        },
+        control);
 }
 
 } // namespace sdfgen::python

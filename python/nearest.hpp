@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -40,6 +41,13 @@ void measureNearest(const Model& model, const double* points, std::size_t count,
 // Throws Error for a corner index out of range.
 void scatterVertexGradient(const std::int64_t* corners, const double* weights, const double* gradient, const double* upstream,
                            std::size_t count, double* vertexGradient, std::size_t vertexCount);
+
+// Runs work(i, part) for every i in [0, count) in one pass over control's thread pool: the items
+// not alone(i) side by side, each on one thread (part.threads 1), then the others one after
+// another on all of control's threads. Each part reports no progress; warnings are collected per
+// item and reach control.warn in item order, from the calling thread.
+void runSideBySide(std::size_t count, const std::function<bool(std::size_t)>& alone,
+                   const std::function<void(std::size_t, const RunControl&)>& work, const RunControl& control);
 
 // One mesh's share of a batch: its model, points, coordinates and outputs, as measureNearest takes them.
 struct NearestJob {

@@ -396,3 +396,13 @@ def test_batches_refit_step_to_step_and_answer_large_ones_alone():
     meshes = [torch.from_numpy(vertices * (1 + 0.1 * b)) for b in range(3)]
     for mine, theirs in zip(st.closest(lists, meshes, f), [st.closest(p, v, f) for p, v in zip(lists, meshes)]):
         assert equal_results(mine, theirs)
+
+
+def test_a_batch_warns_once_per_mesh():
+    # Each mesh's warnings (here a zero-area triangle dropped) reach Python once, from the calling thread.
+    vertices = torch.from_numpy(np.vstack([TET_VERTICES, [[2.0, 2.0, 2.0]]]))
+    faces = torch.from_numpy(np.vstack([TET_FACES, [[0, 0, 4]]]))
+    points = [torch.from_numpy(clear_points(TET_VERTICES, TET_FACES, 5, seed=b)) for b in range(2)]
+    with pytest.warns(sdfgen.Warning) as caught:
+        st.signed_distance(points, [vertices, vertices * 2], [faces, faces])
+    assert [str(w.message) for w in caught] == ["<tensors>: dropped 1 zero-area triangles"] * 2
