@@ -1,13 +1,15 @@
 #!/usr/bin/python3
 """The cost of a vertex-optimisation step in sdfgen.torch (vertices that require grad, moved every step):
     PYTHONPATH=build/python /usr/bin/python3 bench/python_refit_bench.py [--levels 5 | --mesh MESH] [--points 10000]
-        [--steps 20] [--threads 0]
+        [--steps 20] [--threads 0] [--no-afresh]
 A step is signed_distance (sign auto) at fixed points and its backward pass. Three steps alternate:
 on an sdfgen.Mesh built once (the bar: no mesh work per step), on the vertices and faces as tensors
 (the tree refit and the sign decision kept, Mesh.with_vertices), and the same with the mesh built
 afresh every step (sdfgen.torch's kept meshes set aside: what every step cost before); the refit
 steps form one chain, each refitting the previous refit step's mesh. Prints the
 median wall-clock and CPU (all threads) milliseconds per step of each and their ratios to the first.
+--no-afresh leaves the third out, so that the two compared run back to back (steadier on a loaded
+machine).
 The icosphere is tests/python/test_refit.py's."""
 import argparse
 import os
@@ -30,6 +32,7 @@ parser.add_argument("--mesh", help="a mesh file instead of the icosphere")
 parser.add_argument("--points", type=int, default=10_000)
 parser.add_argument("--steps", type=int, default=20)
 parser.add_argument("--threads", type=int, default=0)
+parser.add_argument("--no-afresh", action="store_true", help="alternate the first two steps only")
 args = parser.parse_args()
 
 if args.mesh:
@@ -76,6 +79,8 @@ def on_tensors(step, afresh):
 steps = {"Mesh built once (points)": on_built_mesh,
          "tensors, tree refit": lambda step: on_tensors(step, afresh=False),
          "tensors, built afresh": lambda step: on_tensors(step, afresh=True)}
+if args.no_afresh:
+    del steps["tensors, built afresh"]
 for run in steps.values():  # warm-up: the first build, the sign decision
     run(0)
 wall = {label: [] for label in steps}

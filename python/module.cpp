@@ -293,36 +293,71 @@ py::array_t<std::int64_t> facesOf(const Mesh& mesh) {
     return toNumpy(std::move(faces), {py::ssize_t(mesh.triangles.size()), 3});
 }
 
+// Vertices read from Python (the GIL held) with their triangles, for a model built on a worker.
+// Float input keeps its float values (buildMesh warns when float cannot resolve the mesh).
+struct MeshInput {
+    std::string name;
+    bool single = false; // float32 input: `floats`, else `doubles`
+    std::vector<glm::vec3> floats;
+    std::vector<glm::dvec3> doubles;
+    std::vector<glm::uvec3> triangles;
+    const Model* previous = nullptr; // the model whose vertices these are, moved (Model::refit), or null
+};
+
+// `vertices` (N, 3) float32 or float64.
+MeshInput meshInput(const py::array& vertices, std::vector<glm::uvec3> triangles, const std::string& name, const Model* previous) {
+    checkReal(vertices, "vertices");
+    MeshInput input;
+    input.name = name;
+    input.triangles = std::move(triangles);
+    input.previous = previous;
+    input.single = vertices.dtype().is(py::dtype::of<float>());
+    if (input.single) {
+        const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
+        input.floats.resize(std::size_t(v.shape(0)));
+        std::memcpy(input.floats.data(), v.data(), input.floats.size() * sizeof(glm::vec3));
+    } else {
+        const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+        if (!v) throw py::value_error("vertices must be numbers");
+        input.doubles.resize(std::size_t(v.shape(0)));
+        std::memcpy(input.doubles.data(), v.data(), input.doubles.size() * sizeof(glm::dvec3));
+    }
+    return input;
+}
+
+// The model of `input` (its arrays moved out): its previous model refit where its vertices group
+// as before, else built.
+std::shared_ptr<const Model> modelOf(MeshInput& input, const RunControl& control) {
+    Mesh built = input.single ? buildMesh(input.name, input.floats, std::move(input.triangles))
+                              : buildMesh(input.name, std::move(input.doubles), std::move(input.triangles));
+    return std::make_shared<const Model>(input.previous ? input.previous->refit(std::move(built), control) : Model(std::move(built), control));
+}
+
+// The models of every input in one pass over the thread pool: meshes of few triangles (whose
+// builds and refits are a few short loops, shorter than waking the pool for each) side by side on
+// one thread each, larger ones alone on all of control's threads. Results never depend on the
+// thread count. Warnings reach control.warn in input order.
+std::vector<std::shared_ptr<const Model>> modelsOf(std::vector<MeshInput>& inputs, const RunControl& control) {
+    constexpr std::size_t kMeshAlone = std::size_t(1) << 16; // triangles
+    std::vector<std::shared_ptr<const Model>> models(inputs.size());
+    runSideBySide(
+        inputs.size(), [&](std::size_t b) { return inputs[b].triangles.size() >= kMeshAlone; },
+        [&](std::size_t b, const RunControl& part) { models[b] = modelOf(inputs[b], part); }, control);
+    return models;
+}
+
 // The model of (N, 3) float32 or float64 `vertices` and `triangles`. `previous`: the model whose
 // vertices these are, moved (Model::refit: refit where its vertices group as before), or null.
 PyMesh meshFromVertices(const py::array& vertices, std::vector<glm::uvec3> triangles, const std::string& name, int threads,
                         const Model* previous = nullptr) {
-    checkReal(vertices, "vertices");
-    auto build = [&](auto&& positions) {
-        PyMesh mesh;
-        mesh.model = runReleased([&](const RunControl& control) {
-            Mesh built = buildMesh(name, std::move(positions), std::move(triangles));
-            return std::make_shared<const Model>(previous ? previous->refit(std::move(built), control) : Model(std::move(built), control));
-        }, threads);
-        return mesh;
-    };
-    if (vertices.dtype().is(py::dtype::of<float>())) {
-        // Float input keeps its float values (buildMesh warns when float cannot resolve the mesh).
-        const auto v = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(vertices);
-        std::vector<glm::vec3> positions(std::size_t(v.shape(0)));
-        std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::vec3));
-        return build(std::move(positions));
-    }
-    const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
-    if (!v) throw py::value_error("vertices must be numbers");
-    std::vector<glm::dvec3> positions(std::size_t(v.shape(0)));
-    std::memcpy(positions.data(), v.data(), positions.size() * sizeof(glm::dvec3));
-    return build(std::move(positions));
+    MeshInput input = meshInput(vertices, std::move(triangles), name, previous);
+    PyMesh mesh;
+    mesh.model = runReleased([&](const RunControl& control) { return modelOf(input, control); }, threads);
+    return mesh;
 }
 
-PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
-    if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
-    checkReal(vertices, "vertices");
+// (M, 3) integer `faces` as triangles over `vertexCount` vertices (indices checked only for their type's range here).
+std::vector<glm::uvec3> trianglesFrom(const py::array& faces, py::ssize_t vertexCount, const std::string& name) {
     if (faces.ndim() != 2 || faces.shape(1) != 3) throw py::value_error("faces must have shape (M, 3)");
     if (!py::isinstance<py::array_t<std::int64_t>>(faces) && faces.dtype().kind() != 'i' && faces.dtype().kind() != 'u') {
         throw py::value_error("faces must be an integer array");
@@ -338,7 +373,7 @@ PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const s
                 const Index index = fd[3 * t + std::size_t(c)];
                 if ((std::is_signed_v<Index> && std::int64_t(index) < 0) || std::uint64_t(index) > std::numeric_limits<std::uint32_t>::max()) {
                     throw Error(name + ": face " + std::to_string(t) + " has vertex index " + std::to_string(index) +
-                                ", outside 0.." + std::to_string(vertices.shape(0) - 1));
+                                ", outside 0.." + std::to_string(vertexCount - 1));
                 }
                 triangles[t][c] = std::uint32_t(index);
             }
@@ -346,7 +381,24 @@ PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const s
     };
     if (faces.dtype().kind() == 'u') readIndices(std::uint64_t{});
     else readIndices(std::int64_t{});
-    return meshFromVertices(vertices, std::move(triangles), name, threads);
+    return triangles;
+}
+
+void checkVertexShape(const py::array& vertices) {
+    if (vertices.ndim() != 2 || vertices.shape(1) != 3) throw py::value_error("vertices must have shape (N, 3)");
+}
+
+PyMesh meshFromArrays(const py::array& vertices, const py::array& faces, const std::string& name, int threads) {
+    checkVertexShape(vertices);
+    checkReal(vertices, "vertices");
+    return meshFromVertices(vertices, trianglesFrom(faces, vertices.shape(0), name), name, threads);
+}
+
+// Mesh.with_vertices' check: `vertices` are (V, 3), the mesh's vertex count.
+void checkMovedVertices(const Mesh& mesh, const py::array& vertices) {
+    if (vertices.ndim() != 2 || vertices.shape(1) != 3 || std::size_t(vertices.shape(0)) != mesh.positions.size()) {
+        throw py::value_error("vertices must be the mesh's " + std::to_string(mesh.positions.size()) + " vertices, of shape (V, 3)");
+    }
 }
 
 // A baked or loaded field; `values` views its buffer.
@@ -573,9 +625,7 @@ void registerMesh(py::module_& m) {
             "with_vertices",
             [](const PyMesh& m, const py::array& vertices, int threads) {
                 const Mesh& mesh = m.model->mesh();
-                if (vertices.ndim() != 2 || vertices.shape(1) != 3 || std::size_t(vertices.shape(0)) != mesh.positions.size()) {
-                    throw py::value_error("vertices must be the mesh's " + std::to_string(mesh.positions.size()) + " vertices, of shape (V, 3)");
-                }
+                checkMovedVertices(mesh, vertices);
                 return meshFromVertices(vertices, mesh.triangles, mesh.source, threads, m.model.get());
             },
             py::arg("vertices"), py::arg("threads") = 0,
@@ -623,63 +673,179 @@ void registerMesh(py::module_& m) {
         });
 }
 
+// The nearest-point terms sdfgen.torch asks of one mesh's points (python/nearest.hpp), read from
+// Python with the GIL held and measured on a worker: the outputs not wanted stay empty.
+struct TorchTerms {
+    // An output as the numpy array handed back (allocated, not zeroed: every element is written), or None.
+    template <class T>
+    struct Output {
+        py::object array = py::none();
+        T* data = nullptr;
+    };
+    template <class T>
+    static Output<T> output(std::size_t count, py::ssize_t per) {
+        const py::ssize_t n = py::ssize_t(count);
+        py::array_t<T> values(per == 1 ? std::vector<py::ssize_t>{n} : std::vector<py::ssize_t>{n, per});
+        return {values, values.mutable_data()};
+    }
+
+    const Model* model = nullptr;
+    py::array_t<double, py::array::c_style> points;
+    std::optional<py::array_t<double, py::array::c_style>> vertices;
+    std::size_t count = 0;
+    Output<double> distance, gradient, closest, weights, barycentric;
+    Output<std::int64_t> corners, triangle;
+    Output<std::int8_t> featureSize;
+
+    NearestJob job() const {
+        NearestTerms out;
+        out.distance = distance.data;
+        out.gradient = gradient.data;
+        out.closest = closest.data;
+        out.corners = corners.data;
+        out.weights = weights.data;
+        out.featureSize = featureSize.data;
+        out.triangle = triangle.data;
+        out.barycentric = barycentric.data;
+        return {model, points.data(), count, vertices ? vertices->data() : nullptr, out};
+    }
+
+    // (distance, gradient, closest, corners, weights, feature_size, triangle, barycentric), None for those not wanted.
+    py::tuple toPython() const {
+        return py::make_tuple(distance.array, gradient.array, closest.array, corners.array, weights.array, featureSize.array,
+                              triangle.array, barycentric.array);
+    }
+};
+
+// Which terms sdfgen.torch wants (the keyword arguments of _nearest_terms).
+struct TermsWanted {
+    bool gradient = false, closest = false, features = false, hit = false;
+};
+
+TorchTerms torchTerms(const PyMesh& mesh, const py::array& points, const std::optional<py::array>& vertices, TermsWanted want) {
+    TorchTerms terms;
+    terms.model = mesh.model.get();
+    std::vector<py::ssize_t> shape;
+    terms.points = pointsFrom(points, shape);
+    terms.count = std::size_t(terms.points.size() / 3);
+    if (vertices) {
+        const std::size_t vertexCount = mesh.model->mesh().positions.size();
+        terms.vertices = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(*vertices);
+        if (!*terms.vertices || terms.vertices->ndim() != 2 || terms.vertices->shape(1) != 3 ||
+            std::size_t(terms.vertices->shape(0)) != vertexCount) {
+            throw py::value_error("vertices must be the mesh's " + std::to_string(vertexCount) + " vertices, of shape (V, 3)");
+        }
+    }
+    // Not wanted: None (for no points, an empty array all the same, as numpy gives it).
+    auto wanted = [&terms](bool want, auto& out, py::ssize_t per) {
+        if (want || terms.count == 0) out = TorchTerms::output<std::remove_pointer_t<decltype(out.data)>>(terms.count, per);
+    };
+    wanted(true, terms.distance, 1);
+    wanted(want.gradient, terms.gradient, 3);
+    wanted(want.closest, terms.closest, 3);
+    wanted(want.features, terms.corners, 3);
+    wanted(want.features, terms.weights, 3);
+    wanted(want.features, terms.featureSize, 1);
+    wanted(want.hit, terms.triangle, 1);
+    wanted(want.hit, terms.barycentric, 3);
+    return terms;
+}
+
+// Measures every mesh's terms in one call (measureNearestBatch: one pass over the thread pool).
+py::list measureTorchTerms(std::vector<TorchTerms>& batch, const std::optional<std::string>& sign, int threads) {
+    const std::optional<SignMethod> method = sign ? std::optional<SignMethod>(signFrom(*sign)) : std::nullopt;
+    std::vector<NearestJob> jobs;
+    std::size_t total = 0;
+    for (TorchTerms& terms : batch) {
+        jobs.push_back(terms.job());
+        total += terms.count;
+    }
+    runReleased([&](const RunControl& control) {
+        measureNearestBatch(jobs, method, control);
+        return 0;
+    }, threads, py::none(), total);
+    py::list results;
+    for (TorchTerms& terms : batch) results.append(terms.toPython());
+    return results;
+}
+
 // For sdfgen.torch (python/sdfgen/torch.py): the nearest-point terms of its values and gradients,
 // flat per point (python/nearest.hpp); None for those not asked for. `vertices` (V, 3): the
 // full-precision coordinates the mesh was built from; no sign gives unsigned distances.
+// _nearest_terms_batch: the same for lists of meshes, points and vertices (None for a mesh's own),
+// a list of the tuples, measured in one pass.
 void registerTorchTerms(py::module_& m) {
     m.def(
         "_nearest_terms",
         [](const PyMesh& mesh, const py::array& points, const std::optional<py::array>& vertices, const std::optional<std::string>& sign,
            bool gradient, bool closest, bool features, bool hit, int threads) {
-            std::vector<py::ssize_t> shape;
-            const auto p = pointsFrom(points, shape);
-            const std::size_t count = std::size_t(p.size() / 3);
-            std::optional<py::array_t<double, py::array::c_style>> v;
-            if (vertices) {
-                v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(*vertices);
-                if (!*v || v->ndim() != 2 || v->shape(1) != 3 || std::size_t(v->shape(0)) != mesh.model->mesh().positions.size()) {
-                    throw py::value_error("vertices must be the mesh's " + std::to_string(mesh.model->mesh().positions.size()) +
-                                          " vertices, of shape (V, 3)");
-                }
-            }
-            auto wanted = [count](bool want, std::size_t per) { return std::vector<double>(want ? per * count : 0); };
-            std::vector<double> distance(count), gradients = wanted(gradient, 3), closests = wanted(closest, 3),
-                                weights = wanted(features, 3);
-            std::vector<std::int64_t> corners(features ? 3 * count : 0);
-            std::vector<std::int8_t> featureSize(features ? count : 0);
-            std::vector<std::int64_t> triangle(hit ? count : 0);
-            std::vector<double> barycentric = wanted(hit, 3);
-            NearestTerms out;
-            if (hit) {
-                out.triangle = triangle.data();
-                out.barycentric = barycentric.data();
-            }
-            out.distance = distance.data();
-            if (gradient) out.gradient = gradients.data();
-            if (closest) out.closest = closests.data();
-            if (features) {
-                out.corners = corners.data();
-                out.weights = weights.data();
-                out.featureSize = featureSize.data();
-            }
-            const std::optional<SignMethod> method = sign ? std::optional<SignMethod>(signFrom(*sign)) : std::nullopt;
-            const double* data = p.data();
-            const double* coordinates = v ? v->data() : nullptr;
-            runReleased([&](const RunControl& control) {
-                measureNearest(*mesh.model, data, count, coordinates, method, out, control);
-                return 0;
-            }, threads, py::none(), count);
-            const py::ssize_t n = py::ssize_t(count);
-            auto optional = [n](auto&& values, py::ssize_t per) -> py::object {
-                if (values.empty() && n > 0) return py::none();
-                return per == 1 ? py::object(toNumpy(std::move(values), {n})) : py::object(toNumpy(std::move(values), {n, per}));
-            };
-            return py::make_tuple(toNumpy(std::move(distance), {n}), optional(std::move(gradients), 3), optional(std::move(closests), 3),
-                                  optional(std::move(corners), 3), optional(std::move(weights), 3), optional(std::move(featureSize), 1),
-                                  optional(std::move(triangle), 1), optional(std::move(barycentric), 3));
+            std::vector<TorchTerms> batch;
+            batch.push_back(torchTerms(mesh, points, vertices, {gradient, closest, features, hit}));
+            return py::tuple(measureTorchTerms(batch, sign, threads)[0]);
         },
         py::arg("mesh"), py::arg("points"), py::arg("vertices") = py::none(), py::arg("sign") = py::none(), py::arg("gradient") = false,
         py::arg("closest") = false, py::arg("features") = false, py::arg("hit") = false, py::arg("threads") = 0);
+    m.def(
+        "_nearest_terms_batch",
+        [](const std::vector<py::object>& meshes, const std::vector<py::array>& points,
+           const std::vector<std::optional<py::array>>& vertices, const std::optional<std::string>& sign, bool gradient, bool closest,
+           bool features, bool hit, int threads) {
+            if (points.size() != meshes.size() || vertices.size() != meshes.size()) {
+                throw py::value_error("a batch takes one points array and one vertices array (or None) per mesh");
+            }
+            std::vector<TorchTerms> batch;
+            for (std::size_t b = 0; b < meshes.size(); ++b) {
+                batch.push_back(torchTerms(meshes[b].cast<const PyMesh&>(), points[b], vertices[b], {gradient, closest, features, hit}));
+            }
+            return measureTorchTerms(batch, sign, threads);
+        },
+        py::arg("meshes"), py::arg("points"), py::arg("vertices"), py::arg("sign") = py::none(), py::arg("gradient") = false,
+        py::arg("closest") = false, py::arg("features") = false, py::arg("hit") = false, py::arg("threads") = 0);
+    // The vertices' gradient in a backward pass of sdfgen.torch's distances, from the forward pass's
+    // terms: (V, 3) float64 (scatterVertexGradient).
+    m.def(
+        "_vertex_gradient",
+        [](const py::array_t<std::int64_t, py::array::c_style>& corners, const py::array_t<double, py::array::c_style>& weights,
+           const py::array_t<double, py::array::c_style>& gradient, const py::array_t<double, py::array::c_style>& upstream,
+           std::size_t vertexCount) {
+            const std::size_t count = std::size_t(upstream.size());
+            if (std::size_t(corners.size()) != 3 * count || std::size_t(weights.size()) != 3 * count || std::size_t(gradient.size()) != 3 * count) {
+                throw py::value_error("corners, weights and gradient must have 3 values per upstream value");
+            }
+            std::vector<double> vertexGradient(3 * vertexCount, 0.0);
+            scatterVertexGradient(corners.data(), weights.data(), gradient.data(), upstream.data(), count, vertexGradient.data(), vertexCount);
+            return toNumpy(std::move(vertexGradient), {py::ssize_t(vertexCount), 3});
+        },
+        py::arg("corners"), py::arg("weights"), py::arg("gradient"), py::arg("upstream"), py::arg("vertex_count"));
+    // A batch's meshes in one pass: vertices[b] moved from previous[b] (Mesh.with_vertices), or,
+    // where previous[b] is None, a new mesh of vertices[b] and faces[b] (Mesh(vertices, faces)).
+    m.def(
+        "_meshes_batch",
+        [](const std::vector<py::object>& previous, const std::vector<py::array>& vertices,
+           const std::vector<std::optional<py::array>>& faces, const std::string& name, int threads) {
+            if (vertices.size() != previous.size() || faces.size() != previous.size()) {
+                throw py::value_error("a batch takes one previous mesh (or None), vertices and faces (or None) per mesh");
+            }
+            std::vector<MeshInput> inputs;
+            for (std::size_t b = 0; b < previous.size(); ++b) {
+                if (!previous[b].is_none()) {
+                    const Model& model = *previous[b].cast<const PyMesh&>().model;
+                    checkMovedVertices(model.mesh(), vertices[b]);
+                    inputs.push_back(meshInput(vertices[b], model.mesh().triangles, model.mesh().source, &model));
+                } else {
+                    if (!faces[b]) throw py::value_error("a new mesh of a batch needs its faces");
+                    checkVertexShape(vertices[b]);
+                    checkReal(vertices[b], "vertices");
+                    inputs.push_back(meshInput(vertices[b], trianglesFrom(*faces[b], vertices[b].shape(0), name), name, nullptr));
+                }
+            }
+            const std::vector<std::shared_ptr<const Model>> models =
+                runReleased([&](const RunControl& control) { return modelsOf(inputs, control); }, threads);
+            py::list meshes;
+            for (const std::shared_ptr<const Model>& model : models) meshes.append(PyMesh{model});
+            return meshes;
+        },
+        py::arg("previous"), py::arg("vertices"), py::arg("faces"), py::arg("name") = "<arrays>", py::arg("threads") = 0);
 }
 
 // Field: a dense field's values and channels as numpy views, its sample positions, saving.

@@ -2,11 +2,13 @@
 
 #include "core/mesh/geometry.hpp"
 #include "core/runtime/parallel.hpp"
+#include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
 
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace sdfgen::python {
@@ -102,6 +104,52 @@ void measureNearest(const Model& model, const double* points, std::size_t count,
             }
         }
     });
+}
+
+void scatterVertexGradient(const std::int64_t* corners, const double* weights, const double* gradient, const double* upstream,
+                           std::size_t count, double* vertexGradient, std::size_t vertexCount) {
+    for (std::size_t i = 0; i < count; ++i) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::int64_t corner = corners[3 * i + k];
+            if (corner < 0 || std::uint64_t(corner) >= vertexCount) throw Error("vertex gradient: corner " + std::to_string(corner) + " out of range");
+            const double weighted = weights[3 * i + k] * upstream[i];
+            for (std::size_t a = 0; a < 3; ++a) vertexGradient[3 * std::size_t(corner) + a] += weighted * -gradient[3 * i + a];
+        }
+    }
+}
+
+void runSideBySide(std::size_t count, const std::function<bool(std::size_t)>& alone,
+                   const std::function<void(std::size_t, const RunControl&)>& work, const RunControl& control) {
+    std::vector<std::size_t> together, apart; // asked once: work may change what alone() reads
+    for (std::size_t i = 0; i < count; ++i) (alone(i) ? apart : together).push_back(i);
+    // Warnings are collected per item and passed on from the calling thread (RunControl::warn is
+    // never called concurrently).
+    std::vector<std::vector<std::string>> warnings(count);
+    auto controlOf = [&](std::size_t i, int threads) {
+        RunControl part = quiet(control);
+        part.threads = threads;
+        part.warn = [&warnings, i](const std::string& warning) { warnings[i].push_back(warning); };
+        return part;
+    };
+    parallelFor(together.size(), quiet(control), [&](std::size_t k) { work(together[k], controlOf(together[k], 1)); });
+    for (std::size_t i : apart) work(i, controlOf(i, control.threads));
+    if (control.warn) {
+        for (const std::vector<std::string>& itemWarnings : warnings) {
+            for (const std::string& warning : itemWarnings) control.warn(warning);
+        }
+    }
+}
+
+void measureNearestBatch(const std::vector<NearestJob>& jobs, std::optional<SignMethod> sign, const RunControl& control) {
+    // From this many points a job's own parallel query keeps the pool busy.
+    constexpr std::size_t kJobAlone = 16384;
+    runSideBySide(
+        jobs.size(), [&](std::size_t j) { return jobs[j].count >= kJobAlone; },
+        [&](std::size_t j, const RunControl& part) {
+            const NearestJob& job = jobs[j];
+            measureNearest(*job.model, job.points, job.count, job.vertices, sign, job.out, part);
+        },
+        control);
 }
 
 } // namespace sdfgen::python

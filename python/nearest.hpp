@@ -7,7 +7,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <vector>
 
 namespace sdfgen::python {
 
@@ -31,5 +33,36 @@ struct NearestTerms {
 // Model::query; none gives unsigned distances. Throws Error as Model::query does.
 void measureNearest(const Model& model, const double* points, std::size_t count, const double* vertices,
                     std::optional<SignMethod> sign, const NearestTerms& out, const RunControl& control);
+
+// The gradient of sum_i upstream[i] * distance_i with respect to the vertices, into the zeroed
+// (vertexCount, 3) `vertexGradient`: each point's -w * gradient on the corners of its nearest
+// triangle (`corners`, `weights` and `gradient` as NearestTerms gives them), summed per vertex in
+// point order and corner order, as torch's scatter_add_ sums them (so bit for bit its result).
+// Throws Error for a corner index out of range.
+void scatterVertexGradient(const std::int64_t* corners, const double* weights, const double* gradient, const double* upstream,
+                           std::size_t count, double* vertexGradient, std::size_t vertexCount);
+
+// Runs work(i, part) for every i in [0, count) in one pass over control's thread pool: the items
+// not alone(i) side by side, each on one thread (part.threads 1), then the others one after
+// another on all of control's threads. Each part reports no progress; warnings are collected per
+// item and reach control.warn in item order, from the calling thread.
+void runSideBySide(std::size_t count, const std::function<bool(std::size_t)>& alone,
+                   const std::function<void(std::size_t, const RunControl&)>& work, const RunControl& control);
+
+// One mesh's share of a batch: its model, points, coordinates and outputs, as measureNearest takes them.
+struct NearestJob {
+    const Model* model = nullptr;
+    const double* points = nullptr;
+    std::size_t count = 0;
+    const double* vertices = nullptr;
+    NearestTerms out;
+};
+
+// measureNearest for every job, in one pass over the thread pool: the jobs of few points (where a
+// call of their own costs more in waking the pool than in work) run side by side on one thread
+// each; a job of many points runs alone on all of control's threads, its points searched in one
+// Morton order. Each job's results are those of its own measureNearest, bit for bit, as a query's
+// never depend on the thread count. Warnings reach control.warn in job order.
+void measureNearestBatch(const std::vector<NearestJob>& jobs, std::optional<SignMethod> sign, const RunControl& control);
 
 } // namespace sdfgen::python

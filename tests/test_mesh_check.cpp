@@ -3,6 +3,7 @@
 #include "core/mesh/predicates.hpp"
 #include "core/mesh/topology.hpp"
 #include "core/mesh/vertex_groups.hpp"
+#include "core/runtime/parallel.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"
 #include "support/reference.hpp"
@@ -12,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <utility>
@@ -305,6 +307,41 @@ TEST(MeshTopologyRefit, EqualsAFreshBuildWhileTheMergesHold) {
     const Mesh joinedMesh = buildMesh("joined", joined, triangles);
     ASSERT_EQ(joinedMesh.triangleCount(), movedMesh.triangleCount());
     EXPECT_FALSE(topology.groups()->holdFor(joinedMesh.positions));
+}
+
+// A closed mesh's fresh topology builds every vertex normal at once (in parallel blocks); a refit's
+// measures each when first asked, from every thread at once: the same pseudonormals, bit for bit,
+// along a chain of refits.
+TEST(MeshTopologyRefit, VertexNormalsMeasuredOnUseEqualAFreshBuild) {
+    const Mesh sphere = test::icosphere(1.0f, 3);
+    const std::vector<glm::dvec3> start = sphere.worldPositions();
+    std::unique_ptr<MeshTopology> previous = std::make_unique<MeshTopology>(sphere);
+    for (int step = 1; step <= 2; ++step) {
+        std::vector<glm::dvec3> moved = start;
+        for (glm::dvec3& p : moved) p += 0.05 * step * glm::dvec3(std::sin(3.0 * p.y), std::cos(2.0 * p.z), p.x * p.y);
+        const Mesh movedMesh = buildMesh("moved", moved, sphere.triangles);
+        ASSERT_TRUE(previous->groups()->holdFor(movedMesh.positions));
+        auto refit = std::make_unique<MeshTopology>(*previous, movedMesh);
+        const MeshTopology fresh(movedMesh);
+        ASSERT_TRUE(fresh.edgeCheck().closedAndClean());
+        const std::size_t count = movedMesh.triangleCount();
+        std::vector<glm::dvec3> asked(3 * count);
+        RunControl control;
+        control.threads = 2;
+        parallelFor(count, control, [&](std::size_t t) { // the triangles' vertices asked for concurrently
+            for (int c = 0; c < 3; ++c) {
+                const TriangleFeature vertex[3] = {TriangleFeature::VertexA, TriangleFeature::VertexB, TriangleFeature::VertexC};
+                asked[3 * t + std::size_t(c)] = refit->pseudonormal(std::uint32_t(t), vertex[c]);
+            }
+        });
+        for (std::uint32_t t = 0; t < count; ++t) {
+            EXPECT_EQ(asked[3 * t], fresh.pseudonormal(t, TriangleFeature::VertexA)) << t;
+            EXPECT_EQ(asked[3 * t + 1], fresh.pseudonormal(t, TriangleFeature::VertexB)) << t;
+            EXPECT_EQ(asked[3 * t + 2], fresh.pseudonormal(t, TriangleFeature::VertexC)) << t;
+            EXPECT_EQ(refit->pseudonormal(t, TriangleFeature::VertexB), asked[3 * t + 1]) << t; // stored, then read
+        }
+        previous = std::move(refit);
+    }
 }
 
 } // namespace

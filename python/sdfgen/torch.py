@@ -13,7 +13,11 @@ Each function takes the mesh in one of two forms:
 - ``f(points, vertices, faces)`` with (B, V, 3) ``vertices``: B meshes of V vertices, with (F, 3)
   ``faces`` shared or (B, F, 3) faces of their own, and (B, ..., 3) ``points``, ``points[b]`` for
   mesh b; results have a first dimension B, each equal to the single call's, and gradients reach
-  each mesh's vertices. (Meshes of different sizes: a list of single calls.)
+  each mesh's vertices.
+- ``f([points, ...], [mesh, ...])`` or ``f([points, ...], [vertices, ...], [faces, ...])`` (or one
+  faces tensor shared): lists of meshes of any sizes, a list of results, each the single call's.
+  A batch's meshes are built or refit in one pass over the thread pool, their points answered in
+  another.
 
 ``points`` is a float32 or float64 tensor of shape (..., 3); results come in its dtype, on its
 device (the work runs on the CPU: tensors on another device are copied there and the results
@@ -49,7 +53,7 @@ import numpy as np
 import torch
 
 from . import ClosestHit, Mesh
-from ._sdfgen import _nearest_terms, _point_query_signs
+from ._sdfgen import _meshes_batch, _nearest_terms, _nearest_terms_batch, _point_query_signs, _vertex_gradient
 
 __all__ = ["signed_distance", "unsigned_distance", "closest_points", "closest"]
 
@@ -60,26 +64,17 @@ def signed_distance(points, mesh, faces=None, *, sign="auto", threads=0):
     ``sign`` as for :meth:`sdfgen.Mesh.signed_distance`;
     ``threads`` 0 for all cores. Differentiable (see the module's notes)."""
     _check_sign(sign)
-    if _is_batch(mesh):
-        return _batched(signed_distance, points, mesh, faces, sign=sign, threads=threads)
-    mesh, vertices = _mesh_of(points, mesh, faces, threads)
-    return _Distance.apply(points, vertices, _terms(points, vertices, mesh, sign, threads))
+    return _query(_SIGNED, points, mesh, faces, sign, threads)
 
 
 def unsigned_distance(points, mesh, faces=None, *, threads=0):
     """Distances to the nearest triangle at ``points`` (..., 3): a tensor of shape (...)."""
-    if _is_batch(mesh):
-        return _batched(unsigned_distance, points, mesh, faces, threads=threads)
-    mesh, vertices = _mesh_of(points, mesh, faces, threads)
-    return _Distance.apply(points, vertices, _terms(points, vertices, mesh, None, threads))
+    return _query(_UNSIGNED, points, mesh, faces, None, threads)
 
 
 def closest_points(points, mesh, faces=None, *, threads=0):
     """The nearest surface point to each of ``points`` (..., 3): a tensor of shape (..., 3)."""
-    if _is_batch(mesh):
-        return _batched(closest_points, points, mesh, faces, threads=threads)
-    mesh, vertices = _mesh_of(points, mesh, faces, threads)
-    return _ClosestPoints.apply(points, vertices, mesh, _terms(points, vertices, mesh, None, threads, closest=True))
+    return _query(_CLOSEST_POINTS, points, mesh, faces, None, threads)
 
 
 def closest(points, mesh, faces=None, *, sign="auto", threads=0):
@@ -91,10 +86,28 @@ def closest(points, mesh, faces=None, *, sign="auto", threads=0):
     (the distance's gradient with respect to the point; the face normal at distance 0). One search
     serves them all."""
     _check_sign(sign)
+    return _query(_CLOSEST, points, mesh, faces, sign, threads)
+
+
+# What each query measures: closest points, and the whole closest-hit record.
+_Kind = types.SimpleNamespace
+_SIGNED, _UNSIGNED = _Kind(closest=False, hit=False), _Kind(closest=False, hit=False)
+_CLOSEST_POINTS, _CLOSEST = _Kind(closest=True, hit=False), _Kind(closest=True, hit=True)
+
+
+def _query(kind, points, mesh, faces, sign, threads):
     if _is_batch(mesh):
-        return _batched(closest, points, mesh, faces, sign=sign, threads=threads)
+        return _batch(kind, points, mesh, faces, sign, threads)
     mesh, vertices = _mesh_of(points, mesh, faces, threads)
-    terms = _terms(points, vertices, mesh, sign, threads, closest=True, hit=True)
+    return _result(kind, points, vertices, mesh, _terms(kind, [points], [vertices], [mesh], sign, threads)[0])
+
+
+def _result(kind, points, vertices, mesh, terms):
+    """The query's tensors from its terms: values, closest points or the closest-hit record."""
+    if kind is _CLOSEST_POINTS:
+        return _ClosestPoints.apply(points, vertices, mesh, terms)
+    if kind is not _CLOSEST:
+        return _Distance.apply(points, vertices, terms)
     shape = points.shape[:-1]
     side = np.where(np.signbit(terms.distance), -1, 1).astype(np.int8)
     return ClosestHit(triangle=torch.from_numpy(terms.triangle).reshape(shape).to(points.device),
@@ -105,14 +118,36 @@ def closest(points, mesh, faces=None, *, sign="auto", threads=0):
                       gradient=_like(terms.gradient, points.shape, points))
 
 
-def _is_batch(vertices):
-    return isinstance(vertices, torch.Tensor) and vertices.dim() == 3
+def _is_batch(mesh):
+    return isinstance(mesh, (list, tuple)) or (isinstance(mesh, torch.Tensor) and mesh.dim() == 3)
 
 
-def _batched(function, points, vertices, faces, **options):
-    """B meshes, (B, V, 3) vertices with (F, 3) faces shared or (B, F, 3) faces of their own, each
-    with its points points[b]: one call per mesh (each as a single call, so bit for bit its
-    results), stacked along a first dimension."""
+def _batch(kind, points, mesh, faces, sign, threads):
+    """B meshes in one call: (B, V, 3) vertices with (F, 3) faces shared or (B, F, 3) faces of
+    their own and (B, ..., 3) points, results stacked; or lists of meshes (sdfgen.Mesh, or vertices
+    with a list of faces or one faces tensor shared) and of points, results in a list. The meshes
+    are built or refit in one pass over the thread pool and all their points answered in another
+    (each mesh's results bit for bit its single call's)."""
+    if isinstance(mesh, torch.Tensor):
+        point_list, vertex_list, face_list = _unstack(points, mesh, faces)
+    else:
+        point_list, vertex_list, face_list = _listed(points, mesh, faces)
+    checked = [_mesh_of(p, v, f, threads, build=False) for p, v, f in zip(point_list, vertex_list, face_list)]
+    vertex_list = [v for _, v in checked]
+    meshes = [m for m, _ in checked]
+    if meshes and meshes[0] is None:
+        meshes = _tensor_batch(vertex_list, face_list, threads)
+    terms = _terms(kind, point_list, vertex_list, meshes, sign, threads)
+    results = [_result(kind, *args) for args in zip(point_list, vertex_list, meshes, terms)]
+    if not isinstance(mesh, torch.Tensor):
+        return results
+    if kind is _CLOSEST:
+        return ClosestHit(*(torch.stack(field) for field in zip(*results)))
+    return torch.stack(results)
+
+
+def _unstack(points, vertices, faces):
+    """(B, V, 3) vertices, their faces and (B, ..., 3) points as lists of each mesh's."""
     if not isinstance(points, torch.Tensor) or points.dim() < 2 or points.shape[0] != vertices.shape[0]:
         shape = tuple(points.shape) if isinstance(points, torch.Tensor) else type(points).__name__
         raise ValueError(f"batched vertices ({tuple(vertices.shape)}) take points of shape (B, ..., 3) with B = "
@@ -121,10 +156,26 @@ def _batched(function, points, vertices, faces, **options):
         shape = tuple(faces.shape) if isinstance(faces, torch.Tensor) else type(faces).__name__
         raise ValueError(f"batched vertices ({tuple(vertices.shape)}) take faces of shape (F, 3) or "
                          f"({vertices.shape[0]}, F, 3), not {shape}")
-    results = [function(points[b], vertices[b], faces if faces.dim() == 2 else faces[b], **options) for b in range(len(vertices))]
-    if results and isinstance(results[0], ClosestHit):
-        return ClosestHit(*(torch.stack(field) for field in zip(*results)))
-    return torch.stack(results)
+    count = len(vertices)
+    return list(points.unbind(0)), list(vertices.unbind(0)), [faces] * count if faces.dim() == 2 else list(faces.unbind(0))
+
+
+def _listed(points, meshes, faces):
+    """A list of meshes (sdfgen.Mesh, or vertices with their faces) with a list of points."""
+    count = len(meshes)
+    if not isinstance(points, (list, tuple)) or len(points) != count:
+        given = f"{len(points)} points" if isinstance(points, (list, tuple)) else type(points).__name__
+        raise ValueError(f"a list of {count} meshes takes a list of {count} points tensors, not {given}")
+    if faces is None or isinstance(faces, torch.Tensor):
+        face_list = [faces] * count
+    elif isinstance(faces, (list, tuple)) and len(faces) == count:
+        face_list = list(faces)
+    else:
+        given = f"{len(faces)} faces" if isinstance(faces, (list, tuple)) else type(faces).__name__
+        raise ValueError(f"a list of {count} vertices takes a list of {count} faces tensors or one shared, not {given}")
+    if len({isinstance(m, Mesh) for m in meshes}) > 1:
+        raise ValueError("a list of meshes must be all sdfgen.Mesh or all vertices tensors, not both")
+    return list(points), list(meshes), face_list
 
 
 def _check_sign(sign):
@@ -132,8 +183,9 @@ def _check_sign(sign):
         raise ValueError(f"sign must be a string ({', '.join(_point_query_signs)}), not {type(sign).__name__}")
 
 
-def _mesh_of(points, mesh, faces, threads):
-    """Checks the arguments; returns the sdfgen.Mesh and the vertices tensor (None for a Mesh)."""
+def _mesh_of(points, mesh, faces, threads, build=True):
+    """Checks the arguments; returns the sdfgen.Mesh (None for tensors unless `build`) and the
+    vertices tensor (None for a Mesh)."""
     if not isinstance(points, torch.Tensor):
         raise ValueError(f"points must be a torch.Tensor of shape (..., 3), not {type(points).__name__}")
     if points.dtype not in (torch.float32, torch.float64):
@@ -159,7 +211,7 @@ def _mesh_of(points, mesh, faces, threads):
         raise ValueError(f"faces must have shape (F, 3), not {tuple(faces.shape)}")
     if faces.dtype.is_floating_point or faces.dtype.is_complex or faces.dtype == torch.bool:
         raise ValueError(f"faces must be an integer tensor, not {faces.dtype}")
-    return _tensor_mesh(_cpu(vertices), _cpu(faces), threads), vertices
+    return (_tensor_mesh(_cpu(vertices), _cpu(faces), threads) if build else None), vertices
 
 
 # The meshes built from tensors, the latest last, each with its vertex count and a copy of its faces:
@@ -189,6 +241,49 @@ def _tensor_mesh(vertices, faces, threads):
     return mesh
 
 
+# The batches built from tensors, the latest last, each with its meshes' vertex counts and copies
+# of their faces: a batch with the same faces refits each of the previous batch's meshes (as
+# _tensor_mesh does for one mesh), all in one pass.
+_tensor_batches = []
+_TENSOR_BATCHES_KEPT = 2
+
+
+def _tensor_batch(vertices, faces, threads):
+    vertices = [_cpu(v) for v in vertices]
+    by_tensor = {}  # faces shared by the meshes are read, copied and compared once
+    for f in faces:
+        if id(f) not in by_tensor:
+            by_tensor[id(f)] = _cpu(f)
+    face_arrays = [by_tensor[id(f)] for f in faces]
+    counts = tuple(len(v) for v in vertices)
+    previous, kept_faces = [None] * len(vertices), None
+    for i, (kept_counts, kept, kept_meshes) in enumerate(_tensor_batches):
+        compared = {}
+        if kept_counts == counts and all(_same_faces(k, f, compared) for k, f in zip(kept, face_arrays)):
+            # Kept only while no zero-area triangle is dropped: with_vertices keeps the mesh's own faces.
+            previous = [m if m.triangle_count == len(f) else None for m, f in zip(kept_meshes, face_arrays)]
+            kept_faces = kept
+            del _tensor_batches[i]
+            break
+    if kept_faces is None:
+        copies = {}  # the faces may view the caller's tensors, which may change
+        for f in face_arrays:
+            if id(f) not in copies:
+                copies[id(f)] = f.copy()
+        kept_faces = [copies[id(f)] for f in face_arrays]
+    meshes = _meshes_batch(previous, vertices, face_arrays, name="<tensors>", threads=threads)
+    _tensor_batches.append((counts, kept_faces, meshes))
+    del _tensor_batches[:-_TENSOR_BATCHES_KEPT]
+    return meshes
+
+
+def _same_faces(kept, faces, compared):
+    key = (id(kept), id(faces))
+    if key not in compared:
+        compared[key] = np.array_equal(kept, faces)
+    return compared[key]
+
+
 def _cpu(tensor):
     """The tensor's values as a numpy array (a view when the tensor is on the CPU and contiguous)."""
     return tensor.detach().to("cpu").contiguous().numpy()
@@ -216,18 +311,23 @@ def _first_order_only():
                            "(a gradient of a gradient) is not supported")
 
 
-def _terms(points, vertices, mesh, sign, threads, *, closest=False, hit=False):
-    """The nearest-point terms of one search (python/nearest.hpp), those the values and the
-    gradients asked for need; None for the others."""
+def _terms(kind, points, vertices, meshes, sign, threads):
+    """The nearest-point terms of one search per mesh (python/nearest.hpp) for lists of points,
+    vertices (None for a Mesh's own) and meshes, those the values and gradients asked for need;
+    None for the others. A batch's meshes are measured in one call."""
     grad = torch.is_grad_enabled()
-    wants_points = grad and points.requires_grad
-    wants_vertices = grad and vertices is not None and vertices.requires_grad
-    (distance, gradient, closest_point, corners, weights, feature_size, triangle, barycentric) = _nearest_terms(
-        mesh, _flat_points(points), _vertex_coordinates(vertices), sign, gradient=wants_points or wants_vertices or hit,
-        closest=closest, features=wants_vertices or (closest and wants_points), hit=hit, threads=threads)
-    return types.SimpleNamespace(distance=distance, gradient=gradient, closest=closest_point, corners=corners,
-                                 weights=weights, feature_size=feature_size, triangle=triangle, barycentric=barycentric,
-                                 wants_points=wants_points, wants_vertices=wants_vertices)
+    wanted = [(grad and p.requires_grad, grad and v is not None and v.requires_grad) for p, v in zip(points, vertices)]
+    wants_points, wants_vertices = any(p for p, _ in wanted), any(v for _, v in wanted)
+    options = dict(sign=sign, gradient=wants_points or wants_vertices or kind.hit, closest=kind.closest,
+                   features=wants_vertices or (kind.closest and wants_points), hit=kind.hit, threads=threads)
+    flat = [_flat_points(p) for p in points]
+    coordinates = [_vertex_coordinates(v) for v in vertices]
+    if len(meshes) == 1:
+        found = [_nearest_terms(meshes[0], flat[0], coordinates[0], **options)]
+    else:
+        found = _nearest_terms_batch(meshes, flat, coordinates, **options)
+    names = ("distance", "gradient", "closest", "corners", "weights", "feature_size", "triangle", "barycentric")
+    return [types.SimpleNamespace(**dict(zip(names, terms)), wants_points=p, wants_vertices=v) for terms, (p, v) in zip(found, wanted)]
 
 
 class _Distance(torch.autograd.Function):
@@ -259,12 +359,10 @@ class _Distance(torch.autograd.Function):
         if ctx.needs_input_grad[1]:
             corners, weights = features
             shape, dtype, device = ctx.vertices_like
-            # The closest point moves with its triangle's corners by its weights: d(distance)/dv = -w * gradient.
-            per_corner = (weights * g).unsqueeze(-1) * gradient.neg().unsqueeze(1)
-            # scatter_add_ sums each vertex's terms in point order, as index_add_ does, at a fifth of its cost on the CPU.
-            rows = corners.reshape(-1, 1).expand(-1, 3)
-            grad_vertices = torch.zeros(shape, dtype=torch.float64).scatter_add_(0, rows, per_corner.reshape(-1, 3))
-            grad_vertices = grad_vertices.to(dtype=dtype, device=device)
+            # The closest point moves with its triangle's corners by its weights: d(distance)/dv = -w * gradient,
+            # summed per vertex in one pass (no (P, 3, 3) temporaries to allocate and fill).
+            summed = _vertex_gradient(corners.numpy(), weights.numpy(), gradient.numpy(), g.reshape(-1).contiguous().numpy(), shape[0])
+            grad_vertices = torch.from_numpy(summed).to(dtype=dtype, device=device)
         return grad_points, grad_vertices, None
 
 

@@ -321,3 +321,88 @@ def test_batched_meshes_equal_single_calls_and_pass_gradcheck():
         st.signed_distance(points[:2], batch, own_faces)
     with pytest.raises(ValueError, match=r"take faces of shape \(F, 3\) or \(3, F, 3\)"):
         st.signed_distance(points, batch, own_faces[:2])
+
+
+def single_and_batch(function, points, meshes, faces=None, **options):
+    """Results and gradients of one batch call and of the single calls it stands for: lists of
+    (result, points' gradient, vertices' gradient) per mesh."""
+    def run(p, m, f, batch):
+        p = [x.clone().requires_grad_() for x in p]
+        m = [x if isinstance(x, sdfgen.Mesh) else x.clone().requires_grad_() for x in m]
+        if batch:
+            results = function(p, m, f, **options)
+        else:
+            results = [function(pb, mb, f if f is None or isinstance(f, torch.Tensor) else f[b], **options)
+                       for b, (pb, mb) in enumerate(zip(p, m))]
+        values = [r.distance if isinstance(r, sdfgen.ClosestHit) else r for r in results]
+        sum(v.sum() for v in values).backward()
+        return [(r, pb.grad, None if isinstance(mb, sdfgen.Mesh) else mb.grad) for r, pb, mb in zip(results, p, m)]
+    return run(points, meshes, faces, True), run(points, meshes, faces, False)
+
+
+def equal_results(mine, theirs):
+    if isinstance(mine, sdfgen.ClosestHit):
+        return all(torch.equal(a.detach(), b.detach()) for a, b in zip(mine, theirs))
+    return torch.equal(mine.detach(), theirs.detach())
+
+
+def test_lists_of_meshes_of_different_topology_equal_single_calls():
+    # Three meshes of different sizes (octahedron, tetrahedron, open tetrahedron) with their own
+    # numbers of points, then the bunny and an octahedron as Meshes: one call for each list, bit for
+    # bit the single calls, gradients too.
+    shapes = [MESHES["closed"], MESHES["closed-tetrahedron"], MESHES["open"]]
+    vertices = [torch.from_numpy(v * (1 + 0.1 * b)) for b, (v, _) in enumerate(shapes)]
+    faces = [torch.from_numpy(f) for _, f in shapes]
+    points = [torch.from_numpy(clear_points(v.numpy(), f.numpy(), 20 + 10 * b, seed=b)) for b, (v, f) in enumerate(zip(vertices, faces))]
+    for function in (st.signed_distance, st.unsigned_distance, st.closest_points, st.closest):
+        together, alone = single_and_batch(function, points, vertices, faces)
+        for (r, pg, vg), (r1, pg1, vg1) in zip(together, alone):
+            assert equal_results(r, r1) and torch.equal(pg, pg1) and torch.equal(vg, vg1)
+    inputs = tuple(x.clone().requires_grad_() for x in points[:2] + vertices[:2])
+    assert torch.autograd.gradcheck(lambda p0, p1, v0, v1: torch.cat(st.signed_distance([p0, p1], [v0, v1], faces[:2])),
+                                    inputs, eps=1e-7, atol=1e-6, rtol=1e-5)
+    bunny = sdfgen.Mesh.load(BUNNY)
+    octahedron = sdfgen.Mesh(*shapes[0])
+    lo, hi = (np.array(b) for b in bunny.bounds)
+    mesh_points = [torch.from_numpy(np.random.default_rng(4).uniform(lo, hi, (3000, 3))), points[0].float()]
+    together, alone = single_and_batch(st.signed_distance, mesh_points, [bunny, octahedron])
+    for (r, pg, _), (r1, pg1, _) in zip(together, alone):
+        assert torch.equal(r.detach(), r1.detach()) and torch.equal(pg, pg1)
+    with pytest.raises(ValueError, match="a list of 2 meshes takes a list of 2 points tensors, not 1 points"):
+        st.signed_distance(mesh_points[:1], [bunny, octahedron])
+    with pytest.raises(ValueError, match="all sdfgen.Mesh or all vertices tensors"):
+        st.signed_distance(points[:2], [bunny, vertices[1]], faces[1])
+    with pytest.raises(ValueError, match="a list of 3 vertices takes a list of 3 faces tensors or one shared, not 2 faces"):
+        st.signed_distance(points, vertices, faces[:2])
+
+
+def test_batches_refit_step_to_step_and_answer_large_ones_alone():
+    # A (B, V, 3) batch moved step by step refits each mesh (one batch kept), equal to fresh
+    # builds; a batch mixing a mesh of many points (answered alone on every thread) with small ones.
+    vertices, faces = MESHES["closed"]
+    f = torch.from_numpy(faces)
+    points = torch.stack([torch.from_numpy(clear_points(vertices, faces, 40, seed=b)) for b in range(4)])
+    st._tensor_batches.clear()
+    for step in range(3):
+        batch = torch.stack([torch.from_numpy(vertices * (1 + 0.01 * step + 0.1 * b)) for b in range(4)])
+        refit = st.signed_distance(points, batch, f)
+        assert len(st._tensor_batches) == 1
+        kept = list(st._tensor_batches)
+        st._tensor_batches.clear()
+        assert torch.equal(refit, st.signed_distance(points, batch, f))  # built afresh
+        st._tensor_batches[:] = kept
+    many = torch.from_numpy(np.random.default_rng(5).uniform(-1.2, 1.2, (20000, 3)))
+    lists = [many, points[0], points[1]]
+    meshes = [torch.from_numpy(vertices * (1 + 0.1 * b)) for b in range(3)]
+    for mine, theirs in zip(st.closest(lists, meshes, f), [st.closest(p, v, f) for p, v in zip(lists, meshes)]):
+        assert equal_results(mine, theirs)
+
+
+def test_a_batch_warns_once_per_mesh():
+    # Each mesh's warnings (here a zero-area triangle dropped) reach Python once, from the calling thread.
+    vertices = torch.from_numpy(np.vstack([TET_VERTICES, [[2.0, 2.0, 2.0]]]))
+    faces = torch.from_numpy(np.vstack([TET_FACES, [[0, 0, 4]]]))
+    points = [torch.from_numpy(clear_points(TET_VERTICES, TET_FACES, 5, seed=b)) for b in range(2)]
+    with pytest.warns(sdfgen.Warning) as caught:
+        st.signed_distance(points, [vertices, vertices * 2], [faces, faces])
+    assert [str(w.message) for w in caught] == ["<tensors>: dropped 1 zero-area triangles"] * 2

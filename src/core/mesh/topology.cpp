@@ -279,7 +279,7 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
     progress.add(1);
     links_ = std::move(links);
     edgeCheck_ = links_->edgeCounts;
-    measurePositions(control);
+    measurePositions(control, true);
     progress.add(1);
     progress.finish();
 }
@@ -287,7 +287,25 @@ MeshTopology::MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, 
 MeshTopology::MeshTopology(const MeshTopology& previous, const Mesh& mesh, const RunControl& control)
     : groups_(previous.groups_), links_(previous.links_), edgeCheck_(previous.links_->edgeCounts) {
     takePositions(mesh);
-    measurePositions(control);
+    vertexCorners_ = previous.vertexCorners_;
+    if (!vertexCorners_) { // the chain's first refit: each vertex's corners, by a counting sort in triangle order
+        auto corners = std::make_shared<VertexCorners>();
+        const std::vector<glm::uvec3>& triangles = links_->corners;
+        corners->start.assign(positions_.size() + 1, 0);
+        for (const glm::uvec3& t : triangles) {
+            for (int c = 0; c < 3; ++c) ++corners->start[t[c] + 1];
+        }
+        std::partial_sum(corners->start.begin(), corners->start.end(), corners->start.begin());
+        corners->corner.resize(3 * triangles.size());
+        std::vector<std::uint32_t> next(corners->start.begin(), corners->start.end() - 1);
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            for (std::uint32_t c = 0; c < 3; ++c) corners->corner[next[triangles[t][c]]++] = std::uint32_t(3 * t + c);
+        }
+        vertexCorners_ = std::move(corners);
+    }
+    vertexNormals_.resize(positions_.size());
+    vertexNormalState_.reset(new std::atomic<std::uint8_t>[positions_.size()]());
+    measurePositions(control, false);
 }
 
 void MeshTopology::takePositions(const Mesh& mesh) {
@@ -296,7 +314,7 @@ void MeshTopology::takePositions(const Mesh& mesh) {
     faceNormals_.assign(mesh.faceNormals.begin(), mesh.faceNormals.end());
 }
 
-void MeshTopology::measurePositions(const RunControl& control) {
+void MeshTopology::measurePositions(const RunControl& control, bool eagerNormals) {
     // Signed volume by the divergence theorem, about the first vertex to keep the sum precise.
     double volume = 0.0;
     for (const glm::uvec3& t : links_->corners) {
@@ -308,7 +326,7 @@ void MeshTopology::measurePositions(const RunControl& control) {
                            edgeCheck_.inconsistentEdges == 0 && edgeCheck_.signedVolume < 0.0;
     // The vertex normals serve the pseudonormal sign only, which auto picks only for meshes whose
     // edges are clean: built now for those, on first use for others (a forced --sign pseudonormal).
-    if (edgeCheck_.closedAndClean()) buildVertexNormals(&control);
+    if (eagerNormals && edgeCheck_.closedAndClean()) buildVertexNormals(&control);
 }
 
 bool MeshTopology::trianglesCross(std::uint32_t t, std::uint32_t u) const {
@@ -526,14 +544,7 @@ void MeshTopology::buildVertexNormals(const RunControl* control) const {
             const auto measure = [&](std::size_t chunk) {
                 const std::size_t from = block + chunk * kCornerChunk, to = std::min(blockEnd, from + kCornerChunk);
                 for (std::size_t t = from; t < to; ++t) {
-                    for (std::uint32_t c = 0; c < 3; ++c) {
-                        const std::uint32_t v = corners[t][c];
-                        const glm::dvec3 e1 = positions_[corners[t][(c + 1) % 3]] - positions_[v];
-                        const glm::dvec3 e2 = positions_[corners[t][(c + 2) % 3]] - positions_[v];
-                        const double l1 = glm::length(e1), l2 = glm::length(e2);
-                        angle[3 * (t - block) + c] =
-                            l1 > 0.0 && l2 > 0.0 ? std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) : -1.0;
-                    }
+                    for (std::uint32_t c = 0; c < 3; ++c) angle[3 * (t - block) + c] = cornerAngle(t, c);
                 }
             };
             const std::size_t chunks = (blockEnd - block + kCornerChunk - 1) / kCornerChunk;
@@ -553,9 +564,39 @@ void MeshTopology::buildVertexNormals(const RunControl* control) const {
     });
 }
 
-const glm::dvec3& MeshTopology::vertexNormal(std::uint32_t vertex) const {
+double MeshTopology::cornerAngle(std::size_t t, std::uint32_t c) const {
+    const glm::uvec3& corners = links_->corners[t];
+    const glm::dvec3 e1 = positions_[corners[(c + 1) % 3]] - positions_[corners[c]];
+    const glm::dvec3 e2 = positions_[corners[(c + 2) % 3]] - positions_[corners[c]];
+    const double l1 = glm::length(e1), l2 = glm::length(e2);
+    return l1 > 0.0 && l2 > 0.0 ? std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) : -1.0;
+}
+
+glm::dvec3 MeshTopology::vertexNormal(std::uint32_t vertex) const {
+    if (vertexCorners_) {
+        std::atomic<std::uint8_t>& state = vertexNormalState_[vertex];
+        if (state.load(std::memory_order_acquire) == 2) return vertexNormals_[vertex];
+        const glm::dvec3 normal = measureVertexNormal(vertex);
+        // Stored by the one thread that claims it; another measuring it meanwhile keeps its own (equal) value.
+        std::uint8_t unclaimed = 0;
+        if (state.compare_exchange_strong(unclaimed, 1, std::memory_order_acq_rel)) {
+            vertexNormals_[vertex] = normal;
+            state.store(2, std::memory_order_release);
+        }
+        return normal;
+    }
     if (!vertexNormalsBuilt_.load(std::memory_order_acquire)) buildVertexNormals(nullptr);
     return vertexNormals_[vertex];
+}
+
+glm::dvec3 MeshTopology::measureVertexNormal(std::uint32_t vertex) const {
+    glm::dvec3 normal(0.0);
+    for (std::uint32_t at = vertexCorners_->start[vertex]; at < vertexCorners_->start[vertex + 1]; ++at) {
+        const std::uint32_t t = vertexCorners_->corner[at] / 3, c = vertexCorners_->corner[at] % 3;
+        const double a = cornerAngle(t, c); // -1: a collapsed corner, no angle
+        if (a >= 0.0) normal += a * glm::dvec3(faceNormals_[t]);
+    }
+    return normal;
 }
 
 glm::dvec3 MeshTopology::edgeNormal(std::uint32_t triangle, int edge) const {

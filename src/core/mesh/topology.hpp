@@ -73,12 +73,16 @@ private:
     MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
     // The merged positions (double, exact) and the face normals, from the mesh.
     void takePositions(const Mesh& mesh);
-    // The signed volume, insideOut and (for a clean mesh) the vertex normals, from positions_.
-    void measurePositions(const RunControl& control);
+    // The signed volume, insideOut and (for a clean mesh, `eagerNormals`) the vertex normals, from positions_.
+    void measurePositions(const RunControl& control, bool eagerNormals);
     glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
+    // The angle at corner c of triangle t (merged positions), or -1 for a collapsed corner.
+    double cornerAngle(std::size_t t, std::uint32_t c) const;
     // The angle-weighted vertex normals, built once: in parallel with a control, else serially.
     void buildVertexNormals(const RunControl* control) const;
-    const glm::dvec3& vertexNormal(std::uint32_t vertex) const;
+    // A vertex normal: all of them built, or (a refit's) this one alone, measured on first use.
+    glm::dvec3 vertexNormal(std::uint32_t vertex) const;
+    glm::dvec3 measureVertexNormal(std::uint32_t vertex) const;
     // Whether triangles t and u have a point in common other than the vertices they share (exact).
     bool trianglesCross(std::uint32_t t, std::uint32_t u) const;
     // MeshCheck::misorientedShells of a mesh whose other counts are all zero; `outward` is -1 for
@@ -94,6 +98,17 @@ private:
     // path writes thread-locals on every call.
     mutable std::atomic<bool> vertexNormalsBuilt_{false};
     mutable std::vector<glm::dvec3> vertexNormals_; // empty until buildVertexNormals
+    // A refit's vertex normals are measured one by one as the queries ask for them (a query
+    // usually meets a few vertices of a large mesh, and each refit would measure every one
+    // again): each vertex's corners (3 t + c, in triangle order, the order buildVertexNormals sums
+    // them in, so the same value bit for bit), shared along the refit chain, and per vertex its
+    // state: 0 not measured, 1 being stored by the thread that claimed it, 2 stored.
+    struct VertexCorners {
+        std::vector<std::uint32_t> start; // vertex v's corners are corner[start[v]] .. corner[start[v + 1]]
+        std::vector<std::uint32_t> corner;
+    };
+    std::shared_ptr<const VertexCorners> vertexCorners_; // null: all normals are built at once
+    mutable std::unique_ptr<std::atomic<std::uint8_t>[]> vertexNormalState_;
     MeshCheck edgeCheck_; // everything but self-intersections: links_->edgeCounts and the volume
 };
 
