@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -146,9 +147,20 @@ struct Model::Impl {
         return spares_;
     }
 
+    // For the winding number output.
     const WindingCaps& caps(const RunControl& control = {}) const {
         std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
         return *caps_;
+    }
+    // The sign's PointSide for this mesh, made on first use.
+    const PointSide& pointSide(const SignMethodPlugin& sign, const RunControl& control = {}) const {
+        std::lock_guard<std::mutex> lock(pointSidesMutex_);
+        std::unique_ptr<PointSide>& side = pointSides_[sign.id];
+        if (!side) {
+            side = sign.atPoint(PointContext{mesh, tree, [this, &control]() -> const WideBvh& { return wide(control); },
+                                             [this, &control]() -> const MeshTopology& { return topology(control); }});
+        }
+        return *side;
     }
 
     Mesh mesh;
@@ -164,6 +176,8 @@ private:
     mutable std::atomic<bool> checked_{false}, wideBuilt_{false}, topologyBuilt_{false}; // set once made (for refit)
     std::optional<MeshCheck> previousCheck_; // a refit model's: the check of the model it was refit from
     mutable std::optional<WindingCaps> caps_;
+    mutable std::mutex pointSidesMutex_;
+    mutable std::map<SignMethod, std::unique_ptr<PointSide>> pointSides_;
 };
 
 namespace {
@@ -257,7 +271,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
     const bool needSign = out.signedDistance || out.gradient;
     const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle || out.barycentric;
-    if (needSign && !signMethod(sign).pointQueries) {
+    if (needSign && !signMethod(sign).servesPointQueries()) {
         std::string known;
         const std::vector<Choice<SignMethod>> choices = pointQuerySignChoices();
         for (std::size_t i = 0; i < choices.size(); ++i) known += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::string(choices[i].name);
@@ -310,10 +324,10 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             }
         }
     }
-    const bool needWinding = out.windingNumber || (needSign && sign == SignMethod::Winding);
     // Build what the workers share before they start.
     const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
-    if (needWinding) m.caps(quiet(control));
+    const PointSide* side = needSign ? &m.pointSide(signMethod(sign), quiet(control)) : nullptr;
+    if (out.windingNumber) m.caps(quiet(control));
 
     // Points are visited in Morton order of their position, so that each point's search is seeded
     // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
@@ -368,12 +382,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     for (int a = 0; a < 3; ++a) out.barycentric[3 * index + std::size_t(a)] = w[a];
                 }
                 if (needSign) {
-                    bool inside;
-                    if (sign == SignMethod::Pseudonormal) {
-                        inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
-                    } else {
-                        inside = m.caps().inside(p, crossingsAhead(mesh, *wide, m.tree, m.caps(), p));
-                    }
+                    const bool inside = side->inside(p, NearestPoint{t, closest}, flipped);
                     if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
                     if (out.gradient) {
                         // As the bake's gradient channel (exact_kernel.inc's writeChannels, then signed by the value).
