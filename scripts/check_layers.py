@@ -51,8 +51,6 @@ BASELINE = {
     "python/module.cpp -> src/core/runtime/parallel.hpp",
     "python/nearest.cpp -> src/core/mesh/geometry.hpp",
     "python/nearest.cpp -> src/core/runtime/parallel.hpp",
-    "src/app/panel_generation.cpp -> src/core/bake/band_bake.hpp",
-    "src/app/panel_generation.cpp -> src/core/mesh/sample_positions.hpp",
     "src/render/band_display.cpp -> src/core/runtime/parallel.hpp",
 }
 

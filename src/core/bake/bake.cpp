@@ -1,6 +1,5 @@
 #include "core/bake/bake.hpp"
 #include "core/bake/band_bake.hpp"
-#include "core/mesh/sample_positions.hpp"
 #include "core/bake/memory_estimate.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
@@ -215,7 +214,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
     if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message); // before the grid's own checks
-    const Grid grid = settings.band > 0 ? gridAround(mesh.worldBounds(), settings.res, settings.padding) : makeGrid(mesh.worldBounds(), settings.res, settings.padding);
+    const Grid grid = bakeGrid(mesh.worldBounds(), settings);
     std::optional<WideBvh> wide;
     std::optional<MeshTopology> topology;
     std::optional<MeshCheck> check;

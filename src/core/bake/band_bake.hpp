@@ -2,8 +2,6 @@
 #include "core/method/methods.hpp"
 #include "sdfgen/bake.hpp"
 
-#include <cstdint>
-
 namespace sdfgen {
 
 // The narrow-band bake of context.settings.band voxels into result.sparse (see SparseField): the
@@ -13,9 +11,5 @@ namespace sdfgen {
 // has it and the magnitude band * voxel. context.sign is settled (decideSign) to one that can
 // side a band. Cost and memory follow the band's bricks, not the grid.
 void bakeBand(const BakeContext& context, BakeResult& result, const RunControl& control);
-
-// The peak bytes bakeBand allocates, estimated from the mesh's area: an upper bound, within twice
-// the bake's peak on closed and open meshes (tests/test_band_bake.cpp).
-std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double band);
 
 } // namespace sdfgen

@@ -2,7 +2,6 @@
 // queries over them.
 #include "sdfgen/model.hpp"
 #include "core/bake/bake.hpp"
-#include "core/mesh/sample_positions.hpp"
 #include "core/accel/bvh.hpp"
 #include "core/distance/exact.hpp"
 #include "core/mesh/geometry.hpp"
@@ -247,7 +246,7 @@ BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) 
     if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message); // before the grid's own checks
     Grid grid;
     try {
-        grid = settings.band > 0 ? gridAround(m.mesh.worldBounds(), settings.res, settings.padding) : makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
+        grid = bakeGrid(m.mesh.worldBounds(), settings);
     } catch (const Error& e) {
         throw Error(m.mesh.source + ": " + e.what());
     }
