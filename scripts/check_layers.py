@@ -37,6 +37,7 @@ EXPORTED = {
     "src/core/io/atomic_file.hpp",     # every output file is written atomically, the front ends' own too (PNG, query .npy)
     "src/core/runtime/file_extension.hpp",  # the one way a file's format is read from its name
     "src/core/simd/path.hpp",          # which copy of the SIMD kernels runs: for `sdfgen info`, tests and benchmarks
+    "src/core/runtime/parallel.hpp",   # the one way work is spread over RunControl's threads, with its progress and cancel
 }
 
 BASELINE = {
@@ -48,12 +49,7 @@ BASELINE = {
     # The topology's self-intersection search walks the tree.
     "src/core/mesh/topology.hpp -> src/core/accel/bvh.hpp",
     # Front ends through core internals (issue 42 item 4: through include/sdfgen/ instead).
-    "python/module.cpp -> src/core/runtime/parallel.hpp",
     "python/nearest.cpp -> src/core/mesh/geometry.hpp",
-    "python/nearest.cpp -> src/core/runtime/parallel.hpp",
-    "src/app/panel_generation.cpp -> src/core/bake/band_bake.hpp",
-    "src/app/panel_generation.cpp -> src/core/mesh/sample_positions.hpp",
-    "src/render/band_display.cpp -> src/core/runtime/parallel.hpp",
 }
 
 SOURCE_EXTENSIONS = (".cpp", ".hpp", ".h", ".inc")

@@ -88,6 +88,23 @@ TEST(BandBake, EqualsTheDenseBakeInTheBandAndItsSidesOutside) {
     }
 }
 
+// Every sign the registry lets side a band matches its dense bake: on a closed mesh, and on an open
+// one where its sides are not limited to meshes proven clean; the others are refused.
+TEST(BandBake, EverySignThatSidesABandMatchesItsDenseBake) {
+    for (const SignMethodPlugin& sign : signMethods()) {
+        if (sign.band == BandSigning::Never) {
+            BakeSettings settings;
+            settings.res = 16;
+            settings.band = 2;
+            settings.sign = sign.id;
+            EXPECT_NE(test::errorFrom([&] { test::bakeMesh(test::icosphere(1.0f, 1), settings); }), "") << sign.name;
+            continue;
+        }
+        for (int threads : {1, 2}) expectMatchesDense(sign.name, test::icosphere(1.0f, 2), 33, 2.0, sign.id, threads);
+        if (sign.band != BandSigning::WhereProven) expectMatchesDense(sign.name, test::holedSphere(1.0f), 41, 1.5, sign.id, 2);
+    }
+}
+
 TEST(BandBake, OpenMeshesAtAFinerGrid) {
     // Finer grids leave cubes near the holes' fans but far from the surface, whose side the bake
     // takes from the winding number at their centre and the bound on its change.

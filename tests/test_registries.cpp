@@ -11,8 +11,10 @@
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sdfgen {
@@ -38,9 +40,29 @@ TEST(Registries, EveryChoiceRoundTripsThroughItsNameInAnyCase) {
     expectRoundTrips(distanceMethodChoices(), parseDistanceMethod);
     expectRoundTrips(signMethodChoices(), parseSignMethod);
     expectRoundTrips(deviceChoices(), parseDevice);
-    EXPECT_EQ(distanceMethodChoices().size(), 3u);
-    EXPECT_EQ(signMethodChoices().size(), 5u);
     EXPECT_EQ(deviceChoices().size(), 3u);
+    // The choices are the registries' entries, in their order.
+    ASSERT_EQ(distanceMethodChoices().size(), distanceMethods().size());
+    for (std::size_t i = 0; i < distanceMethods().size(); ++i) EXPECT_EQ(distanceMethodChoices()[i].id, distanceMethods()[i].id);
+    ASSERT_EQ(signMethodChoices().size(), signMethods().size());
+    for (std::size_t i = 0; i < signMethods().size(); ++i) EXPECT_EQ(signMethodChoices()[i].id, signMethods()[i].id);
+}
+
+// What each entry declares it can do, it has the passes for.
+TEST(Registries, EveryEntryHasThePassesItsCapabilitiesNeed) {
+    for (const DistanceMethodPlugin& method : distanceMethods()) {
+        EXPECT_TRUE(method.dense) << method.name;
+        EXPECT_EQ(method.onDevice == nullptr, method.deviceMemory == nullptr) << method.name;
+        EXPECT_TRUE(method.memory) << method.name;
+        EXPECT_FALSE(signMethod(method.defaultSign).settles && method.fixedSign) << method.name;
+    }
+    for (const SignMethodPlugin& sign : signMethods()) {
+        EXPECT_EQ(sign.dense == nullptr, sign.settles) << sign.name; // a settling choice has no passes
+        EXPECT_EQ(sign.onDevice == nullptr, sign.deviceMemory == nullptr) << sign.name;
+        EXPECT_TRUE(sign.memory) << sign.name;
+        EXPECT_TRUE(!sign.bricks || sign.band == BandSigning::Own) << sign.name;
+        EXPECT_FALSE(sign.settles && (sign.atPoint || sign.bricks || sign.onDevice)) << sign.name;
+    }
 }
 
 TEST(Registries, AnUnknownNameIsRefusedWithEveryChoiceAndWhatItIs) {
@@ -59,16 +81,55 @@ TEST(Registries, PointQueriesTakeTheSignsListedForThemAndRefuseTheOthersNamingTh
     float distance = 0;
     PointQueryOutputs out;
     out.signedDistance = &distance;
-    std::set<SignMethod> listed;
-    for (const Choice<SignMethod>& choice : pointQuerySignChoices()) listed.insert(choice.id);
-    EXPECT_EQ(listed, (std::set<SignMethod>{SignMethod::Auto, SignMethod::Winding, SignMethod::Pseudonormal}));
+    std::set<SignMethod> listed, serving;
+    std::string names; // "auto, winding or pseudonormal"
+    const std::vector<Choice<SignMethod>> choices = pointQuerySignChoices();
+    for (std::size_t i = 0; i < choices.size(); ++i) {
+        listed.insert(choices[i].id);
+        names += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::string(choices[i].name);
+    }
+    for (const SignMethodPlugin& sign : signMethods()) {
+        if (sign.servesPointQueries()) serving.insert(sign.id);
+    }
+    EXPECT_EQ(listed, serving);
+    EXPECT_TRUE(listed.count(SignMethod::Auto) && !listed.count(SignMethod::Default));
     for (const Choice<SignMethod>& choice : signMethodChoices()) {
         if (listed.count(choice.id) || choice.id == SignMethod::Default) {
             model.query(point.data(), 1, out, choice.id);
             EXPECT_LT(distance, 0.0f) << choice.name; // inside the sphere
         } else {
             EXPECT_CONTAINS(errorFrom([&] { model.query(point.data(), 1, out, choice.id); }),
-                            "point queries sign by auto, winding or pseudonormal, not " + std::string(choice.name));
+                            "point queries sign by " + names + ", not " + std::string(choice.name));
+        }
+    }
+}
+
+// Every sign that serves point queries answers them at a field's sample positions with the field's
+// values, bit for bit, on a closed and an open mesh.
+TEST(Registries, EveryPointQuerySignAgreesWithItsDenseBake) {
+    for (const auto& [name, mesh] : {std::pair{"a sphere", icosphere(1.0f, 2)}, std::pair{"a holed sphere", holedSphere(1.0f)}}) {
+        const Model model{Mesh(mesh)};
+        for (const SignMethodPlugin& sign : signMethods()) {
+            if (!sign.servesPointQueries()) continue;
+            BakeSettings settings;
+            settings.res = 12;
+            settings.sign = sign.id;
+            settings.device = Device::Cpu;
+            const Field field = model.bake(settings).field;
+            const Grid& g = field.grid;
+            std::vector<double> points;
+            for (int k = 0; k < g.dims.z; ++k)
+                for (int j = 0; j < g.dims.y; ++j)
+                    for (int i = 0; i < g.dims.x; ++i) {
+                        const glm::dvec3 p = g.position(i, j, k);
+                        points.insert(points.end(), {p.x, p.y, p.z});
+                    }
+            std::vector<float> distance(field.values.size());
+            PointQueryOutputs out;
+            out.signedDistance = distance.data();
+            model.query(points.data(), distance.size(), out, sign.id);
+            // The points in the field's order (Grid::index): the same bytes, or not.
+            EXPECT_EQ(std::memcmp(distance.data(), field.values.data(), distance.size() * sizeof(float)), 0) << sign.name << " on " << name;
         }
     }
 }
@@ -85,8 +146,8 @@ TEST(Registries, EveryMethodAndSignEitherBakesOrIsRefused) {
             settings.method = method.id;
             settings.sign = sign.id;
             settings.device = Device::Cpu;
-            const bool fixed = method.id == DistanceMethod::Brute;
-            const bool refused = fixed && sign.id != SignMethod::Default && sign.id != SignMethod::Auto && sign.id != SignMethod::Winding;
+            const DistanceMethodPlugin& plugin = distanceMethod(method.id);
+            const bool refused = plugin.fixedSign && sign.id != SignMethod::Default && sign.id != SignMethod::Auto && sign.id != plugin.defaultSign;
             try {
                 const BakeResult result = bake(mesh, tree, settings, {});
                 EXPECT_FALSE(refused) << method.name << " " << sign.name;

@@ -5,6 +5,7 @@
 #include "sdfgen/sparse_field.hpp"
 
 #include <cctype>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -132,6 +133,15 @@ struct SettingsProblem {
 // message; front ends check before they load or start anything. What only a mesh can show (a
 // sign it cannot prove, memory) the bake still refuses itself.
 std::optional<SettingsProblem> problem(const BakeSettings& settings);
+
+// The grid a bake of `settings` samples around `bounds` (the mesh's worldBounds): makeGrid's, and
+// for a band bake the same grid without makeGrid's check that the dense grid fits in memory (a
+// band never allocates it).
+Grid bakeGrid(const WorldBounds& bounds, const BakeSettings& settings);
+// The peak bytes a band bake of `band` voxels on `grid` (bakeGrid's) allocates, estimated from the
+// mesh's area: an upper bound, within twice the bake's peak on closed and open meshes. bake()
+// refuses a band that needs more than the available memory by it.
+std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double band);
 
 // A bake's field and what was decided on the way.
 struct BakeResult {

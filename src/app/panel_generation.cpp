@@ -3,8 +3,6 @@
 #include "app/viewer_state.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/run_control.hpp"
-#include "core/bake/band_bake.hpp"
-#include "core/mesh/sample_positions.hpp"
 #include "sdfgen/memory.hpp"
 
 #include <imgui.h>
@@ -69,7 +67,7 @@ const char* settingLabel(const std::string& setting) {
 // describe and `bytes` the bake's memory estimate. The rules every front end shares (problem(),
 // sdfgen/bake.hpp), under the panel's label of the setting to change, then the viewer's own: the
 // driver's 3D texture limit and the threads. A band bake gets the band's own grid and memory
-// estimate (estimateBandBakeBytes against the available memory), a dense one makeGrid's.
+// estimate (estimateBandBakeBytes against the available memory), a dense one makeGrid's (bakeGrid).
 std::string Viewer::validateSettings(Grid& grid, double& bytes) const {
     bytes = 0.0;
     if (const std::optional<SettingsProblem> refused = problem(settings_)) return std::string(settingLabel(refused->setting)) + ": " + refused->message;
@@ -82,14 +80,13 @@ std::string Viewer::validateSettings(Grid& grid, double& bytes) const {
     if (threads_ < 0 || threads_ > kMaxThreads) return "Threads must be 0 (all cores) to " + std::to_string(kMaxThreads);
     if (!sceneMesh_) return "";
     try {
-        if (!banded) {
-            grid = makeGrid(sceneMesh_->worldBounds(), settings_.res, settings_.padding);
-            bytes = 4.0 * double(grid.sampleCount());
-            return "";
-        }
-        grid = gridAround(sceneMesh_->worldBounds(), settings_.res, settings_.padding);
+        grid = bakeGrid(sceneMesh_->worldBounds(), settings_);
     } catch (const std::exception& e) {
         return e.what();
+    }
+    if (!banded) {
+        bytes = 4.0 * double(grid.sampleCount());
+        return "";
     }
     // The band's estimate reads every triangle: kept for the scene and settings it was made for.
     BandEstimate& cached = bandEstimate_;

@@ -51,9 +51,9 @@ with tempfile.TemporaryDirectory(prefix="sdfgen-layers-") as scratch:
     expect("an include between siblings", root, 1, "src/core/distance/exact.cpp -> src/core/sign/winding_sign.hpp: between sibling layers")
 
     root = fresh()
-    add_include(root, "src/cli/main.cpp", "core/runtime/parallel.hpp")
+    add_include(root, "src/cli/main.cpp", "core/runtime/memory.hpp")
     expect("a front end's include of a core internal", root, 1,
-           "src/cli/main.cpp -> src/core/runtime/parallel.hpp: a front end includes a core internal")
+           "src/cli/main.cpp -> src/core/runtime/memory.hpp: a front end includes a core internal")
 
     root = fresh()
     add_include(root, "src/core/bake/model.cpp", "app/viewer.hpp")

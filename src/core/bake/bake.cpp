@@ -1,6 +1,5 @@
 #include "core/bake/bake.hpp"
 #include "core/bake/band_bake.hpp"
-#include "core/mesh/sample_positions.hpp"
 #include "core/bake/memory_estimate.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
@@ -70,7 +69,7 @@ namespace {
 BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     const BakeSettings& settings = context.settings;
     if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message);
-    const DistanceMethodInfo& method = distanceMethod(settings.method);
+    const DistanceMethodPlugin& method = distanceMethod(settings.method);
     SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
     const bool banded = settings.band != 0;
     const Channels& channels = settings.channels;
@@ -83,7 +82,7 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
         result.deviceReason = "cpu: the narrow-band bake runs on the CPU only";
     } else if (channels.any()) {
         result.deviceReason = "cpu: asked for channels " + toString(channels).substr(4) + " (made on the CPU only)";
-    } else if (method.deviceMemory) {
+    } else if (method.onDevice) {
         deviceContext.device = selectComputeDevice(settings.device, &result.deviceReason);
         result.onDevice = deviceContext.device != nullptr;
     }
@@ -155,7 +154,7 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
         return list;
     };
     if (banded) {
-        bakeBand(methodContext, sign == SignMethod::Winding, result, control);
+        bakeBand(methodContext, result, control);
         result.sign = sign;
         result.signSeconds += checkSeconds;
         result.sparse.method = method.name;
@@ -170,7 +169,8 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
 
     const Clock::time_point start = Clock::now();
     const bool signsInline = !method.fixedSign && sign == method.signsInline;
-    DistancePass pass = method.run(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
+    const auto measure = methodContext.device ? method.onDevice : method.dense;
+    DistancePass pass = measure(methodContext, control.phase(0.0, signsInline ? 1.0 : 0.7));
     result.distanceSeconds = since(start);
     releaseFreedMemory(); // the distance pass's scratch, before the sign pass's
 
@@ -180,7 +180,8 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
         sign = method.defaultSign;
         negateInside(pass.distance, *pass.inside);
     } else if (!pass.signedAsAsked) {
-        signMethod(sign).run(methodContext, pass, control.phase(0.7, 1.0));
+        const SignMethodPlugin& signer = signMethod(sign);
+        (methodContext.device && signer.onDevice ? signer.onDevice : signer.dense)(methodContext, pass, control.phase(0.7, 1.0));
     }
     pass.inside.reset();
     result.sign = sign;
@@ -213,7 +214,7 @@ BakeResult bake(const BakeContext& context, const RunControl& control) {
 
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control) {
     if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message); // before the grid's own checks
-    const Grid grid = settings.band > 0 ? gridAround(mesh.worldBounds(), settings.res, settings.padding) : makeGrid(mesh.worldBounds(), settings.res, settings.padding);
+    const Grid grid = bakeGrid(mesh.worldBounds(), settings);
     std::optional<WideBvh> wide;
     std::optional<MeshTopology> topology;
     std::optional<MeshCheck> check;

@@ -198,7 +198,9 @@ std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double b
                          double(mesh.triangleCount()) * 160.0);
 }
 
-void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, const RunControl& control) {
+void bakeBand(const BakeContext& context, BakeResult& result, const RunControl& control) {
+    const DistanceMethodPlugin& method = distanceMethod(context.settings.method);
+    const SignMethodPlugin& sign = signMethod(context.sign);
     const Mesh& mesh = context.mesh;
     const Grid& grid = context.grid;
     const double band = context.settings.band;
@@ -223,7 +225,6 @@ void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, c
     parallelFor(tops.size(), control.phase(0.0, 0.05), [&](std::size_t n) { finder.visit(tops[n], BrickFinder::kTop, false, found[n]); });
     BandSides sides;
     sides.background = field.background;
-    sides.signBricks = signBricks;
     for (BrickFinder::Found& f : found) {
         sides.bricks.insert(sides.bricks.end(), f.inBand.begin(), f.inBand.end());
         sides.fanBricks.insert(sides.fanBricks.end(), f.nearFans.begin(), f.nearFans.end());
@@ -242,13 +243,14 @@ void bakeBand(const BakeContext& context, bool signBricks, BakeResult& result, c
     sides.values.reserve((sides.bricks.size() + sides.fanBricks.size()) * SparseField::kBrickSamples);
     populatePages(sides.values.data(), sides.bricks.size() * SparseField::kBrickSamples * sizeof(float), quiet(control));
     sides.values.assign(sides.bricks.size() * SparseField::kBrickSamples, field.background);
-    const MeshTopology* pseudonormal = signBricks ? nullptr : &context.topology();
-    computeExactBricks(mesh, context.wide(), grid, sides.bricks.data(), sides.bricks.size(), finder.band * (1.0 + 1e-5), pseudonormal, context.flipped,
-                       sides.values.data(), control.phase(0.05, 0.75));
+    const bool signedAsMeasured = method.bricks(context, sides.bricks.data(), sides.bricks.size(), finder.band * (1.0 + 1e-5),
+                                                sides.values.data(), control.phase(0.05, 0.75));
     result.distanceSeconds = since(start);
 
-    // 3. Sides: the band's samples and every other brick's.
+    // 3. Sides: the band's samples (by the sign's own pass, if it has one for bricks) and every other brick's.
     start = Clock::now();
+    if (!signedAsMeasured && sign.bricks) sign.bricks(context, sides.bricks.data(), sides.bricks.size(), sides.values.data(), quiet(control));
+    sides.signBricks = !signedAsMeasured && !sign.bricks;
     bandWindingSigns(mesh, context.topology(), caps, grid, sides, control.phase(0.75, 1.0));
     result.signSeconds += since(start);
     field.bricks = std::move(sides.bricks);

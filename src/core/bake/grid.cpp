@@ -1,4 +1,5 @@
 #include "sdfgen/grid.hpp"
+#include "sdfgen/bake.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/mesh/sample_positions.hpp"
@@ -71,6 +72,10 @@ Grid makeGrid(const WorldBounds& bounds, int res, double padding) {
                     " MiB but this machine has " + std::to_string(memory >> 20) + " MiB");
     }
     return grid;
+}
+
+Grid bakeGrid(const WorldBounds& bounds, const BakeSettings& settings) {
+    return settings.band > 0 ? gridAround(bounds, settings.res, settings.padding) : makeGrid(bounds, settings.res, settings.padding);
 }
 
 } // namespace sdfgen

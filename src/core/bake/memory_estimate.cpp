@@ -25,7 +25,7 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     terms.samples = samples;
     terms.triangles = triangles;
 
-    const DistanceMethodInfo& method = distanceMethod(settings.method);
+    const DistanceMethodPlugin& method = distanceMethod(settings.method);
     if (method.fixedSign) return std::uint64_t(result + method.memory(terms));
 
     // MeshTopology (merged positions and vertex normals, per-triangle corners, face normals, edge
@@ -57,7 +57,7 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     bool signCastsRays = false, signReadsWide = false, signedInline = false;
     double signBytes = 0, signDeviceBytes = 0;
     for (SignMethod sign : possibleSigns(settings.sign, method.defaultSign)) {
-        const SignMethodInfo& info = signMethod(sign);
+        const SignMethodPlugin& info = signMethod(sign);
         signCastsRays = signCastsRays || info.castsRays;
         signReadsWide = signReadsWide || info.readsWideTree;
         signedInline = signedInline || sign == method.signsInline;

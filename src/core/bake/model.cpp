@@ -2,7 +2,6 @@
 // queries over them.
 #include "sdfgen/model.hpp"
 #include "core/bake/bake.hpp"
-#include "core/mesh/sample_positions.hpp"
 #include "core/accel/bvh.hpp"
 #include "core/distance/exact.hpp"
 #include "core/mesh/geometry.hpp"
@@ -20,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -146,15 +146,21 @@ struct Model::Impl {
         return spares_;
     }
 
+    // For the winding number output.
     const WindingCaps& caps(const RunControl& control = {}) const {
-        std::call_once(capsOnce, [&] {
-            caps_.emplace(topology(control));
-            fansClose_ = fansCloseMesh(*topology_);
-        });
+        std::call_once(capsOnce, [&] { caps_.emplace(topology(control)); });
         return *caps_;
     }
-    // fansCloseMesh, found with the caps.
-    bool fansClose() const { return fansClose_; }
+    // The sign's PointSide for this mesh, made on first use.
+    const PointSide& pointSide(const SignMethodPlugin& sign, const RunControl& control = {}) const {
+        std::lock_guard<std::mutex> lock(pointSidesMutex_);
+        std::unique_ptr<PointSide>& side = pointSides_[sign.id];
+        if (!side) {
+            side = sign.atPoint(PointContext{mesh, tree, [this, &control]() -> const WideBvh& { return wide(control); },
+                                             [this, &control]() -> const MeshTopology& { return topology(control); }});
+        }
+        return *side;
+    }
 
     Mesh mesh;
     Bvh tree;
@@ -169,7 +175,8 @@ private:
     mutable std::atomic<bool> checked_{false}, wideBuilt_{false}, topologyBuilt_{false}; // set once made (for refit)
     std::optional<MeshCheck> previousCheck_; // a refit model's: the check of the model it was refit from
     mutable std::optional<WindingCaps> caps_;
-    mutable bool fansClose_ = false;
+    mutable std::mutex pointSidesMutex_;
+    mutable std::map<SignMethod, std::unique_ptr<PointSide>> pointSides_;
 };
 
 namespace {
@@ -239,7 +246,7 @@ BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) 
     if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message); // before the grid's own checks
     Grid grid;
     try {
-        grid = settings.band > 0 ? gridAround(m.mesh.worldBounds(), settings.res, settings.padding) : makeGrid(m.mesh.worldBounds(), settings.res, settings.padding);
+        grid = bakeGrid(m.mesh.worldBounds(), settings);
     } catch (const Error& e) {
         throw Error(m.mesh.source + ": " + e.what());
     }
@@ -263,7 +270,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
     const bool needSign = out.signedDistance || out.gradient;
     const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle || out.barycentric;
-    if (needSign && !signMethod(sign).pointQueries) {
+    if (needSign && !signMethod(sign).servesPointQueries()) {
         std::string known;
         const std::vector<Choice<SignMethod>> choices = pointQuerySignChoices();
         for (std::size_t i = 0; i < choices.size(); ++i) known += (i == 0 ? "" : i + 1 == choices.size() ? " or " : ", ") + std::string(choices[i].name);
@@ -316,12 +323,11 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
             }
         }
     }
-    const bool needWinding = out.windingNumber || (needSign && sign == SignMethod::Winding);
     // Build what the workers share before they start.
     const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
+    const PointSide* side = needSign ? &m.pointSide(signMethod(sign), quiet(control)) : nullptr;
     // Taken once: call_once's own fast path costs a thread-local write on every call.
-    const WindingCaps* caps = needWinding ? &m.caps(quiet(control)) : nullptr;
-    const bool fansClose = needWinding && m.fansClose();
+    const WindingCaps* caps = out.windingNumber ? &m.caps(quiet(control)) : nullptr;
 
     // Points are visited in Morton order of their position, so that each point's search is seeded
     // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
@@ -376,12 +382,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                     for (int a = 0; a < 3; ++a) out.barycentric[3 * index + std::size_t(a)] = w[a];
                 }
                 if (needSign) {
-                    bool inside;
-                    if (sign == SignMethod::Pseudonormal) {
-                        inside = (glm::dot(p - closest.point, m.topology().pseudonormal(t, closest.feature)) < 0.0) != flipped;
-                    } else {
-                        inside = caps->insideSooner(p, crossingsAhead(mesh, *wide, m.tree, *caps, p, fansClose));
-                    }
+                    const bool inside = side->inside(p, NearestPoint{t, closest}, flipped);
                     if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
                     if (out.gradient) {
                         // As the bake's gradient channel (exact_kernel.inc's writeChannels, then signed by the value).

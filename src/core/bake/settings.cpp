@@ -37,18 +37,18 @@ std::optional<SettingsProblem> problem(const BakeSettings& settings) {
                                   number(settings.band) + ")");
     }
 
-    const DistanceMethodInfo& method = distanceMethod(settings.method);
+    const DistanceMethodPlugin& method = distanceMethod(settings.method);
     const SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
     if (method.fixedSign && sign != SignMethod::Auto && sign != method.defaultSign) {
         return refuse("sign",
                       std::string("method ") + method.name + " signs by the exact winding number; sign " + toString(sign) + " does not apply");
     }
     // The compute device (sdfgen/device.hpp) measures exact distances and counts winding numbers.
-    if (settings.device == Device::Gpu && !method.deviceMemory) {
+    if (settings.device == Device::Gpu && !method.onDevice) {
         return refuse("device", std::string("device gpu computes exact distances; method ") + method.name + " runs on the CPU");
     }
     if (banded) {
-        if (!method.measuresBand) {
+        if (!method.bricks) {
             return refuse("method", std::string("a band bake measures exact distances; method ") + method.name + " makes dense fields only");
         }
         if (settings.device == Device::Gpu) return refuse("device", "a band bake runs on the CPU only; choose device cpu or auto");

@@ -52,7 +52,6 @@ DistancePass exactDistanceOnDevice(const BakeContext& context, const RunControl&
 // Straight into the field: signed by the closest feature's pseudonormal when that is the sign,
 // unsigned for the winding sign (which negates in place), with no per-sample side arrays.
 DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
-    if (context.device) return exactDistanceOnDevice(context, control);
     DistancePass pass;
     const std::size_t samples = context.grid.sampleCount();
     pass.distance.resize(samples);
@@ -67,6 +66,15 @@ DistancePass exactDistance(const BakeContext& context, const RunControl& control
     computeExactField(context.mesh, context.wide(), context.grid, pass.signedAsAsked ? &context.topology() : nullptr, context.flipped,
                       pass.distance.data(), control, asked.any() ? &channels : nullptr);
     return pass;
+}
+
+// A band's bricks, as the dense grid's: signed as measured when the pseudonormal is the sign.
+bool exactBricks(const BakeContext& context, const glm::ivec3* bricks, std::size_t count, double skipBeyond, float* values,
+                 const RunControl& control) {
+    const bool signing = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares
+    computeExactBricks(context.mesh, context.wide(), context.grid, bricks, count, skipBeyond, signing ? &context.topology() : nullptr,
+                       context.flipped, values, control);
+    return signing;
 }
 
 DistancePass rayDistance(const BakeContext& context, const RunControl& control) {
@@ -109,33 +117,57 @@ namespace {
 // compute device the distance pass's host-side tables are its tree (144-byte triangles, 32-byte
 // nodes of up to 4) and, signing by the pseudonormal, the seven normals per triangle twice (the
 // topology's and the upload's, 168 bytes each). The reference holds each triangle in double.
-double noMemory(const MemoryTerms&) { return 0; }
 double exactDeviceMemory(const MemoryTerms& terms, bool signing) { return terms.triangles * (144 + 16 + (signing ? 2 * 168 : 0)); }
 double bruteMemory(const MemoryTerms& terms) { return terms.triangles * 3 * sizeof(glm::dvec3); }
 
+DistanceMethodPlugin exactEntry() {
+    DistanceMethodPlugin method(DistanceMethod::Exact, "exact", "the true distance to the nearest triangle");
+    method.dense = exactDistance;
+    method.bricks = exactBricks;
+    method.onDevice = exactDistanceOnDevice;
+    method.defaultSign = SignMethod::Auto;
+    method.signsInline = SignMethod::Pseudonormal;
+    method.readsWideTree = true;
+    method.makesChannels = true;
+    method.deviceMemory = exactDeviceMemory;
+    return method;
+}
+
+DistanceMethodPlugin raysEntry() {
+    DistanceMethodPlugin method(DistanceMethod::Rays, "rays", "the original report's ray sampling, an upper bound");
+    method.dense = rayDistance;
+    method.defaultSign = SignMethod::Rays;
+    method.signsInline = SignMethod::Rays;
+    method.castsRays = true;
+    return method;
+}
+
+DistanceMethodPlugin bruteEntry() {
+    DistanceMethodPlugin method(DistanceMethod::Brute, "brute",
+                                "every triangle for every sample in double, signed by the exact winding number: the reference");
+    method.dense = bruteDistance;
+    method.defaultSign = SignMethod::Winding;
+    method.fixedSign = true;
+    method.memory = bruteMemory;
+    return method;
+}
+
 } // namespace
 
-const std::vector<DistanceMethodInfo>& distanceMethods() {
-    static const std::vector<DistanceMethodInfo> methods = {
-        {DistanceMethod::Exact, "exact", "the true distance to the nearest triangle", exactDistance, SignMethod::Auto, false,
-         SignMethod::Pseudonormal, true, false, true, true, noMemory, exactDeviceMemory},
-        {DistanceMethod::Rays, "rays", "the original report's ray sampling, an upper bound", rayDistance, SignMethod::Rays, false,
-         SignMethod::Rays, false, true, false, false, noMemory, nullptr},
-        {DistanceMethod::Brute, "brute", "every triangle for every sample in double, signed by the exact winding number: the reference",
-         bruteDistance, SignMethod::Winding, true, SignMethod::Default, false, false, false, false, bruteMemory, nullptr},
-    };
+const std::vector<DistanceMethodPlugin>& distanceMethods() {
+    static const std::vector<DistanceMethodPlugin> methods = {exactEntry(), raysEntry(), bruteEntry()};
     return methods;
 }
 
-const DistanceMethodInfo& distanceMethod(DistanceMethod id) {
-    for (const DistanceMethodInfo& method : distanceMethods()) {
+const DistanceMethodPlugin& distanceMethod(DistanceMethod id) {
+    for (const DistanceMethodPlugin& method : distanceMethods()) {
         if (method.id == id) return method;
     }
     throw Error("unknown distance method");
 }
 
 const char* toString(DistanceMethod method) {
-    for (const DistanceMethodInfo& info : distanceMethods()) {
+    for (const DistanceMethodPlugin& info : distanceMethods()) {
         if (info.id == method) return info.name;
     }
     return "?";
@@ -143,7 +175,7 @@ const char* toString(DistanceMethod method) {
 
 std::vector<Choice<DistanceMethod>> distanceMethodChoices() {
     std::vector<Choice<DistanceMethod>> choices;
-    for (const DistanceMethodInfo& info : distanceMethods()) choices.push_back({info.id, info.name, info.description});
+    for (const DistanceMethodPlugin& info : distanceMethods()) choices.push_back({info.id, info.name, info.description});
     return choices;
 }
 

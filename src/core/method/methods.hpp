@@ -1,12 +1,13 @@
 #pragma once
-// Distance and sign methods as plug-ins: each is a name, a description, what it reads and where it
-// runs, its memory estimate and a function, listed in one registry (distance_methods.cpp,
-// sign_methods.cpp). bake(), the memory estimate, point queries and every front end only look
-// them up, so adding a method is its function plus one registry line (and its enum value in
-// sdfgen/bake.hpp).
+// Distance and sign methods as plug-ins: each is an object of named members (its passes for dense
+// grids, a band's bricks, single points and a compute device, what they read, their memory),
+// listed in one registry (distance_methods.cpp, sign_methods.cpp). bake(), the band bake, the
+// memory estimate, point queries and every front end only ask these objects, so adding a method is
+// its functions plus one registry entry (and its enum value in sdfgen/bake.hpp): docs/extending.md.
 #include "core/accel/bvh.hpp"
-#include "core/mesh/topology.hpp"
 #include "core/accel/wide_bvh.hpp"
+#include "core/mesh/geometry.hpp"
+#include "core/mesh/topology.hpp"
 #include "sdfgen/bake.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/grid.hpp"
@@ -15,6 +16,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,53 +63,115 @@ struct MemoryTerms {
     double winding = 0;  // the winding sign's: the topology and the crossings it collects
 };
 
-struct DistanceMethodInfo {
+// A point query's nearest triangle and its closest point on it (local coordinates).
+struct NearestPoint {
+    std::uint32_t triangle;
+    ClosestPoint closest;
+};
+
+// What a sign's point queries may use: the mesh and its structures, built on first use and cached
+// by whoever owns the mesh (sdfgen::Model). The functions serve only while atPoint runs: a
+// PointSide takes what it keeps then.
+struct PointContext {
+    const Mesh& mesh;
+    const Bvh& tree;
+    std::function<const WideBvh&()> wide;
+    std::function<const MeshTopology&()> topology;
+};
+
+// A sign's answer for single points (Model::query), made once per mesh and kept by its Model, so
+// that what it prepares (the winding sign's fans) serves every later query.
+class PointSide {
+public:
+    virtual ~PointSide() = default;
+    // Whether p (local coordinates) is inside; `flipped` as BakeContext's.
+    virtual bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool flipped) const = 0;
+};
+
+// A distance method: how it measures a dense grid, a band's bricks and on a compute device, and
+// what that reads and holds. Members left unset are capabilities it lacks.
+struct DistanceMethodPlugin {
     DistanceMethod id;
     const char* name;
     const char* description;
-    DistancePass (*run)(const BakeContext& context, const RunControl& control);
+
+    // The dense grid's distances.
+    DistancePass (*dense)(const BakeContext& context, const RunControl& control) = nullptr;
+    // The narrow band's (core/bake/band_bake.hpp): the samples of `count` bricks of SparseField's
+    // (brick b's at values[kBrickSamples b + its offset in the brick]) as `dense` measures them, bit
+    // for bit, but for those farther than `skipBeyond` (local units), which it may leave unwritten.
+    // Returns whether it signed them as it measured (context.sign is its signsInline). Null: the
+    // band bake refuses the method.
+    bool (*bricks)(const BakeContext& context, const glm::ivec3* bricks, std::size_t count, double skipBeyond, float* values,
+                   const RunControl& control) = nullptr;
+    // The dense grid's distances on context.device; null where the device cannot run the method.
+    DistancePass (*onDevice)(const BakeContext& context, const RunControl& control) = nullptr;
+
     // The sign this method implies when the settings name none (SignMethod::Default).
-    SignMethod defaultSign;
-    // Set for methods whose own inside flags are the only sign they allow (the reference).
-    bool fixedSign;
-    // The sign this method writes as it measures when the context asks for it (its pass is then
-    // the whole bake), Default for none.
-    SignMethod signsInline;
-    bool readsWideTree; // on the CPU its pass searches the closest-point tree (core/accel/wide_bvh.hpp)
-    bool castsRays;     // casts BakeSettings::rays rays per sample (recorded in the field)
-    bool makesChannels; // fills the gradient, closest and triangle channels
-    bool measuresBand;  // the narrow-band bake (BakeSettings::band, core/bake/band_bake.hpp) measures by it
+    SignMethod defaultSign = SignMethod::Auto;
+    // Its own inside flags are the only sign it allows (the reference): no sign method runs.
+    bool fixedSign = false;
+    // The sign it writes as it measures when the context asks for it (its pass is then the whole
+    // bake), Default for none.
+    SignMethod signsInline = SignMethod::Default;
+    bool readsWideTree = false; // on the CPU its pass searches the closest-point tree (core/accel/wide_bvh.hpp)
+    bool castsRays = false;     // casts BakeSettings::rays rays per sample (recorded in the field)
+    bool makesChannels = false; // fills the gradient, closest and triangle channels
+
     // Bytes its pass holds besides the field and the shared trees; a fixed-sign method's whole
     // bake besides the field.
-    double (*memory)(const MemoryTerms& terms);
-    // Null where the compute device cannot run it; else the host-side tables of its device pass,
-    // `signing` when the device signs as it measures.
-    double (*deviceMemory)(const MemoryTerms& terms, bool signing);
+    double (*memory)(const MemoryTerms& terms) = [](const MemoryTerms&) { return 0.0; };
+    // With onDevice: the host-side tables of its device pass, `signing` when it signs as it measures.
+    double (*deviceMemory)(const MemoryTerms& terms, bool signing) = nullptr;
+
+    DistanceMethodPlugin(DistanceMethod id, const char* name, const char* description) : id(id), name(name), description(description) {}
 };
 
-// Whether a sign can side a narrow-band bake's samples, most of which have no distance pass.
+// Whether a sign can side a narrow band's samples, most of which have no distance pass. Every band
+// takes its sides beyond its bricks from the winding number's crossing counts (BandSides in
+// core/sign/winding_sign.hpp), as OpenVDB's level sets take theirs from an interior test: a sign
+// serves bands where its sides are those.
 enum class BandSigning {
     Never,       // it decides per sample from that sample's own pass (ray votes)
-    Always,      // the winding number's sides (or, for auto and default, a sign settled to one that can)
-    WhereProven, // its sides are the winding number's only where the mesh check proves it right
+    Sides,       // the band's sides, in its bricks too (or, for auto and default, a sign settled to one that can)
+    Own,         // its own signs in the bricks (as the distance pass measures, or its `bricks`), the band's sides beyond
+    WhereProven, // as Own, only where the mesh check proves its sides the winding number's
 };
 
-struct SignMethodInfo {
+// A sign method: how it signs a dense grid, a band's bricks, single points and on a compute
+// device, and what that reads and holds. Members left unset are capabilities it lacks.
+struct SignMethodPlugin {
     SignMethod id;
     const char* name;
     const char* description;
-    // Signs `pass.distance` in place (negated where inside); may use and fill in `pass`. Null for
-    // the signs decideSign settles to another (auto, default).
-    void (*run)(const BakeContext& context, DistancePass& pass, const RunControl& control);
-    bool pointQueries;  // Model::query signs by it (default is left out: there it means auto)
-    bool readsWideTree; // its pass searches the closest-point tree
-    bool readsTopology; // its pass (or auto's mesh check) reads MeshTopology
-    bool castsRays;     // casts BakeSettings::rays rays per sample (recorded in the field)
-    BandSigning band;
+
+    // The dense grid: signs `pass.distance` in place (negated where inside); may use and fill in
+    // `pass`. Null for the signs decideSign settles to another (auto, default).
+    void (*dense)(const BakeContext& context, DistancePass& pass, const RunControl& control) = nullptr;
+    // How a narrow band's samples are signed; for Own, `bricks` signs the bricks' samples (laid
+    // out as DistanceMethodPlugin::bricks has them) where the distance pass did not.
+    BandSigning band = BandSigning::Never;
+    void (*bricks)(const BakeContext& context, const glm::ivec3* bricks, std::size_t count, float* values, const RunControl& control) = nullptr;
+    // Point queries: its PointSide for the mesh; null where Model::query does not sign by it.
+    std::unique_ptr<PointSide> (*atPoint)(const PointContext& context) = nullptr;
+    // `dense` on context.device; null: `dense` runs on the CPU even when the distances were measured on the device.
+    void (*onDevice)(const BakeContext& context, DistancePass& pass, const RunControl& control) = nullptr;
+
+    // A choice that decideSign settles to another sign before anything is signed (auto, default);
+    // `settlesForQueries`: point queries list it too (default is left out: there it means auto).
+    bool settles = false, settlesForQueries = false;
+    bool readsWideTree = false; // its pass searches the closest-point tree
+    bool readsTopology = false; // its pass (or auto's mesh check) reads MeshTopology
+    bool castsRays = false;     // casts BakeSettings::rays rays per sample (recorded in the field)
+
     // Bytes its pass holds at the peak besides the field, the per-sample buffers and the trees.
-    double (*memory)(const MemoryTerms& terms);
-    // Null where the compute device does not run it; else the host-side tables of its device pass.
-    double (*deviceMemory)(const MemoryTerms& terms);
+    double (*memory)(const MemoryTerms& terms) = [](const MemoryTerms&) { return 0.0; };
+    // With onDevice: the host-side tables of its device pass.
+    double (*deviceMemory)(const MemoryTerms& terms) = nullptr;
+
+    SignMethodPlugin(SignMethod id, const char* name, const char* description) : id(id), name(name), description(description) {}
+
+    bool servesPointQueries() const { return atPoint != nullptr || settlesForQueries; }
 };
 
 // The sign a bake or point query uses, settled before any distance is measured (see decideSign).
@@ -133,9 +197,9 @@ DistancePass splitSigned(std::vector<float> values);
 // Negates the distances of the samples flagged inside.
 void negateInside(std::vector<float>& distance, const std::vector<std::uint8_t>& inside);
 
-const std::vector<DistanceMethodInfo>& distanceMethods();
-const std::vector<SignMethodInfo>& signMethods(); // auto and default too, which decideSign settles
-const DistanceMethodInfo& distanceMethod(DistanceMethod id);
-const SignMethodInfo& signMethod(SignMethod id);
+const std::vector<DistanceMethodPlugin>& distanceMethods();
+const std::vector<SignMethodPlugin>& signMethods(); // auto and default too, which decideSign settles
+const DistanceMethodPlugin& distanceMethod(DistanceMethod id);
+const SignMethodPlugin& signMethod(SignMethod id);
 
 } // namespace sdfgen

@@ -7,6 +7,8 @@
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/error.hpp"
 
+#include <glm/geometric.hpp>
+#include <memory>
 #include <utility>
 
 namespace sdfgen {
@@ -19,7 +21,8 @@ namespace {
 // leave doubt; the samples whose |w| its float cannot tell from 1/2 as the CPU's double would are
 // decided here, by WindingCaps::inside (so the signs are the CPU's). Negates `distance` in place
 // where inside.
-void windingSignOnDevice(const BakeContext& context, std::vector<float>& distance, const RunControl& control) {
+void windingSignOnDevice(const BakeContext& context, DistancePass& pass, const RunControl& control) {
+    std::vector<float>& distance = pass.distance;
     const Mesh& mesh = context.mesh;
     const Grid& grid = context.grid;
     const MeshTopology& topology = context.topology();
@@ -58,15 +61,44 @@ void windingSignOnDevice(const BakeContext& context, std::vector<float>& distanc
 }
 
 void windingSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
-    if (context.device) return windingSignOnDevice(context, pass.distance, control);
     signByWinding(context.mesh, context.topology(), context.grid, pass.distance.data(), control);
 }
+
+// A point's side by its crossings ahead and the fans over the holes, as the dense grid's samples.
+class WindingPointSide final : public PointSide {
+public:
+    explicit WindingPointSide(const PointContext& context)
+        : mesh_(context.mesh), tree_(context.tree), wide_(context.wide()), caps_(context.topology()),
+          fansClose_(fansCloseMesh(context.topology())) {}
+    bool inside(const glm::dvec3& p, const NearestPoint&, bool) const override {
+        return caps_.insideSooner(p, crossingsAhead(mesh_, wide_, tree_, caps_, p, fansClose_));
+    }
+
+private:
+    const Mesh& mesh_;
+    const Bvh& tree_;
+    const WideBvh& wide_;
+    const WindingCaps caps_;
+    const bool fansClose_; // the count may run on the row's shorter side (fansCloseMesh)
+};
 
 // For passes that did not sign as they measured (rays): one more closest-feature search.
 void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
     // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
     negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide(), context.grid, context.topology(), context.flipped, control));
 }
+
+// A point's side by the pseudonormal of its closest feature, as the exact pass signs a sample.
+class PseudonormalPointSide final : public PointSide {
+public:
+    explicit PseudonormalPointSide(const PointContext& context) : topology_(context.topology()) {}
+    bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool flipped) const override {
+        return (glm::dot(p - nearest.closest.point, topology_.pseudonormal(nearest.triangle, nearest.closest.feature)) < 0.0) != flipped;
+    }
+
+private:
+    const MeshTopology& topology_;
+};
 
 void raySign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
     const Field votes = generateRayField(context.mesh, context.tree, context.grid, context.settings.rays, control);
@@ -79,7 +111,6 @@ void raySign(const BakeContext& context, DistancePass& pass, const RunControl& c
 // sign the topology and its crossings; on a compute device the winding pass holds the closed
 // surface's corners twice (72 bytes each), its weights and its triangles' row ranges (16), and per
 // sample the crossings ahead (4) and the sides (1).
-double noMemory(const MemoryTerms&) { return 0; }
 double windingMemory(const MemoryTerms& terms) { return terms.winding; }
 double pseudonormalMemory(const MemoryTerms& terms) { return terms.topology; }
 double windingDeviceMemory(const MemoryTerms& terms) { return terms.triangles * (72 + 72 + 4 + 16) + terms.samples * (4 + 1); }
@@ -99,34 +130,71 @@ std::string autoReason(const MeshCheck& c) {
     return "winding: the mesh has " + problems;
 }
 
+SignMethodPlugin autoEntry() {
+    SignMethodPlugin sign(SignMethod::Auto, "auto", "pseudonormal when the mesh check proves it right, else winding");
+    sign.settles = true;
+    sign.settlesForQueries = true;
+    sign.band = BandSigning::Sides;
+    sign.readsTopology = true;
+    return sign;
+}
+
+SignMethodPlugin windingEntry() {
+    SignMethodPlugin sign(SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly");
+    sign.dense = windingSign;
+    sign.band = BandSigning::Sides;
+    sign.atPoint = [](const PointContext& context) -> std::unique_ptr<PointSide> { return std::make_unique<WindingPointSide>(context); };
+    sign.onDevice = windingSignOnDevice;
+    sign.readsTopology = true;
+    sign.memory = windingMemory;
+    sign.deviceMemory = windingDeviceMemory;
+    return sign;
+}
+
+SignMethodPlugin pseudonormalEntry() {
+    SignMethodPlugin sign(SignMethod::Pseudonormal, "pseudonormal", "angle-weighted pseudonormal of the closest feature");
+    sign.dense = pseudonormalSign;
+    // The exact method signs the band's bricks by it as it measures them.
+    sign.band = BandSigning::WhereProven;
+    sign.atPoint = [](const PointContext& context) -> std::unique_ptr<PointSide> { return std::make_unique<PseudonormalPointSide>(context); };
+    sign.readsWideTree = true;
+    sign.readsTopology = true;
+    sign.memory = pseudonormalMemory;
+    return sign;
+}
+
+SignMethodPlugin raysEntry() {
+    SignMethodPlugin sign(SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays");
+    sign.dense = raySign;
+    sign.castsRays = true;
+    return sign;
+}
+
+SignMethodPlugin defaultEntry() {
+    SignMethodPlugin sign(SignMethod::Default, "default", "the method's own: rays for the rays method, auto otherwise");
+    sign.settles = true;
+    sign.band = BandSigning::Sides;
+    return sign;
+}
+
 } // namespace
 
-const std::vector<SignMethodInfo>& signMethods() {
+const std::vector<SignMethodPlugin>& signMethods() {
     // Auto first and default last: the order front ends list them in.
-    static const std::vector<SignMethodInfo> methods = {
-        {SignMethod::Auto, "auto", "pseudonormal when the mesh check proves it right, else winding", nullptr, true, false, true, false,
-         BandSigning::Always, noMemory, nullptr},
-        {SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly", windingSign, true, false, true, false,
-         BandSigning::Always, windingMemory, windingDeviceMemory},
-        {SignMethod::Pseudonormal, "pseudonormal", "angle-weighted pseudonormal of the closest feature", pseudonormalSign, true, true,
-         true, false, BandSigning::WhereProven, pseudonormalMemory, nullptr},
-        {SignMethod::Rays, "rays", "majority of back-face first hits of the sample's rays", raySign, false, false, false, true,
-         BandSigning::Never, noMemory, nullptr},
-        {SignMethod::Default, "default", "the method's own: rays for the rays method, auto otherwise", nullptr, false, false, false, false,
-         BandSigning::Always, noMemory, nullptr},
-    };
+    static const std::vector<SignMethodPlugin> methods = {autoEntry(), windingEntry(), pseudonormalEntry(), raysEntry(),
+                                                          defaultEntry()};
     return methods;
 }
 
-const SignMethodInfo& signMethod(SignMethod id) {
-    for (const SignMethodInfo& method : signMethods()) {
+const SignMethodPlugin& signMethod(SignMethod id) {
+    for (const SignMethodPlugin& method : signMethods()) {
         if (method.id == id) return method;
     }
     throw Error("unknown sign method");
 }
 
 const char* toString(SignMethod sign) {
-    for (const SignMethodInfo& info : signMethods()) {
+    for (const SignMethodPlugin& info : signMethods()) {
         if (info.id == sign) return info.name;
     }
     return "?";
@@ -134,14 +202,14 @@ const char* toString(SignMethod sign) {
 
 std::vector<Choice<SignMethod>> signMethodChoices() {
     std::vector<Choice<SignMethod>> choices;
-    for (const SignMethodInfo& info : signMethods()) choices.push_back({info.id, info.name, info.description});
+    for (const SignMethodPlugin& info : signMethods()) choices.push_back({info.id, info.name, info.description});
     return choices;
 }
 
 std::vector<Choice<SignMethod>> pointQuerySignChoices() {
     std::vector<Choice<SignMethod>> choices;
-    for (const SignMethodInfo& info : signMethods()) {
-        if (info.pointQueries) choices.push_back({info.id, info.name, info.description});
+    for (const SignMethodPlugin& info : signMethods()) {
+        if (info.servesPointQueries()) choices.push_back({info.id, info.name, info.description});
     }
     return choices;
 }
