@@ -10,10 +10,16 @@
 #include <glm/geometric.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstring>
+#include <fcntl.h>
+#include <fstream>
 #include <random>
 #include <string>
+#include <sys/stat.h>
+#include <thread>
+#include <utility>
 #include <sys/resource.h>
 #include <unistd.h>
 #include <vector>
@@ -571,6 +577,32 @@ TEST_F(MeshReaders, GltfUnderAnotherNameIsCheckedAllTheSame) {
     }
     // Where Assimp does read it as glTF (JSON named .xml; it takes GLB by its name only), the guarded glTF is read.
     EXPECT_EQ(loadMesh(write("model/good.xml", gltfWithBufferFile("inside.bin"))).triangleCount(), 1u);
+}
+
+TEST_F(MeshReaders, GltfIsReadOnceAndAssimpParsesTheBytesChecked) {
+    // A FIFO yields its bytes once. Told apart as glTF by name or content, checked and parsed by
+    // Assimp from that one reading: a file changed or swapped after the check is not read again.
+    struct sigaction ignore {}, before {};
+    ignore.sa_handler = SIG_IGN;
+    sigaction(SIGPIPE, &ignore, &before); // a reader that gives up must fail the test, not end it
+    for (const auto& [name, contents] : {std::pair<std::string, std::string>{"pipe.gltf", gltfTriangle(2)}, {"pipe.xml", gltfTriangle(2)},
+                                         {"pipe.glb", glbTriangle()}}) {
+        SCOPED_TRACE(name);
+        const std::string fifo = (dir_ / name).string();
+        ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+        std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << contents; });
+        std::string problem;
+        try {
+            EXPECT_EQ(loadMesh(fifo).triangleCount(), 1u);
+        } catch (const Error& e) {
+            problem = e.what();
+        }
+        const int unblock = open(fifo.c_str(), O_RDONLY | O_NONBLOCK); // for a writer still waiting for a reader
+        writer.join();
+        close(unblock);
+        EXPECT_EQ(problem, "");
+    }
+    sigaction(SIGPIPE, &before, nullptr);
 }
 
 TEST_F(MeshReaders, GltfIndicesAreCheckedAsAssimpReadsThem) {
