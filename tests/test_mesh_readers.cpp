@@ -5,6 +5,9 @@
 #include "sdfgen/mesh.hpp"
 
 #include "support/checks.hpp"
+#if SDFGEN_HAS_ASSIMP
+#include "assimp/gltf_guard.hpp"
+#endif
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -604,6 +607,23 @@ TEST_F(MeshReaders, GltfIsReadOnceAndAssimpParsesTheBytesChecked) {
     }
     sigaction(SIGPIPE, &before, nullptr);
 }
+
+#if SDFGEN_HAS_ASSIMP
+// The guard itself (the Assimp plug-in's code, built into the tests too): what it hands Assimp in
+// place of the files is what it checked, not what the files hold afterwards.
+TEST_F(MeshReaders, GltfGuardHandsAssimpTheBytesItChecked) {
+    const std::string checked = gltfWithBufferFile("b.bin");
+    const std::string path = write("t.gltf", "not read: the guard is given the bytes");
+    write("b.bin", triangleBytes());
+    const GltfCheck check = guardGltf(path, checked, false);
+    write("b.bin", triangleBytes(4000000000u)); // changed after the check
+    EXPECT_EQ(check.bytes, checked);
+    ASSERT_EQ(check.externalFiles.size(), 1u);
+    EXPECT_EQ(check.externalFiles.begin()->first, (dir_ / "b.bin").string());
+    EXPECT_EQ(check.externalFiles.begin()->second, triangleBytes());
+    EXPECT_CONTAINS(errorFrom([&] { guardGltf(path, checked, false); }), "refers to vertex 4000000000 but it has 3 vertices");
+}
+#endif
 
 TEST_F(MeshReaders, GltfIndicesAreCheckedAsAssimpReadsThem) {
     const auto replace = [](std::string& text, const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
