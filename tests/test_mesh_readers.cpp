@@ -588,12 +588,12 @@ TEST_F(MeshReaders, GltfIsReadOnceAndAssimpParsesTheBytesChecked) {
     struct sigaction ignore {}, before {};
     ignore.sa_handler = SIG_IGN;
     sigaction(SIGPIPE, &ignore, &before); // a reader that gives up must fail the test, not end it
-    for (const auto& [name, contents] : {std::pair<std::string, std::string>{"pipe.gltf", gltfTriangle(2)}, {"pipe.xml", gltfTriangle(2)},
-                                         {"pipe.glb", glbTriangle()}}) {
-        SCOPED_TRACE(name);
-        const std::string fifo = (dir_ / name).string();
+    for (const auto& file : {std::pair<std::string, std::string>{"pipe.gltf", gltfTriangle(2)}, {"pipe.xml", gltfTriangle(2)},
+                             {"pipe.glb", glbTriangle()}}) {
+        SCOPED_TRACE(file.first);
+        const std::string fifo = (dir_ / file.first).string();
         ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-        std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << contents; });
+        std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << file.second; });
         std::string problem;
         try {
             EXPECT_EQ(loadMesh(fifo).triangleCount(), 1u);
