@@ -399,8 +399,8 @@ private:
                 doc_["buffers"][i]["byteLength"] = b.used;
                 bounded_ = true;
             }
-            // Read once (as far as any buffer of the same file reaches): what the checks below
-            // read and what Assimp is given.
+            // Read here, and again only for a buffer of the same file that reaches further: the
+            // bytes the checks below read are the ones Assimp is given.
             std::string& data = result_.externalFiles[b.opened];
             if (b.used > data.size()) data = b.file->read(0, b.used);
             b.data = &data;
