@@ -13,6 +13,7 @@
 #include "sdfgen/mesh.hpp"
 #include "core/runtime/file_extension.hpp"
 
+#include <assimp/BaseImporter.h>
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/MemoryIOWrapper.h>
@@ -126,6 +127,17 @@ GltfKind gltfKind(std::string_view bytes, const std::string& extension) {
     return first < start.size() && start[first] == '{' ? GltfKind::Json : GltfKind::None;
 }
 
+// Assimp takes a file by its content when no importer or several claim its name's extension
+// (.xml): the formats sdfgen reads itself (OBJ, PLY, OFF, STL, with checks of their own) must not
+// reach Assimp's importers of them that way, as these trust the counts a file declares (an OFF
+// file named .xml claiming 4.6e11 vertices made Assimp allocate 46 GB). So they are unregistered.
+void unregisterOwnFormats(Assimp::Importer& importer) {
+    for (const char* extension : {"obj", "ply", "off", "stl"}) {
+        Assimp::BaseImporter* own = importer.GetImporter(extension);
+        if (own && importer.UnregisterLoader(own) == aiReturn_SUCCESS) delete own; // unregistered, it is ours to free
+    }
+}
+
 Mesh loadWithAssimp(const std::string& path) {
     Assimp::Importer importer;
     // Without normals, colours and texture coordinates, identical positions are identical
@@ -133,6 +145,7 @@ Mesh loadWithAssimp(const std::string& path) {
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
                                                             aiComponent_COLORS | aiComponent_TEXCOORDS |
                                                             aiComponent_BONEWEIGHTS);
+    unregisterOwnFormats(importer);
     const std::string extension = lowerExtension(path);
     bool gltfCounted = false;
     std::uint64_t gltfTriangles = 0;
