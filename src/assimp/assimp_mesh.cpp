@@ -29,8 +29,10 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <set>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 namespace sdfgen {
 
@@ -127,14 +129,27 @@ GltfKind gltfKind(std::string_view bytes, const std::string& extension) {
     return first < start.size() && start[first] == '{' ? GltfKind::Json : GltfKind::None;
 }
 
-// Assimp takes a file by its content when no importer or several claim its name's extension
-// (.xml): the formats sdfgen reads itself (OBJ, PLY, OFF, STL, with checks of their own) must not
-// reach Assimp's importers of them that way, as these trust the counts a file declares (an OFF
-// file named .xml claiming 4.6e11 vertices made Assimp allocate 46 GB). So they are unregistered.
-void unregisterOwnFormats(Assimp::Importer& importer) {
-    for (const char* extension : {"obj", "ply", "off", "stl"}) {
-        Assimp::BaseImporter* own = importer.GetImporter(extension);
-        if (own && importer.UnregisterLoader(own) == aiReturn_SUCCESS) delete own; // unregistered, it is ours to free
+// Assimp picks an importer by the name's extension, but when none of the importers claiming it
+// takes the file (a .xml), by content among all of them: a file named .xml reached importers no
+// name would (its OFF importer allocated 46 GB for an OFF claiming 4.6e11 vertices, its OpenGEX
+// parser read past its buffer). So only the importers claiming the name's extension stay, and
+// the glTF ones for a file the glTF guard checked.
+void keepOnlyImportersFor(Assimp::Importer& importer, const std::string& path, bool gltf) {
+    std::string name = path;
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    auto endsWith = [&](const std::string& tail) { return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0; };
+    std::vector<Assimp::BaseImporter*> others;
+    for (std::size_t i = 0; i < importer.GetImporterCount(); ++i) {
+        Assimp::BaseImporter* candidate = importer.GetImporter(i);
+        std::set<std::string> extensions; // lower case, without the dot; some with dots inside (mesh.xml)
+        candidate->GetExtensionList(extensions);
+        const bool keep = std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
+            return endsWith("." + extension) || (gltf && (extension == "gltf" || extension == "glb"));
+        });
+        if (!keep) others.push_back(candidate);
+    }
+    for (Assimp::BaseImporter* other : others) {
+        if (importer.UnregisterLoader(other) == aiReturn_SUCCESS) delete other; // unregistered, it is ours to free
     }
 }
 
@@ -145,7 +160,6 @@ Mesh loadWithAssimp(const std::string& path) {
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
                                                             aiComponent_COLORS | aiComponent_TEXCOORDS |
                                                             aiComponent_BONEWEIGHTS);
-    unregisterOwnFormats(importer);
     const std::string extension = lowerExtension(path);
     bool gltfCounted = false;
     std::uint64_t gltfTriangles = 0;
@@ -156,8 +170,10 @@ Mesh loadWithAssimp(const std::string& path) {
         gltfCounted = gltf.counted;
         gltfTriangles = gltf.triangles;
         importer.SetIOHandler(new ReadOnceIOSystem(path, std::move(gltf)));
+        keepOnlyImportersFor(importer, path, true);
     } else {
         importer.SetIOHandler(new ReadOnceIOSystem(path, std::move(bytes)));
+        keepOnlyImportersFor(importer, path, false);
     }
     const aiScene* scene = importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
                                                        aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure);
