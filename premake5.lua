@@ -320,6 +320,9 @@ if not _OPTIONS["no-tests"] then
       if SDFGEN_OPENVDB then
          sdfgen_use_openvdb()   -- the format tests read VDB files themselves
       end
+      if SDFGEN_ASSIMP then
+         files { "src/assimp/gltf_guard.cpp" }   -- the glTF guard (the Assimp plug-in's code), tested on its own too
+      end
       links { "zip" }   -- the field reader tests write hostile .npz archives themselves
       links { "gmpxx", "gmp" }   -- GMP's rationals, the exact reference of the predicate tests
 

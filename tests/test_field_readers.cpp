@@ -415,25 +415,84 @@ TEST_F(VdbReader, FilesOfSeveralGridsWithOffsetsLoadAndOtherGridTypesAreRefused)
                     "grid 1 is of type 'Tree_bool_5_4_3' (sdfgen reads files of float grids, Tree_float_5_4_3, beside Vec3s and Int32 grids)");
 }
 
-TEST_F(VdbReader, CompressedBlockSizesAreCheckedAgainstTheFile) {
-    // io::File writes a level set's leaves as Blosc blocks (as Houdini does), each after its
-    // byte count: claim 2^40 bytes.
+// A level set's file as io::File writes it (as Houdini does): each leaf's values a compressed
+// block (Blosc by default) after its byte count. `flat`: every active value 0.5 and no class, as
+// io::File zips no level set and keeps only the zip blocks that shrink.
+std::string levelSetFile(const std::string& file, std::uint32_t compression = openvdb::io::COMPRESS_ACTIVE_MASK | openvdb::io::COMPRESS_BLOSC,
+                         bool flat = false) {
     openvdb::initialize();
     auto sphere = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(1.0f, openvdb::Vec3f(0.0f), 0.125f, 2.0f);
     sphere->setName("surface");
-    openvdb::io::File(path("band.vdb")).write({sphere});
-    std::string bytes = readBytes(path("band.vdb"));
-    // The last leaf's block is the last thing in the file; find its count by trying each
-    // position from the end (a count is followed by exactly that many bytes up to the end).
-    std::size_t count = 0;
-    for (std::size_t at = bytes.size() - 16; at > bytes.size() - 4096 && count == 0; --at) {
+    if (flat) {
+        for (auto value = sphere->beginValueOn(); value; ++value) value.setValue(0.5f);
+        sphere->setGridClass(openvdb::GRID_UNKNOWN);
+    }
+    openvdb::io::File out(file);
+    out.setCompression(compression);
+    out.write({sphere});
+    return readBytes(file);
+}
+
+// Where the byte count of the file's last block is: the last leaf's block is the last thing in
+// the file, so try each position from the end (a count is followed by exactly that many bytes).
+std::size_t lastBlockCount(const std::string& bytes) {
+    for (std::size_t at = bytes.size() - 16; at > bytes.size() - 4096; --at) {
         std::int64_t stored;
         std::memcpy(&stored, &bytes[at], 8);
-        if (stored > 0 && std::size_t(stored) == bytes.size() - at - 8) count = at;
+        if (stored > 0 && std::size_t(stored) == bytes.size() - at - 8) return at;
     }
+    return 0;
+}
+
+TEST_F(VdbReader, CompressedBlockSizesAreCheckedAgainstTheFile) {
+    std::string bytes = levelSetFile(path("band.vdb"));
+    const std::size_t count = lastBlockCount(bytes);
     ASSERT_NE(count, 0u);
     put<std::int64_t>(bytes, count, std::int64_t(1) << 40);
     expectLoadError(write("block.vdb", bytes), "reach past the end of the file's");
+}
+
+TEST_F(VdbReader, BloscHeadersMustClaimTheirBlockAndTheValues) {
+    // libblosc reads as many bytes as a block's header claims: the fuzzer's file claims
+    // 1717859086 bytes of a 526-byte block.
+    const std::string found = std::string(SDFGEN_SOURCE_DIR) + "/tests/fuzz/corpus/vdb/blosc-header-past-block.vdb";
+    expectLoadError(found, "has a corrupt Blosc block (526 bytes for 1092, its header claims 1717859086 for 1092)");
+    // The header's nbytes, blocksize and cbytes after 4 version bytes.
+    const std::string valid = levelSetFile(path("band.vdb"));
+    const std::size_t count = lastBlockCount(valid);
+    ASSERT_NE(count, 0u);
+    const std::size_t header = count + 8;
+    std::uint32_t sizes[3];
+    std::memcpy(sizes, &valid[header + 4], sizeof sizes);
+    EXPECT_NO_THROW(loadField(write("valid.vdb", valid)));
+    struct Lie { std::size_t field; std::uint32_t value; };
+    for (const Lie lie : {Lie{2, sizes[2] + 1}, Lie{2, 1u << 30}, Lie{2, sizes[2] - 1}, Lie{0, sizes[0] + 4}, Lie{0, sizes[0] - 4}}) {
+        std::string bytes = valid;
+        put<std::uint32_t>(bytes, header + 4 + 4 * lie.field, lie.value);
+        expectLoadError(write("lie.vdb", bytes), "has a corrupt Blosc block");
+    }
+}
+
+TEST_F(VdbReader, CorruptZipBlocksAreRefusedInOneLine) {
+    // zlib's uncompress is bounded by the block and the values: a corrupt block is OpenVDB's error.
+    const std::string valid = levelSetFile(path("zip.vdb"), openvdb::io::COMPRESS_ZIP, true);
+    const std::size_t count = lastBlockCount(valid);
+    ASSERT_NE(count, 0u);
+    EXPECT_NO_THROW(loadField(write("valid.vdb", valid)));
+    std::size_t refused = 0;
+    for (std::size_t at = count + 8; at < valid.size(); at += 3) {
+        std::string bytes = valid;
+        bytes[at] = char(~bytes[at]);
+        const std::string file = write("zip-mutant.vdb", bytes);
+        try {
+            loadField(file);
+        } catch (const Error& e) {
+            ++refused;
+            EXPECT_EQ(std::string(e.what()).rfind(file, 0), 0u) << e.what();
+            EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_GT(refused, 0u);
 }
 
 TEST_F(VdbReader, OneByteMutantsAreLoadedOrRefusedInOneLine) {

@@ -5,15 +5,24 @@
 #include "sdfgen/mesh.hpp"
 
 #include "support/checks.hpp"
+#if SDFGEN_HAS_ASSIMP
+#include "assimp/gltf_guard.hpp"
+#endif
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstring>
+#include <fcntl.h>
+#include <fstream>
 #include <random>
 #include <string>
+#include <sys/stat.h>
+#include <thread>
+#include <utility>
 #include <sys/resource.h>
 #include <unistd.h>
 #include <vector>
@@ -569,9 +578,59 @@ TEST_F(MeshReaders, GltfUnderAnotherNameIsCheckedAllTheSame) {
         EXPECT_CONTAINS(loadError("model/bin-" + std::string(name), glb(gltfTriangle(2), triangleBytes(4000000000u))),
                         "buffer 0 has a uri, but in a GLB file buffer 0 is read from the binary chunk");
     }
+    // Nor does a .xml reach Assimp's importers of other names by content (an OFF claiming 4.6e11
+    // vertices made Assimp allocate 46 GB; OpenGEX tokens made its parser read past its buffer).
+    for (const char* content : {"OFF\n3 455555555555 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "ply\nformat ascii 1.0\nelement vertex 4000000000\n",
+                                "indexarray{\"version\""}) {
+        SCOPED_TRACE(content);
+        EXPECT_CONTAINS(loadError("model/own.xml", content), "cannot read the file");
+    }
     // Where Assimp does read it as glTF (JSON named .xml; it takes GLB by its name only), the guarded glTF is read.
     EXPECT_EQ(loadMesh(write("model/good.xml", gltfWithBufferFile("inside.bin"))).triangleCount(), 1u);
 }
+
+TEST_F(MeshReaders, GltfIsReadOnceAndAssimpParsesTheBytesChecked) {
+    // A FIFO yields its bytes once. Told apart as glTF by name or content, checked and parsed by
+    // Assimp from that one reading: a file changed or swapped after the check is not read again.
+    struct sigaction ignore {}, before {};
+    ignore.sa_handler = SIG_IGN;
+    sigaction(SIGPIPE, &ignore, &before); // a reader that gives up must fail the test, not end it
+    for (const auto& file : {std::pair<std::string, std::string>{"pipe.gltf", gltfTriangle(2)}, {"pipe.xml", gltfTriangle(2)},
+                             {"pipe.glb", glbTriangle()}}) {
+        SCOPED_TRACE(file.first);
+        const std::string fifo = (dir_ / file.first).string();
+        ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+        std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << file.second; });
+        std::string problem;
+        try {
+            EXPECT_EQ(loadMesh(fifo).triangleCount(), 1u);
+        } catch (const Error& e) {
+            problem = e.what();
+        }
+        const int unblock = open(fifo.c_str(), O_RDONLY | O_NONBLOCK); // for a writer still waiting for a reader
+        writer.join();
+        close(unblock);
+        EXPECT_EQ(problem, "");
+    }
+    sigaction(SIGPIPE, &before, nullptr);
+}
+
+#if SDFGEN_HAS_ASSIMP
+// The guard itself (the Assimp plug-in's code, built into the tests too): what it hands Assimp in
+// place of the files is what it checked, not what the files hold afterwards.
+TEST_F(MeshReaders, GltfGuardHandsAssimpTheBytesItChecked) {
+    const std::string checked = gltfWithBufferFile("b.bin");
+    const std::string path = write("t.gltf", "not read: the guard is given the bytes");
+    write("b.bin", triangleBytes());
+    const GltfCheck check = guardGltf(path, checked, false);
+    write("b.bin", triangleBytes(4000000000u)); // changed after the check
+    EXPECT_EQ(check.bytes, checked);
+    ASSERT_EQ(check.externalFiles.size(), 1u);
+    EXPECT_EQ(check.externalFiles.begin()->first, (dir_ / "b.bin").string());
+    EXPECT_EQ(check.externalFiles.begin()->second, triangleBytes());
+    EXPECT_CONTAINS(errorFrom([&] { guardGltf(path, checked, false); }), "refers to vertex 4000000000 but it has 3 vertices");
+}
+#endif
 
 TEST_F(MeshReaders, GltfIndicesAreCheckedAsAssimpReadsThem) {
     const auto replace = [](std::string& text, const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };

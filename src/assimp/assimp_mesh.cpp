@@ -8,10 +8,12 @@
 // such files load Assimp.
 #include "gltf_guard.hpp"
 #include "core/mesh/assimp_reader.hpp"
+#include "core/mesh/input_file.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
 #include "core/runtime/file_extension.hpp"
 
+#include <assimp/BaseImporter.h>
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/MemoryIOWrapper.h>
@@ -25,9 +27,12 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <map>
 #include <memory>
+#include <set>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace sdfgen {
 
@@ -73,51 +78,33 @@ void collect(const aiScene& scene, std::vector<glm::vec3>& positions, std::vecto
     }
 }
 
-// An external buffer file the glTF guard opened and checked, read by Assimp.
-class CheckedFileStream : public Assimp::IOStream {
+// Assimp's file access: the file itself from the bytes read once (a file changed or swapped after
+// sdfgen looked at it is not read) and, for a glTF, only the external buffers the guard checked,
+// from the bytes it checked; for other formats, other files from the disk.
+class ReadOnceIOSystem : public Assimp::DefaultIOSystem {
 public:
-    explicit CheckedFileStream(std::shared_ptr<const RandomAccessFile> file) : file_(std::move(file)) {}
+    ReadOnceIOSystem(std::string path, std::string bytes) : path_(std::move(path)), bytes_(std::move(bytes)) {}
+    ReadOnceIOSystem(std::string path, GltfCheck gltf)
+        : path_(std::move(path)), bytes_(std::move(gltf.bytes)), gltfExternalFiles_(std::move(gltf.externalFiles)), gltf_(true) {}
 
-    std::size_t Read(void* buffer, std::size_t size, std::size_t count) override {
-        if (size == 0 || count == 0) return 0;
-        const std::size_t read = file_->readSome(position_, buffer, size * std::min(count, (file_->size() - position_) / size));
-        position_ += read;
-        return read / size;
+    bool Exists(const char* file) const override {
+        if (file == path_) return true;
+        return gltf_ ? gltfExternalFiles_.count(file) != 0 : DefaultIOSystem::Exists(file);
     }
-    std::size_t Write(const void*, std::size_t, std::size_t) override { return 0; }
-    aiReturn Seek(std::size_t offset, aiOrigin origin) override {
-        const std::uint64_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? position_ : file_->size();
-        if (offset > file_->size() - base) return aiReturn_FAILURE;
-        position_ = base + offset;
-        return aiReturn_SUCCESS;
-    }
-    std::size_t Tell() const override { return std::size_t(position_); }
-    std::size_t FileSize() const override { return std::size_t(file_->size()); }
-    void Flush() override {}
-
-private:
-    std::shared_ptr<const RandomAccessFile> file_;
-    std::uint64_t position_ = 0;
-};
-
-// Assimp's file access for a glTF: the file itself (from memory when the guard rewrote it) and
-// the external buffers the guard checked, nothing else.
-class GuardedGltfIOSystem : public Assimp::DefaultIOSystem {
-public:
-    GuardedGltfIOSystem(std::string path, GltfCheck check) : path_(std::move(path)), check_(std::move(check)) {}
-
     Assimp::IOStream* Open(const char* file, const char* mode) override {
-        if (file == path_) {
-            if (check_.replacement.empty()) return DefaultIOSystem::Open(file, mode);
-            return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(check_.replacement.data()), check_.replacement.size());
-        }
-        const auto checked = check_.externalFiles.find(file);
-        return checked == check_.externalFiles.end() ? nullptr : new CheckedFileStream(checked->second);
+        if (file == path_) return memoryStream(bytes_);
+        if (!gltf_) return DefaultIOSystem::Open(file, mode);
+        const auto checked = gltfExternalFiles_.find(file);
+        return checked == gltfExternalFiles_.end() ? nullptr : memoryStream(checked->second);
     }
 
 private:
-    std::string path_;
-    GltfCheck check_;
+    static Assimp::IOStream* memoryStream(const std::string& bytes) {
+        return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    }
+    std::string path_, bytes_;
+    std::map<std::string, std::string> gltfExternalFiles_;
+    bool gltf_ = false;
 };
 
 std::string firstLine(std::string text) {
@@ -132,17 +119,38 @@ std::string firstLine(std::string text) {
 // too: a GLB by its magic, JSON by its first character after a byte-order mark and white space
 // (no other format Assimp reads starts with '{').
 enum class GltfKind { None, Json, Binary };
-GltfKind gltfKind(const std::string& path, const std::string& extension) {
+GltfKind gltfKind(std::string_view bytes, const std::string& extension) {
     if (extension == ".gltf") return GltfKind::Json;
     if (extension == ".glb") return GltfKind::Binary;
-    char head[256] = {};
-    std::ifstream file(path, std::ios::binary);
-    file.read(head, sizeof head);
-    const std::string_view start(head, std::size_t(std::max<std::streamsize>(file.gcount(), 0)));
+    const std::string_view start = bytes.substr(0, 256);
     if (start.substr(0, 4) == "glTF") return GltfKind::Binary;
     std::size_t first = start.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
     while (first < start.size() && std::strchr(" \t\r\n", start[first]) && start[first] != '\0') ++first;
     return first < start.size() && start[first] == '{' ? GltfKind::Json : GltfKind::None;
+}
+
+// Assimp picks an importer by the name's extension, but when none of the importers claiming it
+// takes the file (a .xml), by content among all of them: a file named .xml reached importers no
+// name would (its OFF importer allocated 46 GB for an OFF claiming 4.6e11 vertices, its OpenGEX
+// parser read past its buffer). So only the importers claiming the name's extension stay, and
+// the glTF ones for a file the glTF guard checked.
+void keepOnlyImportersFor(Assimp::Importer& importer, const std::string& path, bool gltf) {
+    std::string name = path;
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    auto endsWith = [&](const std::string& tail) { return name.size() >= tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0; };
+    std::vector<Assimp::BaseImporter*> others;
+    for (std::size_t i = 0; i < importer.GetImporterCount(); ++i) {
+        Assimp::BaseImporter* candidate = importer.GetImporter(i);
+        std::set<std::string> extensions; // lower case, without the dot; some with dots inside (mesh.xml)
+        candidate->GetExtensionList(extensions);
+        const bool keep = std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
+            return endsWith("." + extension) || (gltf && (extension == "gltf" || extension == "glb"));
+        });
+        if (!keep) others.push_back(candidate);
+    }
+    for (Assimp::BaseImporter* other : others) {
+        if (importer.UnregisterLoader(other) == aiReturn_SUCCESS) delete other; // unregistered, it is ours to free
+    }
 }
 
 Mesh loadWithAssimp(const std::string& path) {
@@ -155,11 +163,17 @@ Mesh loadWithAssimp(const std::string& path) {
     const std::string extension = lowerExtension(path);
     bool gltfCounted = false;
     std::uint64_t gltfTriangles = 0;
-    if (const GltfKind kind = gltfKind(path, extension); kind != GltfKind::None) {
-        GltfCheck gltf = guardGltf(path, kind == GltfKind::Binary);
+    // Read once: what is told apart as glTF or not, and checked, is what Assimp reads.
+    std::string bytes = readInputFile(path, InputKind::Binary);
+    if (const GltfKind kind = gltfKind(bytes, extension); kind != GltfKind::None) {
+        GltfCheck gltf = guardGltf(path, std::move(bytes), kind == GltfKind::Binary);
         gltfCounted = gltf.counted;
         gltfTriangles = gltf.triangles;
-        importer.SetIOHandler(new GuardedGltfIOSystem(path, std::move(gltf)));
+        importer.SetIOHandler(new ReadOnceIOSystem(path, std::move(gltf)));
+        keepOnlyImportersFor(importer, path, true);
+    } else {
+        importer.SetIOHandler(new ReadOnceIOSystem(path, std::move(bytes)));
+        keepOnlyImportersFor(importer, path, false);
     }
     const aiScene* scene = importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
                                                        aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure);

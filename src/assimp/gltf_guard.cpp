@@ -14,10 +14,39 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <utility>
 
 namespace sdfgen {
+
+namespace {
+
+// A regular file opened once and read at offsets: an external buffer is confined by where the
+// opened file is, then read through it.
+class RandomAccessFile {
+public:
+    // `name` starts every error message.
+    RandomAccessFile(const std::string& path, const std::string& name);
+    ~RandomAccessFile();
+    RandomAccessFile(const RandomAccessFile&) = delete;
+    RandomAccessFile& operator=(const RandomAccessFile&) = delete;
+
+    std::uint64_t size() const { return size_; }
+    // Throws Error("NAME: ...") when [offset, offset + length) is not in the file.
+    std::string read(std::uint64_t offset, std::uint64_t length) const;
+    // Where the open file is, symbolic links resolved (as opened, not as named).
+    std::string realPath() const;
+
+private:
+    // The bytes read, fewer than `length` only at the end of the file.
+    std::size_t readSome(std::uint64_t offset, void* into, std::size_t length) const;
+
+    std::string name_;
+    int fd_ = -1;
+    std::uint64_t size_ = 0;
+};
 
 RandomAccessFile::RandomAccessFile(const std::string& path, const std::string& name) : name_(name) {
     fd_ = open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK); // a FIFO must not block
@@ -57,8 +86,6 @@ std::string RandomAccessFile::realPath() const {
     if (error) throw Error(name_ + ": cannot tell where the opened file is (" + error.message() + ")");
     return opened.string();
 }
-
-namespace {
 
 using nlohmann::json;
 
@@ -129,10 +156,10 @@ std::string decodeBase64(std::string_view text) {
 
 class GltfGuard {
 public:
-    GltfGuard(const std::string& path, bool binary) : path_(path), file_(path, path) {
+    GltfGuard(const std::string& path, std::string bytes, bool binary) : path_(path), file_(std::move(bytes)) {
         if (binary) readContainer();
         else {
-            json_ = readInputFile(path, InputKind::Binary);
+            json_ = file_;
             // Skipped, and Assimp (which would refuse it) reads the JSON without it.
             if (withoutByteOrderMark(json_).size() != json_.size()) {
                 json_.erase(0, 3);
@@ -160,8 +187,8 @@ public:
         checkAccessors();
         checkMeshes();
         checkNodes();
-        if (bounded_ || byteOrderMark_) result_.replacement = rewritten();
-        return result_;
+        result_.bytes = bounded_ || byteOrderMark_ ? rewritten() : std::move(file_);
+        return std::move(result_);
     }
 
 private:
@@ -200,10 +227,16 @@ private:
         return std::size_t(i);
     }
 
+    // The bytes [offset, offset + length) of the file.
+    std::string fileBytes(std::uint64_t offset, std::uint64_t length) const {
+        if (offset > file_.size() || length > file_.size() - offset) fail("the file ends before byte " + std::to_string(offset + length));
+        return file_.substr(std::size_t(offset), std::size_t(length));
+    }
+
     // The GLB container: 12-byte header, a JSON chunk, an optional binary chunk.
     void readContainer() {
         if (file_.size() < 20) fail("too short for a binary glTF (GLB) file");
-        const std::string header = file_.read(0, 20);
+        const std::string header = fileBytes(0, 20);
         if (header.compare(0, 4, "glTF") != 0) fail("not a binary glTF (GLB) file: it does not start with 'glTF'");
         if (littleEndian32(header, 4) != 2) fail("only binary glTF version 2 is read, not version " + std::to_string(littleEndian32(header, 4)));
         const std::uint64_t length = littleEndian32(header, 8);
@@ -211,12 +244,12 @@ private:
         const std::uint64_t jsonLength = littleEndian32(header, 12);
         if (littleEndian32(header, 16) != 0x4E4F534A) fail("the first chunk is not JSON");
         if (jsonLength > length - 20) fail("the JSON chunk declares " + std::to_string(jsonLength) + " bytes but only " + std::to_string(length - 20) + " follow it");
-        json_ = file_.read(20, jsonLength);
+        json_ = fileBytes(20, jsonLength);
         // Assimp looks for the binary chunk after the JSON chunk padded to 4 bytes.
         const std::uint64_t at = 20 + (jsonLength + 3) / 4 * 4;
         binaryOffset_ = std::min(at, length);
         if (at + 8 <= length) {
-            const std::string chunk = file_.read(at, 8);
+            const std::string chunk = fileBytes(at, 8);
             const std::uint64_t chunkLength = littleEndian32(chunk, 0);
             if (chunkLength > length - at - 8) fail("the binary chunk declares " + std::to_string(chunkLength) + " bytes but only " + std::to_string(length - at - 8) + " follow it");
             if (littleEndian32(chunk, 4) == 0x004E4942) {
@@ -231,6 +264,8 @@ private:
         std::uint64_t used = 0;       // the end of its last view
         std::string inline_;          // decoded data URI
         std::shared_ptr<const RandomAccessFile> file; // external file, or none
+        std::string opened;                           // its path as Assimp opens it
+        const std::string* data = nullptr;            // its bytes as checked, when external
         bool glbChunk = false;
     };
 
@@ -269,7 +304,7 @@ private:
                         fail(what + " declares " + std::to_string(buffer.length) + " bytes, more than the input limit of " +
                              std::to_string(maxInputBytes() >> 20) + " MiB (set SDFGEN_MAX_INPUT_MB to raise it)");
                     }
-                    result_.externalFiles[opened] = buffer.file;
+                    buffer.opened = opened;
                 }
             }
             buffers_.push_back(std::move(buffer));
@@ -357,11 +392,18 @@ private:
             views_.push_back(v);
         }
         for (std::size_t i = 0; i < buffers_.size(); ++i) {
+            Buffer& b = buffers_[i];
+            if (!b.file) continue;
             // Assimp reads an external buffer's whole byteLength: give it the bytes the views use.
-            if (buffers_[i].file && buffers_[i].used < buffers_[i].length) {
-                doc_["buffers"][i]["byteLength"] = buffers_[i].used;
+            if (b.used < b.length) {
+                doc_["buffers"][i]["byteLength"] = b.used;
                 bounded_ = true;
             }
+            // Read here, and again only for a buffer of the same file that reaches further: the
+            // bytes the checks below read are the ones Assimp is given.
+            std::string& data = result_.externalFiles[b.opened];
+            if (b.used > data.size()) data = b.file->read(0, b.used);
+            b.data = &data;
         }
     }
 
@@ -460,8 +502,8 @@ private:
     // The bytes [offset, offset + length) of a buffer (checked to lie in it by the view checks).
     std::string bufferBytes(std::size_t buffer, std::uint64_t offset, std::uint64_t length) const {
         const Buffer& b = buffers_[buffer];
-        if (b.glbChunk) return file_.read(binaryStart_ + offset, length);
-        if (b.file) return b.file->read(offset, length);
+        if (b.glbChunk) return fileBytes(binaryStart_ + offset, length);
+        if (b.data) return b.data->substr(std::size_t(offset), std::size_t(length));
         return b.inline_.substr(std::size_t(offset), std::size_t(length));
     }
 
@@ -630,8 +672,8 @@ private:
         std::string text = doc_.dump();
         if (binaryOffset_ == 0) return text;
         while (text.size() % 4 != 0) text += ' ';
-        const std::string rest = file_.read(binaryOffset_, file_.size() - binaryOffset_);
-        std::string out = file_.read(0, 12);
+        const std::string rest = fileBytes(binaryOffset_, file_.size() - binaryOffset_);
+        std::string out = fileBytes(0, 12);
         const auto put32 = [&](std::size_t at, std::uint32_t v) { std::memcpy(out.data() + at, &v, 4); };
         put32(8, std::uint32_t(12 + 8 + text.size() + rest.size()));
         out.append(8, '\0');
@@ -642,7 +684,7 @@ private:
 
     static constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
     const std::string& path_;
-    RandomAccessFile file_;
+    std::string file_; // the whole file, as read once
     std::string json_;
     json doc_;
     std::uint64_t binaryOffset_ = 0, binaryStart_ = 0, binaryLength_ = 0;
@@ -658,6 +700,6 @@ private:
 
 } // namespace
 
-GltfCheck guardGltf(const std::string& path, bool binary) { return GltfGuard(path, binary).check(); }
+GltfCheck guardGltf(const std::string& path, std::string bytes, bool binary) { return GltfGuard(path, std::move(bytes), binary).check(); }
 
 } // namespace sdfgen

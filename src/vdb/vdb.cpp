@@ -258,12 +258,30 @@ private:
             if (stored <= 0 && std::uint64_t(-(stored + 1)) + 1 != bytes) { // -stored, without overflow
                 fail("not a readable OpenVDB file: " + what + " has a raw block of " + std::to_string(stored) + " bytes for " + std::to_string(bytes));
             }
-            skip(stored <= 0 ? bytes : std::uint64_t(stored), what);
+            // io::readData decompresses with Blosc when both flags are set. zlib's uncompress is
+            // bounded by the block's byte count and the values' size, so a zip block needs no more.
+            if (stored > 0 && (compression & openvdb::io::COMPRESS_BLOSC)) bloscBlock(std::uint64_t(stored), bytes, what);
+            else skip(stored <= 0 ? bytes : std::uint64_t(stored), what);
         } else {
             skip(bytes, what);
         }
     }
 
+    // A Blosc block of `stored` bytes that OpenVDB decompresses into `bytes`: libblosc reads as
+    // many bytes as its 16-byte header claims (cbytes), whatever OpenVDB read from the file, so
+    // the header must claim the block's own size (blosc_cbuffer_validate's rule, checked here
+    // without linking libblosc; libblosc checks the rest of the block against that size) and the
+    // values' size, as OpenVDB's writer makes them.
+    void bloscBlock(std::uint64_t stored, std::uint64_t bytes, const std::string& what) {
+        need(stored, what);
+        std::uint32_t header[4] = {}; // 4 version bytes, then nbytes, blocksize, cbytes (little endian)
+        if (stored >= sizeof header) in_.read(reinterpret_cast<char*>(header), sizeof header);
+        if (stored < sizeof header || header[3] != stored || header[1] != bytes) {
+            fail("not a readable OpenVDB file: " + what + " has a corrupt Blosc block (" + std::to_string(stored) + " bytes for " +
+                 std::to_string(bytes) + ", its header claims " + std::to_string(header[3]) + " for " + std::to_string(header[1]) + ")");
+        }
+        seek(pos_ + stored);
+    }
 
     // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes; what
     // tells a band field (sdfgen_band, sdfgen_dims, the class) into `grid` when given.

@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <unistd.h>
 #include <vector>
 
 namespace sdfgen {
@@ -87,7 +87,8 @@ Mesh readMesh(const std::string& path) {
     if (reader != std::end(kMeshReaders)) {
         mesh = reader->load(path);
     } else {
-        if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+        // Whether it can be read, without opening it (a FIFO opened here would be swallowed).
+        if (access(path.c_str(), R_OK) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
         if (!SDFGEN_HAS_ASSIMP) {
             std::string own;
             for (const MeshReader& r : kMeshReaders) own += (own.empty() ? "" : ", ") + std::string(r.extension);
