@@ -376,8 +376,32 @@ TEST(WindingSign, ExpansionDecidesSheetsAsInsideDoes) {
     EXPECT_GT(stats.exactFanSamples, grid.sampleCount() / 200);
 }
 
-// Point queries run the same steps per point as the bake's samples: at the samples' positions
-// they give the baked field, bit for bit, on meshes whose signs need the fans.
+// The distance from q to the nearest triangle of `mesh`, in double (brute force).
+double distanceToMesh(const Mesh& mesh, const glm::dvec3& q) {
+    double distance = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+        distance = std::min(distance, glm::length(closestPointOnTriangle(q, a, b, c).point - q));
+    }
+    return distance;
+}
+
+// Signed point queries at the samples of the winding bake at `res` (the baked values, as
+// Model::query gives them) and the baked field.
+std::pair<std::vector<float>, Field> queriedAndBaked(const Mesh& mesh, int res) {
+    const Model model(mesh);
+    BakeSettings settings;
+    settings.res = res;
+    settings.sign = SignMethod::Winding;
+    Field field = model.bake(settings).field;
+    const std::vector<double> xyz = test::samplePositions(field.grid);
+    std::vector<float> values(field.grid.sampleCount());
+    PointQueryOutputs out;
+    out.signedDistance = values.data();
+    model.query(xyz.data(), field.grid.sampleCount(), out, SignMethod::Winding);
+    return {std::move(values), std::move(field)};
+}
+
 // Small parts on an integer lattice (tetrahedra with missing, flipped, doubled and collapsed faces),
 // so that samples often lie exactly on a fan (loops of 3-4 edges whose fan triangles pass through
 // lattice fractions): there the fan's solid angle jumps, and the side it is taken on must be the
@@ -434,12 +458,7 @@ TEST(WindingSign, SamplesOnFansTakeTheSideTheirRowsCounted) {
                 for (int i = 0; i < grid.dims.x; ++i) {
                     const glm::dvec3 q = localPosition(mesh, grid, i, j, k);
                     const double w = windingNumber(mesh, q);
-                    double distance = std::numeric_limits<double>::infinity();
-                    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-                        const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
-                        distance = std::min(distance, glm::length(closestPointOnTriangle(q, a, b, c).point - q));
-                    }
-                    if (std::fabs(std::fabs(w) - 0.5) < 1e-9 || distance < 1e-9) continue; // a tie, or on the mesh
+                    if (std::fabs(std::fabs(w) - 0.5) < 1e-9 || distanceToMesh(mesh, q) < 1e-9) continue; // a tie, or on the mesh
                     ++compared;
                     for (const Cap& cap : meshCaps.caps()) {
                         for (std::size_t v = 0; v < cap.loop.size(); ++v) {
@@ -487,16 +506,7 @@ TEST(WindingSign, CountsBehindEqualCountsAheadWhereTheFansCloseTheMesh) {
         }
         setSimdPath(original);
         if (n % 10 == 0) { // and point queries, through Model, equal the baked field
-            const Model model(mesh);
-            BakeSettings settings;
-            settings.res = 12;
-            settings.sign = SignMethod::Winding;
-            const Field field = model.bake(settings).field;
-            const std::vector<double> xyz = test::samplePositions(field.grid);
-            std::vector<float> values(field.grid.sampleCount());
-            PointQueryOutputs out;
-            out.signedDistance = values.data();
-            model.query(xyz.data(), field.grid.sampleCount(), out, SignMethod::Winding);
+            const auto [values, field] = queriedAndBaked(mesh, 12);
             for (std::size_t s = 0; s < values.size(); ++s) ASSERT_EQ(values[s], field.values[s]) << "mesh " << n << ", sample " << s;
         }
     }
@@ -523,45 +533,23 @@ TEST(WindingSign, BoundsOutliveANodeThatAllButTouchesItsBox) {
             for (int i = 0; i < grid.dims.x; ++i) {
                 const glm::dvec3 q = localPosition(mesh, grid, i, j, k);
                 const double w = windingNumber(mesh, q);
-                double distance = std::numeric_limits<double>::infinity();
-                for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-                    const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
-                    distance = std::min(distance, glm::length(closestPointOnTriangle(q, a, b, c).point - q));
-                }
-                if (std::fabs(std::fabs(w) - 0.5) < 1e-9 || distance < 1e-9) continue; // a tie, or on the mesh
+                if (std::fabs(std::fabs(w) - 0.5) < 1e-9 || distanceToMesh(mesh, q) < 1e-9) continue; // a tie, or on the mesh
                 const int ahead = crossingsAhead(mesh, tree, caps, q);
                 ASSERT_EQ(caps.inside(q, ahead), std::fabs(w) > 0.5) << i << "," << j << "," << k << ": w = " << w;
                 ASSERT_EQ(caps.insideSooner(q, ahead), std::fabs(w) > 0.5) << i << "," << j << "," << k << ": w = " << w;
                 ++compared;
             }
     EXPECT_GT(compared, 100u);
-    const Model model(mesh);
-    BakeSettings settings;
-    settings.res = 6;
-    settings.sign = SignMethod::Winding;
-    const Field field = model.bake(settings).field;
-    const std::vector<double> xyz = test::samplePositions(field.grid);
-    std::vector<float> values(field.grid.sampleCount());
-    PointQueryOutputs out;
-    out.signedDistance = values.data();
-    model.query(xyz.data(), field.grid.sampleCount(), out, SignMethod::Winding);
+    const auto [values, field] = queriedAndBaked(mesh, 6);
     for (std::size_t n = 0; n < values.size(); ++n) ASSERT_EQ(values[n], field.values[n]) << n;
 }
 
+// Point queries run the same steps per point as the bake's samples: at the samples' positions
+// they give the baked field, bit for bit, on meshes whose signs need the fans.
 TEST(WindingSign, PointQueriesEqualTheBakedField) {
     for (const Mesh& mesh : {withHoles(test::torus(1.0f, 0.4f, 32, 16), 5), heightfield(30, true)}) {
         SCOPED_TRACE(mesh.source);
-        const Model model(mesh);
-        BakeSettings settings;
-        settings.res = 20;
-        settings.sign = SignMethod::Winding;
-        const Field field = model.bake(settings).field;
-        const Grid& grid = field.grid;
-        const std::vector<double> xyz = test::samplePositions(grid);
-        std::vector<float> values(grid.sampleCount());
-        PointQueryOutputs out;
-        out.signedDistance = values.data();
-        model.query(xyz.data(), grid.sampleCount(), out, SignMethod::Winding);
+        const auto [values, field] = queriedAndBaked(mesh, 20);
         std::size_t inside = 0;
         for (std::size_t n = 0; n < values.size(); ++n) {
             ASSERT_EQ(values[n], field.values[n]) << n;

@@ -130,6 +130,12 @@ std::string autoReason(const MeshCheck& c) {
     return "winding: the mesh has " + problems;
 }
 
+// A sign's atPoint: its PointSide made for the mesh.
+template <class Side>
+std::unique_ptr<PointSide> makePointSide(const PointContext& context) {
+    return std::make_unique<Side>(context);
+}
+
 SignMethodPlugin autoEntry() {
     SignMethodPlugin sign(SignMethod::Auto, "auto", "pseudonormal when the mesh check proves it right, else winding");
     sign.settles = true;
@@ -143,7 +149,7 @@ SignMethodPlugin windingEntry() {
     SignMethodPlugin sign(SignMethod::Winding, "winding", "|generalized winding number| > 1/2, computed exactly");
     sign.dense = windingSign;
     sign.band = BandSigning::Sides;
-    sign.atPoint = [](const PointContext& context) -> std::unique_ptr<PointSide> { return std::make_unique<WindingPointSide>(context); };
+    sign.atPoint = makePointSide<WindingPointSide>;
     sign.onDevice = windingSignOnDevice;
     sign.readsTopology = true;
     sign.memory = windingMemory;
@@ -156,7 +162,7 @@ SignMethodPlugin pseudonormalEntry() {
     sign.dense = pseudonormalSign;
     // The exact method signs the band's bricks by it as it measures them.
     sign.band = BandSigning::WhereProven;
-    sign.atPoint = [](const PointContext& context) -> std::unique_ptr<PointSide> { return std::make_unique<PseudonormalPointSide>(context); };
+    sign.atPoint = makePointSide<PseudonormalPointSide>;
     sign.readsWideTree = true;
     sign.readsTopology = true;
     sign.memory = pseudonormalMemory;
