@@ -11,6 +11,9 @@
 # with a non-zero exit. Long runs: `nice tests/fuzz/run.sh 2h` (two hours each, one after another).
 # FUZZ_TIMEOUT=SECONDS (default 10) is libFuzzer's per-input wall-clock limit: raise it for runs at a
 # low priority on a busy machine, where an input can wait longer than that for a core.
+# FUZZ_SEED=N fixes libFuzzer's random seed, so that a short run tries the same inputs each time
+# (test.sh's smoke runs: a finding is then one to reproduce, not a roll of the dice); long runs
+# leave it unset and explore afresh.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 all_harnesses=(obj ply mesh field npy npz nrrd vdb bake)
@@ -49,7 +52,7 @@ fuzz() {
   # allocate, what they cannot hold).
   ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS="suppressions=$root/tests/lsan.supp" \
     "$build/tests/fuzz/fuzz_$h" "$corpus" "$root/tests/fuzz/corpus/$h" -max_total_time="$seconds" -dict="$dict" \
-    -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout="${FUZZ_TIMEOUT:-10}" -max_len=$max_len -artifact_prefix="$crashes/" -print_final_stats=1 \
+    -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout="${FUZZ_TIMEOUT:-10}" ${FUZZ_SEED:+-seed="$FUZZ_SEED"} -max_len=$max_len -artifact_prefix="$crashes/" -print_final_stats=1 \
     >"$log" 2>&1 || { tail -n 60 "$log"; echo "fuzz_$h found a problem: see $crashes"; return 1; }
   grep -aE '^(Done|stat::(number_of_executed_units|new_units_added|peak_rss_mb))' "$log" | sed "s/^/fuzz_$h: /"
 }
