@@ -15,6 +15,7 @@
 #include "sdfgen/sparse_field.hpp"
 #include "render/camera.hpp"
 #include "render/scene.hpp"
+#include "render/views.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <cstdint>
