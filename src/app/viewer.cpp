@@ -456,7 +456,8 @@ void Viewer::probeAt(const FrameInput& input) {
     scene_.markers.clear();
     probeValid_ = false;
     if (!probeOn_ || ImGui::GetIO().WantCaptureMouse || input.x < panelWidth_ || (!sceneMesh_ && !field_)) return;
-    if (!probeModel_ && sceneMesh_) probeModel_ = std::make_unique<Model>(Mesh(*sceneMesh_));
+    // The scene's model, unless a bake is building it just now (the probe then reads the field alone).
+    const std::shared_ptr<const Model> model = sceneModel_ ? sceneModel_->getWithoutWaiting({}) : nullptr;
     const glm::ivec2 fb = context_.framebufferSize();
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     const glm::ivec2 pixel(int(input.x * fb.x / std::max(display.x, 1.0f)), int(input.y * fb.y / std::max(display.y, 1.0f)));
@@ -469,7 +470,7 @@ void Viewer::probeAt(const FrameInput& input) {
     } else if (scene_.view<render::GridView>().enabled && std::abs(drawn.y - scene_.gridHeight()) < 1e-4f * camera_.distance) {
         return; // pixels of the grid (the plane under the model, within depth precision) are not probed
     }
-    probe_ = probe(point, field_ ? &*field_ : nullptr, probeModel_.get(), band_.get());
+    probe_ = probe(point, field_ ? &*field_ : nullptr, model.get(), band_.get());
     probeValid_ = probeKept_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
     const float r = camera_.sceneRadius * 0.02f;
