@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sdfgen::render {
@@ -59,11 +60,15 @@ public:
     const std::vector<std::unique_ptr<View>>& views() const { return views_; }
     // The registered view of class V (render/views.hpp).
     template <class V>
-    V& view() const {
+    const V& view() const {
         for (const std::unique_ptr<View>& v : views_) {
-            if (V* found = dynamic_cast<V*>(v.get())) return *found;
+            if (const V* found = dynamic_cast<const V*>(v.get())) return *found;
         }
         throw std::logic_error("a view type that is not registered");
+    }
+    template <class V>
+    V& view() {
+        return const_cast<V&>(std::as_const(*this).template view<V>());
     }
     // Shows the views flagged in `shown` (one flag per viewTypes() entry: parseViewList), hides the others.
     void showOnly(const std::vector<bool>& shown);

@@ -404,7 +404,7 @@ click Ray-marched
 # crosses to draw here (the last comparison found none; its drawing is checked above).
 shoot
 previous=$((shots - 1))
-views_of() { grep "^screenshot $1:" "$work/log" | tr ' ' '\n' | grep -E '^[^=]+=[01]$'; }
+views_of() { grep "^screenshot $1:" "$work/log" | tr ' ' '\n' | grep -E '^[^=]+=[01]$' | grep -v '^cut='; }
 registered=$(views_of "$previous" | cut -d= -f1 | tr '\n' ' ')
 [ "$(echo $registered | wc -w)" -ge 8 ] || fail "the screenshot line lists too few views: $registered"
 for name in $registered; do
