@@ -14,7 +14,8 @@
     VIEW(kBoxView)         \
     VIEW(kGridView)        \
     VIEW(kVolumeView)      \
-    VIEW(kSignErrorsView)
+    VIEW(kSignErrorsView)  \
+    // the list's end: each line above ends with a backslash
 
 namespace sdfgen::render {
 

@@ -5,7 +5,7 @@
 //
 // Reference images: tests/render/reference/<model>_<view>.png. To (re)create them after an
 // intended change in how a view looks, run
-//     SDFGEN_UPDATE_REFERENCES=1 build/sdfgen_render_tests
+//     SDFGEN_UPDATE_REFERENCES=1 build/tests/sdfgen_render_tests
 // and look at the images before committing them. A failing comparison writes the image it got
 // beside the test binary (render-actual/), to compare by eye.
 #include "sdfgen/error.hpp"
