@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
@@ -90,6 +92,34 @@ TEST(CompareFields, ListsWhereTheSignsDiffer) {
     const FieldDifference banded = compareFields(a, b, 100.0, &where);
     EXPECT_EQ(banded.signDifferences, 0u);
     EXPECT_TRUE(where.empty());
+}
+
+// Progress runs up to 1 in steps of at most a million samples, and a cancel raised from it stops
+// the comparison with Cancelled; the result does not depend on the control.
+TEST(CompareFields, ReportsProgressAndHonoursCancel) {
+    const Field a = rampField({128, 128, 160}); // 2.6 million samples: three blocks
+    Field b = a;
+    for (std::size_t i = 0; i < b.values.size(); i += 1000) b.values[i] = -b.values[i];
+    std::vector<double> reports;
+    RunControl control;
+    control.progress = [&](double fraction) { reports.push_back(fraction); };
+    std::vector<std::size_t> where, plainWhere;
+    const FieldDifference d = compareFields(a, b, 0.0, &where, control);
+    const FieldDifference plain = compareFields(a, b, 0.0, &plainWhere);
+    EXPECT_EQ(d.signDifferences, plain.signDifferences);
+    EXPECT_EQ(d.maxAbs, plain.maxAbs);
+    EXPECT_EQ(d.meanAbs, plain.meanAbs);
+    EXPECT_EQ(where, plainWhere);
+    ASSERT_GE(reports.size(), 3u);
+    EXPECT_TRUE(std::is_sorted(reports.begin(), reports.end()));
+    EXPECT_EQ(reports.back(), 1.0);
+
+    std::atomic<bool> cancel{false};
+    control.cancel = &cancel;
+    control.progress = [&](double fraction) {
+        if (fraction < 1.0) cancel = true;
+    };
+    EXPECT_THROW(compareFields(a, b, 0.0, &where, control), Cancelled);
 }
 
 } // namespace

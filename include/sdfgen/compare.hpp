@@ -1,5 +1,6 @@
 #pragma once
 #include "sdfgen/field.hpp"
+#include "sdfgen/run_control.hpp"
 #include "sdfgen/sparse_field.hpp"
 
 #include <cstddef>
@@ -23,8 +24,10 @@ struct FieldDifference {
 // either field (0 compares all). A band field (Field::background > 0) is compared by value where
 // |value| < background and by sign elsewhere. Throws Error when the grids differ. With
 // `signDifferences`, it gets the indices (into Field::values) of the samples counted in
-// FieldDifference::signDifferences, in increasing order.
-FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels, std::vector<std::size_t>* signDifferences = nullptr);
+// FieldDifference::signDifferences, in increasing order. `control` reports progress and is
+// checked for Cancel every million samples (its threads are not used: the sums run in order).
+FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels, std::vector<std::size_t>* signDifferences = nullptr,
+                              const RunControl& control = {});
 
 // compareFields for two band fields, without their dense forms: sample by sample where either
 // stores a brick, by counting elsewhere (time and memory grow with the bricks and inside boxes,

@@ -55,15 +55,39 @@ bool BackgroundTask::finish(std::string& error, double& seconds) {
     return true;
 }
 
-void Generation::start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options) {
+std::shared_ptr<const Model> MeshModel::get(const RunControl& control, std::vector<std::string>* warnings) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return built(control, warnings);
+}
+
+std::shared_ptr<const Model> MeshModel::getWithoutWaiting(const RunControl& control) {
+    std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+    return lock ? built(control, nullptr) : nullptr;
+}
+
+std::shared_ptr<const Model> MeshModel::built(const RunControl& control, std::vector<std::string>* warnings) {
+    if (!model_) {
+        RunControl building = control;
+        std::vector<std::string> said;
+        building.warn = [&said](const std::string& warning) { said.push_back(warning); };
+        model_ = std::make_shared<const Model>(Mesh(*mesh_), building);
+        warnings_ = std::move(said);
+    }
+    if (warnings) *warnings = warnings_;
+    return model_;
+}
+
+void Generation::start(std::shared_ptr<MeshModel> model, const BakeSettings& settings, const GenerationOptions& options) {
     stop();
     result_.reset();
     warnings_.clear();
-    BackgroundTask::start(options.threads, [this, mesh, settings](RunControl& control) {
+    BackgroundTask::start(options.threads, [this, model, settings](RunControl& control) {
+        // The tree, when this bake builds it, takes a small share of the bar: a fraction of the bake's time.
+        std::vector<std::string> meshWarnings;
+        const std::shared_ptr<const Model> ready = model->get(control.phase(0.0, 0.1), &meshWarnings);
+        warnings_ = std::move(meshWarnings);
         control.warn = [this](const std::string& warning) { warnings_.push_back(warning); };
-        // The tree takes a small share of the bar: it is built in a fraction of the bake's time.
-        const Model model(*mesh, control.phase(0.0, 0.1));
-        result_ = model.bake(settings, control.phase(0.1, 1.0));
+        result_ = ready->bake(settings, control.phase(0.1, 1.0));
     });
 }
 
@@ -117,13 +141,13 @@ void FieldComparison::start(std::shared_ptr<const Field> shown, std::shared_ptr<
     path_ = path;
     result_.reset();
     BackgroundTask::start(threads, [this, shown, band, path](RunControl& control) {
-        // Reading takes most of the time; the comparison (one pass, without checks) the rest.
+        // Reading takes most of the time; the comparison (one pass) the rest.
         const Field other = loadField(path, control.phase(0.0, 0.8));
         std::optional<Field> bandDense;
         if (band) bandDense = band->toDense();
         const Field& mine = bandDense ? *bandDense : *shown;
         ComparedFields compared;
-        compared.difference = compareFields(mine, other, 0.0, &compared.signDifferences);
+        compared.difference = compareFields(mine, other, 0.0, &compared.signDifferences, control.phase(0.8, 1.0));
         compared.grid = mine.grid;
         result_ = std::move(compared);
     });

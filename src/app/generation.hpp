@@ -3,6 +3,7 @@
 #include "sdfgen/bake.hpp"
 #include "sdfgen/compare.hpp"
 #include "sdfgen/mesh.hpp"
+#include "sdfgen/model.hpp"
 #include "sdfgen/run_control.hpp"
 #include "sdfgen/sparse_field.hpp"
 
@@ -57,6 +58,29 @@ private:
     std::string error_; // written by the worker before finished_ is raised
 };
 
+// The scene mesh's one Model, serving its bakes and the probe (Model's const calls may run on
+// several threads at once: model.hpp). It is built on first use by whichever asks first: a bake
+// on its thread, with its control (threads, progress, Cancel: a build cancelled is made again by
+// the next use), or the probe on the GUI thread. Shared, so that a bake still winding down keeps
+// the model of the scene it started with.
+class MeshModel {
+public:
+    explicit MeshModel(std::shared_ptr<const Mesh> mesh) : mesh_(std::move(mesh)) {}
+    // The model, built now if it is not yet (waiting for a build on another thread); `warnings`
+    // gets the mesh's (Model's construction says them once; each bake repeats them).
+    std::shared_ptr<const Model> get(const RunControl& control, std::vector<std::string>* warnings = nullptr);
+    // As get, but none while another thread builds it: the GUI thread does not wait for a bake's build.
+    std::shared_ptr<const Model> getWithoutWaiting(const RunControl& control);
+
+private:
+    std::shared_ptr<const Model> built(const RunControl& control, std::vector<std::string>* warnings); // mutex_ held
+
+    std::mutex mutex_; // held while building
+    std::shared_ptr<const Mesh> mesh_;
+    std::shared_ptr<const Model> model_;
+    std::vector<std::string> warnings_;
+};
+
 // How a bake runs, beside what it bakes (BakeSettings): the place for a device choice.
 struct GenerationOptions {
     int threads = 0; // 0: all cores
@@ -66,8 +90,8 @@ struct GenerationOptions {
 class Generation : public BackgroundTask {
 public:
     ~Generation() { stop(); }
-    // Starts baking `mesh` (shared, so it outlives the job).
-    void start(std::shared_ptr<const Mesh> mesh, const BakeSettings& settings, const GenerationOptions& options);
+    // Starts baking the scene's model (shared, so it outlives the job; built by the job if it is not yet).
+    void start(std::shared_ptr<MeshModel> model, const BakeSettings& settings, const GenerationOptions& options);
     // When the job has finished since the last call: hands over the result (empty on failure,
     // with the message in `error`) and the warnings of the mesh and the bake (one line each,
     // naming the mesh), and returns true. False while running or idle.
@@ -118,7 +142,9 @@ struct ComparedFields {
 class FieldComparison : public BackgroundTask {
 public:
     ~FieldComparison() { stop(); }
-    // A band field (`band`) is compared by its own samples, made dense on the job's thread.
+    // A band field (`band`) is compared by its own samples, made dense on the job's thread. A
+    // comparison still running is cancelled (it stops within a block of the file or a million
+    // samples) and this one takes its place.
     void start(std::shared_ptr<const Field> shown, std::shared_ptr<const SparseField> band, const std::string& path, int threads);
     const std::string& path() const { return path_; }
     // When the comparison has finished since the last call: hands over what it found (empty on

@@ -53,8 +53,8 @@ void Viewer::showField(Field field, FieldInfo info) {
     probeKept_ = false; // a reading of the last field
     checkFieldAgainstScene();
     // Show it, unless the user has chosen the views.
-    render::Views& v = scene_.views;
-    if (!userChoseViews_ && !v["volume"] && !v["raymarch"] && !v["slice"]) v["slice"] = true;
+    using namespace render;
+    if (!userChoseViews_ && !scene_.view<VolumeView>().enabled && !scene_.view<RaymarchView>().enabled) scene_.view<SliceView>().enabled = true;
     if (!sceneMesh_) frameCamera(); // nothing else to frame
     updateTitle();
 }
@@ -270,12 +270,13 @@ void Viewer::saveFieldNow() {
 void Viewer::exportSurface() {
     try {
         if (!field_) throw Error("no field to take the surface from: Generate or Load one first");
+        const float iso = scene_.view<render::RaymarchView>().iso; // the ray-marched level
         // A band field's own samples, not the resampling shown (an Error when they do not fit densely).
-        const SurfaceMesh surface = extractSurface(band_ ? band_->toDense() : *field_, double(scene_.iso), 0.0);
+        const SurfaceMesh surface = extractSurface(band_ ? band_->toDense() : *field_, double(iso), 0.0);
         saveSurface(surface, surfacePath_);
         rememberRecent(surfacePath_);
         setMessage(fieldMessage_, Message::Level::Info,
-                   "saved the surface at level " + std::to_string(scene_.iso).substr(0, 6) + " as " + surfacePath_ + " (" +
+                   "saved the surface at level " + std::to_string(iso).substr(0, 6) + " as " + surfacePath_ + " (" +
                        std::to_string(surface.triangles.size()) + " triangles)");
     } catch (const std::exception& e) {
         setMessage(fieldMessage_, Message::Level::Error, e.what());
@@ -311,9 +312,12 @@ void Viewer::compareWith(const std::string& path) {
         setMessage(fieldMessage_, Message::Level::Error, "no field to compare: Generate or Load one first");
         return;
     }
+    // A comparison still running is cancelled: the newer one is what was asked for.
+    const std::string replaced = comparison_.running() ? comparison_.path() : "";
     comparison_.start(field_, band_, path, threads_);
     comparedVersion_ = fieldVersion_;
-    setMessage(fieldMessage_, Message::Level::Info, "comparing with " + path + "...");
+    setMessage(fieldMessage_, Message::Level::Info,
+               "comparing with " + path + "..." + (replaced.empty() ? "" : " (the comparison with " + replaced + " is cancelled)"));
 }
 
 // A finished comparison, said under Field, for the field it was made with (a comparison with a
@@ -338,16 +342,17 @@ void Viewer::collectComparison() {
                   fs::path(path).filename().string().c_str(), d.maxAbs, d.maxAbs / d.voxel, d.meanAbs, d.rmsAbs, d.signDifferences, d.compared);
     setMessage(fieldMessage_, Message::Level::Info, text);
     signErrors_ = SignErrors{fs::path(path).filename().string(), d.signDifferences, d.compared + d.signOnly, fieldVersion_};
-    scene_.signErrors = crossesAt(compared->grid, compared->signDifferences, float(0.4 * compared->grid.voxel));
+    render::SignErrorsView& crosses = scene_.view<render::SignErrorsView>();
+    crosses.crosses = crossesAt(compared->grid, compared->signDifferences, float(0.4 * compared->grid.voxel));
     ++comparisons_;
-    if (!compared->signDifferences.empty()) scene_.views["sign_errors"] = true;
+    if (!compared->signDifferences.empty()) crosses.enabled = true;
 }
 
 // What the last comparison found, while the field it was made with is shown.
 void Viewer::signErrorsLine() {
     if (!signErrors_.against.empty() && signErrors_.fieldVersion != fieldVersion_) {
         signErrors_ = SignErrors{};
-        scene_.signErrors.clear();
+        scene_.view<render::SignErrorsView>().crosses.clear();
         ++comparisons_;
         return;
     }
@@ -362,7 +367,7 @@ void Viewer::signErrorsLine() {
     }
     ImGui::PopStyleColor();
     track("sign_errors");
-    if (!debugDir_.empty()) layout_ += "text sign_errors " + std::to_string(signErrors_.count) + " " + std::to_string(scene_.signErrors.size() / 6) + "\n";
+    if (!debugDir_.empty()) layout_ += "text sign_errors " + std::to_string(signErrors_.count) + " " + std::to_string(scene_.view<render::SignErrorsView>().crosses.size() / 6) + "\n";
 }
 
 void Viewer::fieldSection() {

@@ -168,7 +168,7 @@ void Viewer::generationSection() {
                 setMessage(modelMessage_, Message::Level::Info, savedField_.said);
                 savedField_ = SavedFieldLoad{};
             }
-            generation_.start(sceneMesh_, settings_, GenerationOptions{threads_});
+            generation_.start(sceneModel_, settings_, GenerationOptions{threads_});
         }
         ImGui::EndDisabled();
         if (!sceneMesh_ && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Load a model first");

@@ -98,7 +98,7 @@ void Viewer::rebuildScene(bool reframe) {
         for (const SceneModel& m : models_) name += (name.empty() ? "" : "+") + fs::path(m.mesh->source).filename().string();
         sceneMesh_ = std::make_shared<Mesh>(mergeMeshes(parts, name));
     }
-    probeModel_.reset();
+    sceneModel_ = sceneMesh_ ? std::make_shared<MeshModel>(sceneMesh_) : nullptr;
     probeKept_ = false; // a reading of the last scene
     if (models_.size() == 1 && models_[0].identity()) scene_.setMesh(*sceneMesh_);
     else if (!models_.empty()) scene_.setMeshes(parts);

@@ -240,23 +240,23 @@ void Viewer::slicePose() {
 
 void Viewer::viewSection() {
     if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    render::Views& v = scene_.views;
+    render::SliceView& slice = scene_.view<render::SliceView>();
     const float column = std::round(panelWidth_ * 0.5f);
     // A checkbox per registered view (render/view.hpp), two to a row.
     int item = 0;
-    for (const render::ViewType& type : render::viewTypes()) {
+    for (const std::unique_ptr<render::View>& v : scene_.views()) {
         if (item++ % 2) ImGui::SameLine(column);
-        if (ImGui::Checkbox(type.label, &v[type.name])) userChoseViews_ = true;
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", type.description);
-        track(widgetName(type.label).c_str());
+        if (ImGui::Checkbox(v->type().label, &v->enabled)) userChoseViews_ = true;
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", v->type().description);
+        track(widgetName(v->type().label).c_str());
     }
     if (item++ % 2) ImGui::SameLine(column);
     ImGui::Checkbox("Headlight", &scene_.headlight);
     track("headlight");
     // Each shown view's own settings (its section, from the registry).
     PanelOptions ui(*this);
-    for (const render::ViewType& type : render::viewTypes()) {
-        if (type.options && v[type.name]) type.options(ui, scene_);
+    for (const std::unique_ptr<render::View>& v : scene_.views()) {
+        if (v->enabled) v->options(ui, scene_);
     }
     // Slice: an axis, or any orientation (dragged in the view: Ctrl+left-drag moves, Ctrl+Shift tilts).
     for (int a = 0; a < 3; ++a) {
@@ -265,14 +265,14 @@ void Viewer::viewSection() {
         const char* names[] = {"slice_x", "slice_y", "slice_z"};
         if (ImGui::Button(labels[a])) {
             scene_.sliceNormal = render::axisNormal(a);
-            if (!v["slice"]) v["slice"] = userChoseViews_ = true;
+            if (!slice.enabled) slice.enabled = userChoseViews_ = true;
         }
         track(names[a]);
     }
     // The cut follows the slice: hidden, it cuts nothing (the choice is kept for when it is shown).
     int cut = sliceCut_ == 0 ? 0 : sliceCut_ > 0 ? 1 : 2;
     const char* cuts[] = {"nothing", "the normal's side", "the other side"};
-    ImGui::BeginDisabled(!v["slice"]);
+    ImGui::BeginDisabled(!slice.enabled);
     if (ImGui::BeginCombo("Cut away", cuts[cut])) {
         for (int c = 0; c < 3; ++c) {
             if (ImGui::Selectable(cuts[c], c == cut)) cut = c;
@@ -282,17 +282,17 @@ void Viewer::viewSection() {
     }
     ImGui::EndDisabled();
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) {
-        ImGui::SetTooltip(v["slice"] ? "The slice's plane cuts the model and the ray-marched surface away on one side"
+        ImGui::SetTooltip(slice.enabled ? "The slice's plane cuts the model and the ray-marched surface away on one side"
                                      : "Show the slice to cut away with its plane");
     }
     sliceCut_ = cut == 0 ? 0 : cut == 1 ? 1 : -1;
-    scene_.sliceCut = v["slice"] ? sliceCut_ : 0;
+    scene_.sliceCut = slice.enabled ? sliceCut_ : 0;
     track("slice_cut");
-    if (v["slice"] && field_) slicePose();
+    if (slice.enabled && field_) slicePose();
     ImGui::Combo("Colour map", &scene_.colormap, "diverging\0viridis\0grey\0");
     track("colormap");
-    rangeControls("Slice colours", "slice_range", sliceColours_, scene_.sliceRange, true);
-    rangeControls("Volume colours", "volume_range", volumeColours_, scene_.volumeRange, false);
+    rangeControls("Slice colours", "slice_range", sliceColours_, slice.range, true);
+    rangeControls("Volume colours", "volume_range", volumeColours_, scene_.view<render::VolumeView>().range, false);
     ImGui::Checkbox("Colour bar", &scene_.colourBar);
     track("colour_bar");
 

@@ -35,7 +35,7 @@ void Viewer::debugScreenshot(bool sceneOnly) {
     if (sceneOnly) return;
     // The views shown, by their panel labels (spaces as underscores), then the camera.
     std::string views;
-    for (const render::ViewType& type : render::viewTypes()) views += widgetName(type.label) + "=" + (scene_.views[type.name] ? "1 " : "0 ");
+    for (const std::unique_ptr<render::View>& v : scene_.views()) views += widgetName(v->type().label) + "=" + (v->enabled ? "1 " : "0 ");
     const glm::vec3 n = scene_.sliceNormal;
     std::printf("screenshot %d: %scut=%d camera=%.3f,%.3f,%.5g slice=%.4f normal=%.5f,%.5f,%.5f target=%.5g,%.5g,%.5g\n", screenshots_++,
                 views.c_str(), scene_.sliceCut, double(camera_.yaw), double(camera_.pitch), double(camera_.distance), double(scene_.slicePosition),

@@ -167,7 +167,7 @@ Viewer::Viewer(GlfwContext& context, Inbox& inbox) : context_(context), inbox_(i
     GLint limit = 2048;
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &limit);
     textureLimit_ = limit;
-    scene_.views["box"] = true;
+    scene_.view<render::BoxView>().enabled = true;
     scene_.sliceGizmoShown = true;
     if (!debugDir_.empty()) {
         fileBrowser_.onItem = [this](const std::string& name) {
@@ -354,7 +354,7 @@ void Viewer::sceneInput(const FrameInput& input) {
     if (input.startX >= 0.0 && (dx != 0.0f || dy != 0.0f)) {
         if (sceneDrag_[1] || (sceneDrag_[0] && leftDrag_ == LeftDrag::Orbit)) camera_.rotate(-dx * 0.3f, dy * 0.3f);
         if (sceneDrag_[2]) camera_.pan(dx / height, dy / height);
-        if (sceneDrag_[0] && leftDrag_ != LeftDrag::Orbit && scene_.views["slice"] && field_) dragSlice(dx, dy);
+        if (sceneDrag_[0] && leftDrag_ != LeftDrag::Orbit && scene_.view<render::SliceView>().enabled && field_) dragSlice(dx, dy);
     }
     for (int b = 0; b < 3; ++b) {
         if (input.pressed == b) sceneDrag_[b] = !io.WantCaptureMouse && !fileBrowser_.isOpen();
@@ -363,7 +363,7 @@ void Viewer::sceneInput(const FrameInput& input) {
     using Part = render::SliceGizmo::Part;
     const glm::vec2 pointer(float(input.x), float(input.y));
     if (input.pressed == 0) {
-        const bool slice = (input.pressMods & GLFW_MOD_CONTROL) != 0 && scene_.views["slice"] && field_;
+        const bool slice = (input.pressMods & GLFW_MOD_CONTROL) != 0 && scene_.view<render::SliceView>().enabled && field_;
         gizmoDragged_ = slice || !sceneDrag_[0] ? Part::None : gizmoPartAt(pointer);
         leftDrag_ = gizmoDragged_ == Part::Arrow ? LeftDrag::MoveSlice
                   : gizmoDragged_ == Part::Ring  ? LeftDrag::TiltSlice
@@ -429,7 +429,7 @@ bool Viewer::toPointer(glm::vec3 world, glm::vec2& pointer) const {
 
 render::SliceGizmo::Part Viewer::gizmoPartAt(glm::vec2 pointer) const {
     using Part = render::SliceGizmo::Part;
-    if (!scene_.views["slice"] || !field_ || pointer.x < panelWidth_ || fileBrowser_.isOpen()) return Part::None;
+    if (!scene_.view<render::SliceView>().enabled || !field_ || pointer.x < panelWidth_ || fileBrowser_.isOpen()) return Part::None;
     const render::SliceGizmo gizmo = scene_.sliceGizmo();
     Part nearest = Part::None;
     float best = 8.0f * std::max(ImGui::GetFontSize() / 13.0f, 1.0f); // pixels: grabbing distance
@@ -456,7 +456,8 @@ void Viewer::probeAt(const FrameInput& input) {
     scene_.markers.clear();
     probeValid_ = false;
     if (!probeOn_ || ImGui::GetIO().WantCaptureMouse || input.x < panelWidth_ || (!sceneMesh_ && !field_)) return;
-    if (!probeModel_ && sceneMesh_) probeModel_ = std::make_unique<Model>(Mesh(*sceneMesh_));
+    // The scene's model, unless a bake is building it just now (the probe then reads the field alone).
+    const std::shared_ptr<const Model> model = sceneModel_ ? sceneModel_->getWithoutWaiting({}) : nullptr;
     const glm::ivec2 fb = context_.framebufferSize();
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     const glm::ivec2 pixel(int(input.x * fb.x / std::max(display.x, 1.0f)), int(input.y * fb.y / std::max(display.y, 1.0f)));
@@ -466,10 +467,10 @@ void Viewer::probeAt(const FrameInput& input) {
     const std::optional<glm::dvec3> marched = marchedSurfaceAt(pixel, drawn);
     if (marched) {
         point = *marched;
-    } else if (scene_.views["grid"] && std::abs(drawn.y - scene_.gridHeight()) < 1e-4f * camera_.distance) {
+    } else if (scene_.view<render::GridView>().enabled && std::abs(drawn.y - scene_.gridHeight()) < 1e-4f * camera_.distance) {
         return; // pixels of the grid (the plane under the model, within depth precision) are not probed
     }
-    probe_ = probe(point, field_ ? &*field_ : nullptr, probeModel_.get(), band_.get());
+    probe_ = probe(point, field_ ? &*field_ : nullptr, model.get(), band_.get());
     probeValid_ = probeKept_ = true;
     probePointer_ = glm::ivec2(int(input.x), int(input.y));
     const float r = camera_.sceneRadius * 0.02f;
@@ -483,15 +484,16 @@ void Viewer::probeAt(const FrameInput& input) {
 // `drawn`, is the ray march's, drawn a voxel nearer than its hit, or lies behind it), on the iso
 // level: the depth alone reads about a voxel off the level.
 std::optional<glm::dvec3> Viewer::marchedSurfaceAt(glm::ivec2 pixel, glm::vec3 drawn) const {
-    if (!field_ || !scene_.views["raymarch"]) return std::nullopt;
+    const render::RaymarchView& marched = scene_.view<render::RaymarchView>();
+    if (!field_ || !marched.enabled) return std::nullopt;
     glm::vec3 origin, direction;
     if (!scene_.pixelRay(pixel, origin, direction)) return std::nullopt;
     MarchedRay ray;
     ray.origin = glm::dvec3(origin);
     ray.direction = glm::dvec3(direction);
-    ray.iso = scene_.iso;
+    ray.iso = marched.iso;
     ray.cut = scene_.cutPlane();
-    ray.capCut = !scene_.views["slice"];
+    ray.capCut = !scene_.sectionOnCut();
     ray.maxSteps = render::raymarchSteps(scene_.fieldBoxSize(), field_->background);
     const std::optional<double> t = marchSurface(ray, *field_, band_.get());
     if (!t) return std::nullopt;
@@ -531,12 +533,12 @@ void Viewer::probeOverlay() {
 // A line in the scene's area when models are loaded but no view draws them (Coloured Model and
 // Polygon off, or every model hidden) and no field view is shown: an empty picture says why.
 void Viewer::sceneHint() {
-    const render::Views& v = scene_.views;
+    using namespace render;
     if (!sceneMesh_) return;
     bool anyVisible = false;
     for (const SceneModel& m : models_) anyVisible |= m.visible;
-    const bool modelShown = anyVisible && (v["mesh"] || v["wire"]);
-    const bool fieldShown = field_ && (v["slice"] || v["raymarch"] || v["volume"]);
+    const bool modelShown = anyVisible && (scene_.view<MeshView>().enabled || scene_.view<WireView>().enabled);
+    const bool fieldShown = field_ && (scene_.view<SliceView>().enabled || scene_.view<RaymarchView>().enabled || scene_.view<VolumeView>().enabled);
     if (modelShown || fieldShown) return;
     const char* text = !anyVisible ? "every model is hidden: tick a model's checkbox in Model to show it"
                                    : "Coloured Model and Polygon are off: tick one in View to see the model";
@@ -606,16 +608,14 @@ void Viewer::panel() {
 void Viewer::drawScene() {
     const glm::ivec2 size = context_.framebufferSize();
     std::ostringstream state;
-    const render::Views& v = scene_.views;
     state << size.x << ' ' << size.y << ' ' << camera_.yaw << ' ' << camera_.pitch << ' ' << camera_.distance << ' ' << camera_.target.x
           << ' ' << camera_.target.y << ' ' << camera_.target.z << ' ' << camera_.orthographic << ' ' << camera_.offsetX << ' '
           << camera_.sceneRadius << ' ';
-    for (const render::ViewType& type : render::viewTypes()) state << v[type.name];
+    for (const std::unique_ptr<render::View>& v : scene_.views()) state << v->enabled << '(' << v->settingsKey() << ')';
     state << ' '
           << scene_.sliceNormal.x << ' ' << scene_.sliceNormal.y << ' ' << scene_.sliceNormal.z << ' ' << scene_.slicePosition << ' '
-          << scene_.volumeDensity << scene_.shadows << scene_.wireSeeThrough << scene_.headlight << scene_.colourBar << ' ' << scene_.iso
-          << ' ' << scene_.colormap << ' ' << scene_.sliceRange.x << ' ' << scene_.sliceRange.y << ' ' << scene_.volumeRange.x << ' '
-          << scene_.volumeRange.y << ' ' << scene_.sliceCut << ' ' << int(scene_.sliceGizmoHighlight) << ' ' << comparisons_ << ' ' << meshVersion_ << ' ' << fieldVersion_;
+          << scene_.headlight << scene_.colourBar << ' ' << scene_.colormap << ' ' << scene_.sliceCut << ' ' << int(scene_.sliceGizmoHighlight)
+          << ' ' << comparisons_ << ' ' << meshVersion_ << ' ' << fieldVersion_;
     for (const render::MeshStyle& s : scene_.meshStyles) state << ' ' << s.colour.r << ' ' << s.colour.g << ' ' << s.colour.b << s.visible;
     for (const glm::vec3& m : scene_.markers) state << ' ' << m.x << ' ' << m.y << ' ' << m.z;
     if (state.str() != lastSceneState_) {

@@ -15,6 +15,7 @@
 #include "sdfgen/sparse_field.hpp"
 #include "render/camera.hpp"
 #include "render/scene.hpp"
+#include "render/views.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <cstdint>
@@ -239,7 +240,7 @@ private:
     render::OrbitCamera camera_;
     std::vector<SceneModel> models_;
     std::shared_ptr<const Mesh> sceneMesh_;
-    std::unique_ptr<Model> probeModel_; // the scene mesh's, for the probe; built on first use
+    std::shared_ptr<MeshModel> sceneModel_; // sceneMesh_'s, for bakes and the probe
     // What the views show: for a band field, render::bandDisplay's field (shared with a comparison
     // reading it on its thread).
     std::shared_ptr<const Field> field_;

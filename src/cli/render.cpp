@@ -13,6 +13,7 @@
 #include "render/band_display.hpp"
 #include "render/egl_context.hpp"
 #include "render/scene.hpp"
+#include "render/views.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -73,7 +74,7 @@ void runRender(const RenderArgs& args) {
     std::vector<std::string> inputs = args.meshes;
     inputs.push_back(args.sdf);
     refuseOverwritingInput(args.output, inputs);
-    render::Views views = render::Views::parse(args.views);
+    const std::vector<bool> views = render::parseViewList(args.views);
     const int axis = args.sliceAxis == "x" ? 0 : args.sliceAxis == "y" ? 1 : args.sliceAxis == "z" ? 2 : -1;
     if (axis < 0) throw Error("--slice-axis must be x, y or z");
     glm::vec3 sliceNormal = render::axisNormal(axis);
@@ -103,7 +104,7 @@ void runRender(const RenderArgs& args) {
     Field field;
     SparseField band; // a band field's file, shown through render::bandDisplay once there is a context
     bool needField = false;
-    for (const render::ViewType& type : render::viewTypes()) needField |= type.needsField && views[type.name];
+    for (std::size_t i = 0; i < views.size(); ++i) needField |= views[i] && render::viewTypes()[i].needsField;
     if (!args.sdf.empty()) {
         if (isSparseFieldFile(args.sdf)) {
             band = loadSparseField(args.sdf);
@@ -124,16 +125,16 @@ void runRender(const RenderArgs& args) {
 
     std::unique_ptr<render::GlContext> context = render::createHeadlessContext(pixels);
     render::Scene scene;
-    scene.views = views;
+    scene.showOnly(views);
     scene.sliceNormal = sliceNormal;
     scene.slicePosition = args.slicePosition;
-    scene.shadows = !args.noShadows;
-    scene.iso = args.iso;
+    scene.view<render::RaymarchView>().shadows = !args.noShadows;
+    scene.view<render::RaymarchView>().iso = args.iso;
     scene.colormap = colormap;
-    if (args.colourRange > 0.0f) scene.sliceRange = scene.volumeRange = glm::vec2(-args.colourRange, args.colourRange);
+    if (args.colourRange > 0.0f) scene.view<render::SliceView>().range = scene.view<render::VolumeView>().range = glm::vec2(-args.colourRange, args.colourRange);
     scene.sliceCut = args.cutAway ? 1 : 0;
     scene.colourBar = !args.noColourBar;
-    scene.wireSeeThrough = args.wireSeeThrough;
+    scene.view<render::WireView>().seeThrough = args.wireSeeThrough;
     if (!args.background.empty()) {
         const std::vector<float> rgb = parseNumbers(args.background, ',', 3, "--background (r,g,b in 0..1)");
         for (float channel : rgb) {
@@ -182,7 +183,7 @@ void addRenderCommand(CLI::App& app) {
     render->add_option("mesh", args->meshes, "Input mesh (" + meshFormatList() + ", ...); several make one scene")->required();
     render->add_option("-o,--output", args->output, "Output PNG file")->required();
     render->add_option("--sdf", args->sdf, "Field file to show (default: bake one from the mesh when a view needs it)");
-    render->add_option("--view", args->views, "Comma-separated views: " + render::Views::names() + " (or all, none)")
+    render->add_option("--view", args->views, "Comma-separated views: " + render::viewNames() + " (or all, none)")
         ->capture_default_str();
     render->add_option("--camera", args->camera, "Orbit camera: yaw,pitch in degrees and zoom (1 frames the mesh; 2 is twice as far)")
         ->capture_default_str();

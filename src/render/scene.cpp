@@ -5,54 +5,23 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <optional>
 
 namespace sdfgen::render {
 
-namespace {
-std::size_t viewIndex(const std::string& name) {
-    const std::vector<ViewType>& types = viewTypes();
-    for (std::size_t i = 0; i < types.size(); ++i) {
-        if (name == types[i].name) return i;
-    }
-    return types.size();
-}
-} // namespace
-
-Views::Views() {
-    for (const ViewType& type : viewTypes()) shown_.push_back(type.shownByDefault);
-}
-
-bool& Views::operator[](const std::string& name) {
-    const std::size_t i = viewIndex(name);
-    if (i == shown_.size()) throw Error("unknown view '" + name + "' (expected " + names() + ")");
-    return shown_[i];
-}
-
-bool Views::operator[](const std::string& name) const { return const_cast<Views&>(*this)[name]; }
-
-std::string Views::names() {
-    std::string text;
-    for (const ViewType& type : viewTypes()) text += (text.empty() ? "" : ", ") + std::string(type.name);
-    return text;
-}
-
-Views Views::parse(const std::string& list) {
-    Views v;
-    std::fill(v.shown_.begin(), v.shown_.end(), false);
-    std::stringstream in(list);
-    std::string word;
-    while (std::getline(in, word, ',')) {
-        if (word == "all") std::fill(v.shown_.begin(), v.shown_.end(), true);
-        else if (word == "none" || word.empty()) continue;
-        else if (viewIndex(word) == v.shown_.size()) throw Error("unknown view '" + word + "' (expected " + names() + ", all or none)");
-        else v[word] = true;
-    }
-    return v;
-}
-
 Scene::Scene() {
-    for (const ViewType& type : viewTypes()) drawn_.push_back(type.make());
+    for (const ViewType& type : viewTypes()) views_.push_back(type.make(type));
+}
+
+void Scene::showOnly(const std::vector<bool>& shown) {
+    for (std::size_t i = 0; i < views_.size(); ++i) views_[i]->enabled = i < shown.size() && shown[i];
+}
+
+bool Scene::sectionOnCut() const {
+    for (const std::unique_ptr<View>& v : views_) {
+        if (v->enabled && v->drawsSectionOnCut()) return true;
+    }
+    return false;
 }
 
 
@@ -134,8 +103,12 @@ SliceGizmo Scene::sliceGizmo() const {
 
 std::vector<ColourBar> Scene::colourBars() const {
     std::vector<ColourBar> bars;
-    if (views["slice"]) bars.push_back({effectiveRange(sliceRange), "slice"});
-    if (views["volume"] && (bars.empty() || bars[0].range != effectiveRange(volumeRange))) bars.push_back({effectiveRange(volumeRange), "volume"});
+    for (const std::unique_ptr<View>& v : views_) {
+        const std::optional<glm::vec2> range = v->colourRange();
+        if (!v->enabled || !range) continue;
+        const ColourBar bar{effectiveRange(*range), v->type().name};
+        if (std::none_of(bars.begin(), bars.end(), [&](const ColourBar& b) { return b.range == bar.range; })) bars.push_back(bar);
+    }
     if (bars.size() == 1) bars[0].name = nullptr; // one range: the bar needs no name
     return bars;
 }
@@ -236,25 +209,23 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_BLEND);
-    const ViewContext context{frame, *this, field_, mesh_, depth_, colourOnlyFbo_, fbo_};
-    const std::vector<ViewType>& types = viewTypes();
-    for (std::size_t i = 0; i < types.size(); ++i) {
-        if (views[types[i].name]) drawn_[i]->draw(context, View::Pass::Opaque);
+    bool meshFacesDrawn = false;
+    for (const std::unique_ptr<View>& v : views_) meshFacesDrawn |= v->enabled && v->drawsMeshFaces();
+    const ViewContext context{frame, *this, field_, mesh_, meshFacesDrawn, sectionOnCut(), depth_, colourOnlyFbo_, fbo_};
+    for (const std::unique_ptr<View>& v : views_) {
+        if (v->enabled) v->draw(context, View::Pass::Opaque);
     }
 
     // Then the blended ones, keeping the destination alpha at 1.
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-    bool distanceShown = false;
-    for (std::size_t i = 0; i < types.size(); ++i) {
-        if (!views[types[i].name]) continue;
-        drawn_[i]->draw(context, View::Pass::Blended);
-        distanceShown |= types[i].colouredByDistance;
+    for (const std::unique_ptr<View>& v : views_) {
+        if (v->enabled) v->draw(context, View::Pass::Blended);
     }
     glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
     glDisable(GL_DEPTH_TEST);
     if (!markers.empty()) lines_.draw(frame, markers, glm::vec4(1.0f, 0.95f, 0.2f, 1.0f));
-    if (sliceGizmoShown && views["slice"] && !field_.empty()) {
+    if (sliceGizmoShown && sectionOnCut() && !field_.empty()) {
         const SliceGizmo gizmo = sliceGizmo();
         using Part = SliceGizmo::Part;
         for (const Part part : {Part::Arrow, Part::Ring}) {
@@ -263,7 +234,10 @@ void Scene::draw(const OrbitCamera& camera, glm::ivec2 size, GLuint target) {
             lines_.draw(frame, gizmo.segments(part), colour);
         }
     }
-    if (colourBar && !field_.empty() && distanceShown) colourBar_.draw(size, colourBars(), colormap, "(model units)");
+    if (colourBar && !field_.empty()) {
+        const std::vector<ColourBar> bars = colourBars();
+        if (!bars.empty()) colourBar_.draw(size, bars, colormap, "(model units)");
+    }
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     present(target);

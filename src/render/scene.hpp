@@ -9,9 +9,11 @@
 #include <glm/vec2.hpp>
 
 #include <glm/vec3.hpp>
-#include <deque>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sdfgen::render {
@@ -36,23 +38,6 @@ struct SliceGizmo {
     std::vector<glm::vec3> segments(Part part) const;
 };
 
-// Which views (view.hpp's registry) are shown, by name; any combination.
-class Views {
-public:
-    Views(); // the views shown by default
-    // The flag of the view `name`; Error for a name not registered.
-    bool& operator[](const std::string& name);
-    bool operator[](const std::string& name) const;
-    bool operator==(const Views& other) const { return shown_ == other.shown_; }
-    // Parses a comma-separated list of view names (or "all", "none"); throws Error naming the bad word.
-    static Views parse(const std::string& list);
-    // The registered names, comma-separated, for help texts.
-    static std::string names();
-
-private:
-    std::deque<bool> shown_; // per viewTypes() entry (a deque: real bools, for bool&)
-};
-
 // Everything drawn in a frame: the mesh and field on the GPU, the renderers, and the settings
 // shared by the window and the headless path. Needs a current GL 4.5 context for its lifetime.
 class Scene {
@@ -71,37 +56,48 @@ public:
     void clearField();
     bool hasField() const { return !field_.empty(); }
 
-    Views views;
+    // The views (view.hpp's registry), in drawing order, each with its flag and settings.
+    const std::vector<std::unique_ptr<View>>& views() const { return views_; }
+    // The registered view of class V (render/views.hpp).
+    template <class V>
+    const V& view() const {
+        for (const std::unique_ptr<View>& v : views_) {
+            if (const V* found = dynamic_cast<const V*>(v.get())) return *found;
+        }
+        throw std::logic_error("a view type that is not registered");
+    }
+    template <class V>
+    V& view() {
+        return const_cast<V&>(std::as_const(*this).template view<V>());
+    }
+    // Shows the views flagged in `shown` (one flag per viewTypes() entry: parseViewList), hides the others.
+    void showOnly(const std::vector<bool>& shown);
+
+    // What the views share. The cut plane: the slice's plane, which cuts the meshes and the
+    // ray-marched surface away on one side (sliceCut: 0 nothing, 1 the side its normal points to,
+    // -1 the other side), whether the slice is shown or not.
     glm::vec3 sliceNormal{0.0f, 0.0f, 1.0f}; // unit; axisNormal(a) for the axis-aligned slices
     float slicePosition = 0.5f;               // 0..1 across the field's box along the normal
-    float volumeDensity = 1.0f;
-    bool shadows = true;        // soft shadows and ambient occlusion in the ray-marched view
-    float iso = 0.0f;           // the ray-marched level set (0: the surface; > 0: offset outwards)
-    bool wireSeeThrough = false; // the wireframe shows hidden edges too
-    bool headlight = true;      // the light follows the camera (else a fixed light from above)
-    bool colourBar = true;      // drawn when the slice or the volume is shown, one per range
-    int colormap = 0;           // 0 diverging, 1 viridis, 2 grey (shaders/colormap.glsl)
-    // The distances at which the colour map saturates inside (x < 0) and outside (y > 0), for the
-    // slice and the volume each; (0, 0): symmetric, a quarter of the box's longest side (a band
-    // field's: its background).
-    glm::vec2 sliceRange{0.0f}, volumeRange{0.0f};
-    // The slice's plane (shown or not) cuts away the meshes and the ray-marched surface on one
-    // side: 0 nothing, 1 the side its normal points to, -1 the other side.
     int sliceCut = 0;
+    bool headlight = true;      // the light follows the camera (else a fixed light from above)
+    bool colourBar = true;      // drawn when a view coloured by distance is shown, one per range
+    int colormap = 0;           // 0 diverging, 1 viridis, 2 grey (shaders/colormap.glsl)
     std::vector<MeshStyle> meshStyles; // one per mesh of setMeshes
     std::vector<glm::vec3> markers; // segments drawn on top (the probe's point and nearest point)
-    std::vector<glm::vec3> signErrors; // segments: crosses at samples where two fields' signs differ (view "sign_errors")
     bool sliceGizmoShown = false;   // the viewer's handle on the slice (not in `sdfgen render`'s images)
     SliceGizmo::Part sliceGizmoHighlight = SliceGizmo::Part::None; // drawn brighter: under the pointer or dragged
     glm::vec3 background{0.16f, 0.17f, 0.19f};
 
-    // The range a view's colours use: `range`, or the symmetric automatic one where it is (0, 0).
+    // The range a view's colours use: `range`, or the symmetric automatic one where it is (0, 0)
+    // (a quarter of the box's longest side; a band field's: its background).
     glm::vec2 effectiveRange(glm::vec2 range) const;
-    // The colour bars drawn: one per range of the slice and the volume shown, each named after its
-    // view where they differ.
+    // The colour bars drawn: one per range of the views shown that are coloured by distance
+    // (View::colourRange), each named after its view where they differ.
     std::vector<ColourBar> colourBars() const;
     // The plane that cuts (as the shaders take it: dot(xyz, p) > w is cut), (0, 0, 0, 1) for none.
     glm::vec4 cutPlane() const;
+    // A shown view draws the field's section on the cut plane (so the ray march caps nothing there).
+    bool sectionOnCut() const;
     // The slice plane's gizmo for the field shown (size 0 without a field).
     SliceGizmo sliceGizmo() const;
     float gridHeight() const { return gridHeight_; } // the grid's plane: y = the meshes' lowest point (the field's box's without)
@@ -128,7 +124,7 @@ private:
 
     MeshRenderer mesh_;
     FieldTexture field_;
-    std::vector<std::unique_ptr<View>> drawn_; // one per viewTypes() entry
+    std::vector<std::unique_ptr<View>> views_; // one per viewTypes() entry
     LineRenderer lines_;
     ColourBarRenderer colourBar_;
     float gridHeight_ = 0.0f;

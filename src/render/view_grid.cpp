@@ -1,20 +1,14 @@
 // "Grid": the infinite grid on the plane under the meshes.
 #include "render/scene.hpp"
+#include "render/views.hpp"
 
 namespace sdfgen::render {
-namespace {
-class GridView : public View {
-public:
-    void draw(const ViewContext& c, Pass pass) override {
-        if (pass == Pass::Blended) grid_.draw(c.frame, c.scene.gridHeight());
-    }
 
-private:
-    GridRenderer grid_;
-};
-} // namespace
+void GridView::draw(const ViewContext& c, Pass pass) {
+    if (pass == Pass::Blended) grid_.draw(c.frame, c.scene.gridHeight());
+}
 
 extern const ViewType kGridView = {"grid", "Grid", "an infinite grid on the plane under the models (x axis red, z blue)", false, true,
-                                   false, [] { return std::unique_ptr<View>(new GridView()); }, nullptr};
+                                   makeView<GridView>};
 
 } // namespace sdfgen::render

@@ -1,28 +1,25 @@
 // "Polygon": the meshes' edges; alone, only the visible ones (hidden-line removal).
 #include "render/scene.hpp"
+#include "render/views.hpp"
 
 namespace sdfgen::render {
-namespace {
-class WireView : public View {
-public:
-    void draw(const ViewContext& c, Pass pass) override {
-        const Scene& s = c.scene;
-        if (pass == Pass::Opaque) {
-            // Without the shaded faces, their depth alone hides the edges behind them.
-            if (!s.views["mesh"] && !s.wireSeeThrough) c.meshes.drawDepth(c.frame, s.meshStyles, s.cutPlane());
-            return;
-        }
-        if (s.wireSeeThrough) glDisable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LEQUAL);
-        c.meshes.drawWire(c.frame, s.meshStyles, s.cutPlane());
-        glDepthFunc(GL_LESS);
-        glEnable(GL_DEPTH_TEST);
-    }
-};
-} // namespace
 
-extern const ViewType kWireView = {"wire", "Polygon", "the models' edges (See-through: hidden ones too)", false, false, false,
-                                   [] { return std::unique_ptr<View>(new WireView()); },
-                                   [](ViewOptions& ui, Scene& s) { ui.checkbox("See-through", s.wireSeeThrough, "Polygon shows hidden edges too"); }};
+void WireView::draw(const ViewContext& c, Pass pass) {
+    const Scene& s = c.scene;
+    if (pass == Pass::Opaque) {
+        // Without the shaded faces, their depth alone hides the edges behind them.
+        if (!c.meshFacesDrawn && !seeThrough) c.meshes.drawDepth(c.frame, s.meshStyles, s.cutPlane());
+        return;
+    }
+    if (seeThrough) glDisable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    c.meshes.drawWire(c.frame, s.meshStyles, s.cutPlane());
+    glDepthFunc(GL_LESS);
+    glEnable(GL_DEPTH_TEST);
+}
+
+void WireView::options(ViewOptions& ui, Scene&) { ui.checkbox("See-through", seeThrough, "Polygon shows hidden edges too"); }
+
+extern const ViewType kWireView = {"wire", "Polygon", "the models' edges (See-through: hidden ones too)", false, false, makeView<WireView>};
 
 } // namespace sdfgen::render

@@ -399,23 +399,26 @@ type_into field_path "$work/bunny.sdf"
 until_ok logged_since_mark "^message field info: loaded .*bunny.sdf" || fail "the bunny's field did not load again"
 click Ray-marched
 
-# --- the view checkboxes: each flips exactly its view and changes the scene.
+# --- the view checkboxes: each flips exactly its view and changes the scene. The views are the
+# registry's, as the screenshot line lists them (LABEL=0|1), in its order; Sign errors has no
+# crosses to draw here (the last comparison found none; its drawing is checked above).
 shoot
 previous=$((shots - 1))
-for name in Grid Polygon Coloured_Model SDF_volume Ray-marched Slice; do
+views_of() { grep "^screenshot $1:" "$work/log" | tr ' ' '\n' | grep -E '^[^=]+=[01]$' | grep -v '^cut='; }
+registered=$(views_of "$previous" | cut -d= -f1 | tr '\n' ' ')
+[ "$(echo $registered | wc -w)" -ge 8 ] || fail "the screenshot line lists too few views: $registered"
+for name in $registered; do
   click "$name"
   xdotool mousemove --window "$window" 790 490 # off the model: no probe marker in the picture
   shoot
-  before=$(grep "^screenshot $previous:" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=' -e '^cut=')
-  after=$(grep "^screenshot $((shots - 1)):" "$work/log" | tr ' ' '\n' | grep = | grep -v -e '^camera=' -e '^slice=' -e '^cut=')
-  flipped=$(diff <(echo "$before") <(echo "$after") | grep '^>' | cut -d' ' -f2 | cut -d= -f1 || true)
+  flipped=$(diff <(views_of "$previous") <(views_of $((shots - 1))) | grep '^>' | cut -d' ' -f2 | cut -d= -f1 || true)
   [ "$flipped" = "$name" ] || fail "clicking $name flipped '${flipped}' instead"
-  if cmp -s "$work/shots/scene-$previous.png" "$work/shots/scene-$((shots - 1)).png"; then
+  if [ "$name" != Sign_errors ] && cmp -s "$work/shots/scene-$previous.png" "$work/shots/scene-$((shots - 1)).png"; then
     fail "toggling $name did not change the scene"
   fi
   previous=$((shots - 1))
 done
-echo "each view checkbox flips its view and changes the scene"
+echo "each view checkbox flips its view and changes the scene: $registered"
 
 # --- the Screenshot button writes the scene as a PNG beside the viewer.
 click screenshot

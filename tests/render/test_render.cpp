@@ -5,7 +5,7 @@
 //
 // Reference images: tests/render/reference/<model>_<view>.png. To (re)create them after an
 // intended change in how a view looks, run
-//     SDFGEN_UPDATE_REFERENCES=1 build/sdfgen_render_tests
+//     SDFGEN_UPDATE_REFERENCES=1 build/tests/sdfgen_render_tests
 // and look at the images before committing them. A failing comparison writes the image it got
 // beside the test binary (render-actual/), to compare by eye.
 #include "sdfgen/error.hpp"
@@ -17,6 +17,7 @@
 #include "render/egl_context.hpp"
 #include "render/osmesa_context.hpp"
 #include "render/scene.hpp"
+#include "render/views.hpp"
 #include "support/shapes.hpp"
 
 #include <gtest/gtest.h>
@@ -42,6 +43,23 @@ struct Model {
     Mesh mesh;
     Field field;
 };
+
+// The sign errors view's crosses: nine along a diagonal of the box's top, above the model (crosses
+// are depth-tested), each a tenth of the box across (the viewer's come from a comparison).
+std::vector<glm::vec3> crossesAlongDiagonal(const Grid& grid) {
+    const glm::vec3 lo(grid.origin), size = glm::vec3(grid.dims) * float(grid.voxel);
+    std::vector<glm::vec3> segments;
+    for (int n = 1; n <= 9; ++n) {
+        const glm::vec3 at = lo + size * glm::vec3(float(n) / 10.0f, 0.95f, float(n) / 10.0f);
+        for (int a = 0; a < 3; ++a) {
+            glm::vec3 d(0.0f);
+            d[a] = 0.05f * size[a];
+            segments.push_back(at - d);
+            segments.push_back(at + d);
+        }
+    }
+    return segments;
+}
 
 class RenderTest : public ::testing::Test {
 protected:
@@ -84,23 +102,24 @@ protected:
 
     // Draws `views` of a model with a fixed camera and background; `tweak` changes the scene's
     // settings from their defaults.
-    static Image draw(const std::string& model, const Views& views, float yaw = 30.0f, float pitch = 20.0f,
+    static Image draw(const std::string& model, const std::vector<bool>& views, float yaw = 30.0f, float pitch = 20.0f,
                       glm::vec3 background = glm::vec3(0.16f, 0.17f, 0.19f), bool shadows = true,
                       const std::function<void(Scene&)>& tweak = {}) {
         const Model& m = models_->at(model);
         scene_->setMesh(m.mesh);
         scene_->setField(m.field);
-        scene_->views = views;
+        scene_->showOnly(views);
         scene_->background = background;
-        scene_->shadows = shadows;
+        scene_->view<RaymarchView>().shadows = shadows;
         scene_->sliceNormal = axisNormal(2);
         scene_->slicePosition = 0.5f;
-        scene_->iso = 0.0f;
-        scene_->wireSeeThrough = false;
+        scene_->view<RaymarchView>().iso = 0.0f;
+        scene_->view<WireView>().seeThrough = false;
         scene_->colourBar = true;
         scene_->colormap = 0;
-        scene_->sliceRange = scene_->volumeRange = glm::vec2(0.0f);
+        scene_->view<SliceView>().range = scene_->view<VolumeView>().range = glm::vec2(0.0f);
         scene_->sliceCut = 0;
+        scene_->view<SignErrorsView>().crosses = crossesAlongDiagonal(m.field.grid);
         if (tweak) tweak(*scene_);
         OrbitCamera camera;
         camera.yaw = yaw;
@@ -130,7 +149,7 @@ SparseField* RenderTest::band_ = nullptr;
 BandDisplay* RenderTest::bandShown_ = nullptr;
 glm::dmat4 RenderTest::ringPlace_{1.0};
 
-Views only(const std::string& list) { return Views::parse(list); }
+std::vector<bool> only(const std::string& list) { return parseViewList(list); }
 
 // Pixels whose largest channel difference exceeds `threshold`.
 std::size_t differingPixels(const Image& a, const Image& b, int threshold, int* largest = nullptr) {
@@ -180,10 +199,10 @@ std::vector<MeshInstance> sceneParts();
 
 std::function<void(Scene&)> tweakFor(const std::string& variant) {
     if (variant == "oblique") return [](Scene& s) { s.sliceNormal = glm::normalize(glm::vec3(1.0f, 1.0f, 0.5f)); s.slicePosition = 0.45f; };
-    if (variant == "isoout") return [](Scene& s) { s.iso = 0.5f; };
-    if (variant == "isoin") return [](Scene& s) { s.iso = -0.3f; };
-    if (variant == "seethrough") return [](Scene& s) { s.wireSeeThrough = true; };
-    if (variant == "viridis") return [](Scene& s) { s.colormap = 1; s.sliceRange = glm::vec2(-1.0f, 1.0f); };
+    if (variant == "isoout") return [](Scene& s) { s.view<RaymarchView>().iso = 0.5f; };
+    if (variant == "isoin") return [](Scene& s) { s.view<RaymarchView>().iso = -0.3f; };
+    if (variant == "seethrough") return [](Scene& s) { s.view<WireView>().seeThrough = true; };
+    if (variant == "viridis") return [](Scene& s) { s.colormap = 1; s.view<SliceView>().range = glm::vec2(-1.0f, 1.0f); };
     if (variant == "cut") return [](Scene& s) { s.sliceCut = 1; s.sliceNormal = axisNormal(0); s.slicePosition = 0.55f; };
     if (variant == "parts") return [](Scene& s) { s.setMeshes(sceneParts()); };
     return {};
@@ -232,7 +251,7 @@ TEST_P(Screenshot, MatchesReference) {
 std::vector<Shot> allShots() {
     std::vector<Shot> shots;
     for (const char* model : {"torus", "bunny"}) {
-        for (const char* view : {"grid", "mesh", "wire", "volume", "raymarch", "slice"}) shots.push_back({model, view, ""});
+        for (const ViewType& type : viewTypes()) shots.push_back({model, type.name, ""}); // every registered view
     }
     // The colour bar (beside every slice and volume shot above) with another map; slice
     // orientation; iso levels; hidden-line and see-through wireframes; a scene of two meshes.
@@ -259,18 +278,20 @@ INSTANTIATE_TEST_SUITE_P(Views, Screenshot, ::testing::ValuesIn(allShots()), sho
 
 TEST_F(RenderTest, EveryViewDrawsSomething) {
     const Image empty = draw("bunny", only("none"));
-    for (const char* view : {"grid", "mesh", "wire", "volume", "raymarch", "slice"}) {
-        const Image image = draw("bunny", only(view));
+    for (const ViewType& type : viewTypes()) {
+        const Image image = draw("bunny", only(type.name));
         const std::size_t changed = differingPixels(image, empty, 8);
-        EXPECT_GT(changed, pixelCount(image) / 50) << view << " leaves the image (nearly) blank";
+        EXPECT_GT(changed, pixelCount(image) / 400) << type.name << " leaves the image (nearly) blank"; // the box's lines: about 1%
     }
 }
 
 TEST_F(RenderTest, TogglingAViewChangesTheImage) {
     const Image base = draw("torus", only("grid,mesh"));
-    for (const char* extra : {"wire", "volume", "raymarch", "slice"}) {
-        const Image image = draw("torus", only(std::string("grid,mesh,") + extra));
-        EXPECT_GT(differingPixels(image, base, 8), pixelCount(image) / 100) << "turning on " << extra;
+    for (const ViewType& type : viewTypes()) {
+        const std::string extra = type.name;
+        if (extra == "grid" || extra == "mesh") continue; // the base
+        const Image image = draw("torus", only("grid,mesh," + extra));
+        EXPECT_GT(differingPixels(image, base, 8), pixelCount(image) / 400) << "turning on " << extra;
     }
     EXPECT_GT(differingPixels(draw("torus", only("grid")), base, 8), pixelCount(base) / 50) << "turning off mesh";
     EXPECT_GT(differingPixels(draw("torus", only("mesh")), base, 8), pixelCount(base) / 50) << "turning off grid";
@@ -320,7 +341,7 @@ TEST_F(RenderTest, RaymarchedSilhouetteMatchesMesh) {
 TEST_F(RenderTest, IsoLevelGrowsAndShrinksTheSurface) {
     const glm::vec3 black(0.0f);
     auto covered = [&](float iso) {
-        const std::vector<bool> mask = coverage(draw("bunny", only("raymarch"), 30.0f, 20.0f, black, false, [iso](Scene& s) { s.iso = iso; }));
+        const std::vector<bool> mask = coverage(draw("bunny", only("raymarch"), 30.0f, 20.0f, black, false, [iso](Scene& s) { s.view<RaymarchView>().iso = iso; }));
         return std::count(mask.begin(), mask.end(), true);
     };
     const auto inner = covered(-0.3f), surface = covered(0.0f), outer = covered(0.5f);
@@ -334,7 +355,7 @@ TEST_F(RenderTest, IsoLevelGrowsAndShrinksTheSurface) {
 TEST_F(RenderTest, WireframeHidesHiddenLines) {
     const glm::vec3 black(0.0f);
     const std::vector<bool> hidden = coverage(draw("bunny", only("wire"), 30.0f, 20.0f, black));
-    const std::vector<bool> through = coverage(draw("bunny", only("wire"), 30.0f, 20.0f, black, true, [](Scene& s) { s.wireSeeThrough = true; }));
+    const std::vector<bool> through = coverage(draw("bunny", only("wire"), 30.0f, 20.0f, black, true, [](Scene& s) { s.view<WireView>().seeThrough = true; }));
     const std::vector<bool> solid = coverage(draw("bunny", only("mesh"), 30.0f, 20.0f, black));
     const auto hiddenCount = std::count(hidden.begin(), hidden.end(), true), throughCount = std::count(through.begin(), through.end(), true);
     std::size_t outside = 0;
@@ -387,13 +408,13 @@ TEST_F(RenderTest, ColourBarFollowsTheColourMap) {
 // with different ranges, a bar each, named "slice" and "volume", the volume's drawn left of the
 // slice's, whose bar stays where the single one was.
 TEST_F(RenderTest, ColourBarPerRange) {
-    const Views both = only("slice,volume");
+    const std::vector<bool> both = only("slice,volume");
     std::vector<ColourBar> bars;
     const Image one = draw("torus", both, 30.0f, 20.0f, glm::vec3(0.16f, 0.17f, 0.19f), true, [&](Scene& s) { bars = s.colourBars(); });
     ASSERT_EQ(bars.size(), 1u);
     EXPECT_EQ(bars[0].name, nullptr);
     const Image two = draw("torus", both, 30.0f, 20.0f, glm::vec3(0.16f, 0.17f, 0.19f), true, [&](Scene& s) {
-        s.volumeRange = glm::vec2(-0.1f, 0.1f);
+        s.view<VolumeView>().range = glm::vec2(-0.1f, 0.1f);
         bars = s.colourBars();
     });
     ASSERT_EQ(bars.size(), 2u);

@@ -1,4 +1,5 @@
 #include "sdfgen/compare.hpp"
+#include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/common.hpp>
@@ -97,13 +98,23 @@ void checkSameGrid(const Grid& ga, const Grid& gb) {
     }
 }
 
-FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels, std::vector<std::size_t>* signDifferences) {
+FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels, std::vector<std::size_t>* signDifferences,
+                              const RunControl& control) {
+    throwIfCancelled(control);
     checkSameGrid(a.grid, b.grid);
     Tally tally(bandVoxels * a.grid.voxel, a.background, b.background);
     if (signDifferences) signDifferences->clear();
-    for (std::size_t i = 0; i < a.values.size(); ++i) {
-        if (tally.add(a.values[i], b.values[i]) && signDifferences) signDifferences->push_back(i);
+    constexpr std::size_t kChunk = std::size_t(1) << 20;
+    const std::size_t count = a.values.size();
+    ProgressCounter progress(control, count);
+    for (std::size_t start = 0; start < count; start += kChunk) {
+        const std::size_t end = std::min(count, start + kChunk);
+        for (std::size_t i = start; i < end; ++i) {
+            if (tally.add(a.values[i], b.values[i]) && signDifferences) signDifferences->push_back(i);
+        }
+        progress.add(end - start);
     }
+    progress.finish();
     return tally.result(a.grid.voxel);
 }
 
