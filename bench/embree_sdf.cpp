@@ -26,7 +26,7 @@
 // localPosition, distances scaled by mesh.unit when stored).
 #include "peer_common.hpp"
 
-#include "core/distance/directions.hpp"
+#include "core/accel/directions.hpp"
 #include "core/mesh/sample_positions.hpp"
 
 #include <embree3/rtcore.h>

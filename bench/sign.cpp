@@ -5,7 +5,7 @@
 // e.g. across thread counts or versions).
 #include "core/runtime/parallel.hpp"
 #include "core/sign/winding_sign.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"

@@ -41,14 +41,7 @@ EXPORTED = {
 }
 
 BASELINE = {
-    # Upward in the core, and between siblings.
-    # The pseudonormal sign takes its closest features from the exact distance (insideByClosestFeature), the rays sign its
-    # votes from the rays method (generateRayField).
-    "src/core/sign/sign_methods.cpp -> src/core/distance/exact.hpp",
-    "src/core/sign/sign_methods.cpp -> src/core/distance/ray_generator.hpp",
-    # The topology's self-intersection search walks the tree.
-    "src/core/mesh/topology.hpp -> src/core/accel/bvh.hpp",
-    # Front ends through core internals (issue 42 item 4: through include/sdfgen/ instead).
+    # Front ends through core internals (through include/sdfgen/ instead).
     "python/nearest.cpp -> src/core/mesh/geometry.hpp",
 }
 

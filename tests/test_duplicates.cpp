@@ -8,7 +8,7 @@
 #include "core/runtime/memory.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/model.hpp"
 #include "support/checks.hpp"
 #include "support/binary_rays.hpp"

@@ -1,9 +1,9 @@
 // The ray-sampling generator against analytic fields, the naive definition, and itself.
-#include "core/distance/directions.hpp"
+#include "core/accel/directions.hpp"
 #include "core/distance/kernel.hpp"
 #include "sdfgen/error.hpp"
 #include "core/bake/bake.hpp"
-#include "core/distance/ray_generator.hpp"
+#include "core/accel/ray_generator.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "support/checks.hpp"
 #include "support/binary_rays.hpp"

@@ -1,7 +1,7 @@
 // The mesh check's counts on generated broken meshes, and the sign that auto picks from them.
 #include "sdfgen/compare.hpp"
 #include "core/mesh/predicates.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "core/mesh/vertex_groups.hpp"
 #include "core/runtime/parallel.hpp"
 #include "support/broken_meshes.hpp"

@@ -2,7 +2,7 @@
 // settled for bakes and point queries.
 #include "core/bake/bake.hpp"
 #include "core/accel/bvh.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/model.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/checks.hpp"

@@ -2,7 +2,7 @@
 // thread count, progress that never runs backwards, and cancel honoured inside each.
 #include "core/accel/bvh.hpp"
 #include "core/sign/winding_sign.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
 #include "support/binary_rays.hpp"

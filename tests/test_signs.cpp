@@ -3,7 +3,7 @@
 #include "core/distance/exact.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "support/broken_meshes.hpp"
 #include "support/reference.hpp"
 #include "support/shapes.hpp"

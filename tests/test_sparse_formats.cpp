@@ -5,7 +5,7 @@
 #include "sdfgen/surface.hpp"
 #include "core/io/formats/format.hpp"
 #include "core/io/formats/npy.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/compare.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"

@@ -4,7 +4,7 @@
 // of the patches that close its openings).
 #include "core/mesh/geometry.hpp"
 #include "sdfgen/surface.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
 

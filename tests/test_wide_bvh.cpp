@@ -6,7 +6,7 @@
 #include "core/mesh/geometry.hpp"
 #include "core/distance/kernel.hpp"
 #include "core/mesh/sample_positions.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "core/accel/wide_bvh.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/model.hpp"
@@ -320,25 +320,23 @@ TEST(ExactBricks, RowMeasureEqualsTheScalarClosestPoint) {
 }
 
 TEST(ExactBricks, PseudonormalSignWrittenInlineEqualsTheClosestFeatureSign) {
-    // A closed mesh: the bake's inline signs are those of the separate closest-feature pass, and
-    // the analytic signs of the sphere away from its surface.
-    const Mesh sphere = test::icosphere(1.0f, 3);
-    const Model model{Mesh(sphere)};
+    // A closed mesh: the bake's inline signs are those of the sign method's own pass (which signs
+    // the ray-sampled distances), and the analytic signs of the sphere away from its surface.
+    const Model model{test::icosphere(1.0f, 3)};
     BakeSettings settings;
     settings.res = 30;
     const BakeResult baked = model.bake(settings);
     ASSERT_EQ(baked.sign, SignMethod::Pseudonormal);
-    const Bvh binary(sphere);
-    const WideBvh tree(sphere, binary);
-    const MeshTopology topology(sphere);
-    const std::vector<std::uint8_t> inside = insideByClosestFeature(sphere, tree, baked.field.grid, topology, false, RunControl{});
+    settings.method = DistanceMethod::Rays;
+    settings.sign = SignMethod::Pseudonormal;
+    const BakeResult separate = model.bake(settings);
     const Grid& grid = baked.field.grid;
     std::size_t disagree = 0, wrong = 0;
     for (int k = 0; k < grid.dims.z; ++k) {
         for (int j = 0; j < grid.dims.y; ++j) {
             for (int i = 0; i < grid.dims.x; ++i) {
                 const std::size_t index = grid.index(i, j, k);
-                disagree += (baked.field.values[index] < 0.0f) != bool(inside[index]);
+                disagree += std::signbit(baked.field.values[index]) != std::signbit(separate.field.values[index]);
                 const double r = glm::length(grid.position(i, j, k));
                 if (std::fabs(r - 1.0) > 0.05) wrong += (baked.field.values[index] < 0.0f) != (r < 1.0);
             }

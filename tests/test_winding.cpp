@@ -7,7 +7,7 @@
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/model.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
 

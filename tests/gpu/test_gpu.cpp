@@ -7,7 +7,7 @@
 #include "core/distance/exact.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "gpu/gl_device.hpp"
 #include "render/egl_context.hpp"
 #include "render/gl.hpp"

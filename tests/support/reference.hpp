@@ -1,7 +1,7 @@
 #pragma once
 // The brute-force reference and the comparisons the accuracy suites make against it.
 #include "core/bake/bake.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 
 #include <cstddef>
 #include <string>

@@ -1,6 +1,7 @@
 #include "core/bake/bake.hpp"
 #include "core/bake/band_bake.hpp"
 #include "core/bake/memory_estimate.hpp"
+#include "core/distance/exact.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
@@ -78,6 +79,9 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     }
     BakeResult result;
     BakeContext deviceContext = context;
+    deviceContext.nearestRows = [&context](const NearestRowStore& store, const RunControl& rowControl) {
+        forEachNearestRow(context.mesh, context.wide(), context.grid, store, rowControl);
+    };
     if (banded) {
         result.deviceReason = "cpu: the narrow-band bake runs on the CPU only";
     } else if (channels.any()) {

@@ -7,7 +7,7 @@
 #include "core/mesh/geometry.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/sign/winding_sign.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "core/mesh/vertex_groups.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/grid.hpp"

@@ -2,7 +2,7 @@
 #include "core/distance/exact.hpp"
 #include "core/method/methods.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/ray_generator.hpp"
+#include "core/accel/ray_generator.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"

@@ -5,7 +5,7 @@
 #include "core/distance/kernel.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/mesh/sample_positions.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
@@ -54,9 +54,8 @@ float exactSignedSample(const Mesh& mesh, const WideBvh& tree, const MeshTopolog
     return sampleValue(mesh, &topology, flipped, p, nearestTriangle(tree, glm::vec3(p), hint));
 }
 
-std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,
-                                                 bool flipped, const RunControl& control) {
-    return kernel::active().insideByClosestFeature(mesh, tree, grid, topology, flipped, control);
+void forEachNearestRow(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const NearestRowStore& store, const RunControl& control) {
+    kernel::active().forEachNearestRow(mesh, tree, grid, store, control);
 }
 
 std::uint32_t nearestTriangle(const WideBvh& tree, const glm::vec3& p, std::uint32_t& hint) {

@@ -5,6 +5,7 @@
 #include "core/runtime/parallel.hpp"
 #include "core/accel/bvh.hpp"
 #include "core/accel/wide_bvh.hpp"
+#include "core/method/methods.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -71,10 +72,8 @@ float sampleValue(const Mesh& mesh, const MeshTopology* pseudonormal, bool flipp
 float exactSignedSample(const Mesh& mesh, const WideBvh& tree, const MeshTopology& topology, bool flipped, const glm::dvec3& p,
                         std::uint32_t& hint);
 
-// Inside flags (1 = inside) by the angle-weighted pseudonormal of each sample's closest feature,
-// found by the same search (for distance methods that do not find nearest triangles).
-std::vector<std::uint8_t> insideByClosestFeature(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology& topology,
-                                                 bool flipped, const RunControl& control);
+// Every sample's nearest triangle by the same search, row by row (BakeContext::nearestRows).
+void forEachNearestRow(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const NearestRowStore& store, const RunControl& control);
 
 // The nearest triangle to one point (local coordinates) by the same float distance and tie rule
 // as the grid's samples; `hint` (in/out, WideBvh::kEmpty at first) is the packet that held the

@@ -6,7 +6,7 @@
 #include "core/distance/kernel.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/mesh/sample_positions.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>

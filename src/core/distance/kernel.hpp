@@ -17,8 +17,7 @@ struct Table {
                               const ChannelOutputs*);
     void (*computeExactBricks)(const Mesh&, const WideBvh&, const Grid&, const glm::ivec3*, std::size_t, double, const MeshTopology*, bool,
                                float*, const RunControl&);
-    std::vector<std::uint8_t> (*insideByClosestFeature)(const Mesh&, const WideBvh&, const Grid&, const MeshTopology&, bool,
-                                                        const RunControl&);
+    void (*forEachNearestRow)(const Mesh&, const WideBvh&, const Grid&, const NearestRowStore&, const RunControl&);
     std::uint32_t (*nearestTriangle)(const WideBvh&, const glm::vec3&, std::uint32_t&);
 };
 

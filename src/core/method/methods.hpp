@@ -7,7 +7,7 @@
 #include "core/accel/bvh.hpp"
 #include "core/accel/wide_bvh.hpp"
 #include "core/mesh/geometry.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "sdfgen/bake.hpp"
 #include "sdfgen/device.hpp"
 #include "sdfgen/grid.hpp"
@@ -25,6 +25,10 @@ namespace sdfgen {
 
 // What a method may use: the mesh, its tree, the grid, the settings, and the mesh's wide tree,
 // topology and check, built on first use and cached by whoever owns the mesh (sdfgen::Model).
+// Receives rows of up to four samples (i.., j, k) with each sample's nearest triangle (the
+// float-nearest, the least index on ties); called from several threads at once.
+using NearestRowStore = std::function<void(int i, int j, int k, int count, const std::uint32_t* triangles)>;
+
 struct BakeContext {
     const Mesh& mesh;
     const Bvh& tree;
@@ -39,6 +43,10 @@ struct BakeContext {
     SignMethod sign = SignMethod::Default;
     // Where the exact distance and the winding sign run (sdfgen/device.hpp); null: on the CPU.
     ComputeDevice* device = nullptr;
+    // Every sample's nearest triangle by the exact distance's own search, for a sign that reads
+    // closest features after a pass that found none (bake() hands it down; distance/ and sign/
+    // are siblings).
+    std::function<void(const NearestRowStore&, const RunControl&)> nearestRows = nullptr;
 };
 
 // A distance pass's output. `distance` is unsigned, in world units, unless `signedAsAsked`: then

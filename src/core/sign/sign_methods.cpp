@@ -1,8 +1,8 @@
 // The sign methods: generalized winding number, angle-weighted pseudonormal, the report's ray vote.
-#include "core/distance/exact.hpp"
 #include "core/method/methods.hpp"
 #include "core/runtime/parallel.hpp"
-#include "core/distance/ray_generator.hpp"
+#include "core/accel/ray_generator.hpp"
+#include "core/mesh/geometry.hpp"
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/error.hpp"
@@ -82,10 +82,27 @@ private:
     const bool fansClose_; // the count may run on the row's shorter side (fansCloseMesh)
 };
 
-// For passes that did not sign as they measured (rays): one more closest-feature search.
+// For passes that did not sign as they measured (rays, brute force): one more closest-feature
+// search, the exact distance's, so each side is the one the exact pass signs inline.
 void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunControl& control) {
-    // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
-    negateInside(pass.distance, insideByClosestFeature(context.mesh, context.wide(), context.grid, context.topology(), context.flipped, control));
+    const Mesh& mesh = context.mesh;
+    const Grid& grid = context.grid;
+    const MeshTopology& topology = context.topology();
+    context.nearestRows(
+        [&](int i, int j, int k, int count, const std::uint32_t* triangles) {
+            for (int lane = 0; lane < count; ++lane) {
+                const std::uint32_t t = triangles[lane];
+                const glm::dvec3 p = localPosition(mesh, grid, i + lane, j, k);
+                const ClosestPoint closest =
+                    closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
+                // Every pseudonormal of a flipped mesh is negated: inside and outside swap.
+                if ((glm::dot(p - closest.point, topology.pseudonormal(t, closest.feature)) < 0.0) != context.flipped) {
+                    float& value = pass.distance[grid.index(i + lane, j, k)];
+                    value = -value;
+                }
+            }
+        },
+        control);
 }
 
 // A point's side by the pseudonormal of its closest feature, as the exact pass signs a sample.

@@ -4,7 +4,7 @@
 #include "sdfgen/device.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 
 #include <glm/geometric.hpp>
 #include <algorithm>

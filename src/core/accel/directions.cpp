@@ -1,4 +1,4 @@
-#include "core/distance/directions.hpp"
+#include "core/accel/directions.hpp"
 
 #include <cmath>
 

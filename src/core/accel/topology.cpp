@@ -1,4 +1,4 @@
-#include "core/mesh/topology.hpp"
+#include "core/accel/topology.hpp"
 #include "core/mesh/triangle_copies.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/mesh/predicates.hpp"

@@ -1,5 +1,5 @@
-#include "core/distance/ray_generator.hpp"
-#include "core/distance/directions.hpp"
+#include "core/accel/ray_generator.hpp"
+#include "core/accel/directions.hpp"
 #include "core/accel/ray_tree.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/parallel.hpp"
