@@ -57,14 +57,9 @@ DistancePass exactDistance(const BakeContext& context, const RunControl& control
     pass.distance.resize(samples);
     pass.signedAsAsked = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares
     // The channels come from the closest points the distances are measured with.
-    const Channels& asked = context.settings.channels;
-    ChannelOutputs channels;
-    channels.plane = samples;
-    if (asked.gradient) pass.gradient.resize(3 * samples), channels.gradient = pass.gradient.data();
-    if (asked.closest) pass.closest.resize(3 * samples), channels.closest = pass.closest.data();
-    if (asked.triangle) pass.triangle.resize(samples), channels.triangle = pass.triangle.data();
+    const ChannelWriter channels(context.settings.channels, samples, true, pass.channels);
     computeExactField(context.mesh, context.wide(), context.grid, pass.signedAsAsked ? &context.topology() : nullptr, context.flipped,
-                      pass.distance.data(), control, asked.any() ? &channels : nullptr);
+                      pass.distance.data(), control, channels.empty() ? nullptr : &channels);
     return pass;
 }
 
