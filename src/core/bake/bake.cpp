@@ -110,11 +110,7 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
         result.signSeconds += checkSeconds;
         result.sparse.method = method.name;
         result.sparse.parameters = parameters(sign);
-        result.field.source = result.sparse.source;
-        result.field.grid = result.sparse.grid;
-        result.field.method = result.sparse.method;
-        result.field.parameters = result.sparse.parameters;
-        result.field.background = result.sparse.background;
+        static_cast<FieldHeader&>(result.field) = result.sparse; // the dense field's header only, no values
         return result;
     }
 
