@@ -15,6 +15,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <deque>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -148,6 +149,14 @@ Id choose(const std::vector<Choice<Id>>& choices, const char* what, const std::s
 }
 
 SignMethod signFrom(const std::string& name) { return choose(signMethodChoices(), "sign", name); }
+
+// The registry's channel names after `first`, `separator` between them, `last` before the last one.
+std::string channelNames(const std::string& separator, const std::string& last, const std::string& first) {
+    const std::vector<ChannelInfo>& infos = channelInfos();
+    std::string text = first;
+    for (std::size_t c = 0; c < infos.size(); ++c) text += (c == 0 ? "" : c + 1 == infos.size() ? last : separator) + std::string(infos[c].name);
+    return text;
+}
 
 // Channels from "sdf,gradient" or ["sdf", "gradient"]; ValueError for an unknown name.
 Channels channelsFrom(const py::object& names) {
@@ -443,16 +452,22 @@ void addFieldInfo(py::class_<Py>& cls) {
    "edges decided the sign and the search was skipped");
 }
 
-// A channel of the field `self` as an (nx, ny, nz) or, for `vector`, (nx, ny, nz, 3) view of its
-// planar buffer (no copy; keeps the field alive); None when it was not baked.
+// The channel `name` of the field `self` as an (nx, ny, nz) or, for a vector, (nx, ny, nz, width)
+// view of its planar buffer (no copy; keeps the field alive); None when it was not baked.
 template <class T>
-py::object channelView(const py::object& self, const std::vector<T>& planes, bool vector) {
-    if (planes.empty()) return py::none();
+py::object planarView(const py::object& self, const T* planes, int width) {
     const glm::ivec3 d = self.cast<const PyField&>().field.grid.dims;
     const py::ssize_t item = sizeof(T), nx = d.x, ny = d.y, nz = d.z;
     std::vector<py::ssize_t> shape{nx, ny, nz}, strides{item, item * nx, item * nx * ny};
-    if (vector) shape.push_back(3), strides.push_back(item * nx * ny * nz);
-    return py::array_t<T>(shape, strides, planes.data(), self);
+    if (width > 1) shape.push_back(width), strides.push_back(item * nx * ny * nz);
+    return py::array_t<T>(shape, strides, planes, self);
+}
+
+py::object channelView(const py::object& self, const std::string& name) {
+    const ChannelValues* channel = self.cast<const PyField&>().field.channel(name);
+    if (!channel) return py::none();
+    const int width = channel->info().width;
+    return channel->ints.empty() ? planarView(self, channel->floats.data(), width) : planarView(self, channel->ints.data(), width);
 }
 
 // A read-only view of a buffer that the sparse field `self` holds (no copy; keeps the field alive).
@@ -478,11 +493,15 @@ void registerModuleInfo(py::module_& m) {
               "Sign methods (sign): " + describeChoices(signMethodChoices()) + "; point queries sign by " +
               namesOf(pointQuerySignChoices()) + ".\n"
               "Devices (bake's device): " + describeChoices(deviceChoices()) + ".\n"
+              "Channels (bake's and sample's channels, besides sdf; CHANNELS): " + describeChannels() + ".\n"
               "Field formats: " + fieldFormats + ".\nMesh formats: " + meshFormats + " and the others Assimp reads.";
     const std::vector<Choice<SignMethod>> querySigns = pointQuerySignChoices();
     py::tuple querySignNames(querySigns.size());
     for (std::size_t i = 0; i < querySigns.size(); ++i) querySignNames[i] = querySigns[i].name;
     m.attr("_point_query_signs") = querySignNames; // for sdfgen.torch's messages
+    py::tuple channelNames(channelInfos().size());
+    for (std::size_t i = 0; i < channelInfos().size(); ++i) channelNames[i] = channelInfos()[i].name;
+    m.attr("CHANNELS") = channelNames; // the channels bake and sample take besides sdf, in their order
     m.attr("__version__") = "0.1.0";
 #if SDFGEN_PYTHON_GPU
     gpu::registerGlDevice();
@@ -852,6 +871,15 @@ void registerTorchTerms(py::module_& m) {
 void registerField(py::module_& m) {
     py::class_<PyField> fieldClass(m, "Field", "A signed distance field on a grid of cubic voxels (samples at voxel centres)");
     addFieldInfo(fieldClass);
+    // One view per channel of the registry, under its name.
+    for (const ChannelInfo& info : channelInfos()) {
+        const std::string name = info.name;
+        const std::string shape = info.width > 1 ? "(nx, ny, nz, " + std::to_string(info.width) + ")" : "(nx, ny, nz)";
+        static std::deque<std::string> docs; // pybind11 keeps a docstring's pointer
+        docs.push_back(shape + (info.type == ChannelType::Int32 ? " int32" : " float32") + " view of the " + name + " channel: " +
+                       info.description + "; None unless baked with channels including '" + name + "'");
+        fieldClass.def_property_readonly(info.name, [name](const py::object& self) { return channelView(self, name); }, docs.back().c_str());
+    }
     fieldClass
         .def_property_readonly("background", [](const PyField& f) { return f.field.background; },
                                "0 when every value is a distance; for a band field made dense (SparseField.to_dense), the "
@@ -867,17 +895,6 @@ void registerField(py::module_& m) {
                                           {item, item * d.x, item * d.x * d.y}, f.field.values.data(), self);
             },
             "(nx, ny, nz) float32 view of the field's values (no copy; keeps the field alive)")
-        .def_property_readonly(
-            "gradient", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.gradient, true); },
-            "(nx, ny, nz, 3) float32 view of the gradient channel: the unit gradient of the signed distance (the outward face "
-            "normal where the distance is 0); None unless baked with channels including 'gradient'")
-        .def_property_readonly(
-            "closest", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.closest, true); },
-            "(nx, ny, nz, 3) float32 view of the closest channel: the nearest surface point, world coordinates; None unless baked")
-        .def_property_readonly(
-            "triangle", [](const py::object& self) { return channelView(self, self.cast<const PyField&>().field.triangle, false); },
-            "(nx, ny, nz) int32 view of the triangle channel: the nearest triangle's index (as Mesh.faces numbers them); None "
-            "unless baked")
         .def(
             "positions",
             [](const PyField& f) {
@@ -1055,8 +1072,8 @@ void registerBakeAndLoad(py::module_& m) {
         "Bakes a field: res voxels along the padded box's longest side. progress(fraction) is called on this thread; "
         "Ctrl+C cancels. method: " + namesOf(distanceMethodChoices()) + "; sign: " + namesOf(signMethodChoices()) +
         " (see the module's notes). device: where exact distances and winding signs run: " + describeChoices(deviceChoices()) +
-        ". channels: 'sdf' or a comma-separated list (or sequence) adding gradient, closest and triangle (method exact, "
-        "on the CPU): Field.gradient, .closest, .triangle. band > 0: a narrow-band bake (method exact, on the CPU): exact "
+        ". channels: 'sdf' or a comma-separated list (or sequence) adding " + channelNames(", ", " and ", "") + " (method exact, "
+        "on the CPU): " + channelNames(", .", ", .", "Field.") + ". band > 0: a narrow-band bake (method exact, on the CPU): exact "
         "distances only within band voxels of the surface, returned as a SparseField; the dense grid is never allocated. "
         "ValueError, before any work, for settings out of their limits (res and rays 1 to 65536, padding 0 to 100, band 0 or "
         "1 to 1e9) or that do not go together, as sdfgen bake refuses them.";
@@ -1122,6 +1139,14 @@ void registerBakeAndLoad(py::module_& m) {
 
 // sample: DeepSDF-style training samples.
 void registerSample(py::module_& m) {
+    // pybind11 keeps a docstring's pointer: this lives as long as the module.
+    static std::string sampleDoc =
+        "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32), in world units, or with normalize=True in DeepSDF's "
+        "(Mesh.normalization(): (points - centre) / scale, sdf / scale; the mesh in the unit sphere). Defaults are DeepSDF's: "
+        "47/50 near the surface (half with each variance, wide_variance then narrow_variance, in the normalized units; "
+        "near_variance and far_variance are their old names), the rest uniform in the padded box. "
+        "channels ('sdf' or a list adding " + channelNames(", ", ", ", "") + ") appends, in that order, each as (n, width) of its type "
+        "(float32 or int32; (n,) for width 1; a point such as closest normalized too) to the tuple.";
     m.def(
         "sample",
         [](const PyMesh& mesh, std::size_t n, std::uint64_t seed, double surfaceFraction, double wideVariance, double narrowVariance,
@@ -1150,26 +1175,26 @@ void registerSample(py::module_& m) {
                     for (std::size_t i = 0; i < xyz.size(); ++i) xyz[i] = float((double(xyz[i]) - frame.centre[int(i % 3)]) / frame.radius);
                 };
                 toFrame(samples.points);
-                if (!samples.closest.empty()) toFrame(samples.closest);
+                for (ChannelValues& channel : samples.channels) {
+                    if (channel.info().vector == ChannelVector::Position) toFrame(channel.floats);
+                }
                 for (float& d : samples.sdf) d = float(double(d) / frame.radius);
             }
             py::list arrays;
             arrays.append(toNumpy(std::move(samples.points), {py::ssize_t(n), 3}));
             arrays.append(toNumpy(std::move(samples.sdf), {py::ssize_t(n)}));
-            if (settings.channels.gradient) arrays.append(toNumpy(std::move(samples.gradient), {py::ssize_t(n), 3}));
-            if (settings.channels.closest) arrays.append(toNumpy(std::move(samples.closest), {py::ssize_t(n), 3}));
-            if (settings.channels.triangle) arrays.append(toNumpy(std::move(samples.triangle), {py::ssize_t(n)}));
+            for (ChannelValues& channel : samples.channels) {
+                const int width = channel.info().width;
+                const std::vector<py::ssize_t> shape = width > 1 ? std::vector<py::ssize_t>{py::ssize_t(n), width} : std::vector<py::ssize_t>{py::ssize_t(n)};
+                if (channel.ints.empty()) arrays.append(toNumpy(std::move(channel.floats), shape));
+                else arrays.append(toNumpy(std::move(channel.ints), shape));
+            }
             return py::tuple(arrays);
         },
         py::arg("mesh"), py::arg("n"), py::arg("seed") = 0, py::arg("surface_fraction") = 47.0 / 50.0, py::arg("wide_variance") = 0.0025,
         py::arg("narrow_variance") = 0.00025, py::arg("padding") = 0.1, py::arg("sign") = "auto", py::arg("threads") = 0,
         py::arg("channels") = "sdf", py::arg("normalize") = false, py::arg("near_variance") = py::none(), py::arg("far_variance") = py::none(),
-        "DeepSDF-style samples: (points (n, 3) float32, sdf (n,) float32), in world units, or with normalize=True in DeepSDF's "
-        "(Mesh.normalization(): (points - centre) / scale, sdf / scale; the mesh in the unit sphere). Defaults are DeepSDF's: "
-        "47/50 near the surface (half with each variance, wide_variance then narrow_variance, in the normalized units; "
-        "near_variance and far_variance are their old names), the rest uniform in the padded box. "
-        "channels ('sdf' or a list adding gradient, closest, triangle) appends, in that order, gradient (n, 3) float32, "
-        "closest (n, 3) float32 (normalized too) and triangle (n,) int32 to the tuple.");
+        sampleDoc.c_str());
 }
 
 } // namespace

@@ -276,7 +276,7 @@ TEST(BandBake, RefusesWhatItCannotDo) {
     settings.device = Device::Gpu;
     EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("CPU"), std::string::npos);
     settings.device = Device::Cpu;
-    settings.channels.gradient = true;
+    settings.channels.add("gradient");
     EXPECT_NE(test::errorFrom([&] { test::bakeMesh(sphere, settings); }).find("dense bake only"), std::string::npos);
     settings.channels = {};
     settings.sign = SignMethod::Rays; // a vote per sample: out of the band there is none

@@ -22,16 +22,28 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 
 namespace sdfgen {
 namespace {
 
-Channels allChannels() {
-    Channels c;
-    c.gradient = c.closest = c.triangle = true;
-    return c;
+Channels allChannels() { return Channels::all(); }
+
+// A channel's values, empty when absent.
+template <class Holder>
+const std::vector<float>& floats(const Holder& holder, const char* name) {
+    static const std::vector<float> none;
+    const ChannelValues* channel = holder.channel(name);
+    return channel ? channel->floats : none;
+}
+template <class Holder>
+const std::vector<std::int32_t>& ints(const Holder& holder, const char* name) {
+    static const std::vector<std::int32_t> none;
+    const ChannelValues* channel = holder.channel(name);
+    return channel ? channel->ints : none;
 }
 
 BakeResult bakeChannels(const Mesh& mesh, int res, SignMethod sign, const Channels& channels, int threads = 0) {
@@ -67,9 +79,9 @@ double distanceSquaredTo(const Mesh& mesh, const glm::dvec3& p, std::size_t t) {
 void expectMatchesBruteForce(const Mesh& mesh, const Field& field) {
     const Grid& grid = field.grid;
     const std::size_t n = grid.sampleCount();
-    ASSERT_EQ(field.gradient.size(), 3 * n);
-    ASSERT_EQ(field.closest.size(), 3 * n);
-    ASSERT_EQ(field.triangle.size(), n);
+    ASSERT_EQ(floats(field, "gradient").size(), 3 * n);
+    ASSERT_EQ(floats(field, "closest").size(), 3 * n);
+    ASSERT_EQ(ints(field, "triangle").size(), n);
     int failures = 0;
     for (int k = 0; k < grid.dims.z; ++k) {
         for (int j = 0; j < grid.dims.y; ++j) {
@@ -79,7 +91,7 @@ void expectMatchesBruteForce(const Mesh& mesh, const Field& field) {
                 double nearest = std::numeric_limits<double>::infinity();
                 for (std::size_t t = 0; t < mesh.triangleCount(); ++t) nearest = std::min(nearest, distanceSquaredTo(mesh, p, t));
                 // The triangle: the nearest, or one tied with it to the float search's rounding.
-                const std::int32_t t = field.triangle[index];
+                const std::int32_t t = ints(field, "triangle")[index];
                 ASSERT_GE(t, 0);
                 ASSERT_LT(std::size_t(t), mesh.triangleCount());
                 const double found = std::sqrt(distanceSquaredTo(mesh, p, std::size_t(t))), best = std::sqrt(nearest);
@@ -94,7 +106,7 @@ void expectMatchesBruteForce(const Mesh& mesh, const Field& field) {
                                                               glm::dvec3(mesh.vertex(t, 2)));
                 const glm::dvec3 world = mesh.toWorld(c.point);
                 for (std::size_t a = 0; a < 3; ++a) {
-                    const float stored = field.closest[a * n + index];
+                    const float stored = floats(field, "closest")[a * n + index];
                     if (!(std::fabs(double(stored) - world[int(a)]) <= 1e-6 * (std::fabs(world[int(a)]) + mesh.unit))) {
                         ADD_FAILURE() << "sample " << index << ": closest " << stored << " vs " << world[int(a)];
                         ++failures;
@@ -103,7 +115,7 @@ void expectMatchesBruteForce(const Mesh& mesh, const Field& field) {
                 // The gradient: sign * (p - c) / |p - c|, the outward face normal where the distance is 0.
                 glm::dvec3 expected = glm::dvec3(mesh.faceNormals[std::size_t(t)]);
                 if (field.values[index] != 0.0f) expected = (p - c.point) / std::sqrt(c.distanceSquared) * (field.values[index] < 0 ? -1.0 : 1.0);
-                const glm::dvec3 g(field.gradient[index], field.gradient[n + index], field.gradient[2 * n + index]);
+                const glm::dvec3 g(floats(field, "gradient")[index], floats(field, "gradient")[n + index], floats(field, "gradient")[2 * n + index]);
                 if (!(glm::length(g - expected) <= 1e-6)) {
                     ADD_FAILURE() << "sample " << index << ": gradient (" << g.x << ", " << g.y << ", " << g.z << ") vs (" << expected.x
                                   << ", " << expected.y << ", " << expected.z << ")";
@@ -148,15 +160,14 @@ TEST(Channels, LeaveTheDistancesBitIdentical) {
         for (SignMethod sign : {SignMethod::Auto, SignMethod::Winding, SignMethod::Pseudonormal, SignMethod::Rays}) {
             SCOPED_TRACE(std::string(c.name) + ", sign " + toString(sign));
             const Field plain = bakeChannels(c.mesh, c.res, sign, Channels{}).field;
-            EXPECT_TRUE(plain.gradient.empty() && plain.closest.empty() && plain.triangle.empty());
+            EXPECT_TRUE(floats(plain, "gradient").empty() && floats(plain, "closest").empty() && ints(plain, "triangle").empty());
             Channels one;
-            one.triangle = true;
+            one.add("triangle");
             for (const Channels& channels : {allChannels(), one}) {
                 const Field with = bakeChannels(c.mesh, c.res, sign, channels).field;
                 ASSERT_EQ(with.values.size(), plain.values.size());
                 EXPECT_EQ(std::memcmp(with.values.data(), plain.values.data(), plain.values.size() * sizeof(float)), 0);
-                EXPECT_EQ(with.gradient.empty(), !channels.gradient);
-                EXPECT_EQ(with.closest.empty(), !channels.closest);
+                EXPECT_EQ(channelsOf(with.channels), channels);
             }
         }
     }
@@ -167,9 +178,9 @@ TEST(Channels, BitIdenticalForAnyThreadCountAndSimdPath) {
     const Field one = bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 1).field;
     auto expectSame = [&](const Field& other, const std::string& what) {
         EXPECT_EQ(other.values, one.values) << what;
-        EXPECT_EQ(std::memcmp(other.gradient.data(), one.gradient.data(), one.gradient.size() * sizeof(float)), 0) << what;
-        EXPECT_EQ(std::memcmp(other.closest.data(), one.closest.data(), one.closest.size() * sizeof(float)), 0) << what;
-        EXPECT_EQ(other.triangle, one.triangle) << what;
+        EXPECT_EQ(std::memcmp(floats(other, "gradient").data(), floats(one, "gradient").data(), floats(one, "gradient").size() * sizeof(float)), 0) << what;
+        EXPECT_EQ(std::memcmp(floats(other, "closest").data(), floats(one, "closest").data(), floats(one, "closest").size() * sizeof(float)), 0) << what;
+        EXPECT_EQ(ints(other, "triangle"), ints(one, "triangle")) << what;
     };
     expectSame(bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 3).field, "3 threads");
     const SimdPath chosen = simdPath();
@@ -199,10 +210,10 @@ TEST(Channels, PointQueriesGiveTheBakedGradientAtSamplePositions) {
     out.triangle = triangle.data();
     model.query(points.data(), n, out);
     for (std::size_t i = 0; i < n; ++i) {
-        ASSERT_EQ(triangle[i], field.triangle[i]) << i;
+        ASSERT_EQ(triangle[i], ints(field, "triangle")[i]) << i;
         for (std::size_t a = 0; a < 3; ++a) {
-            ASSERT_EQ(float(gradient[3 * i + a]), field.gradient[a * n + i]) << i;
-            ASSERT_EQ(float(closest[3 * i + a]), field.closest[a * n + i]) << i;
+            ASSERT_EQ(float(gradient[3 * i + a]), floats(field, "gradient")[a * n + i]) << i;
+            ASSERT_EQ(float(closest[3 * i + a]), floats(field, "closest")[a * n + i]) << i;
         }
     }
 }
@@ -232,35 +243,35 @@ TEST(Channels, SamplesCarryThemFromTheSameQuery) {
     const Samples with = sampleSdf(model, 2000, settings, one);
     EXPECT_EQ(with.sdf, plain.sdf);
     EXPECT_EQ(with.points, plain.points);
-    ASSERT_EQ(with.gradient.size(), 3 * with.size());
-    ASSERT_EQ(with.closest.size(), 3 * with.size());
-    ASSERT_EQ(with.triangle.size(), with.size());
+    ASSERT_EQ(floats(with, "gradient").size(), 3 * with.size());
+    ASSERT_EQ(floats(with, "closest").size(), 3 * with.size());
+    ASSERT_EQ(ints(with, "triangle").size(), with.size());
     const Mesh& mesh = model.mesh();
     for (std::size_t i = 0; i < with.size(); ++i) {
         const glm::dvec3 p = mesh.toLocal(glm::dvec3(with.points[3 * i], with.points[3 * i + 1], with.points[3 * i + 2]));
         double nearest = std::numeric_limits<double>::infinity();
         for (std::size_t t = 0; t < mesh.triangleCount(); ++t) nearest = std::min(nearest, distanceSquaredTo(mesh, p, t));
-        const std::size_t t = std::size_t(with.triangle[i]);
+        const std::size_t t = std::size_t(ints(with, "triangle")[i]);
         ASSERT_LE(std::sqrt(distanceSquaredTo(mesh, p, t)), std::sqrt(nearest) * (1.0 + 1e-5) + 1e-7) << i;
         const ClosestPoint c = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)));
         const glm::dvec3 expected = (p - c.point) / std::sqrt(c.distanceSquared) * (with.sdf[i] < 0 ? -1.0 : 1.0);
-        const glm::dvec3 g(with.gradient[3 * i], with.gradient[3 * i + 1], with.gradient[3 * i + 2]);
+        const glm::dvec3 g(floats(with, "gradient")[3 * i], floats(with, "gradient")[3 * i + 1], floats(with, "gradient")[3 * i + 2]);
         ASSERT_LE(glm::length(g - expected), 1e-6) << i;
-        for (int a = 0; a < 3; ++a) ASSERT_NEAR(with.closest[3 * i + std::size_t(a)], mesh.toWorld(c.point)[a], 1e-6) << i;
+        for (int a = 0; a < 3; ++a) ASSERT_NEAR(floats(with, "closest")[3 * i + std::size_t(a)], mesh.toWorld(c.point)[a], 1e-6) << i;
     }
     RunControl three;
     three.threads = 3;
     const Samples again = sampleSdf(model, 2000, settings, three);
-    EXPECT_EQ(again.gradient, with.gradient);
-    EXPECT_EQ(again.closest, with.closest);
-    EXPECT_EQ(again.triangle, with.triangle);
+    EXPECT_EQ(floats(again, "gradient"), floats(with, "gradient"));
+    EXPECT_EQ(floats(again, "closest"), floats(with, "closest"));
+    EXPECT_EQ(ints(again, "triangle"), ints(with, "triangle"));
 }
 
 TEST(Channels, ParseAndName) {
     EXPECT_FALSE(parseChannels("sdf").any());
     EXPECT_FALSE(parseChannels("").any());
     const Channels c = parseChannels("triangle,sdf,gradient");
-    EXPECT_TRUE(c.gradient && c.triangle && !c.closest);
+    EXPECT_TRUE(c.has("gradient") && c.has("triangle") && !c.has("closest"));
     EXPECT_EQ(toString(c), "sdf,gradient,triangle");
     EXPECT_EQ(toString(parseChannels("closest")), "sdf,closest");
     EXPECT_THROW(parseChannels("sdf,normals"), Error);
@@ -272,7 +283,7 @@ TEST(Channels, RefusedWhereTheyCannotBeMade) {
     const Bvh tree(mesh);
     BakeSettings settings;
     settings.res = 8;
-    settings.channels.gradient = true;
+    settings.channels.add("gradient");
     for (DistanceMethod method : {DistanceMethod::Rays, DistanceMethod::Brute}) {
         settings.method = method;
         try {
@@ -313,7 +324,53 @@ TEST(Channels, CountedByTheMemoryEstimate) {
     settings.sign = SignMethod::Pseudonormal;
     const double plain = double(estimateBakeBytes(mesh, grid, settings));
     settings.channels = allChannels();
-    EXPECT_EQ(double(estimateBakeBytes(mesh, grid, settings)) - plain, double(grid.sampleCount()) * (12 + 12 + 4));
+    double bytes = 0;
+    for (const ChannelInfo& info : channelInfos()) bytes += 4.0 * info.width;
+    EXPECT_EQ(double(estimateBakeBytes(mesh, grid, settings)) - plain, double(grid.sampleCount()) * bytes);
+}
+
+// Each channel of the registry alone: baked (its width and type, the distances untouched), named,
+// sampled from the same query, and saved under its name in .npz and .vdb.
+TEST(Channels, EveryRegisteredOneIsBakedSampledAndSaved) {
+    const Model model(test::torus(1.0f, 0.3f, 16, 8));
+    BakeSettings settings;
+    settings.res = 10;
+    settings.device = Device::Cpu;
+    const Field plain = model.bake(settings).field;
+    const std::size_t n = plain.grid.sampleCount();
+    for (const ChannelInfo& info : channelInfos()) {
+        SCOPED_TRACE(info.name);
+        settings.channels = parseChannels(std::string("sdf,") + info.name);
+        EXPECT_EQ(toString(settings.channels), std::string("sdf,") + info.name);
+        const Field field = model.bake(settings).field;
+        EXPECT_EQ(field.values, plain.values);
+        ASSERT_EQ(field.channels.size(), 1u);
+        const ChannelValues& channel = field.channels[0];
+        EXPECT_EQ(channel.name, info.name);
+        EXPECT_EQ(channel.size(), std::size_t(info.width) * n);
+        EXPECT_EQ(channel.ints.empty(), info.type == ChannelType::Float32);
+
+        SampleSettings sampling;
+        sampling.channels = settings.channels;
+        const Samples samples = sampleSdf(model, 300, sampling);
+        ASSERT_NE(samples.channel(info.name), nullptr);
+        EXPECT_EQ(samples.channel(info.name)->size(), std::size_t(info.width) * 300);
+
+        const std::string npz = testing::TempDir() + "/one-channel.npz";
+        saveField(field, npz);
+        std::ifstream in(npz, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        EXPECT_NE(bytes.find(std::string(info.name) + ".npy"), std::string::npos); // stored members: names in the clear
+#if SDFGEN_HAS_OPENVDB
+        const std::string vdb = testing::TempDir() + "/one-channel.vdb";
+        saveField(field, vdb);
+        openvdb::initialize();
+        openvdb::io::File file(vdb);
+        file.open(false);
+        EXPECT_TRUE(file.hasGrid(info.name));
+        file.close();
+#endif
+    }
 }
 
 #if SDFGEN_HAS_OPENVDB
@@ -352,10 +409,10 @@ TEST(Channels, VdbGridsHoldThem) {
             const openvdb::Vec3s g = gradient->tree().getValue(c), p = closest->tree().getValue(c);
             ASSERT_TRUE(gradient->tree().isValueOn(c));
             for (int a = 0; a < 3; ++a) {
-                ASSERT_EQ(g[a], field.gradient[std::size_t(a) * n + i]);
-                ASSERT_EQ(p[a], field.closest[std::size_t(a) * n + i]);
+                ASSERT_EQ(g[a], floats(field, "gradient")[std::size_t(a) * n + i]);
+                ASSERT_EQ(p[a], floats(field, "closest")[std::size_t(a) * n + i]);
             }
-            ASSERT_EQ(triangle->tree().getValue(c), field.triangle[i]);
+            ASSERT_EQ(triangle->tree().getValue(c), ints(field, "triangle")[i]);
             ++checked;
         }
         EXPECT_EQ(checked, std::size_t(surface->activeVoxelCount()));

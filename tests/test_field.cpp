@@ -2,6 +2,7 @@
 // file, and atomic saving that never leaves a half-written or temporary file behind.
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
+#include "sdfgen/sparse_field.hpp"
 
 #include "support/checks.hpp"
 #include "core/io/formats/format.hpp"
@@ -507,6 +508,33 @@ TEST(FieldParameter, AccessorUsesGridIndex) {
     EXPECT_EQ(field.at(0, 1, 0), 2.0f);
     EXPECT_EQ(field.at(0, 0, 1), 6.0f);
     EXPECT_EQ(field.at(1, 2, 3), 23.0f);
+}
+
+} // namespace
+} // namespace sdfgen
+
+namespace sdfgen {
+namespace {
+
+// A band field and its dense form share one header: the same source, method line, grid and background.
+TEST(FieldHeader, SharedByTheDenseAndSparseFields) {
+    SparseField sparse;
+    sparse.source = "m.obj";
+    sparse.method = "exact";
+    sparse.parameters = {{"band", "2"}};
+    sparse.grid.dims = {4, 4, 4};
+    sparse.grid.voxel = 0.5;
+    sparse.background = 1.0f;
+    const Field dense = sparse.toDense();
+    const FieldHeader& a = sparse;
+    const FieldHeader& b = dense;
+    EXPECT_EQ(a.source, b.source);
+    EXPECT_EQ(a.method, b.method);
+    EXPECT_EQ(a.parameters, b.parameters);
+    EXPECT_TRUE(a.grid.dims == b.grid.dims && a.grid.voxel == b.grid.voxel);
+    EXPECT_EQ(a.background, b.background);
+    EXPECT_EQ(b.parameter("band"), "2");
+    EXPECT_EQ(dense.values, std::vector<float>(64, 1.0f)); // no bricks or inside boxes: all outside
 }
 
 } // namespace

@@ -68,7 +68,7 @@ TEST(Settings, CombinationsAreRefusedByTheSettingToChange) {
     s.sign = SignMethod::Rays;
     EXPECT_EQ(refusedSetting(s), "sign");
     s.sign = SignMethod::Default;
-    s.channels.gradient = true;
+    s.channels.add("gradient");
     EXPECT_EQ(refusedSetting(s), "channels");
     s.band = 0;
     EXPECT_EQ(refusedSetting(s), "");
@@ -90,9 +90,9 @@ TEST(Settings, MessagesNameSettingsNotCommandLineOptions) {
         for (SignMethod sign : {SignMethod::Default, SignMethod::Auto, SignMethod::Rays, SignMethod::Pseudonormal, SignMethod::Winding}) {
             for (Device device : {Device::Cpu, Device::Gpu, Device::Auto}) {
                 for (double band : {0.0, 2.0}) {
-                    for (bool gradient : {false, true}) {
+                    for (const Channels& channels : {Channels{}, Channels::all()}) {
                         s = {};
-                        s.method = method, s.sign = sign, s.device = device, s.band = band, s.channels.gradient = gradient;
+                        s.method = method, s.sign = sign, s.device = device, s.band = band, s.channels = channels;
                         if (const std::optional<SettingsProblem> refused = problem(s)) {
                             EXPECT_EQ(refused->message.find("--"), std::string::npos) << refused->message;
                         }
@@ -110,10 +110,10 @@ TEST(Settings, TheBakeRefusesExactlyWhatProblemRefuses) {
     for (DistanceMethod method : {DistanceMethod::Exact, DistanceMethod::Rays, DistanceMethod::Brute}) {
         for (SignMethod sign : {SignMethod::Default, SignMethod::Auto, SignMethod::Rays, SignMethod::Pseudonormal, SignMethod::Winding}) {
             for (double band : {0.0, 1.0}) {
-                for (bool gradient : {false, true}) {
+                for (const Channels& channels : {Channels{}, Channels::all()}) {
                     BakeSettings s;
                     s.res = 6, s.rays = 4, s.device = Device::Cpu;
-                    s.method = method, s.sign = sign, s.band = band, s.channels.gradient = gradient;
+                    s.method = method, s.sign = sign, s.band = band, s.channels = channels;
                     const std::optional<SettingsProblem> refused = problem(s);
                     if (refused) {
                         EXPECT_EQ(test::errorFrom([&] { test::bakeMesh(box, s, 1); }), refused->message);

@@ -1,4 +1,5 @@
 #pragma once
+#include "sdfgen/channels.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh_check.hpp"
@@ -76,26 +77,6 @@ Id parseChoice(const std::vector<Choice<Id>>& choices, const std::string& name, 
     throw Error("unknown " + what + " '" + name + "'; known: " + describeChoices(choices));
 }
 
-// What a bake or a set of samples gives per point besides the signed distance ("sdf", always
-// there), each from the same nearest-triangle search as the distance (exact method only):
-// - gradient: the unit gradient of the signed distance, sign * (p - c) / |p - c| with c the closest
-//   surface point; where the distance is 0 (p on the surface), the nearest triangle's face normal,
-//   pointing outside as the sign sees it (reversed when auto found the mesh inside out).
-// - closest: c, the nearest point of the surface, in the mesh's (world) coordinates.
-// - triangle: the index of the nearest triangle in Model::mesh().triangles (the file's triangles in
-//   order, zero-area ones dropped; a scene's meshes one after another), ties to the lower index.
-struct Channels {
-    bool gradient = false;
-    bool closest = false;
-    bool triangle = false;
-    bool any() const { return gradient || closest || triangle; }
-};
-// The channels a comma-separated list names ("sdf,gradient,closest,triangle"; "sdf" alone or "" for
-// none besides the distance); throws Error naming an unknown one and listing the known names.
-Channels parseChannels(const std::string& list);
-// The list parseChannels reads, "sdf" first.
-std::string toString(const Channels& channels);
-
 // What to bake: the grid (see makeGrid), the method and the sign.
 struct BakeSettings {
     int res = 64;
@@ -105,7 +86,7 @@ struct BakeSettings {
     int rays = 64; // for the rays method and the rays sign
     // Where exact distances and winding signs run; other methods run on the CPU.
     Device device = Device::Cpu; // the GPU is opt-in: slower than the CPU cores where measured (docs/benchmarks.md#gpu)
-    // Per-sample channels besides the distance, into Field::gradient, closest and triangle (exact
+    // Per-sample channels besides the distance (sdfgen/channels.hpp), into Field::channels (exact
     // method, on the CPU). The distances are the same, bit for bit, with or without them.
     Channels channels;
     // > 0: a narrow-band bake (exact method, CPU): exact distances only within `band` voxels of the

@@ -1,4 +1,5 @@
 #pragma once
+#include "sdfgen/channels.hpp"
 #include "sdfgen/grid.hpp"
 
 #include <cstdint>
@@ -8,25 +9,33 @@
 
 namespace sdfgen {
 
-// A sampled signed distance field: negative inside the solid.
-struct Field {
+// What a dense field and a narrow-band one (sdfgen/sparse_field.hpp) both are: where their samples
+// lie, how they were made, and which of their values are distances.
+struct FieldHeader {
     std::string source;  // the mesh it was made from, as given
     std::string method;  // generator name, e.g. "rays"
     std::vector<std::pair<std::string, std::string>> parameters; // e.g. {"rays", "64"}
     Grid grid;
-    std::vector<float> values; // grid.sampleCount() values, x fastest
-    // 0: every value is a distance. > 0: a narrow-band field made dense (SparseField::toDense): values
-    // with |value| < background are exact distances; the others are +-background and tell only the side.
+    // 0: every value is a distance. > 0: a narrow band (band * voxel; a SparseField, or one made dense
+    // by SparseField::toDense): values with |value| < background are exact distances ("in the band",
+    // OpenVDB's active voxels); the others are +background outside the solid and -background inside.
     float background = 0;
-    // Channels a bake gives on request (BakeSettings::channels, see Channels), empty otherwise. The
-    // vectors are planar, each plane laid out as values: every sample's x, then every y, then every z.
-    std::vector<float> gradient;        // 3 * grid.sampleCount(): the unit gradient of the signed distance
-    std::vector<float> closest;         // 3 * grid.sampleCount(): the nearest surface point, world coordinates
-    std::vector<std::int32_t> triangle; // grid.sampleCount(): the nearest triangle's index
 
-    float at(int i, int j, int k) const { return values[grid.index(i, j, k)]; }
     // The value of parameter `key`, or "" when absent.
     std::string parameter(const std::string& key) const;
+};
+
+// A sampled signed distance field: negative inside the solid.
+struct Field : FieldHeader {
+    std::vector<float> values; // grid.sampleCount() values, x fastest
+    // Channels a bake gives on request (BakeSettings::channels, see sdfgen/channels.hpp), in the
+    // registry's order, none otherwise. Planar, each plane laid out as values: a 3-wide channel holds
+    // every sample's x, then every y, then every z.
+    std::vector<ChannelValues> channels;
+
+    float at(int i, int j, int k) const { return values[grid.index(i, j, k)]; }
+    // The channel called `name` ("gradient"), or null when the field has none.
+    const ChannelValues* channel(const std::string& name) const { return findChannel(channels, name); }
 };
 
 } // namespace sdfgen

@@ -47,6 +47,8 @@
 
 namespace sdfgen {
 
+class ChannelWriter;
+
 // Where point queries write. Every pointer may be null (that output is not computed); each
 // non-null one holds `count` entries (closestPoint: 3 * count, x y z interleaved).
 struct PointQueryOutputs {
@@ -133,6 +135,9 @@ public:
                                     const RunControl& control = {}) const;
 
 private:
+    // query() writing channels too, for samples (core/bake/bake.hpp).
+    friend void queryWithChannels(const Model& model, const double* points, std::size_t count, const PointQueryOutputs& outputs,
+                                  SignMethod sign, const RunControl& control, const ChannelWriter* channels);
     Model(); // for refit, which sets impl_
     struct Impl;
     std::unique_ptr<Impl> impl_;

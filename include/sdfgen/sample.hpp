@@ -29,7 +29,7 @@ struct SampleSettings {
     // side, the box bake's grid covers (DeepSDF uses the cube [-1, 1]^3 of its normalized units).
     double padding = 0.1;
     SignMethod sign = SignMethod::Auto; // for the distances, as Model::query
-    Channels channels;                  // per-sample outputs besides the distance (see Channels)
+    Channels channels;                  // per-sample outputs besides the distance (sdfgen/channels.hpp)
 };
 
 // DeepSDF's normalization of a mesh: normalized = (world - centre) / radius, with `centre` the
@@ -47,10 +47,11 @@ NormalizedFrame normalizedFrame(const Mesh& mesh);
 struct Samples {
     std::vector<float> points; // 3 * n
     std::vector<float> sdf;    // n; sdf[i] == Model::query's signed distance at points[i] (as double)
-    // The channels settings.channels asks for, empty otherwise, from the same query.
-    std::vector<float> gradient;        // 3 * n, x y z interleaved: the unit gradient of the signed distance
-    std::vector<float> closest;         // 3 * n: the nearest surface point, world coordinates
-    std::vector<std::int32_t> triangle; // n: the nearest triangle's index in model.mesh().triangles
+    // The channels settings.channels asks for, in the registry's order, from the same query as the
+    // distances (as a bake computes them at its samples); none otherwise. Interleaved: width values
+    // per sample (a vector's x y z).
+    std::vector<ChannelValues> channels;
+    const ChannelValues* channel(const std::string& name) const { return findChannel(channels, name); }
     std::size_t size() const { return sdf.size(); }
 };
 
@@ -67,8 +68,8 @@ struct SampleCounts {
 };
 SampleCounts sampleCounts(std::size_t n, const SampleSettings& settings);
 
-// Writes `points` as (n, 3) float32 and `sdf` as (n,) float32 into an .npz, atomically, and the
-// channels present: gradient and closest (n, 3) float32, triangle (n,) int32. Throws Error naming
+// Writes `points` as (n, 3) float32 and `sdf` as (n,) float32 into an .npz, atomically, and each
+// channel present under its name: (n, width) of its type, (n,) for width 1. Throws Error naming
 // `path`, also when `path` does not end in .npz (checkSamplesPath).
 void saveSamples(const Samples& samples, const std::string& path);
 // Throws saveSamples' Error for a path whose extension is not .npz (any case), before any work.

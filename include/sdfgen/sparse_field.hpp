@@ -15,17 +15,11 @@
 
 namespace sdfgen {
 
-struct SparseField {
+// Its header (FieldHeader) as a dense field's; its background is the band (band * voxel).
+struct SparseField : FieldHeader {
     static constexpr int kBrick = 8;                              // samples per brick edge
     static constexpr int kBrickSamples = kBrick * kBrick * kBrick; // 512
 
-    std::string source; // the mesh it was made from, as given
-    std::string method; // generator name, e.g. "exact"
-    std::vector<std::pair<std::string, std::string>> parameters;
-    Grid grid;
-    // band * voxel: samples whose |distance| is below it are exact ("in the band", OpenVDB's active
-    // voxels); every other sample holds +background outside the solid and -background inside.
-    float background = 0;
     // The stored bricks, ordered by z, then y, then x: each is the sample box [8b, 8b + 8) (cut at
     // the grid's end); a brick is stored where it holds a sample in the band or where the side
     // changes inside it (near the open boundary of a mesh).
@@ -51,9 +45,6 @@ struct SparseField {
     // The dense field (every sample, ±background outside the band) and its `band` parameter kept;
     // throws Error when it does not fit in the memory available.
     Field toDense() const;
-    // The value of parameter `key`, or "" when absent.
-    std::string parameter(const std::string& key) const;
-
     // Throws Error naming `path` when the bricks, values and boxes do not describe a field on the grid
     // (what every reader checks, and every writer before it writes).
     void check(const std::string& path) const;

@@ -28,7 +28,10 @@ double fieldBudget() {
 
 double fieldBytes(const UndoEntry& e) {
     double bytes = 0.0;
-    if (e.field) bytes += 4.0 * double(e.field->values.size() + e.field->gradient.size() + e.field->closest.size() + e.field->triangle.size());
+    if (e.field) {
+        bytes += 4.0 * double(e.field->values.size());
+        for (const ChannelValues& channel : e.field->channels) bytes += 4.0 * double(channel.size());
+    }
     if (e.band) bytes += 4.0 * double(e.band->values.size()) + 12.0 * double(e.band->bricks.size());
     return bytes;
 }

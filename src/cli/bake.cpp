@@ -87,9 +87,8 @@ void addBakeCommand(CLI::App& app) {
                      "the dense bake, of which the .vdb keeps the band")
         ->capture_default_str();
     bake->add_option("--channels", args->channels,
-                     "What each sample holds, comma-separated: sdf (the signed distance, always), gradient (its unit gradient), "
-                     "closest (the nearest surface point), triangle (the nearest triangle's index); for " + channelFormatList() +
-                         ", --method exact")
+                     "What each sample holds, comma-separated: sdf (the signed distance, always), " + describeChannels() + "; for " +
+                         channelFormatList() + ", --method exact")
         ->capture_default_str();
     addBakeOptions(*bake, args->settings, args->threads);
     std::string formats = "Field formats (from the output's extension):";

@@ -70,8 +70,8 @@ void addSampleCommand(CLI::App& app) {
     sample->add_option("-n,--count", args->count, "Number of samples")->required()->check(wholeNumber(1, std::uint64_t(1) << 34));
     sample->add_option("-o,--output", args->output, "Output .npz with points (n, 3) and sdf (n,), float32, and the channels asked for")->required();
     sample->add_option("--channels", args->channels,
-                       "What each sample holds, comma-separated: sdf (always), gradient (the unit gradient, (n, 3) float32), "
-                       "closest (the nearest surface point, (n, 3) float32), triangle (the nearest triangle's index, (n,) int32)")
+                       "What each sample holds, comma-separated: sdf (always), " + describeChannels() +
+                           "; each as (n, width) float32 or int32, (n,) for width 1")
         ->capture_default_str();
     addSampleOptions(*sample, args->settings);
     sample->add_option("--padding", args->settings.padding, "Margin of the box the uniform samples fill, as a fraction of the mesh's longest side")

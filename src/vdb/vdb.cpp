@@ -641,23 +641,29 @@ typename ChannelGrid::Ptr channelGrid(const Field& field, const openvdb::FloatGr
     return grid;
 }
 
-// The field's channels (sdfgen::Channels) beside the surface grid: "gradient" and "closest" as
-// Vec3SGrids, "triangle" as an Int32Grid (background -1: no triangle).
+// The field's channels beside the surface grid, each a grid of its name: a 3-wide channel as a
+// Vec3SGrid of its vector type, a 1-wide one as an Int32Grid or FloatGrid; background: its `none`.
 openvdb::GridCPtrVec channelGrids(const Field& field, const openvdb::FloatGrid& surface) {
     openvdb::GridCPtrVec grids;
     const std::size_t n = field.grid.sampleCount();
-    for (const auto& [name, planes, type] : {std::tuple{"gradient", &field.gradient, openvdb::VEC_COVARIANT_NORMALIZE},
-                                             {"closest", &field.closest, openvdb::VEC_CONTRAVARIANT_ABSOLUTE}}) {
-        if (planes->empty()) continue;
-        const float* v = planes->data();
-        const openvdb::Vec3SGrid::Ptr grid = channelGrid<openvdb::Vec3SGrid>(
-            field, surface, name, openvdb::Vec3s(0.0f), [v, n](std::size_t i) { return openvdb::Vec3s(v[i], v[n + i], v[2 * n + i]); });
-        grid->setVectorType(type);
-        grids.push_back(grid);
-    }
-    if (!field.triangle.empty()) {
-        const std::int32_t* t = field.triangle.data();
-        grids.push_back(channelGrid<openvdb::Int32Grid>(field, surface, "triangle", -1, [t](std::size_t i) { return t[i]; }));
+    for (const ChannelValues& channel : field.channels) {
+        const ChannelInfo& info = channel.info();
+        const float* v = channel.floats.data();
+        if (info.width == 3 && info.type == ChannelType::Float32) {
+            const openvdb::Vec3SGrid::Ptr grid = channelGrid<openvdb::Vec3SGrid>(
+                field, surface, info.name, openvdb::Vec3s(float(info.none)), [v, n](std::size_t i) { return openvdb::Vec3s(v[i], v[n + i], v[2 * n + i]); });
+            grid->setVectorType(info.vector == ChannelVector::Direction  ? openvdb::VEC_COVARIANT_NORMALIZE
+                                : info.vector == ChannelVector::Position ? openvdb::VEC_CONTRAVARIANT_ABSOLUTE
+                                                                         : openvdb::VEC_INVARIANT);
+            grids.push_back(grid);
+        } else if (info.width == 1 && info.type == ChannelType::Int32) {
+            const std::int32_t* t = channel.ints.data();
+            grids.push_back(channelGrid<openvdb::Int32Grid>(field, surface, info.name, std::int32_t(info.none), [t](std::size_t i) { return t[i]; }));
+        } else if (info.width == 1) {
+            grids.push_back(channelGrid<openvdb::FloatGrid>(field, surface, info.name, float(info.none), [v](std::size_t i) { return v[i]; }));
+        } else {
+            throw Error(std::string("the ") + info.name + " channel's width and type have no OpenVDB grid here");
+        }
     }
     return grids;
 }

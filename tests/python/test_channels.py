@@ -124,3 +124,19 @@ def test_samples_with_channels():
     expected = away / np.linalg.norm(away, axis=1)[:, None] * np.where(sdf < 0, -1.0, 1.0)[:, None]
     far = np.abs(sdf) > 1e-3  # where the float closest point gives the direction to 1e-4
     assert np.allclose(gradient[far], expected[far], atol=1e-4)
+
+
+@pytest.mark.parametrize("name", sdfgen.CHANNELS)
+def test_every_registered_channel_is_a_view_a_sample_array_and_an_npz_member(name, tmp_path):
+    vertices, faces = box_mesh(np.array([1.0, 0.5, 0.75]))
+    mesh = sdfgen.Mesh(vertices, faces)
+    field = sdfgen.bake(mesh, res=8, channels=["sdf", name])
+    view = getattr(field, name)
+    assert view is not None and view.shape[:3] == tuple(field.dims) and view.dtype in (np.float32, np.int32)
+    for other in sdfgen.CHANNELS:
+        assert other == name or getattr(field, other) is None
+    path = str(tmp_path / "f.npz")
+    field.save(path)
+    assert np.array_equal(np.load(path)[name], view)
+    points, sdf, values = sdfgen.sample(mesh, 200, seed=1, channels=name)
+    assert values.shape[0] == 200 and values.shape[1:] == view.shape[3:] and values.dtype == view.dtype

@@ -2,6 +2,7 @@
 #include "core/bake/band_bake.hpp"
 #include "core/bake/memory_estimate.hpp"
 #include "core/distance/exact.hpp"
+#include "core/method/channels.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
@@ -19,54 +20,6 @@
 namespace sdfgen {
 
 namespace {
-
-// The gradient of the signed distance: the direction away from the surface, negated where the
-// value is negative (where it is 0 the direction is already the outward normal). In fixed blocks.
-void signGradient(const std::vector<float>& values, std::vector<float>& gradient, const RunControl& control) {
-    const std::size_t n = values.size();
-    constexpr std::size_t kBlock = std::size_t(1) << 16;
-    parallelFor((n + kBlock - 1) / kBlock, quiet(control), [&](std::size_t block) {
-        for (std::size_t i = block * kBlock; i < std::min(n, (block + 1) * kBlock); ++i) {
-            if (values[i] < 0.0f) {
-                for (std::size_t a = 0; a < 3; ++a) gradient[a * n + i] = -gradient[a * n + i];
-            }
-        }
-    });
-}
-
-constexpr const char* kChannelNames[] = {"sdf", "gradient", "closest", "triangle"};
-
-} // namespace
-
-Channels parseChannels(const std::string& list) {
-    Channels channels;
-    std::size_t start = 0;
-    while (start <= list.size()) {
-        const std::size_t comma = std::min(list.find(',', start), list.size());
-        const std::string name = list.substr(start, comma - start);
-        if (name == "gradient") channels.gradient = true;
-        else if (name == "closest") channels.closest = true;
-        else if (name == "triangle") channels.triangle = true;
-        else if (name != "sdf" && !(name.empty() && list.empty())) {
-            std::string known;
-            for (const char* channel : kChannelNames) known += std::string(known.empty() ? "" : ", ") + channel;
-            throw Error("unknown channel '" + name + "' (expected a comma-separated list of " + known + ")");
-        }
-        start = comma + 1;
-    }
-    return channels;
-}
-
-std::string toString(const Channels& channels) {
-    std::string list = kChannelNames[0];
-    const bool on[] = {true, channels.gradient, channels.closest, channels.triangle};
-    for (int c = 1; c < 4; ++c) {
-        if (on[c]) list += std::string(",") + kChannelNames[c];
-    }
-    return list;
-}
-
-namespace {
 BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     const BakeSettings& settings = context.settings;
     if (const std::optional<SettingsProblem> refused = problem(settings)) throw Error(refused->message);
@@ -74,9 +27,7 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     SignMethod sign = settings.sign == SignMethod::Default ? method.defaultSign : settings.sign;
     const bool banded = settings.band != 0;
     const Channels& channels = settings.channels;
-    if (channels.triangle && context.mesh.triangleCount() > std::size_t(INT32_MAX)) {
-        throw Error(context.mesh.source + ": more than 2147483647 triangles for the triangle channel's int32 indices");
-    }
+    checkChannels(context.mesh, channels);
     BakeResult result;
     BakeContext deviceContext = context;
     deviceContext.nearestRows = [&context](const NearestRowStore& store, const RunControl& rowControl) {
@@ -163,11 +114,7 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
         result.signSeconds += checkSeconds;
         result.sparse.method = method.name;
         result.sparse.parameters = parameters(sign);
-        result.field.source = result.sparse.source;
-        result.field.grid = result.sparse.grid;
-        result.field.method = result.sparse.method;
-        result.field.parameters = result.sparse.parameters;
-        result.field.background = result.sparse.background;
+        static_cast<FieldHeader&>(result.field) = result.sparse; // the dense field's header only, no values
         return result;
     }
 
@@ -195,10 +142,8 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     field.source = context.mesh.source;
     field.grid = context.grid;
     field.values = std::move(pass.distance);
-    if (!pass.gradient.empty()) signGradient(field.values, pass.gradient, control);
-    field.gradient = std::move(pass.gradient);
-    field.closest = std::move(pass.closest);
-    field.triangle = std::move(pass.triangle);
+    signChannels(pass.channels, field.values, control);
+    field.channels = std::move(pass.channels);
     // Never a silently wrong field: float distances overflow on meshes far beyond unit scale.
     if (!std::all_of(field.values.begin(), field.values.end(), [](float v) { return std::isfinite(v); })) {
         throw Error(context.mesh.source + ": distances overflow single precision at this mesh's scale; scale the mesh nearer to unit size");

@@ -17,10 +17,12 @@ std::uint64_t estimateBakeBytes(const Mesh& mesh, const Grid& grid, const BakeSe
     const double samples = double(grid.dims.x) * double(grid.dims.y) * double(grid.dims.z);
     const double triangles = double(mesh.triangleCount()), vertices = double(mesh.positions.size());
     constexpr double kFloat = 4, kFlag = 1;
-    // The field's values and the channels asked for (gradient and closest point: three floats each).
-    const Channels& channels = settings.channels;
-    const double result = samples * (kFloat + (channels.gradient ? 3 * kFloat : 0) + (channels.closest ? 3 * kFloat : 0) +
-                                     (channels.triangle ? sizeof(std::int32_t) : 0));
+    // The field's values and the channels asked for (4-byte values, width of them per sample).
+    double fieldSample = kFloat;
+    for (std::size_t c = 0; c < channelInfos().size(); ++c) {
+        if (settings.channels.has(c)) fieldSample += channelInfos()[c].width * kFloat;
+    }
+    const double result = samples * fieldSample;
     MemoryTerms terms;
     terms.samples = samples;
     terms.triangles = triangles;

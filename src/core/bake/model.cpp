@@ -265,10 +265,15 @@ BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) 
 
 void Model::query(const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
                   const RunControl& control) const {
-    const Impl& m = *impl_;
+    queryWithChannels(*this, points, count, out, sign, control, nullptr);
+}
+
+void queryWithChannels(const Model& model, const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
+                       const RunControl& control, const ChannelWriter* channels) {
+    const Model::Impl& m = *model.impl_;
     const Mesh& mesh = m.mesh;
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
-    const bool needSign = out.signedDistance || out.gradient;
+    const bool needSign = out.signedDistance || out.gradient || channels;
     const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle || out.barycentric;
     if (needSign && !signMethod(sign).servesPointQueries()) {
         std::string known;
@@ -390,6 +395,7 @@ void Model::query(const double* points, std::size_t count, const PointQueryOutpu
                                                               : (p - closest.point) / std::sqrt(closest.distanceSquared) * (inside ? -1.0 : 1.0);
                         for (int a = 0; a < 3; ++a) out.gradient[3 * index + std::size_t(a)] = g[a];
                     }
+                    if (channels) channels->write(index, ChannelHit{mesh, p, closest, t, distance, flipped}, inside && distance > 0.0f);
                 }
             }
             if (out.windingNumber) {

@@ -1,4 +1,6 @@
 #include "sdfgen/sample.hpp"
+#include "core/bake/bake.hpp"
+#include "core/method/channels.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
@@ -153,24 +155,14 @@ Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& setti
     samples.sdf.resize(n);
     PointQueryOutputs outputs;
     outputs.signedDistance = samples.sdf.data();
-    // The channels from the same query, in double, then stored as float32 and int32.
-    const Channels& channels = settings.channels;
-    if (channels.triangle && mesh.triangleCount() > std::size_t(INT32_MAX)) {
-        throw Error(mesh.source + ": more than 2147483647 triangles for the triangle channel's int32 indices");
-    }
-    std::vector<double> gradient(channels.gradient ? 3 * n : 0), closest(channels.closest ? 3 * n : 0);
-    std::vector<std::int64_t> triangle(channels.triangle ? n : 0);
-    if (channels.gradient) outputs.gradient = gradient.data();
-    if (channels.closest) outputs.closestPoint = closest.data();
-    if (channels.triangle) outputs.triangle = triangle.data();
-    model.query(points.data(), n, outputs, settings.sign, control.phase(0.2, 1.0));
+    // The channels from the same query, as a bake computes them at its samples.
+    checkChannels(mesh, settings.channels);
+    const ChannelWriter channels(settings.channels, n, false, samples.channels, control);
+    queryWithChannels(model, points.data(), n, outputs, settings.sign, control.phase(0.2, 1.0), channels.empty() ? nullptr : &channels);
     if (!std::all_of(samples.sdf.begin(), samples.sdf.end(), finite)) {
         throw Error(mesh.source + ": the samples' distances are beyond single precision at this mesh's scale; scale the mesh "
                                   "nearer to unit size");
     }
-    samples.gradient.assign(gradient.begin(), gradient.end());
-    samples.closest.assign(closest.begin(), closest.end());
-    samples.triangle.assign(triangle.begin(), triangle.end());
     return samples;
 }
 

@@ -97,11 +97,7 @@ Field SparseField::toDense() const {
                     mebibytes(double(available)) + " of memory is available; keep it sparse (.vdb or .npz)");
     }
     Field field;
-    field.source = source;
-    field.method = method;
-    field.parameters = parameters;
-    field.grid = grid;
-    field.background = background;
+    static_cast<FieldHeader&>(field) = *this;
     field.values.assign(grid.sampleCount(), background);
     for (const auto& box : insideBoxes) {
         for (int k = box[2]; k < box[5]; ++k)
@@ -119,7 +115,7 @@ Field SparseField::toDense() const {
     return field;
 }
 
-std::string SparseField::parameter(const std::string& key) const {
+std::string FieldHeader::parameter(const std::string& key) const {
     for (const auto& [name, value] : parameters) {
         if (name == key) return value;
     }

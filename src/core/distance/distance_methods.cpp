@@ -51,18 +51,6 @@ DistancePass exactDistanceOnDevice(const BakeContext& context, const RunControl&
     return pass;
 }
 
-// `values` grown to `count` zeros in chunks, checking Cancel between them: zeroing a large grid
-// takes seconds, which a cancelled bake would otherwise wait out.
-template <typename T>
-void zeroFilled(std::vector<T>& values, std::size_t count, const RunControl& control) {
-    constexpr std::size_t kChunk = std::size_t(1) << 20;
-    values.reserve(count);
-    for (std::size_t filled = values.size(); filled < count; filled = values.size()) {
-        throwIfCancelled(control);
-        values.resize(std::min(count, filled + kChunk));
-    }
-}
-
 // Straight into the field: signed by the closest feature's pseudonormal when that is the sign,
 // unsigned for the winding sign (which negates in place), with no per-sample side arrays.
 DistancePass exactDistance(const BakeContext& context, const RunControl& control) {
@@ -71,14 +59,9 @@ DistancePass exactDistance(const BakeContext& context, const RunControl& control
     zeroFilled(pass.distance, samples, control);
     pass.signedAsAsked = context.sign == SignMethod::Pseudonormal; // as distanceMethods() declares
     // The channels come from the closest points the distances are measured with.
-    const Channels& asked = context.settings.channels;
-    ChannelOutputs channels;
-    channels.plane = samples;
-    if (asked.gradient) zeroFilled(pass.gradient, 3 * samples, control), channels.gradient = pass.gradient.data();
-    if (asked.closest) zeroFilled(pass.closest, 3 * samples, control), channels.closest = pass.closest.data();
-    if (asked.triangle) zeroFilled(pass.triangle, samples, control), channels.triangle = pass.triangle.data();
+    const ChannelWriter channels(context.settings.channels, samples, true, pass.channels, control);
     computeExactField(context.mesh, context.wide(), context.grid, pass.signedAsAsked ? &context.topology() : nullptr, context.flipped,
-                      pass.distance.data(), control, asked.any() ? &channels : nullptr);
+                      pass.distance.data(), control, channels.empty() ? nullptr : &channels);
     return pass;
 }
 

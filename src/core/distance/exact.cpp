@@ -32,7 +32,7 @@ NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid,
 }
 
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
-                       float* values, const RunControl& control, const ChannelOutputs* channels) {
+                       float* values, const RunControl& control, const ChannelWriter* channels) {
     kernel::active().computeExactField(mesh, tree, grid, pseudonormal, flipped, values, control, channels);
 }
 

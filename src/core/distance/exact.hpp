@@ -5,6 +5,7 @@
 #include "core/runtime/parallel.hpp"
 #include "core/accel/bvh.hpp"
 #include "core/accel/wide_bvh.hpp"
+#include "core/method/channels.hpp"
 #include "core/method/methods.hpp"
 
 #include <cstdint>
@@ -33,26 +34,15 @@ class MeshTopology;
 NearestField computeNearest(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const RunControl& control);
 NearestField computeNearest(const Mesh& mesh, const Bvh& tree, const Grid& grid, const RunControl& control);
 
-// Where computeExactField also writes each sample's channels (sdfgen::Channels), from the closest
-// point it measures the distance with: at grid.index(i, j, k) of each plane, in Field's planar
-// layout (the y plane `plane` floats after the x plane, the z plane after that). Null: not written.
-struct ChannelOutputs {
-    // (p - c) / |p - c|, pointing away from the surface whatever the sign (the caller negates it
-    // where the signed value is negative); where the float distance is 0, the nearest triangle's
-    // face normal, reversed when `flipped`.
-    float* gradient = nullptr;
-    float* closest = nullptr; // c in world coordinates
-    std::int32_t* triangle = nullptr;
-    std::size_t plane = 0; // grid.sampleCount()
-};
-
 // The same search writing each sample's exact distance (world units) straight into
 // values[grid.index(i, j, k)] (grid.sampleCount() floats): negated where the closest feature's
 // angle-weighted pseudonormal points away from the sample when `pseudonormal` is given (the other
-// way round when `flipped`), unsigned otherwise. No per-sample side arrays, unless `channels` asks
-// for them; the distances are the same with or without.
+// way round when `flipped`), unsigned otherwise. No per-sample side arrays; `channels` (may be null)
+// receives each sample's channels from the closest point its distance is measured with, at
+// grid.index(i, j, k) of a planar writer, unsigned (signChannels signs them once the field is);
+// the distances are the same with or without.
 void computeExactField(const Mesh& mesh, const WideBvh& tree, const Grid& grid, const MeshTopology* pseudonormal, bool flipped,
-                       float* values, const RunControl& control, const ChannelOutputs* channels = nullptr);
+                       float* values, const RunControl& control, const ChannelWriter* channels = nullptr);
 
 // computeExactField for the samples of `count` bricks of 8³ (SparseField's): brick b's samples go to
 // values[512 b + ((k - 8 z) * 8 + (j - 8 y)) * 8 + (i - 8 x)], (x, y, z) = bricks[b]; samples past

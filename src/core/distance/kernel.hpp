@@ -14,7 +14,7 @@ namespace kernel {
 struct Table {
     NearestField (*computeNearest)(const Mesh&, const WideBvh&, const Grid&, const RunControl&);
     void (*computeExactField)(const Mesh&, const WideBvh&, const Grid&, const MeshTopology*, bool, float*, const RunControl&,
-                              const ChannelOutputs*);
+                              const ChannelWriter*);
     void (*computeExactBricks)(const Mesh&, const WideBvh&, const Grid&, const glm::ivec3*, std::size_t, double, const MeshTopology*, bool,
                                float*, const RunControl&);
     void (*forEachNearestRow)(const Mesh&, const WideBvh&, const Grid&, const NearestRowStore&, const RunControl&);

@@ -7,7 +7,6 @@
 #include "sdfgen/sample.hpp"
 
 #include <string>
-#include <tuple>
 
 namespace sdfgen {
 
@@ -25,19 +24,15 @@ void saveSamples(const Samples& samples, const std::string& path) {
     if (samples.points.size() != 3 * n) {
         throw Error(path + ": samples have " + std::to_string(samples.points.size()) + " coordinates for " + std::to_string(n) + " points");
     }
-    for (const auto& [name, size, per] : {std::tuple{"gradient", samples.gradient.size(), 3}, {"closest", samples.closest.size(), 3},
-                                          {"triangle", samples.triangle.size(), 1}}) {
-        if (size != 0 && size != std::size_t(per) * n) {
-            throw Error(path + ": the " + name + " channel has " + std::to_string(size) + " values for " + std::to_string(n) + " samples");
-        }
-    }
+    for (const ChannelValues& channel : samples.channels) formats::checkChannelSize(channel, n, path, std::to_string(n) + " samples");
     std::vector<formats::NpzMember> members = {
         {"points.npy", formats::npyHeader("<f4", false, {n, 3}), samples.points.data(), 3 * n * sizeof(float)},
         {"sdf.npy", formats::npyHeader("<f4", false, {n}), samples.sdf.data(), n * sizeof(float)}};
-    if (!samples.gradient.empty()) members.push_back({"gradient.npy", formats::npyHeader("<f4", false, {n, 3}), samples.gradient.data(), 3 * n * sizeof(float)});
-    if (!samples.closest.empty()) members.push_back({"closest.npy", formats::npyHeader("<f4", false, {n, 3}), samples.closest.data(), 3 * n * sizeof(float)});
-    if (!samples.triangle.empty()) {
-        members.push_back({"triangle.npy", formats::npyHeader("<i4", false, {n}), samples.triangle.data(), n * sizeof(std::int32_t)});
+    for (const ChannelValues& channel : samples.channels) {
+        const ChannelInfo& info = channel.info();
+        std::vector<std::uint64_t> shape{n};
+        if (info.width > 1) shape.push_back(std::uint64_t(info.width));
+        if (n > 0) members.push_back({channel.name + ".npy", formats::npyHeader(formats::npyType(info.type), false, shape), channel.data(), channel.size() * 4});
     }
     formats::writeNpz(path, members);
 }

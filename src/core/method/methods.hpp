@@ -58,10 +58,9 @@ struct DistancePass {
     std::vector<float> distance;
     bool signedAsAsked = false;
     std::optional<std::vector<std::uint8_t>> inside;
-    // The channels the settings ask for (exact method), in Field's layout; the gradient points away
-    // from the surface until bake() signs it (see ChannelOutputs).
-    std::vector<float> gradient, closest;
-    std::vector<std::int32_t> triangle;
+    // The channels the settings ask for (exact method), in Field's layout, unsigned until bake()
+    // signs them (signChannels).
+    std::vector<ChannelValues> channels;
 };
 
 // What the memory estimate (core/bake/memory_estimate.cpp) is made of, for the registries' own parts of it.
@@ -124,7 +123,7 @@ struct DistanceMethodPlugin {
     SignMethod signsInline = SignMethod::Default;
     bool readsWideTree = false; // on the CPU its pass searches the closest-point tree (core/accel/wide_bvh.hpp)
     bool castsRays = false;     // casts BakeSettings::rays rays per sample (recorded in the field)
-    bool makesChannels = false; // fills the gradient, closest and triangle channels
+    bool makesChannels = false; // fills the channels the settings ask for (DistancePass::channels)
 
     // Bytes its pass holds besides the field and the shared trees; a fixed-sign method's whole
     // bake besides the field.

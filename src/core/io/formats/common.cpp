@@ -12,7 +12,6 @@
 #include <cstring>
 #include <limits>
 #include <system_error>
-#include <tuple>
 
 namespace sdfgen::formats {
 
@@ -44,16 +43,24 @@ void checkValuesAndNames(const Field& field, const std::string& path) {
         if (!std::isfinite(field.values[i])) throw Error(path + ": value " + std::to_string(i) + " is not finite");
     }
     const std::size_t n = field.grid.sampleCount();
-    for (const auto& [name, size, per] : {std::tuple{"gradient", field.gradient.size(), 3}, {"closest", field.closest.size(), 3},
-                                          {"triangle", field.triangle.size(), 1}}) {
-        if (size != 0 && size != std::size_t(per) * n) {
-            throw Error(path + ": the " + name + " channel has " + std::to_string(size) + " values for a grid of " + std::to_string(n));
-        }
-    }
+    for (const ChannelValues& channel : field.channels) checkChannelSize(channel, n, path, "a grid of " + std::to_string(n));
     checkNames(field.source, field.method, field.parameters, path);
 }
 
 } // namespace
+
+void checkChannelSize(const ChannelValues& channel, std::size_t count, const std::string& path, const std::string& what) {
+    const ChannelInfo* info = nullptr;
+    for (const ChannelInfo& known : channelInfos()) {
+        if (channel.name == known.name) info = &known;
+    }
+    if (!info) throw Error(path + ": unknown channel '" + printable(channel.name) + "'");
+    const std::size_t size = channel.size();
+    const bool typed = info->type == ChannelType::Int32 ? channel.floats.empty() : channel.ints.empty();
+    if (!typed || size != std::size_t(info->width) * count) {
+        throw Error(path + ": the " + channel.name + " channel has " + std::to_string(size) + (typed ? "" : " wrongly typed") + " values for " + what);
+    }
+}
 
 void checkGrid(const Grid& grid, const std::string& path) {
     if (grid.dims.x < 1 || grid.dims.y < 1 || grid.dims.z < 1) throw Error(path + ": grid has no samples");

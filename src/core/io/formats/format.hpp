@@ -31,7 +31,7 @@ namespace sdfgen::formats {
 struct FieldFormat {
     const char* extension;   // with the dot, lower case
     const char* description; // for help texts (knownFieldFormats)
-    bool holdsChannels;      // writes Field::gradient, closest and triangle (see sdfgen::Channels)
+    bool holdsChannels;      // writes Field::channels (see sdfgen/channels.hpp)
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
     Field (*load)(const std::string& path, const RunControl& control);
     // The narrow-band side, null for the dense-only formats (saveSparseField writes those the
@@ -57,6 +57,9 @@ void checkField(const Field& field, const std::string& path);
 // coordinates leave float32's range (meshes and distances are float32) or coincide (a voxel size
 // lost in the origin's rounding).
 void checkGrid(const Grid& grid, const std::string& path);
+// Throws Error naming `path` unless `channel` is a registered one holding its width x `count`
+// values of its type ("the gradient channel has 9 values for WHAT").
+void checkChannelSize(const ChannelValues& channel, std::size_t count, const std::string& path, const std::string& what);
 
 // checkField for a narrow-band field: the grid, SparseField::check, and the names.
 void checkSparseField(const SparseField& field, const std::string& path);

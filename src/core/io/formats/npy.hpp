@@ -33,6 +33,9 @@ struct NpyHeader {
 // Reads up to `size` bytes into `data`, returning how many it read (fewer only at the end).
 using ReadBytes = std::function<std::size_t(void* data, std::size_t size)>;
 
+// The dtype of a channel's values ("<f4", "<i4"): both 4 bytes.
+inline const char* npyType(ChannelType type) { return type == ChannelType::Int32 ? "<i4" : "<f4"; }
+
 // The complete header (version 1.0: magic, version, length, dictionary padded to 64 bytes).
 std::string npyHeader(const std::string& descr, bool fortranOrder, const std::vector<std::uint64_t>& shape);
 

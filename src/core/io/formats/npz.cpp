@@ -1,7 +1,7 @@
 // NumPy .npz: a zip archive (stored, uncompressed, as numpy.savez writes it) of .npy members:
 // sdf (the values, as in .npy), origin (3, float64), voxel_size (float64 scalar), dims (3, int64),
 // method and source (unicode scalars). np.load(path)["sdf"][i, j, k] is sample (i, j, k). A field
-// with channels adds gradient and closest ((nx, ny, nz, 3) float32) and triangle ((nx, ny, nz) int32).
+// with channels adds each under its name ((nx, ny, nz, width) of its type, (nx, ny, nz) for width 1).
 // A band field (SparseField) has no sdf but its bricks and boxes, laid out for numpy
 // (docs/field-format.md): brick_origins (B, 3) int32, the first sample of each brick; brick_values
 // (8, 8, 8, B) float32 in Fortran order, values[i, j, k, b], which is SparseField::values as is;
@@ -346,11 +346,11 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     };
     // The channels in Fortran order, as sdf: the planar buffers as they are (component last).
     const std::uint64_t nx = std::uint64_t(g.dims.x), ny = std::uint64_t(g.dims.y), nz = std::uint64_t(g.dims.z);
-    for (const auto& [name, vector] : {std::pair{"gradient.npy", &field.gradient}, {"closest.npy", &field.closest}}) {
-        if (!vector->empty()) members.push_back({name, npyHeader("<f4", true, {nx, ny, nz, 3}), vector->data(), vector->size() * sizeof(float)});
-    }
-    if (!field.triangle.empty()) {
-        members.push_back({"triangle.npy", npyHeader("<i4", true, {nx, ny, nz}), field.triangle.data(), field.triangle.size() * sizeof(std::int32_t)});
+    for (const ChannelValues& channel : field.channels) {
+        const ChannelInfo& info = channel.info();
+        std::vector<std::uint64_t> shape{nx, ny, nz};
+        if (info.width > 1) shape.push_back(std::uint64_t(info.width));
+        members.push_back({channel.name + ".npy", npyHeader(npyType(info.type), true, shape), channel.data(), channel.size() * 4});
     }
     writeNpz(path, members);
 }

@@ -54,11 +54,7 @@ void checkFormatHoldsChannels(const std::string& path, const Channels& channels)
 }
 
 void saveField(const Field& field, const std::string& path, const SaveOptions& options) {
-    Channels channels;
-    channels.gradient = !field.gradient.empty();
-    channels.closest = !field.closest.empty();
-    channels.triangle = !field.triangle.empty();
-    checkFormatHoldsChannels(path, channels);
+    checkFormatHoldsChannels(path, channelsOf(field.channels));
     namingOutOfMemory(path, "writing it", [&] { formats::formatOf(path).save(field, path, options); });
 }
 

@@ -93,13 +93,6 @@ private:
 
 } // namespace
 
-std::string Field::parameter(const std::string& key) const {
-    for (const auto& [k, v] : parameters) {
-        if (k == key) return v;
-    }
-    return "";
-}
-
 void saveFieldText(const Field& field, const std::string& path) {
     formats::checkField(field, path);
 
