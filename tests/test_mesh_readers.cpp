@@ -589,6 +589,39 @@ TEST_F(MeshReaders, GltfUnderAnotherNameIsCheckedAllTheSame) {
     EXPECT_EQ(loadMesh(write("model/good.xml", gltfWithBufferFile("inside.bin"))).triangleCount(), 1u);
 }
 
+TEST_F(MeshReaders, FilesAModelRefersToAreNotRead) {
+    // Assimp's LightWave scene importer loads the objects a scene names with a nested Importer that
+    // has every importer and no guard, from wherever the names lead (trying ../ and ../../ too), and
+    // recurses into a scene that names itself until the stack overflows.
+    std::filesystem::create_directories(dir_ / "model" / "sub");
+    const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    write("outside.obj", triangle);
+    write("model/sub/inside.obj", triangle);
+    auto scene = [](const std::string& object) { return "LWSC\n3\n\nFirstFrame 1\nLastFrame 1\nLoadObjectLayer 1 " + object + "\n"; };
+    const std::string refers = "refers to another file, '";
+    EXPECT_CONTAINS(loadError("model/up.lws", scene("../outside.obj")), refers);
+    EXPECT_CONTAINS(loadError("model/up.lws", scene("../outside.obj")), "outside.obj', which sdfgen does not read");
+    EXPECT_CONTAINS(loadError("model/passwd.lws", scene("/etc/passwd")), refers + "/etc/passwd'");
+    EXPECT_CONTAINS(loadError("model/absolute.lws", scene((dir_ / "outside.obj").string())), refers + (dir_ / "outside.obj").string() + "'");
+    // Found by LightWave's search one and two folders up.
+    EXPECT_CONTAINS(loadError("model/sub/probe.lws", scene("outside.obj")), "outside.obj', which sdfgen does not read");
+    // In the model's own folder too: a model read through Assimp is one file.
+    EXPECT_CONTAINS(loadError("model/in.lws", scene("sub/inside.obj")), refers);
+    // A scene naming itself, and two naming each other: refused at once, not recursed into.
+    EXPECT_CONTAINS(loadError("model/loop.lws", scene("loop.lws")), "refers to itself as a file to load");
+    EXPECT_CONTAINS(loadError("model/loop-path.lws", scene(write("model/loop-path.lws", ""))), "refers to itself as a file to load");
+    write("model/b.lws", scene("a.lws"));
+    EXPECT_CONTAINS(loadError("model/a.lws", scene("b.lws")), refers);
+    // A name that leads nowhere reads nothing: the scene is then empty.
+    EXPECT_CONTAINS(loadError("model/missing.lws", scene("missing.obj")), "the file holds no complete scene");
+    // Assimp 5.2's Irrlicht scene importer never makes a mesh node (it compares the type attribute's
+    // name, not its value), so it loads nothing it names; later versions do, through the same files.
+    const std::string irr = R"(<?xml version="1.0"?><irr_scene><node type="mesh"><attributes>)"
+                            R"(<string name="Mesh" value="../outside.obj" /></attributes></node></irr_scene>)";
+    const std::string irrProblem = loadError("model/scene.irr", irr);
+    EXPECT_TRUE(irrProblem.find(refers) != std::string::npos || irrProblem.find("the file holds no complete scene") != std::string::npos) << irrProblem;
+}
+
 TEST_F(MeshReaders, GltfIsReadOnceAndAssimpParsesTheBytesChecked) {
     // A FIFO yields its bytes once. Told apart as glTF by name or content, checked and parsed by
     // Assimp from that one reading: a file changed or swapped after the check is not read again.
