@@ -99,7 +99,7 @@ public:
         return gltfExternalFiles_.count(file) != 0 || refuse(file);
     }
     Assimp::IOStream* Open(const char* file, const char* /*mode*/) override {
-        if (file == path_) return readingModel() ? nullptr : new ModelStream(bytes_, openModelStreams_);
+        if (file == path_) return new ModelStream(bytes_, openModelStreams_);
         const auto checked = gltfExternalFiles_.find(file);
         if (checked != gltfExternalFiles_.end()) return memoryStream(checked->second);
         refuse(file);
@@ -130,9 +130,9 @@ private:
     static Assimp::IOStream* memoryStream(const std::string& bytes) {
         return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
     }
-    // The model asked for while a stream of it is open: the file refers to itself (IRR, LWS and MD3
-    // hold their own stream while their nested Importer loads what they refer to; no importer
-    // reads its own file twice at once otherwise).
+    // Whether the model's existence is asked while a stream of it is open: a nested Importer
+    // (which asks before it opens) loading the file it is inside, as IRR and LWS hold their own
+    // stream while theirs loads what they name. Open is not asked: X3D opens its file twice at once.
     bool readingModel() const {
         if (openModelStreams_ == 0) return false;
         if (refused_.empty()) refused_ = path_;
