@@ -590,40 +590,50 @@ TEST_F(MeshReaders, GltfUnderAnotherNameIsCheckedAllTheSame) {
 }
 
 TEST_F(MeshReaders, FilesAModelRefersToAreNotRead) {
-    // Assimp's LightWave scene importer loads the objects a scene names with a nested Importer that
-    // has every importer and no guard, from wherever the names lead (trying ../ and ../../ too), and
-    // recurses into a scene that names itself until the stack overflows.
+    // Assimp's importers open files a model names, from wherever the names lead: an Ogre mesh its
+    // skeleton (and material files), read here through Assimp's IO system.
     std::filesystem::create_directories(dir_ / "model" / "sub");
-    const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    write("outside.obj", triangle);
-    write("model/sub/inside.obj", triangle);
-    auto scene = [](const std::string& object) { return "LWSC\n3\n\nFirstFrame 1\nLastFrame 1\nLoadObjectLayer 1 " + object + "\n"; };
+    const std::string skeleton = R"(<skeleton><bones><bone id="0" name="b"><position x="0" y="0" z="0"/></bone></bones></skeleton>)";
+    write("outside.skeleton.xml", skeleton);
+    write("model/sub/inside.skeleton.xml", skeleton);
+    auto ogre = [](const std::string& skeletonLink) {
+        return R"(<mesh><sharedgeometry vertexcount="3"><vertexbuffer positions="true">)"
+               R"(<vertex><position x="0" y="0" z="0"/></vertex><vertex><position x="1" y="0" z="0"/></vertex>)"
+               R"(<vertex><position x="0" y="1" z="0"/></vertex></vertexbuffer></sharedgeometry><submeshes>)"
+               R"(<submesh material="m" usesharedvertices="true" operationtype="triangle_list"><faces count="1">)"
+               R"(<face v1="0" v2="1" v3="2"/></faces></submesh></submeshes><skeletonlink name=")" +
+               skeletonLink + R"("/></mesh>)";
+    };
     const std::string refers = "refers to another file, '";
-    EXPECT_CONTAINS(loadError("model/up.lws", scene("../outside.obj")), refers);
-    EXPECT_CONTAINS(loadError("model/up.lws", scene("../outside.obj")), "outside.obj', which sdfgen does not read");
-    EXPECT_CONTAINS(loadError("model/passwd.lws", scene("/etc/passwd")), refers + "/etc/passwd'");
-    EXPECT_CONTAINS(loadError("model/absolute.lws", scene((dir_ / "outside.obj").string())), refers + (dir_ / "outside.obj").string() + "'");
-    // Found by LightWave's search one and two folders up.
-    EXPECT_CONTAINS(loadError("model/sub/probe.lws", scene("outside.obj")), "outside.obj', which sdfgen does not read");
+    EXPECT_EQ(loadMesh(write("model/alone.mesh.xml", ogre("missing.skeleton.xml"))).triangleCount(), 1u); // nothing there to read
+    EXPECT_CONTAINS(loadError("model/up.mesh.xml", ogre("../outside.skeleton.xml")), refers);
+    EXPECT_CONTAINS(loadError("model/up.mesh.xml", ogre("../outside.skeleton.xml")),
+                    "/model/../outside.skeleton.xml', which sdfgen does not read (a mesh read through Assimp must be one file");
+    const std::string absolute = (dir_ / "outside.skeleton.xml").string();
+    EXPECT_CONTAINS(loadError("model/absolute.mesh.xml", ogre(absolute)), refers + absolute + "'");
     // In the model's own folder too: a model read through Assimp is one file.
-    EXPECT_CONTAINS(loadError("model/in.lws", scene("sub/inside.obj")), refers);
-    // A scene naming itself, and two naming each other: refused at once, not recursed into.
-    EXPECT_CONTAINS(loadError("model/loop.lws", scene("loop.lws")), "refers to itself as a file to load");
-    EXPECT_CONTAINS(loadError("model/loop-path.lws", scene(write("model/loop-path.lws", ""))), "refers to itself as a file to load");
-    write("model/b.lws", scene("a.lws"));
-    EXPECT_CONTAINS(loadError("model/a.lws", scene("b.lws")), refers);
-    // A name that leads nowhere reads nothing: the scene is then empty.
-    EXPECT_CONTAINS(loadError("model/missing.lws", scene("missing.obj")), "the file holds no complete scene");
+    EXPECT_CONTAINS(loadError("model/in.mesh.xml", ogre("sub/inside.skeleton.xml")), "sub/inside.skeleton.xml', which sdfgen does not read");
+
+    // A LightWave scene's objects are all other files (Assimp loads them with every importer, tries
+    // ../ and ../../ too, recursed into a scene naming itself until the stack overflowed, and aborts
+    // on an empty name): refused by its name.
+    const std::string lightwave = "a LightWave scene holds no geometry of its own";
+    write("outside.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_CONTAINS(loadError("model/up.lws", "LWSC\n3\n\nLoadObjectLayer 1 ../outside.obj\n"), lightwave);
+    EXPECT_CONTAINS(loadError("model/loop.LWS", "LWSC\n3\n\nLoadObjectLayer 1 loop.LWS\n"), lightwave);
+    EXPECT_CONTAINS(loadError("model/empty.lws", std::string("LWSC\n3\n\nLoadObjectLayer 1") + '\0' + " ../outside.obj\n"), lightwave);
+    EXPECT_CONTAINS(loadError("model/motion.mot", "LWMO\n3\n"), lightwave);
+
     // Assimp 5.2's Irrlicht scene importer never makes a mesh node (it compares the type attribute's
-    // name, not its value), so it loads nothing it names; later versions do, through the same files.
+    // name, not its value), so it loads nothing it names; from 5.3 it does, through the same checks.
     const std::string irr = R"(<?xml version="1.0"?><irr_scene><node type="mesh"><attributes>)"
                             R"(<string name="Mesh" value="../outside.obj" /></attributes></node></irr_scene>)";
     const std::string irrProblem = loadError("model/scene.irr", irr);
+    EXPECT_TRUE(irrProblem.find(refers) != std::string::npos || irrProblem.find("the file holds no complete scene") != std::string::npos) << irrProblem;
     // Its X3D importer opens its own file twice at once: that is not a file naming itself.
     const std::string x3d = "<?xml version=\"1.0\"?><X3D version='3.3'><Scene><Shape><IndexedFaceSet coordIndex='0 1 2 -1'>"
                             "<Coordinate point='0 0 0 1 0 0 0 1 0'/></IndexedFaceSet></Shape></Scene></X3D>";
     EXPECT_EQ(loadMesh(write("model/t.x3d", x3d)).triangleCount(), 1u);
-    EXPECT_TRUE(irrProblem.find(refers) != std::string::npos || irrProblem.find("the file holds no complete scene") != std::string::npos) << irrProblem;
 }
 
 TEST_F(MeshReaders, GltfIsReadOnceAndAssimpParsesTheBytesChecked) {

@@ -83,8 +83,8 @@ void collect(const aiScene& scene, std::vector<glm::vec3>& positions, std::vecto
 // Assimp's file access: the file itself from the bytes read once (a file changed or swapped after
 // sdfgen looked at it is not read) and, for a glTF, only the external buffers the guard checked,
 // from the bytes it checked. No other file is opened. Importers open the files a model refers to
-// through this: IRR, LWS and MD3 scenes load them with a nested Importer that has every importer
-// and no guard (a scene may refer to itself, endlessly), and Ogre, MD3, MD5, SMD, NFF, Unreal and
+// through this: IRR (from Assimp 5.3), LWS and MD3 scenes load them with a nested Importer that has
+// every importer and no guard (a scene may refer to itself, endlessly), and Ogre, MD3, MD5, SMD, NFF, Unreal and
 // Half-Life MDL files open material, skin, animation or data files; names come from the file, so
 // they may lead anywhere (/etc/passwd, ../outside.obj). The first of those that exists is kept, and
 // loadWithAssimp refuses the model naming it; names that do not exist are probes for optional files.
@@ -205,6 +205,12 @@ Mesh loadWithAssimp(const std::string& path) {
                                                             aiComponent_COLORS | aiComponent_TEXCOORDS |
                                                             aiComponent_BONEWEIGHTS);
     const std::string extension = lowerExtension(path);
+    // A LightWave scene's objects are all in other files, which are not read, so it can give no
+    // mesh; and Assimp 5.2's scene importer aborts the process on an object named by an empty
+    // string (an assertion in BatchLoader::AddLoadRequest).
+    if (extension == ".lws" || extension == ".mot") {
+        throw Error(path + ": a LightWave scene holds no geometry of its own, only objects it loads from other files, which sdfgen does not read (bake its .lwo objects)");
+    }
     bool gltfCounted = false;
     std::uint64_t gltfTriangles = 0;
     // Read once: what is told apart as glTF or not, and checked, is what Assimp reads.
