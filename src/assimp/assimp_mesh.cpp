@@ -83,10 +83,10 @@ void collect(const aiScene& scene, std::vector<glm::vec3>& positions, std::vecto
 // Assimp's file access: the file itself from the bytes read once (a file changed or swapped after
 // sdfgen looked at it is not read) and, for a glTF, only the external buffers the guard checked,
 // from the bytes it checked. No other file is opened. Importers open the files a model refers to
-// through this: IRR (from Assimp 5.3), LWS and MD3 scenes load them with a nested Importer that has
-// every importer and no guard (a scene may refer to itself, endlessly), and Ogre, MD3, MD5, SMD, NFF, Unreal and
-// Half-Life MDL files open material, skin, animation or data files; names come from the file, so
-// they may lead anywhere (/etc/passwd, ../outside.obj). The first of those that exists is kept, and
+// through this: IRR (from Assimp 5.3) and MD3 scenes load them with a nested Importer that has
+// every importer and no guard (a scene may refer to itself, endlessly); MD3, MD5, SMD, NFF, Unreal
+// and Half-Life MDL files open skin, animation, material or data files. Names from the file may
+// lead anywhere (/etc/passwd, ../outside.obj). The first of those files that exists is kept, and
 // loadWithAssimp refuses the model naming it; names that do not exist are probes for optional files.
 class ReadOnceIOSystem : public Assimp::IOSystem {
 public:
@@ -187,9 +187,10 @@ void keepOnlyImportersFor(Assimp::Importer& importer, const std::string& path, b
         Assimp::BaseImporter* candidate = importer.GetImporter(i);
         std::set<std::string> extensions; // lower case, without the dot; some with dots inside (mesh.xml)
         candidate->GetExtensionList(extensions);
-        const bool keep = std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
-            return endsWith("." + extension) || (gltf && (extension == "gltf" || extension == "glb"));
-        });
+        const bool keep = extensions.count("mesh.xml") == 0 && // Ogre's: see loadWithAssimp
+                          std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
+                              return endsWith("." + extension) || (gltf && (extension == "gltf" || extension == "glb"));
+                          });
         if (!keep) others.push_back(candidate);
     }
     for (Assimp::BaseImporter* other : others) {
@@ -223,6 +224,11 @@ Mesh loadWithAssimp(const std::string& path) {
         files = new ReadOnceIOSystem(path, std::move(gltf));
         keepOnlyImportersFor(importer, path, true);
     } else {
+        // Assimp 5.2's Ogre importer dereferences a null pointer for a submesh without vertices
+        // (one flipped byte of a valid file), and reads skeleton and material files named anywhere.
+        if (extension == ".mesh" || (extension == ".xml" && lowerExtension(path.substr(0, path.size() - 4)) == ".mesh")) {
+            throw Error(path + ": Ogre meshes are not read (Assimp's Ogre importer crashes on a submesh without vertices)");
+        }
         files = new ReadOnceIOSystem(path, std::move(bytes));
         keepOnlyImportersFor(importer, path, false);
     }
