@@ -1098,23 +1098,27 @@ SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& pa
 }
 
 // The whole file, read once, so that what is checked is what OpenVDB reads (a file rewritten in
-// place, or a FIFO, is not read twice). Refused above a quarter of the memory available: OpenVDB's
-// grid, at least as large as its compressed bytes, is made beside them.
-std::string readVdbBytes(const std::string& path) {
+// place, or a FIFO, is not read twice), with `control`'s progress and cancel. Refused above a
+// quarter of the memory available: OpenVDB's grid, at least as large as its compressed bytes, is
+// made beside them.
+std::string readVdbBytes(const std::string& path, const RunControl& control) {
     const std::uint64_t available = availableMemoryBytes();
     const std::uint64_t limit = available ? available / 4 : maxInputBytes();
     struct stat info;
-    if (stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode) && std::uint64_t(info.st_size) > limit) {
+    const bool sized = stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
+    if (sized && std::uint64_t(info.st_size) > limit) {
         throw Error(path + ": the file's " + mebibytes(double(info.st_size)) + " are more than a quarter of the memory available (" +
                     mebibytes(double(available)) + "); a .vdb is read whole into memory, its grid beside it");
     }
-    return readInputFile(path, InputKind::Binary, limit);
+    ReadWatch watch(control, sized ? std::uint64_t(info.st_size) : 0); // a pipe: cancel without progress
+    return readInputFile(path, InputKind::Binary, limit, [&](std::size_t bytes) { watch.advance(bytes); });
 }
 
-// Runs `read` on the file's bytes, with OpenVDB's failures as Errors naming `path`.
+// Runs `read` on the file's bytes, with OpenVDB's failures as Errors naming `path`; `control` for
+// reading the bytes.
 template <class Read>
-auto readVdb(const std::string& path, const Read& read) {
-    const std::string bytes = readVdbBytes(path);
+auto readVdb(const std::string& path, const RunControl& control, const Read& read) {
+    const std::string bytes = readVdbBytes(path, control);
     initializeOpenVdb();
     try {
         return read(bytes);
@@ -1131,18 +1135,21 @@ auto readVdb(const std::string& path, const Read& read) {
     }
 }
 
+// Progress: the file's bytes read in the first half, OpenVDB's read of them in the second.
 Field loadVdbFile(const std::string& path, const RunControl& control) {
-    return readVdb(path, [&](const std::string& bytes) { return loadGrid(*readFloatGrid(path, bytes, control), path, control); });
+    const RunControl parse = control.phase(0.5, 1.0);
+    return readVdb(path, control.phase(0.0, 0.5), [&](const std::string& bytes) { return loadGrid(*readFloatGrid(path, bytes, parse), path, control); });
 }
 
 SparseField loadSparseVdbFile(const std::string& path, const RunControl& control) {
-    return readVdb(path, [&](const std::string& bytes) { return loadSparseGrid(*readFloatGrid(path, bytes, control), path, control); });
+    const RunControl parse = control.phase(0.5, 1.0);
+    return readVdb(path, control.phase(0.0, 0.5), [&](const std::string& bytes) { return loadSparseGrid(*readFloatGrid(path, bytes, parse), path, control); });
 }
 
 // Whether the grid loadField reads (named "surface", else the first float grid) is a band
 // field's: from the layout walk alone, without reading the trees.
 bool isSparseVdbFile(const std::string& path) {
-    return readVdb(path, [&](const std::string& bytes) {
+    return readVdb(path, RunControl{}, [&](const std::string& bytes) {
         BytesBuffer buffer(bytes);
         std::istream in(&buffer);
         VdbLayout layout(in, bytes.size(), path);
