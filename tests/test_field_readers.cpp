@@ -7,6 +7,8 @@
 #include "sdfgen/surface.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/formats.hpp"
+#include "sdfgen/memory.hpp"
+#include "sdfgen/run_control.hpp"
 
 #include "support/checks.hpp"
 
@@ -19,12 +21,18 @@
 #include <zip.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstring>
+#include <fcntl.h>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <random>
 #include <string>
+#include <sys/stat.h>
+#include <thread>
+#include <unistd.h>
 #include <vector>
 
 namespace sdfgen {
@@ -510,6 +518,68 @@ TEST_F(VdbReader, OneByteMutantsAreLoadedOrRefusedInOneLine) {
             EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
         }
     }
+}
+
+// The bytes checked are the bytes OpenVDB reads: the file is read once, whole.
+TEST_F(VdbReader, IsReadOnceAndOpenVdbReadsTheBytesChecked) {
+    // A FIFO yields its bytes once.
+    struct sigaction ignore {}, before {};
+    ignore.sa_handler = SIG_IGN;
+    sigaction(SIGPIPE, &ignore, &before); // a reader that gives up must fail the test, not end it
+    const std::string fifo = path("pipe.vdb");
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << vdb_; });
+    std::string problem;
+    try {
+        EXPECT_EQ(loadField(fifo).values, smallField().values);
+    } catch (const Error& e) {
+        problem = e.what();
+    }
+    const int unblock = open(fifo.c_str(), O_RDONLY | O_NONBLOCK); // for a writer still waiting for a reader
+    writer.join();
+    close(unblock);
+    sigaction(SIGPIPE, &before, nullptr);
+    EXPECT_EQ(problem, "");
+
+    // A file rewritten in place after the check, while OpenVDB reads it (from its first progress
+    // report past the half that reading the file takes): the field is the one checked. Noise, so
+    // that the file stays megabytes.
+    Field noisy = smallField();
+    noisy.grid.dims = {100, 100, 100};
+    noisy.values.resize(noisy.grid.sampleCount());
+    std::mt19937 random(5);
+    std::uniform_real_distribution<float> uniform(-1.0f, 1.0f);
+    for (float& v : noisy.values) v = uniform(random);
+    const std::string file = path("rewritten.vdb");
+    saveField(noisy, file);
+    const std::size_t size = readBytes(file).size();
+    ASSERT_GT(size, std::size_t(2) << 20);
+    bool rewritten = false;
+    RunControl control;
+    control.progress = [&](double fraction) {
+        if (rewritten || fraction <= 0.5) return;
+        rewritten = true;
+        std::fstream(file, std::ios::in | std::ios::out | std::ios::binary).seekp(1 << 20).write(std::string(size - (1 << 20), '\0').data(),
+                                                                                               std::streamsize(size - (1 << 20)));
+    };
+    const Field read = loadField(file, control);
+    EXPECT_TRUE(rewritten);
+    EXPECT_EQ(read.values, noisy.values);
+    EXPECT_EQ(readBytes(file).substr(size - 10), std::string(10, '\0'));
+}
+
+// A .vdb is read whole into memory: one larger than a quarter of the memory available is refused
+// before a byte is read (a sparse file here, taking no disk).
+TEST_F(VdbReader, FilesLargerThanAQuarterOfTheMemoryAvailableAreRefused) {
+    const std::uint64_t available = availableMemoryBytes();
+    if (available == 0) GTEST_SKIP() << "the memory available is not known here";
+    const std::string file = path("huge.vdb");
+    std::ofstream(file, std::ios::binary) << vdb_;
+    std::error_code error;
+    std::filesystem::resize_file(file, available / 4 + (1 << 20), error);
+    if (error) GTEST_SKIP() << "no sparse file here: " << error.message();
+    expectLoadError(file, "are more than a quarter of the memory available");
+    EXPECT_CONTAINS(errorFrom([&] { isSparseFieldFile(file); }), "are more than a quarter of the memory available");
 }
 
 #endif

@@ -589,6 +589,54 @@ TEST_F(MeshReaders, GltfUnderAnotherNameIsCheckedAllTheSame) {
     EXPECT_EQ(loadMesh(write("model/good.xml", gltfWithBufferFile("inside.bin"))).triangleCount(), 1u);
 }
 
+TEST_F(MeshReaders, FilesAModelRefersToAreNotRead) {
+    // Assimp's importers open files a model names or files beside it: an MD5 mesh its animation.
+    std::filesystem::create_directories(dir_ / "model");
+    const std::string md5 = "MD5Version 10\ncommandline \"\"\nnumJoints 1\nnumMeshes 1\njoints {\n\"origin\" -1 ( 0 0 0 ) ( 0 0 0 )\n}\n"
+                            "mesh {\nnumverts 3\nvert 0 ( 0 0 ) 0 1\nvert 1 ( 0 0 ) 1 1\nvert 2 ( 0 0 ) 2 1\nnumtris 1\ntri 0 0 2 1\n"
+                            "numweights 3\nweight 0 0 1.0 ( 0 0 0 )\nweight 1 0 1.0 ( 1 0 0 )\nweight 2 0 1.0 ( 0 1 0 )\n}\n";
+    try { // nothing beside it to read (the mesh itself is Assimp's to take or leave)
+        loadMesh(write("model/alone.md5mesh", md5));
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).find("refers to"), std::string::npos) << e.what();
+    }
+    write("model/t.md5anim", "MD5Version 10\n");
+    EXPECT_CONTAINS(loadError("model/t.md5mesh", md5), "refers to another file, '");
+    EXPECT_CONTAINS(loadError("model/t.md5mesh", md5), "t.md5anim', which sdfgen does not read (a mesh read through Assimp must be one file");
+
+    // Ogre meshes name their skeleton and materials anywhere, and one flipped byte of a valid one
+    // (a submesh without vertices) crashed Assimp: refused by their name.
+    const std::string ogre = R"(<mesh><sharedgeometry vertexcount="3"><vertexbuffer positions="true">)"
+                             R"(<vertex><position x="0" y="0" z="0"/></vertex><vertex><position x="1" y="0" z="0"/></vertex>)"
+                             R"(<vertex><position x="0" y="1" z="0"/></vertex></vertexbuffer></sharedgeometry><submeshes>)"
+                             R"(<submesh material="m" usesharedv\x9certices="true" operationtype="triangle_list"><faces count="1">)"
+                             R"(<face v1="0" v2="1" v3="2"/></faces></submesh></submeshes></mesh>)";
+    EXPECT_CONTAINS(loadError("model/crash.mesh.xml", ogre), "Ogre meshes are not read");
+    EXPECT_CONTAINS(loadError("model/crash.MESH.xml", ogre), "Ogre meshes are not read");
+    EXPECT_CONTAINS(loadError("model/binary.mesh", ogre), "Ogre meshes are not read");
+
+    // A LightWave scene's objects are all other files (Assimp loads them with every importer, tries
+    // ../ and ../../ too, recursed into a scene naming itself until the stack overflowed, and aborts
+    // on an empty name): refused by its name.
+    const std::string lightwave = "a LightWave scene holds no geometry of its own";
+    write("outside.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_CONTAINS(loadError("model/up.lws", "LWSC\n3\n\nLoadObjectLayer 1 ../outside.obj\n"), lightwave);
+    EXPECT_CONTAINS(loadError("model/loop.LWS", "LWSC\n3\n\nLoadObjectLayer 1 loop.LWS\n"), lightwave);
+    EXPECT_CONTAINS(loadError("model/empty.lws", std::string("LWSC\n3\n\nLoadObjectLayer 1") + '\0' + " ../outside.obj\n"), lightwave);
+    EXPECT_CONTAINS(loadError("model/motion.mot", "LWMO\n3\n"), lightwave);
+
+    // Assimp 5.2's Irrlicht scene importer never makes a mesh node (it compares the type attribute's
+    // name, not its value), so it loads nothing it names; from 5.3 it does, through the same checks.
+    const std::string irr = R"(<?xml version="1.0"?><irr_scene><node type="mesh"><attributes>)"
+                            R"(<string name="Mesh" value="../outside.obj" /></attributes></node></irr_scene>)";
+    const std::string irrProblem = loadError("model/scene.irr", irr);
+    EXPECT_TRUE(irrProblem.find("refers to another file, '") != std::string::npos || irrProblem.find("the file holds no complete scene") != std::string::npos) << irrProblem;
+    // Its X3D importer opens its own file twice at once: that is not a file naming itself.
+    const std::string x3d = "<?xml version=\"1.0\"?><X3D version='3.3'><Scene><Shape><IndexedFaceSet coordIndex='0 1 2 -1'>"
+                            "<Coordinate point='0 0 0 1 0 0 0 1 0'/></IndexedFaceSet></Shape></Scene></X3D>";
+    EXPECT_EQ(loadMesh(write("model/t.x3d", x3d)).triangleCount(), 1u);
+}
+
 TEST_F(MeshReaders, GltfIsReadOnceAndAssimpParsesTheBytesChecked) {
     // A FIFO yields its bytes once. Told apart as glTF by name or content, checked and parsed by
     // Assimp from that one reading: a file changed or swapped after the check is not read again.

@@ -12,9 +12,10 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/mesh.hpp"
 #include "core/runtime/file_extension.hpp"
+#include "core/runtime/printable.hpp"
 
 #include <assimp/BaseImporter.h>
-#include <assimp/DefaultIOSystem.h>
+#include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/MemoryIOWrapper.h>
 #include <assimp/config.h>
@@ -31,6 +32,7 @@
 #include <memory>
 #include <set>
 #include <string_view>
+#include <sys/stat.h>
 #include <utility>
 #include <vector>
 
@@ -80,31 +82,73 @@ void collect(const aiScene& scene, std::vector<glm::vec3>& positions, std::vecto
 
 // Assimp's file access: the file itself from the bytes read once (a file changed or swapped after
 // sdfgen looked at it is not read) and, for a glTF, only the external buffers the guard checked,
-// from the bytes it checked; for other formats, other files from the disk.
-class ReadOnceIOSystem : public Assimp::DefaultIOSystem {
+// from the bytes it checked. No other file is opened. Importers open the files a model refers to
+// through this: IRR (from Assimp 5.3) and MD3 scenes load them with a nested Importer that has
+// every importer and no guard (a scene may refer to itself, endlessly); MD3, MD5, SMD, NFF, Unreal
+// and Half-Life MDL files open skin, animation, material or data files. Names from the file may
+// lead anywhere (/etc/passwd, ../outside.obj). The first of those files that exists is kept, and
+// loadWithAssimp refuses the model naming it; names that do not exist are probes for optional files.
+class ReadOnceIOSystem : public Assimp::IOSystem {
 public:
     ReadOnceIOSystem(std::string path, std::string bytes) : path_(std::move(path)), bytes_(std::move(bytes)) {}
     ReadOnceIOSystem(std::string path, GltfCheck gltf)
-        : path_(std::move(path)), bytes_(std::move(gltf.bytes)), gltfExternalFiles_(std::move(gltf.externalFiles)), gltf_(true) {}
+        : path_(std::move(path)), bytes_(std::move(gltf.bytes)), gltfExternalFiles_(std::move(gltf.externalFiles)) {}
 
     bool Exists(const char* file) const override {
-        if (file == path_) return true;
-        return gltf_ ? gltfExternalFiles_.count(file) != 0 : DefaultIOSystem::Exists(file);
+        if (file == path_) return !readingModel();
+        return gltfExternalFiles_.count(file) != 0 || refuse(file);
     }
-    Assimp::IOStream* Open(const char* file, const char* mode) override {
-        if (file == path_) return memoryStream(bytes_);
-        if (!gltf_) return DefaultIOSystem::Open(file, mode);
+    Assimp::IOStream* Open(const char* file, const char* /*mode*/) override {
+        if (file == path_) return new ModelStream(bytes_, openModelStreams_);
         const auto checked = gltfExternalFiles_.find(file);
-        return checked == gltfExternalFiles_.end() ? nullptr : memoryStream(checked->second);
+        if (checked != gltfExternalFiles_.end()) return memoryStream(checked->second);
+        refuse(file);
+        return nullptr;
     }
+    void Close(Assimp::IOStream* stream) override { delete stream; }
+    char getOsSeparator() const override { return '/'; }
+
+    // The first file other than the model (and a glTF's checked buffers) that an importer asked
+    // for and that exists; `path` when the model asked for itself while being read. Empty if none.
+    const std::string& refused() const { return refused_; }
 
 private:
+    // Counts itself among the model's open streams while it lives (importers delete streams
+    // rather than closing them through the IOSystem).
+    class ModelStream : public Assimp::MemoryIOStream {
+    public:
+        ModelStream(const std::string& bytes, int& open)
+            : MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()), open_(open) {
+            ++open_;
+        }
+        ~ModelStream() override { --open_; }
+
+    private:
+        int& open_;
+    };
+
     static Assimp::IOStream* memoryStream(const std::string& bytes) {
         return new Assimp::MemoryIOStream(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
     }
+    // Whether the model's existence is asked while a stream of it is open: a nested Importer
+    // (which asks before it opens) loading the file it is inside, as IRR and LWS hold their own
+    // stream while theirs loads what they name. Open is not asked: X3D opens its file twice at once.
+    bool readingModel() const {
+        if (openModelStreams_ == 0) return false;
+        if (refused_.empty()) refused_ = path_;
+        return true;
+    }
+    // Returns false (the file is not there, for Assimp).
+    bool refuse(const char* file) const {
+        struct stat status {};
+        if (refused_.empty() && stat(file, &status) == 0 && !S_ISDIR(status.st_mode)) refused_ = file;
+        return false;
+    }
+
     std::string path_, bytes_;
     std::map<std::string, std::string> gltfExternalFiles_;
-    bool gltf_ = false;
+    int openModelStreams_ = 0;
+    mutable std::string refused_;
 };
 
 std::string firstLine(std::string text) {
@@ -143,9 +187,10 @@ void keepOnlyImportersFor(Assimp::Importer& importer, const std::string& path, b
         Assimp::BaseImporter* candidate = importer.GetImporter(i);
         std::set<std::string> extensions; // lower case, without the dot; some with dots inside (mesh.xml)
         candidate->GetExtensionList(extensions);
-        const bool keep = std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
-            return endsWith("." + extension) || (gltf && (extension == "gltf" || extension == "glb"));
-        });
+        const bool keep = extensions.count("mesh.xml") == 0 && // Ogre's: see loadWithAssimp
+                          std::any_of(extensions.begin(), extensions.end(), [&](const std::string& extension) {
+                              return endsWith("." + extension) || (gltf && (extension == "gltf" || extension == "glb"));
+                          });
         if (!keep) others.push_back(candidate);
     }
     for (Assimp::BaseImporter* other : others) {
@@ -161,22 +206,41 @@ Mesh loadWithAssimp(const std::string& path) {
                                                             aiComponent_COLORS | aiComponent_TEXCOORDS |
                                                             aiComponent_BONEWEIGHTS);
     const std::string extension = lowerExtension(path);
+    // A LightWave scene's objects are all in other files, which are not read, so it can give no
+    // mesh; and Assimp 5.2's scene importer aborts the process on an object named by an empty
+    // string (an assertion in BatchLoader::AddLoadRequest).
+    if (extension == ".lws" || extension == ".mot") {
+        throw Error(path + ": a LightWave scene holds no geometry of its own, only objects it loads from other files, which sdfgen does not read (bake its .lwo objects)");
+    }
     bool gltfCounted = false;
     std::uint64_t gltfTriangles = 0;
     // Read once: what is told apart as glTF or not, and checked, is what Assimp reads.
     std::string bytes = readInputFile(path, InputKind::Binary);
+    ReadOnceIOSystem* files = nullptr;
     if (const GltfKind kind = gltfKind(bytes, extension); kind != GltfKind::None) {
         GltfCheck gltf = guardGltf(path, std::move(bytes), kind == GltfKind::Binary);
         gltfCounted = gltf.counted;
         gltfTriangles = gltf.triangles;
-        importer.SetIOHandler(new ReadOnceIOSystem(path, std::move(gltf)));
+        files = new ReadOnceIOSystem(path, std::move(gltf));
         keepOnlyImportersFor(importer, path, true);
     } else {
-        importer.SetIOHandler(new ReadOnceIOSystem(path, std::move(bytes)));
+        // Assimp 5.2's Ogre importer dereferences a null pointer for a submesh without vertices
+        // (one flipped byte of a valid file), and reads skeleton and material files named anywhere.
+        if (extension == ".mesh" || (extension == ".xml" && lowerExtension(path.substr(0, path.size() - 4)) == ".mesh")) {
+            throw Error(path + ": Ogre meshes are not read (Assimp's Ogre importer crashes on a submesh without vertices)");
+        }
+        files = new ReadOnceIOSystem(path, std::move(bytes));
         keepOnlyImportersFor(importer, path, false);
     }
+    importer.SetIOHandler(files); // the importer's from now on
     const aiScene* scene = importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_Triangulate |
                                                        aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure);
+    if (const std::string& other = files->refused(); other == path) {
+        throw Error(path + ": refers to itself as a file to load, which sdfgen does not read");
+    } else if (!other.empty()) {
+        throw Error(path + ": refers to another file, '" + printable(other, 300) +
+                    "', which sdfgen does not read (a mesh read through Assimp must be one file; a glTF's buffers excepted)");
+    }
     if (!scene) {
         const std::string problem = firstLine(importer.GetErrorString());
         throw Error(path + ": cannot read the file" + (problem.empty() ? "" : " (" + problem + ")"));

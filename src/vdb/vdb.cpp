@@ -12,6 +12,7 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/formats/format.hpp"
 #include "core/io/openvdb_plugin.hpp"
+#include "core/mesh/input_file.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
@@ -31,10 +32,8 @@
 #include <array>
 #include <set>
 #include <sstream>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <istream>
 #include <streambuf>
 #include <limits>
@@ -838,20 +837,44 @@ private:
     off_type blockStart_ = 0; // the file offset of the block's first byte
 };
 
-// What the rest of the reading needs from the file, read by OpenVDB; `control` as loadField's.
-openvdb::FloatGrid::Ptr readFloatGrid(const std::string& path, std::uint64_t fileBytes, const RunControl& control) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+// The file's bytes as a stream that OpenVDB and the layout walk can seek in.
+class BytesBuffer : public std::streambuf {
+public:
+    explicit BytesBuffer(const std::string& bytes) {
+        char* start = const_cast<char*>(bytes.data()); // only ever read
+        setg(start, start, start + bytes.size());
+    }
+
+protected:
+    pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode which) override {
+        const off_type base = dir == std::ios_base::beg ? 0 : dir == std::ios_base::cur ? gptr() - eback() : egptr() - eback();
+        return seekpos(pos_type(base + off), which);
+    }
+    pos_type seekpos(pos_type pos, std::ios_base::openmode) override {
+        const off_type at = off_type(pos);
+        if (at < 0 || at > egptr() - eback()) return pos_type(off_type(-1));
+        setg(eback(), eback() + at, egptr());
+        return pos;
+    }
+};
+
+// What the rest of the reading needs from the file's bytes (read once), read by OpenVDB; `control`
+// as loadField's.
+openvdb::FloatGrid::Ptr readFloatGrid(const std::string& path, const std::string& bytes, const RunControl& control) {
+    const std::uint64_t fileBytes = bytes.size();
+    BytesBuffer buffer(bytes);
+    std::istream in(&buffer);
     VdbLayout(in, fileBytes, path).check();
     in.seekg(0);
     ReadWatch watch(control, fileBytes);
-    WatchedFileBuffer watched(*in.rdbuf(), watch);
+    WatchedFileBuffer watched(buffer, watch);
     std::istream watchedIn(&watched);
     // OpenVDB does not look at the stream's state while it reads a tree: a read past the end must
     // throw at once, or a truncated file's counts make it allocate node after empty node.
     watchedIn.exceptions(std::ios::failbit | std::ios::badbit);
     // Read as a stream, not memory-mapped: a truncated file must fail, not fault, and it must end
-    // exactly where the last grid does.
+    // exactly where the last grid does. The bytes checked are the bytes read: a file rewritten in
+    // place meanwhile is not read again.
     openvdb::io::Stream stream(watchedIn, /*delayLoad=*/false);
     const openvdb::GridPtrVecPtr grids = stream.getGrids();
     if (watchedIn.tellg() != std::streampos(fileBytes)) throw Error(path + ": not a readable OpenVDB file (data after the last grid)");
@@ -1080,15 +1103,31 @@ SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& pa
     return sparseFromDense(dense, bandBackground(dense));
 }
 
-// Runs `read` on the file's size, with OpenVDB's failures as Errors naming `path`.
-template <class Read>
-auto readVdb(const std::string& path, const Read& read) {
+// The whole file, read once, so that what is checked is what OpenVDB reads (a file rewritten in
+// place, or a FIFO, is not read twice), with `control`'s progress and cancel. Refused above a
+// quarter of the memory available: OpenVDB's grid, at least as large as its compressed bytes, is
+// made beside them.
+std::string readVdbBytes(const std::string& path, const RunControl& control) {
+    const std::uint64_t available = availableMemoryBytes();
+    const std::uint64_t limit = available ? available / 4 : maxInputBytes();
     struct stat info;
-    if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    if (!S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
+    const bool sized = stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
+    if (sized && std::uint64_t(info.st_size) > limit) {
+        throw Error(path + ": the file's " + mebibytes(double(info.st_size)) + " are more than a quarter of the memory available (" +
+                    mebibytes(double(available)) + "); a .vdb is read whole into memory, its grid beside it");
+    }
+    ReadWatch watch(control, sized ? std::uint64_t(info.st_size) : 0); // a pipe: cancel without progress
+    return readInputFile(path, InputKind::Binary, limit, [&](std::size_t bytes) { watch.advance(bytes); });
+}
+
+// Runs `read` on the file's bytes, with OpenVDB's failures as Errors naming `path`; `control` for
+// reading the bytes.
+template <class Read>
+auto readVdb(const std::string& path, const RunControl& control, const Read& read) {
+    const std::string bytes = readVdbBytes(path, control);
     initializeOpenVdb();
     try {
-        return read(std::uint64_t(info.st_size));
+        return read(bytes);
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": not a readable OpenVDB file (" + printable(e.what(), 200) + ")");
     } catch (const std::bad_alloc&) {
@@ -1102,21 +1141,24 @@ auto readVdb(const std::string& path, const Read& read) {
     }
 }
 
+// Progress: the file's bytes read in the first half, OpenVDB's read of them in the second.
 Field loadVdbFile(const std::string& path, const RunControl& control) {
-    return readVdb(path, [&](std::uint64_t bytes) { return loadGrid(*readFloatGrid(path, bytes, control), path, control); });
+    const RunControl parse = control.phase(0.5, 1.0);
+    return readVdb(path, control.phase(0.0, 0.5), [&](const std::string& bytes) { return loadGrid(*readFloatGrid(path, bytes, parse), path, control); });
 }
 
 SparseField loadSparseVdbFile(const std::string& path, const RunControl& control) {
-    return readVdb(path, [&](std::uint64_t bytes) { return loadSparseGrid(*readFloatGrid(path, bytes, control), path, control); });
+    const RunControl parse = control.phase(0.5, 1.0);
+    return readVdb(path, control.phase(0.0, 0.5), [&](const std::string& bytes) { return loadSparseGrid(*readFloatGrid(path, bytes, parse), path, control); });
 }
 
 // Whether the grid loadField reads (named "surface", else the first float grid) is a band
 // field's: from the layout walk alone, without reading the trees.
 bool isSparseVdbFile(const std::string& path) {
-    return readVdb(path, [&](std::uint64_t bytes) {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-        VdbLayout layout(in, bytes, path);
+    return readVdb(path, RunControl{}, [&](const std::string& bytes) {
+        BytesBuffer buffer(bytes);
+        std::istream in(&buffer);
+        VdbLayout layout(in, bytes.size(), path);
         layout.check();
         auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
         for (const bool byName : {true, false}) {

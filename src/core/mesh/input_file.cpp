@@ -43,7 +43,7 @@ std::size_t lineNumberAt(const std::string& text, std::size_t offset) {
     return line;
 }
 
-std::string readInputFile(const std::string& path, InputKind kind, std::uint64_t maxBytes) {
+std::string readInputFile(const std::string& path, InputKind kind, std::uint64_t maxBytes, const std::function<void(std::size_t)>& onRead) {
     const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
     std::string text;
@@ -64,6 +64,7 @@ std::string readInputFile(const std::string& path, InputKind kind, std::uint64_t
             if (text.size() + std::size_t(n) > maxBytes) tooLarge(path, maxBytes);
             const std::size_t start = text.size();
             text.append(chunk, std::size_t(n));
+            if (onRead) onRead(std::size_t(n));
             if (kind == InputKind::Text) {
                 if (const void* nul = std::memchr(chunk, '\0', std::size_t(n))) {
                     const std::size_t offset = start + std::size_t(static_cast<const char*>(nul) - chunk);

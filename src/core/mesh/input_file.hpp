@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -14,8 +15,10 @@ enum class InputKind { Binary, Text };
 // Reads a whole file into memory: regular files, pipes, FIFOs and devices alike (/dev/stdin).
 // Throws Error("PATH: problem") when it cannot be opened or read, is a directory, or is larger than
 // maxBytes (checked before reading for a regular file, while reading otherwise). For Text, a NUL
-// byte is refused as it arrives ("PATH:LINE: NUL byte ...").
-std::string readInputFile(const std::string& path, InputKind kind, std::uint64_t maxBytes = maxInputBytes());
+// byte is refused as it arrives ("PATH:LINE: NUL byte ..."). `onRead`, when given, is called with
+// each block's byte count as it arrives (a reader's progress and cancel).
+std::string readInputFile(const std::string& path, InputKind kind, std::uint64_t maxBytes = maxInputBytes(),
+                          const std::function<void(std::size_t)>& onRead = {});
 
 // `text` without a leading UTF-8 byte-order mark: what every reader of a text format (OBJ, PLY's
 // header, OFF, ASCII STL, glTF's JSON, the sdfgen-text field) skips.

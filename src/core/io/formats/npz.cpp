@@ -17,12 +17,14 @@
 #include <cerrno>
 #include <cmath>
 #include <filesystem>
+#include <fcntl.h>
 #include <fstream>
 #include <cstring>
 #include <limits>
 #include <memory>
 #include <utility>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace sdfgen::formats {
 
@@ -101,13 +103,20 @@ std::string buildArchive(const std::vector<NpzMember>& members, const std::strin
 class ArchiveReader {
 public:
     explicit ArchiveReader(const std::string& path) : path_(path) {
-        if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+        // One open file for the size the members are checked against and for libzip's reading:
+        // by name, a file swapped in between would be read against another file's size.
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
         struct stat info;
-        if (stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) throw Error(path + ": not a regular file");
+        if (fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
+            close(fd);
+            throw Error(path + ": not a regular file");
+        }
         fileBytes_ = std::uint64_t(info.st_size);
         int code = 0;
-        archive_.reset(zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &code));
+        archive_.reset(zip_fdopen(fd, ZIP_RDONLY | ZIP_CHECKCONS, &code)); // libzip's on success only
         if (!archive_) {
+            close(fd);
             zip_error_t error;
             zip_error_init_with_code(&error, code);
             throw Error(path + ": not a valid .npz (zip) archive: " + zipProblem(&error));
