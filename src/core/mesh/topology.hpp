@@ -73,7 +73,12 @@ public:
         std::vector<std::vector<std::uint32_t>> loops;
         std::vector<std::uint32_t> copies;
         MeshCheck edgeCounts; // boundary, non-manifold and inconsistent edges, non-manifold vertices
+        // fansCloseMesh's answer (core/sign/winding_sign.hpp), which depends on these alone: found
+        // once for a whole chain of refits (it sorts every edge: a large part of a refit step).
+        mutable std::once_flag fansCloseOnce;
+        mutable bool fansClose = false;
     };
+    const Links& links() const { return *links_; }
 
 private:
     MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
