@@ -111,6 +111,72 @@ TEST(WideBvh, EveryTriangleIsInExactlyOnePacketLane) {
     expectEveryTriangleOnce(mesh, binary, tree);
 }
 
+// A packet lane's frame as plain scalar glm code in double (the vector fill's definition,
+// core/accel/wide_fill.inc), each value rounded once to float.
+void referenceLane(const Mesh& mesh, std::uint32_t id, TrianglePacket& p, int lane) {
+    const glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
+    int base = 0;
+    double longest = -1.0;
+    for (int e = 0; e < 3; ++e) {
+        const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
+        const double length2 = glm::dot(edge, edge);
+        if (length2 > longest) longest = length2, base = e;
+    }
+    const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
+    const double length = std::sqrt(longest);
+    const glm::dvec3 e1 = (b - a) / length;
+    const glm::dvec3 cross = glm::cross(b - a, c - a);
+    const double area = glm::length(cross);
+    glm::dvec3 n = area > 0.0 ? cross / area : glm::dvec3(mesh.faceNormals[id]);
+    n = glm::normalize(n - glm::dot(n, e1) * e1);
+    const glm::dvec3 e2 = glm::cross(n, e1);
+    const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
+    auto inverse = [](double length2) {
+        const float inv = float(1.0 / length2);
+        return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
+    };
+    p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
+    p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
+    p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
+    p.nx[lane] = float(n.x), p.ny[lane] = float(n.y), p.nz[lane] = float(n.z);
+    p.length[lane] = float(length), p.cu[lane] = float(cu), p.cv[lane] = float(cv), p.bcu[lane] = float(bcu);
+    p.invAC[lane] = inverse(cu * cu + cv * cv), p.invBC[lane] = inverse(bcu * bcu + cv * cv);
+    p.id[lane] = std::int32_t(id);
+}
+
+// Every lane of the tree's packets equals referenceLane's frame of its triangle, bit for bit.
+void expectScalarFrames(const Mesh& mesh, const WideBvh& tree) {
+    for (std::size_t i = 0; i < tree.packets().size(); ++i) {
+        TrianglePacket reference = tree.packets()[i];
+        for (int lane = 0; lane < 8; ++lane) referenceLane(mesh, std::uint32_t(reference.id[lane]), reference, lane);
+        EXPECT_EQ(std::memcmp(&tree.packets()[i], &reference, sizeof(TrianglePacket)), 0) << "packet " << i;
+    }
+}
+
+TEST(WideBvh, PacketsEqualTheScalarFramesOnBothPathsBuiltOrRefit) {
+    // The packets' frames are filled four lanes at a time in double vectors: the same bits as the
+    // scalar glm code on every path, for slivers, needles, copies, huge and tiny scales, built
+    // and refit to moved vertices.
+    const SimdPath chosen = simdPath();
+    const Mesh bunny = loadObj(test::bundledBunnyPath());
+    for (const Mesh& mesh : {soup(500, 1.0, 21), soup(300, 1e30, 22), soup(300, 1e-30, 23), bunny}) {
+        SCOPED_TRACE(mesh.source);
+        std::vector<glm::dvec3> moved(mesh.positions.begin(), mesh.positions.end());
+        for (std::size_t v = 0; v < moved.size(); ++v) moved[v] += 1e-3 * glm::dvec3(mesh.positions[(v * 7) % moved.size()]);
+        const Mesh movedMesh = buildMesh("moved", moved, mesh.triangles);
+        ASSERT_EQ(movedMesh.triangleCount(), mesh.triangleCount());
+        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+            if (!simdPathAvailable(path)) continue;
+            setSimdPath(path);
+            const Bvh binary(mesh);
+            const WideBvh tree(mesh, binary);
+            expectScalarFrames(mesh, tree);
+            expectScalarFrames(movedMesh, WideBvh(tree, movedMesh));
+        }
+    }
+    setSimdPath(chosen);
+}
+
 TEST(WideBvh, NearestEqualsALinearScanNearAndFar) {
     const Mesh bunny = loadObj(test::bundledBunnyPath());
     expectTreeEqualsLinearScan(bunny, randomPoints(bunny, 3000, 0.05f, 2));  // near and inside

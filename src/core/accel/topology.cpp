@@ -3,6 +3,7 @@
 #include "core/runtime/parallel.hpp"
 #include "core/mesh/predicates.hpp"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <algorithm>
 #include <cfloat>
@@ -564,12 +565,18 @@ void MeshTopology::buildVertexNormals(const RunControl* control) const {
     });
 }
 
-double MeshTopology::cornerAngle(std::size_t t, std::uint32_t c) const {
+std::optional<double> MeshTopology::cornerCosine(std::size_t t, std::uint32_t c) const {
     const glm::uvec3& corners = links_->corners[t];
     const glm::dvec3 e1 = positions_[corners[(c + 1) % 3]] - positions_[corners[c]];
     const glm::dvec3 e2 = positions_[corners[(c + 2) % 3]] - positions_[corners[c]];
     const double l1 = glm::length(e1), l2 = glm::length(e2);
-    return l1 > 0.0 && l2 > 0.0 ? std::acos(glm::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0)) : -1.0;
+    if (!(l1 > 0.0 && l2 > 0.0)) return std::nullopt;
+    return glm::dot(e1, e2) / (l1 * l2);
+}
+
+double MeshTopology::cornerAngle(std::size_t t, std::uint32_t c) const {
+    const std::optional<double> cosine = cornerCosine(t, c);
+    return cosine ? std::acos(glm::clamp(*cosine, -1.0, 1.0)) : -1.0;
 }
 
 glm::dvec3 MeshTopology::vertexNormal(std::uint32_t vertex) const {
@@ -597,6 +604,43 @@ glm::dvec3 MeshTopology::measureVertexNormal(std::uint32_t vertex) const {
         if (a >= 0.0) normal += a * glm::dvec3(faceNormals_[t]);
     }
     return normal;
+}
+
+bool MeshTopology::facesAway(std::uint32_t triangle, TriangleFeature feature, const glm::dvec3& offset) const {
+    if (vertexCorners_ && feature >= TriangleFeature::VertexA) {
+        const std::uint32_t vertex = links_->corners[triangle][int(feature) - int(TriangleFeature::VertexA)];
+        if (vertexNormalState_[vertex].load(std::memory_order_acquire) != 2) {
+            if (const int side = vertexSide(vertex, offset)) return side < 0;
+        }
+    }
+    return glm::dot(offset, pseudonormal(triangle, feature)) < 0.0;
+}
+
+// The vertex normal is n = sum of a_i f_i over the vertex's corners, a_i >= 0 the corner's angle
+// and f_i its face normal, summed in double (measureVertexNormal). Where every f_i puts d on one
+// side by a margin, |d . f_i| > margin * m_i with m_i = sum_k |d_k f_ik|, the rounded sum keeps
+// that side: the sum's rounding and the dot product's stay below (corners + 4) * 2^-53 of
+// sum_i a_i m_i, far under margin = 8 (corners + 8) * 2^-53 of it, provided one a_i is above 0
+// (acos is 0 only at a cosine of 1). m_i above 2^-900 keeps every product clear of underflow.
+int MeshTopology::vertexSide(std::uint32_t vertex, const glm::dvec3& d) const {
+    const std::uint32_t begin = vertexCorners_->start[vertex], end = vertexCorners_->start[vertex + 1];
+    const double margin = double(end - begin + 8) * 0x1p-50;
+    const glm::dvec3 size = glm::abs(d);
+    int side = 0;
+    bool angle = false;
+    for (std::uint32_t at = begin; at < end; ++at) {
+        const std::uint32_t t = vertexCorners_->corner[at] / 3, c = vertexCorners_->corner[at] % 3;
+        const glm::dvec3 f(faceNormals_[t]);
+        const double s = glm::dot(d, f), m = glm::dot(size, glm::abs(f));
+        const int faceSide = !(m > 0x1p-900) ? 0 : s > margin * m ? 1 : s < -margin * m ? -1 : 0;
+        if (faceSide == 0 || (side != 0 && faceSide != side)) return 0;
+        side = faceSide;
+        if (!angle) {
+            const std::optional<double> cosine = cornerCosine(t, c);
+            angle = cosine && *cosine < 1.0;
+        }
+    }
+    return angle ? side : 0;
 }
 
 glm::dvec3 MeshTopology::edgeNormal(std::uint32_t triangle, int edge) const {

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,11 @@ public:
     // from any thread; the vertex normals of a mesh whose edges rule the pseudonormal out are
     // built by the first call that needs one.
     glm::dvec3 pseudonormal(std::uint32_t triangle, TriangleFeature feature) const;
+    // glm::dot(offset, pseudonormal(triangle, feature)) < 0.0, bit for bit: whether `offset` (a
+    // point less its closest point on the feature) points against the pseudonormal. A refit's
+    // vertex normal not yet measured is measured only where the faces around the vertex leave the
+    // side in doubt (vertexSide).
+    bool facesAway(std::uint32_t triangle, TriangleFeature feature, const glm::dvec3& offset) const;
 
     // 3 per triangle (AB, BC, CA): the other triangle of an edge used by exactly two, else kNoNeighbour.
     static constexpr std::uint32_t kNoNeighbour = 0xffffffffu;
@@ -67,7 +73,12 @@ public:
         std::vector<std::vector<std::uint32_t>> loops;
         std::vector<std::uint32_t> copies;
         MeshCheck edgeCounts; // boundary, non-manifold and inconsistent edges, non-manifold vertices
+        // fansCloseMesh's answer (core/sign/winding_sign.hpp), which depends on these alone: found
+        // once for a whole chain of refits (it sorts every edge: a large part of a refit step).
+        mutable std::once_flag fansCloseOnce;
+        mutable bool fansClose = false;
     };
+    const Links& links() const { return *links_; }
 
 private:
     MeshTopology(const Mesh& mesh, std::vector<std::uint32_t> copies, const RunControl& control);
@@ -78,11 +89,16 @@ private:
     glm::dvec3 edgeNormal(std::uint32_t triangle, int edge) const;
     // The angle at corner c of triangle t (merged positions), or -1 for a collapsed corner.
     double cornerAngle(std::size_t t, std::uint32_t c) const;
+    // The cosine cornerAngle takes the arc cosine of, or nothing for a collapsed corner.
+    std::optional<double> cornerCosine(std::size_t t, std::uint32_t c) const;
     // The angle-weighted vertex normals, built once: in parallel with a control, else serially.
     void buildVertexNormals(const RunControl* control) const;
     // A vertex normal: all of them built, or (a refit's) this one alone, measured on first use.
     glm::dvec3 vertexNormal(std::uint32_t vertex) const;
     glm::dvec3 measureVertexNormal(std::uint32_t vertex) const;
+    // The sign of glm::dot(offset, measureVertexNormal(vertex)) where the vertex's faces settle
+    // it without the corners' angles, else 0.
+    int vertexSide(std::uint32_t vertex, const glm::dvec3& offset) const;
     // Whether triangles t and u have a point in common other than the vertices they share (exact).
     bool trianglesCross(std::uint32_t t, std::uint32_t u) const;
     // MeshCheck::misorientedShells of a mesh whose other counts are all zero; `outward` is -1 for

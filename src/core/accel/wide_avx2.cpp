@@ -1,10 +1,11 @@
-// The nearest-triangle search's AVX2 copy (see core/accel/wide_bvh.hpp): compiled for AVX2
+// The nearest-triangle search's and the packet fill's AVX2 copies (see core/accel/wide_bvh.hpp): compiled for AVX2
 // (core/simd/avx2_begin.inc).
 #if defined(__x86_64__) || defined(__i386__)
 #include "core/accel/wide_bvh.hpp"
 
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -19,6 +20,7 @@ using i8 = sdfgen::simd::i8;
 #include "core/simd/simd_ops.inc"
 #include "core/accel/packet_ops.inc"
 #include "core/accel/wide_nearest.inc"
+#include "core/accel/wide_fill.inc"
 } // namespace sdfgen::wide::SDFGEN_KERNEL_NAMESPACE
 #include "core/simd/avx2_end.inc"
 #endif

@@ -1,9 +1,10 @@
-// The nearest-triangle search's baseline copy (see core/accel/wide_bvh.hpp): compiled with the flags of
+// The nearest-triangle search's and the packet fill's baseline copies (see core/accel/wide_bvh.hpp): compiled with the flags of
 // the build (x86-64's SSE2 unless SDFGEN_NATIVE), for CPUs without AVX2 and for checking the AVX2 copy.
 #include "core/accel/wide_bvh.hpp"
 
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -16,4 +17,5 @@ using i8 = sdfgen::simd::i8;
 #include "core/simd/simd_ops.inc"
 #include "core/accel/packet_ops.inc"
 #include "core/accel/wide_nearest.inc"
+#include "core/accel/wide_fill.inc"
 } // namespace sdfgen::wide::SDFGEN_KERNEL_NAMESPACE

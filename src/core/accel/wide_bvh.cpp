@@ -1,11 +1,8 @@
 #include "core/accel/wide_bvh.hpp"
 #include "core/runtime/parallel.hpp"
 
-#include <glm/geometric.hpp>
 #include <algorithm>
 #include <array>
-#include <cfloat>
-#include <cmath>
 #include <limits>
 
 namespace sdfgen {
@@ -106,7 +103,7 @@ private:
     bool fits(std::uint32_t binary) const { return below_[binary] <= std::uint32_t(kWidth); }
 
     // A packet of at most eight triangles (unused lanes repeat the first); its box is the union of
-    // theirs. The lanes' SoA fields are filled once the tree is laid out (fillPacket).
+    // theirs. The lanes' SoA fields are filled once the tree is laid out (core/accel/wide_fill.inc).
     Child packet(const std::uint32_t* ids, std::size_t count) {
         PacketIds& lanes = packetIds.emplace_back();
         for (int lane = 0; lane < kWidth; ++lane) lanes[std::size_t(lane)] = ids[std::size_t(lane) < count ? std::size_t(lane) : 0];
@@ -142,56 +139,6 @@ private:
     const std::vector<std::uint32_t> below_;
 };
 
-// 1 / length2 rounded once to float, 0 for a zero-length (or overflowing) edge.
-float inverse(double length2) {
-    const float inv = float(1.0 / length2);
-    return length2 > 0.0 && std::isfinite(inv) ? inv : 0.0f;
-}
-
-// The fill pass, one packet: each lane's frame in double, from the float corners every other step
-// uses, rounded once.
-void fillPacket(const Mesh& mesh, const PacketIds& ids, TrianglePacket& p) {
-    for (int lane = 0; lane < kWidth; ++lane) {
-        const std::uint32_t id = ids[std::size_t(lane)];
-        if (lane > 0 && id == ids[0]) { // a lane past the leaf's triangles: the first one's values
-            for (simd::f8* field : {&p.ax, &p.ay, &p.az, &p.e1x, &p.e1y, &p.e1z, &p.e2x, &p.e2y, &p.e2z, &p.nx, &p.ny, &p.nz, &p.length,
-                                    &p.cu, &p.cv, &p.bcu, &p.invAC, &p.invBC}) {
-                (*field)[lane] = (*field)[0];
-            }
-            p.id[lane] = p.id[0];
-            continue;
-        }
-        glm::dvec3 corner[3] = {glm::dvec3(mesh.vertex(id, 0)), glm::dvec3(mesh.vertex(id, 1)), glm::dvec3(mesh.vertex(id, 2))};
-        // The longest edge as the base (a cyclic rotation keeps the orientation): the frame of a
-        // sliver or a needle is then as accurate as its longest side allows.
-        int base = 0;
-        double longest = -1.0;
-        for (int e = 0; e < 3; ++e) {
-            const glm::dvec3 edge = corner[(e + 1) % 3] - corner[e];
-            const double length2 = glm::dot(edge, edge);
-            if (length2 > longest) longest = length2, base = e;
-        }
-        const glm::dvec3 a = corner[base], b = corner[(base + 1) % 3], c = corner[(base + 2) % 3];
-        const double length = std::sqrt(longest);
-        const glm::dvec3 e1 = (b - a) / length;
-        // The mesh keeps only triangles whose normal has a length (mesh.cpp); its own normal stands
-        // in should the rotated corners' cross product still vanish.
-        const glm::dvec3 cross = glm::cross(b - a, c - a);
-        const double area = glm::length(cross);
-        glm::dvec3 n = area > 0.0 ? cross / area : glm::dvec3(mesh.faceNormals[id]);
-        n = glm::normalize(n - glm::dot(n, e1) * e1);
-        const glm::dvec3 e2 = glm::cross(n, e1);
-        const double cu = glm::dot(c - a, e1), cv = glm::dot(c - a, e2), bcu = cu - length;
-        p.ax[lane] = float(a.x), p.ay[lane] = float(a.y), p.az[lane] = float(a.z);
-        p.e1x[lane] = float(e1.x), p.e1y[lane] = float(e1.y), p.e1z[lane] = float(e1.z);
-        p.e2x[lane] = float(e2.x), p.e2y[lane] = float(e2.y), p.e2z[lane] = float(e2.z);
-        p.nx[lane] = float(n.x), p.ny[lane] = float(n.y), p.nz[lane] = float(n.z);
-        p.length[lane] = float(length), p.cu[lane] = float(cu), p.cv[lane] = float(cv), p.bcu[lane] = float(bcu);
-        p.invAC[lane] = inverse(cu * cu + cv * cv), p.invBC[lane] = inverse(bcu * bcu + cv * cv);
-        p.id[lane] = std::int32_t(id);
-    }
-}
-
 // Nodes were made children first, so the root is last: it moves to the front, where searches
 // start, and every inner child index moves up by one with it.
 void putRootFirst(std::vector<WideNode>& nodes) {
@@ -211,17 +158,19 @@ WideBvh::WideBvh(const Mesh& mesh, const Bvh& tree, const RunControl& control) {
     if (root.slot & kLeaf) layout.node({root}); // a root that is one packet gets a node above it
     packets_.resize(layout.packetIds.size());
     constexpr std::size_t kPacketsPerItem = 1024;
+    const wide::FillKernel fill = wide::activeFill();
     parallelFor((packets_.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
         for (std::size_t i = item * kPacketsPerItem; i < std::min(packets_.size(), (item + 1) * kPacketsPerItem); ++i) {
-            fillPacket(mesh, layout.packetIds[i], packets_[i]);
+            fill(mesh, layout.packetIds[i].data(), packets_[i]);
         }
     });
     nodes_ = std::move(layout.nodes);
     putRootFirst(nodes_);
     leafBounds_ = std::move(layout.leafBounds);
+    packetIds_ = std::make_shared<const std::vector<PacketIds>>(std::move(layout.packetIds));
 }
 
-WideBvh::WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control, WideBvh* spare) {
+WideBvh::WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& control, WideBvh* spare) : packetIds_(previous.packetIds_) {
     if (spare) { // its memory, every element written below
         nodes_ = std::move(spare->nodes_);
         packets_ = std::move(spare->packets_);
@@ -231,11 +180,11 @@ WideBvh::WideBvh(const WideBvh& previous, const Mesh& mesh, const RunControl& co
     packets_.resize(previous.packets_.size());
     leafBounds_.resize(previous.leafBounds_.size());
     constexpr std::size_t kPacketsPerItem = 1024;
+    const wide::FillKernel fill = wide::activeFill();
     parallelFor((packets_.size() + kPacketsPerItem - 1) / kPacketsPerItem, quiet(control), [&](std::size_t item) {
         for (std::size_t i = item * kPacketsPerItem; i < std::min(packets_.size(), (item + 1) * kPacketsPerItem); ++i) {
-            PacketIds ids;
-            for (int lane = 0; lane < kWidth; ++lane) ids[std::size_t(lane)] = std::uint32_t(previous.packets_[i].id[lane]);
-            fillPacket(mesh, ids, packets_[i]);
+            const PacketIds& ids = (*packetIds_)[i];
+            fill(mesh, ids.data(), packets_[i]);
             leafBounds_[i] = packetBox(mesh, ids);
         }
     });

@@ -14,7 +14,9 @@
 #include "sdfgen/mesh.hpp"
 #include "sdfgen/run_control.hpp"
 
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace sdfgen {
@@ -90,18 +92,25 @@ private:
     std::vector<Node> nodes_; // nodes_[0] is the root
     std::vector<TrianglePacket> packets_;
     std::vector<Bounds> leafBounds_; // per packet
+    // Each packet's triangles, lane by lane, shared along a chain of refits: the refit reads them
+    // here, 32 bytes a packet, rather than from the packets' lanes spread over 608.
+    std::shared_ptr<const std::vector<std::array<std::uint32_t, kWidth>>> packetIds_;
 };
 
-// The nearest-triangle search's compiled copies (core/accel/wide_nearest.inc: wide_avx2.cpp,
-// wide_baseline.cpp): this stage's own dispatch, the copy for simdPath() (core/simd/path.hpp).
+// The nearest-triangle search's and the packet fill's compiled copies (core/accel/wide_nearest.inc,
+// core/accel/wide_fill.inc: wide_avx2.cpp, wide_baseline.cpp): this stage's own dispatch, the copy
+// for simdPath() (core/simd/path.hpp).
 namespace wide {
 using NearestKernel = std::uint32_t (*)(const WideBvh&, float, float, float, NearestSoFar&);
+using FillKernel = void (*)(const Mesh&, const std::uint32_t*, TrianglePacket&);
 namespace baseline {
 std::uint32_t nearest(const WideBvh& tree, float px, float py, float pz, NearestSoFar& best);
+void fillPacket(const Mesh& mesh, const std::uint32_t* ids, TrianglePacket& p);
 }
 #if defined(__x86_64__) || defined(__i386__)
 namespace avx2 {
 std::uint32_t nearest(const WideBvh& tree, float px, float py, float pz, NearestSoFar& best);
+void fillPacket(const Mesh& mesh, const std::uint32_t* ids, TrianglePacket& p);
 }
 #endif
 inline NearestKernel activeNearest() {
@@ -109,6 +118,12 @@ inline NearestKernel activeNearest() {
     if (simdPath() == SimdPath::Avx2) return avx2::nearest;
 #endif
     return baseline::nearest;
+}
+inline FillKernel activeFill() {
+#if defined(__x86_64__) || defined(__i386__)
+    if (simdPath() == SimdPath::Avx2) return avx2::fillPacket;
+#endif
+    return baseline::fillPacket;
 }
 } // namespace wide
 

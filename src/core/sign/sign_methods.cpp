@@ -110,7 +110,7 @@ class PseudonormalPointSide final : public PointSide {
 public:
     explicit PseudonormalPointSide(const PointContext& context) : topology_(context.topology()) {}
     bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool flipped) const override {
-        return (glm::dot(p - nearest.closest.point, topology_.pseudonormal(nearest.triangle, nearest.closest.feature)) < 0.0) != flipped;
+        return topology_.facesAway(nearest.triangle, nearest.closest.feature, p - nearest.closest.point) != flipped;
     }
 
 private:

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <tuple>
 
@@ -751,7 +752,10 @@ int crossingsAhead(const Mesh& mesh, const WideBvh& wide, const Bvh& tree, const
     return rows::active()(mesh, wide, tree, caps, p, fansClose);
 }
 
-bool fansCloseMesh(const MeshTopology& topology) {
+namespace {
+
+// fansCloseMesh's test, measured.
+bool edgesBalanceLoops(const MeshTopology& topology) {
     // Each directed edge of the mesh's triangles (each set of copies once, weighted by its number, as
     // the counts weigh it) adds its weight, each edge of a loop subtracts 1; stored by the
     // undirected edge, the weight negated when it runs from the higher vertex.
@@ -781,6 +785,14 @@ bool fansCloseMesh(const MeshTopology& topology) {
         i = j;
     }
     return true;
+}
+
+} // namespace
+
+bool fansCloseMesh(const MeshTopology& topology) {
+    const MeshTopology::Links& links = topology.links();
+    std::call_once(links.fansCloseOnce, [&] { links.fansClose = edgesBalanceLoops(topology); });
+    return links.fansClose;
 }
 
 double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
