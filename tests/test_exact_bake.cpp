@@ -1,6 +1,7 @@
 // The exact bake's determinism across thread counts and its cancellation from the progress callback.
 #include "sdfgen/error.hpp"
 #include "core/bake/bake.hpp"
+#include "support/checks.hpp"
 #include "support/reference.hpp"
 #include "support/shapes.hpp"
 
@@ -79,7 +80,9 @@ TEST(ExactBake, CancelStopsTheGridsFill) {
     EXPECT_THROW(bake(mesh, tree, settings, control), Cancelled);
     const auto ended = std::chrono::steady_clock::now();
     raiser.join();
+#ifndef SDFGEN_TEST_ASAN // whose allocator poisons and unpoisons the grid's 256 MB whole, uncancellably
     EXPECT_LT(std::chrono::duration<double>(ended - raised).count(), 0.3);
+#endif
 }
 
 } // namespace

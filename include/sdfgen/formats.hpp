@@ -19,7 +19,7 @@ struct SaveOptions {
 
 // Saves `field` in the format its extension names (.sdf, .npy, .npz, .vdb, .nrrd), atomically.
 // An unknown extension is an Error naming the path and the known extensions, and so is a field
-// with channels (Field::gradient, closest, triangle) for a format that cannot hold them.
+// with channels (Field::channels) for a format that cannot hold them.
 void saveField(const Field& field, const std::string& path, const SaveOptions& options = {});
 
 // Throws saveField's Error for `path` before a bake: an unknown extension, or `channels` that its

@@ -456,8 +456,9 @@ void Viewer::probeAt(const FrameInput& input) {
     scene_.markers.clear();
     probeValid_ = false;
     if (!probeOn_ || ImGui::GetIO().WantCaptureMouse || input.x < panelWidth_ || (!sceneMesh_ && !field_)) return;
-    // The scene's model, unless a bake is building it just now (the probe then reads the field alone).
-    const std::shared_ptr<const Model> model = sceneModel_ ? sceneModel_->getWithoutWaiting({}) : nullptr;
+    // The scene's model, unless a bake is running: it builds the model and its trees on its own
+    // thread, which a query here would wait for (the probe then reads the field alone).
+    const std::shared_ptr<const Model> model = sceneModel_ && !generation_.running() ? sceneModel_->getWithoutWaiting({}) : nullptr;
     const glm::ivec2 fb = context_.framebufferSize();
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     const glm::ivec2 pixel(int(input.x * fb.x / std::max(display.x, 1.0f)), int(input.y * fb.y / std::max(display.y, 1.0f)));

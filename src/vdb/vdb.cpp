@@ -34,6 +34,7 @@
 #include <sstream>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <istream>
 #include <streambuf>
 #include <limits>
@@ -1120,14 +1121,11 @@ std::string readVdbBytes(const std::string& path, const RunControl& control) {
     return readInputFile(path, InputKind::Binary, limit, [&](std::size_t bytes) { watch.advance(bytes); });
 }
 
-// Runs `read` on the file's bytes, with OpenVDB's failures as Errors naming `path`; `control` for
-// reading the bytes.
+// Runs `read`, with OpenVDB's failures as Errors naming `path`.
 template <class Read>
-auto readVdb(const std::string& path, const RunControl& control, const Read& read) {
-    const std::string bytes = readVdbBytes(path, control);
-    initializeOpenVdb();
+auto withErrorsNamed(const std::string& path, const Read& read) {
     try {
-        return read(bytes);
+        return read();
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": not a readable OpenVDB file (" + printable(e.what(), 200) + ")");
     } catch (const std::bad_alloc&) {
@@ -1139,6 +1137,15 @@ auto readVdb(const std::string& path, const RunControl& control, const Read& rea
     } catch (const std::exception& e) {
         throw Error(path + ": not a readable OpenVDB file (" + printable(e.what(), 200) + ")");
     }
+}
+
+// Runs `read` on the file's bytes, with OpenVDB's failures as Errors naming `path`; `control` for
+// reading the bytes.
+template <class Read>
+auto readVdb(const std::string& path, const RunControl& control, const Read& read) {
+    const std::string bytes = readVdbBytes(path, control);
+    initializeOpenVdb();
+    return withErrorsNamed(path, [&] { return read(bytes); });
 }
 
 // Progress: the file's bytes read in the first half, OpenVDB's read of them in the second.
@@ -1153,24 +1160,33 @@ SparseField loadSparseVdbFile(const std::string& path, const RunControl& control
 }
 
 // Whether the grid loadField reads (named "surface", else the first float grid) is a band
-// field's: from the layout walk alone, without reading the trees.
+// field's: from the layout walk alone, streamed from the file rather than read into memory (the
+// load that follows reads it whole, once). A pipe cannot be walked and then loaded: it is refused.
 bool isSparseVdbFile(const std::string& path) {
-    return readVdb(path, RunControl{}, [&](const std::string& bytes) {
-        BytesBuffer buffer(bytes);
-        std::istream in(&buffer);
-        VdbLayout layout(in, bytes.size(), path);
-        layout.check();
-        auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
-        for (const bool byName : {true, false}) {
-            for (const VdbLayout::GridSummary& grid : layout.grids()) {
-                if (!isFloat(grid.type) || (byName && grid.name != kGridName)) continue;
-                // Another program's grid of no class is a level set or not by its tree.
-                if (grid.unclassed()) return readsAsBand(*readFloatGrid(path, bytes, RunControl{}), SdfgenMetadata{});
-                return grid.sparse();
+    struct stat info;
+    if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+    if (!S_ISREG(info.st_mode)) {
+        throw Error(path + ": not a regular file: a .vdb is told dense or sparse from its layout before it is loaded, which a pipe cannot give twice");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
+    initializeOpenVdb();
+    VdbLayout layout(in, std::uint64_t(info.st_size), path);
+    withErrorsNamed(path, [&] { layout.check(); return 0; });
+    auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
+    for (const bool byName : {true, false}) {
+        for (const VdbLayout::GridSummary& grid : layout.grids()) {
+            if (!isFloat(grid.type) || (byName && grid.name != kGridName)) continue;
+            // Another program's grid of no class is a level set or not by its tree.
+            if (grid.unclassed()) {
+                return readVdb(path, RunControl{}, [&](const std::string& bytes) {
+                    return readsAsBand(*readFloatGrid(path, bytes, RunControl{}), SdfgenMetadata{});
+                });
             }
+            return grid.sparse();
         }
-        throw Error(path + ": the file holds no float grid");
-    });
+    }
+    throw Error(path + ": the file holds no float grid");
 }
 
 // The exponent that scales a voxel too small for OpenVDB's transforms into one it holds (powers

@@ -390,7 +390,7 @@ void queryWithChannels(const Model& model, const double* points, std::size_t cou
                     const bool inside = side->inside(p, NearestPoint{t, closest}, flipped);
                     if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
                     if (out.gradient) {
-                        // As the bake's gradient channel (exact_kernel.inc's writeChannels, then signed by the value).
+                        // As the bake's gradient channel (core/method/channels.cpp's gradient entry, then signed by the value).
                         const glm::dvec3 g = distance == 0.0f ? glm::dvec3(mesh.faceNormals[t]) * (flipped ? -1.0 : 1.0)
                                                               : (p - closest.point) / std::sqrt(closest.distanceSquared) * (inside ? -1.0 : 1.0);
                         for (int a = 0; a < 3; ++a) out.gradient[3 * index + std::size_t(a)] = g[a];

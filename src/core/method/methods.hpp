@@ -23,11 +23,12 @@
 
 namespace sdfgen {
 
-// What a method may use: the mesh, its tree, the grid, the settings, and the mesh's wide tree,
-// topology and check, built on first use and cached by whoever owns the mesh (sdfgen::Model).
 // Receives rows of up to four samples (i.., j, k) with each sample's nearest triangle (the
 // float-nearest, the least index on ties); called from several threads at once.
 using NearestRowStore = std::function<void(int i, int j, int k, int count, const std::uint32_t* triangles)>;
+
+// What a method may use: the mesh, its tree, the grid, the settings, and the mesh's wide tree,
+// topology and check, built on first use and cached by whoever owns the mesh (sdfgen::Model).
 
 struct BakeContext {
     const Mesh& mesh;

@@ -88,6 +88,7 @@ void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunC
     const Mesh& mesh = context.mesh;
     const Grid& grid = context.grid;
     const MeshTopology& topology = context.topology();
+    if (!context.nearestRows) throw Error("the pseudonormal sign's own pass needs the bake's nearest-triangle rows (BakeContext::nearestRows)");
     context.nearestRows(
         [&](int i, int j, int k, int count, const std::uint32_t* triangles) {
             for (int lane = 0; lane < count; ++lane) {
