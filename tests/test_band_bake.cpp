@@ -115,6 +115,27 @@ TEST(BandBake, OpenMeshesAtAFinerGrid) {
     expectMatchesDense("disk", test::flatDisk(), 96, 1.5, SignMethod::Auto, 1);
 }
 
+// An icosphere missing a cap and every `every`-th triangle.
+Mesh shellWithHoles(int every) {
+    const Mesh sphere = test::icosphere(1.0f, 3);
+    std::vector<glm::uvec3> kept;
+    for (std::size_t t = 0; t < sphere.triangleCount(); ++t) {
+        const glm::vec3 centroid = (sphere.vertex(t, 0) + sphere.vertex(t, 1) + sphere.vertex(t, 2)) / 3.0f;
+        if (t % std::size_t(every) != 0 && centroid.y <= 0.8f) kept.push_back(sphere.triangles[t]);
+    }
+    return buildMesh("shell with holes", sphere.worldPositions(), std::move(kept));
+}
+
+// Copies of a shell with many holes, one shifted a little: cubes clear of the surface but near the
+// fans take their side from the winding number at their centre and a bound on its change over the
+// cube, which must count every hole's loop. A bound that left out the loops whose fans' boxes the
+// cube misses gave 633 wrong sides here.
+TEST(BandBake, ShiftedCopiesOfAShellWithManyHoles) {
+    const Mesh shell = shellWithHoles(7);
+    const Mesh copies = test::combined("shifted holed shells", test::combined("copies", shell, shell), test::translated(shell, {0.02f, 0.01f, 0.015f}, false));
+    expectMatchesDense("shifted holed shells", copies, 96, 2.0, SignMethod::Winding, 2);
+}
+
 // A box with triangles inside whose vertices lie on samples and one of whose edges runs through the
 // centre of a quarter of a brick (the exact kernel's blocks of 4³ samples): at such a centre a
 // triangle's float offset is rounding noise in every direction, and a linear bound that trusted its

@@ -15,7 +15,7 @@ namespace sdfgen {
 
 // How distances are measured.
 enum class DistanceMethod {
-    Rays,  // the original report's ray sampling: an upper bound, see generateRayField
+    Rays,  // the nearest hit of rays cast from each sample (Möller–Trumbore): an upper bound, see generateRayField
     Exact, // the true distance to the nearest triangle (computeNearest)
     Brute, // every triangle for every sample in double, signs from the exact winding number: the reference
 };

@@ -131,7 +131,7 @@ DistanceMethodPlugin exactEntry() {
 }
 
 DistanceMethodPlugin raysEntry() {
-    DistanceMethodPlugin method(DistanceMethod::Rays, "rays", "the original report's ray sampling, an upper bound");
+    DistanceMethodPlugin method(DistanceMethod::Rays, "rays", "the nearest hit of rays cast from each sample, an upper bound");
     method.dense = rayDistance;
     method.defaultSign = SignMethod::Rays;
     method.signsInline = SignMethod::Rays;

@@ -160,10 +160,13 @@ bool clearOf(const Cap& cap, const glm::dvec3& centre, double reach) {
     return true;
 }
 
-Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
+// `boundaryEdges`: how many of the loop's edges (loop[i], loop[i + 1]) from the first are the
+// mesh's boundary; the rest are chords between fans, which cancel.
+Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::size_t boundaryEdges) {
     Cap cap;
     cap.loop = std::move(loop);
     cap.weight = weight;
+    cap.boundaryEdges = boundaryEdges;
     for (const glm::dvec3& v : cap.loop) cap.centre += v;
     cap.centre /= double(cap.loop.size());
     cap.lo = cap.hi = cap.centre;
@@ -173,6 +176,7 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
         cap.lo = glm::min(cap.lo, from);
         cap.hi = glm::max(cap.hi, from);
         cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
+        if (i < boundaryEdges) cap.boundaryLength += glm::length(to - from);
     }
     return cap;
 }
@@ -181,11 +185,12 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
 // kMaxCapEdges edges, each closed by the chord back to the run's start, and then (recursively)
 // the polygon of those chords, whose edges cancel the chords. One fan over a long loop (a
 // terrain's border) would span the whole sheet: every sample near the sheet would be near it and
-// pay for its whole loop; small fans stay near the border and are bounded from afar.
-void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps) {
+// pay for its whole loop; small fans stay near the border and are bounded from afar. `chords`:
+// the loop is a polygon of chords (none of its edges is the mesh's boundary).
+void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps, bool chords = false) {
     constexpr std::size_t kEdges = WindingCaps::kMaxCapEdges;
     if (loop.size() <= kEdges + 1) {
-        caps.push_back(makeCap(loop, weight));
+        caps.push_back(makeCap(loop, weight, chords ? 0 : loop.size()));
         return;
     }
     std::vector<glm::dvec3> coarse;
@@ -193,10 +198,10 @@ void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& 
         const std::size_t end = std::min(start + kEdges, loop.size()); // the run's last vertex is loop[end % size]
         std::vector<glm::dvec3> run(loop.begin() + std::ptrdiff_t(start), loop.begin() + std::ptrdiff_t(end));
         run.push_back(loop[end % loop.size()]);
-        caps.push_back(makeCap(std::move(run), weight));
+        caps.push_back(makeCap(std::move(run), weight, chords ? 0 : end - start));
         coarse.push_back(loop[start]);
     }
-    addLoop(coarse, weight, caps);
+    addLoop(coarse, weight, caps, true);
 }
 
 
@@ -220,7 +225,16 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
     for (const auto& [loop, weight] : loops) {
         std::vector<glm::dvec3> points;
         for (std::uint32_t v : loop) points.push_back(topology.position(v));
+        LoopCaps closed{caps_.size(), 0, glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max())};
         addLoop(points, weight, caps_);
+        closed.end = caps_.size();
+        for (std::size_t c = closed.first; c < closed.end; ++c) {
+            closed.lo = glm::min(closed.lo, caps_[c].lo);
+            closed.hi = glm::max(closed.hi, caps_[c].hi);
+            closed.area += std::abs(caps_[c].weight) * caps_[c].area;
+            closed.length += std::abs(caps_[c].weight) * caps_[c].boundaryLength;
+        }
+        loops_.push_back(closed);
     }
     if (caps_.empty()) return;
     std::vector<std::uint32_t> order(caps_.size());
@@ -718,22 +732,37 @@ int WindingCaps::sideBeyond(const glm::dvec3& p, int ahead, double margin) const
 }
 
 double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) const {
+    auto distance = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
+        return glm::length(glm::max(glm::max(lo - centre, centre - hi), glm::dvec3(0.0))) - reach;
+    };
     double gradient = 0.0;
-    for (const Cap& cap : caps_) {
-        const double d = glm::length(glm::max(glm::max(cap.lo - centre, centre - cap.hi), glm::dvec3(0.0))) - reach;
+    for (const LoopCaps& loop : loops_) {
+        // A loop's field is its fans' winding number's gradient: at most L / (4π d²) from its
+        // edges, and at most 2 A / (4π d³) from its fans (the gradient of the solid angle's kernel
+        // m.r / |r|³ is at most 2 / |r|³), the tighter for loops far from the ball.
+        const double d = distance(loop.lo, loop.hi);
         if (d > 0.0) {
-            gradient += std::abs(cap.weight) * cap.length / (4.0 * M_PI * d * d);
+            gradient += std::min(loop.length, 2.0 * loop.area / d) / (4.0 * M_PI * d * d);
             continue;
         }
-        // The ball reaches the cap's box (a fan across a wide hole): its loop's edges one by one,
-        // each at its own distance (the chords between fans counted too, which only adds).
-        for (std::size_t i = 0; i < cap.loop.size(); ++i) {
-            const glm::dvec3 a = cap.loop[i], b = cap.loop[(i + 1) % cap.loop.size()], ab = b - a;
-            const double length = glm::length(ab);
-            const double t = length > 0.0 ? std::clamp(glm::dot(centre - a, ab) / (length * length), 0.0, 1.0) : 0.0;
-            const double e = glm::length(centre - (a + t * ab)) - reach;
-            if (!(e > 0.0)) return std::numeric_limits<double>::infinity();
-            gradient += std::abs(cap.weight) * length / (4.0 * M_PI * e * e);
+        for (std::size_t c = loop.first; c < loop.end; ++c) {
+            const Cap& cap = caps_[c];
+            if (cap.boundaryEdges == 0) continue;
+            const double e = distance(cap.lo, cap.hi);
+            if (e > 0.0) {
+                gradient += std::abs(cap.weight) * cap.boundaryLength / (4.0 * M_PI * e * e);
+                continue;
+            }
+            // The ball reaches the cap's box (a fan across a wide hole): its boundary edges one by
+            // one, each at its own distance.
+            for (std::size_t i = 0; i < cap.boundaryEdges; ++i) {
+                const glm::dvec3 a = cap.loop[i], b = cap.loop[(i + 1) % cap.loop.size()], ab = b - a;
+                const double length = glm::length(ab);
+                const double t = length > 0.0 ? std::clamp(glm::dot(centre - a, ab) / (length * length), 0.0, 1.0) : 0.0;
+                const double f = glm::length(centre - (a + t * ab)) - reach;
+                if (!(f > 0.0)) return std::numeric_limits<double>::infinity();
+                gradient += std::abs(cap.weight) * length / (4.0 * M_PI * f * f);
+            }
         }
     }
     return gradient * reach;

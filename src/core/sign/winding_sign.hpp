@@ -24,7 +24,11 @@ struct Cap {
     glm::dvec3 centre{0.0};
     glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
     double area = 0;
-    double length = 0; // of the loop: bounds the gradient of the fan's solid angle (see WindingCaps::Cut)
+    // The first boundaryEdges edges (loop[i], loop[i + 1]) are the mesh's boundary, the others
+    // chords between fans that cancel: the mesh's winding number has the field of the former as its
+    // gradient (windingVariation). boundaryLength is their length.
+    std::size_t boundaryEdges = 0;
+    double boundaryLength = 0;
     int weight = 1;    // equal loops (copies of open triangles) share one cap
 };
 
@@ -149,9 +153,10 @@ public:
     // rest decide or every fan is measured.
     int sideBeyond(const glm::dvec3& p, int ahead, double margin) const;
     // A bound on how far the mesh's winding number moves over the ball (centre, reach), which no
-    // mesh triangle meets: its gradient is the field of the mesh's boundary loops (each cap's loop,
-    // of length L at distance d from the ball, adds at most |weight| L / (4π d²) per unit of
-    // distance; a cap whose box the ball reaches counts each loop edge at its own distance).
+    // mesh triangle meets: its gradient is the field of the mesh's boundary loops (a loop of
+    // length L whose fans, of area A, lie at distance d from the ball adds at most
+    // |weight| min(L, 2A / d) / (4π d²) per unit of distance; where the ball reaches the fans'
+    // box, each fan counts its boundary edges, at their own distance where it reaches the fan's).
     // Infinite when the ball reaches a loop edge.
     double windingVariation(const glm::dvec3& centre, double reach) const;
 
@@ -223,6 +228,14 @@ private:
     }
 
     std::vector<Cap> caps_;
+    // The caps [first, end) of one boundary loop (of equal loops), their box, their fans' area and
+    // their boundary edges' length, each times |weight|: the loop's field, bounded as a whole.
+    struct LoopCaps {
+        std::size_t first, end;
+        glm::dvec3 lo, hi;
+        double area = 0, length = 0;
+    };
+    std::vector<LoopCaps> loops_;
     std::vector<Node> nodes_;
 };
 
