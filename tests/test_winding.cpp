@@ -142,6 +142,24 @@ TEST(WindingSign, CoplanarOverlapsAndFlippedCopies) {
     expectSignsEqualReference(combined("sheet twice", sheet, sheet), sheet, 2.0, 16);
 }
 
+// A double-sided panel (a sheet and its reversed copy a hair behind it): the two borders are
+// closed together by the thin strip between them, one quad per border edge, rather than by fans
+// spanning the panel twice with opposite signs; the signs are the reference's. A copy shifted by
+// more than a tenth of its size is not paired.
+TEST(WindingSign, DoubleSidedPanelsAreClosedByTheStripBetweenTheirBorders) {
+    const Mesh sheet = heightfield(30, false); // a border of 120 edges
+    const Mesh panel = combined("double-sided panel", sheet, moved(reversed(sheet), {0.0, 0.0, -0.003}));
+    const Mesh scene = combined("double-sided panel and a sphere", panel, moved(test::icosphere(0.5f, 2), {0.0, 0.0, 0.8}));
+    WindingStats stats;
+    expectSignsEqualReference(scene, scene, 1.0, 24, &stats);
+    EXPECT_EQ(stats.caps, 120u);
+    const Mesh apart = combined("a sheet and a reversed copy apart", sheet, moved(reversed(sheet), {0.0, 0.0, -0.5}));
+    const Mesh apartScene = combined("a sheet, a reversed copy apart and a sphere", apart, moved(test::icosphere(0.5f, 2), {0.0, 0.0, 0.8}));
+    WindingStats apartStats;
+    expectSignsEqualReference(apartScene, apartScene, 1.0, 24, &apartStats);
+    EXPECT_EQ(apartStats.caps, 2 * WindingCaps(MeshTopology(sheet)).caps().size());
+}
+
 TEST(WindingSign, BitIdenticalForAnyThreadCount) {
     const Mesh holed = withHoles(test::torus(1.0f, 0.4f, 32, 16), 5);
     const Grid grid = makeGrid(holed.worldBounds(), 24, 0.1);

@@ -160,9 +160,8 @@ bool clearOf(const Cap& cap, const glm::dvec3& centre, double reach) {
     return true;
 }
 
-// `boundaryEdges`: how many of the loop's edges (loop[i], loop[i + 1]) from the first are the
-// mesh's boundary; the rest are chords between fans, which cancel.
-Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::size_t boundaryEdges) {
+// `boundaryEdges`: Cap::boundaryEdges.
+Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::uint32_t boundaryEdges) {
     Cap cap;
     cap.loop = std::move(loop);
     cap.weight = weight;
@@ -176,7 +175,7 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::size_t boundaryEdges)
         cap.lo = glm::min(cap.lo, from);
         cap.hi = glm::max(cap.hi, from);
         cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
-        if (i < boundaryEdges) cap.boundaryLength += glm::length(to - from);
+        if (boundaryEdges >> i & 1u) cap.boundaryLength += glm::length(to - from);
     }
     return cap;
 }
@@ -190,7 +189,7 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::size_t boundaryEdges)
 void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps, bool chords = false) {
     constexpr std::size_t kEdges = WindingCaps::kMaxCapEdges;
     if (loop.size() <= kEdges + 1) {
-        caps.push_back(makeCap(loop, weight, chords ? 0 : loop.size()));
+        caps.push_back(makeCap(loop, weight, chords ? 0u : (1u << loop.size()) - 1u));
         return;
     }
     std::vector<glm::dvec3> coarse;
@@ -198,12 +197,39 @@ void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& 
         const std::size_t end = std::min(start + kEdges, loop.size()); // the run's last vertex is loop[end % size]
         std::vector<glm::dvec3> run(loop.begin() + std::ptrdiff_t(start), loop.begin() + std::ptrdiff_t(end));
         run.push_back(loop[end % loop.size()]);
-        caps.push_back(makeCap(std::move(run), weight, chords ? 0 : end - start));
+        caps.push_back(makeCap(std::move(run), weight, chords ? 0u : (1u << (end - start)) - 1u));
         coarse.push_back(loop[start]);
     }
     addLoop(coarse, weight, caps, true);
 }
 
+
+// A double-sided panel's two borders, the loop `a` and the loop `b` running the other way a hair
+// beside it, are closed together by the strip between them, one quad (a[i], a[i + 1], b[j - 1],
+// b[j]) per edge (the quads' rungs cancel), instead of a fan over each loop: the fans would span
+// the panel twice with opposite signs, and every sample near the panel would measure both. The
+// strip is thin, so its bounds are small. False, with nothing added, unless b has a's length and
+// each b[j] lies within a tenth of a's size of its a[i] (j = s - i for the b[s] nearest a[0]).
+bool addStrip(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b, int weight, std::vector<Cap>& caps) {
+    constexpr double kMaxWidth = 0.1; // of the loop's box's diagonal
+    const std::size_t n = a.size();
+    if (n < 3 || b.size() != n) return false;
+    glm::dvec3 lo = a[0], hi = a[0];
+    for (const glm::dvec3& v : a) lo = glm::min(lo, v), hi = glm::max(hi, v);
+    const double width = kMaxWidth * glm::length(hi - lo);
+    std::size_t s = 0;
+    for (std::size_t j = 1; j < n; ++j) {
+        if (glm::length(b[j] - a[0]) < glm::length(b[s] - a[0])) s = j;
+    }
+    auto partner = [&](std::size_t i) -> const glm::dvec3& { return b[(s + n - i % n) % n]; };
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!(glm::length(partner(i) - a[i]) <= width)) return false;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        caps.push_back(makeCap({a[i], a[(i + 1) % n], partner(i + 1), partner(i)}, weight, 0b101u));
+    }
+    return true;
+}
 
 // Candidate rows of a coordinate range [lo, hi] on an axis with `count` samples from `first` at
 // spacing h: one wider each way (the exact test decides), clamped before any conversion to int.
@@ -222,26 +248,67 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
         std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
         ++loops[loop];
     }
+    std::vector<std::vector<glm::dvec3>> points;
+    std::vector<int> weights;
     for (const auto& [loop, weight] : loops) {
-        std::vector<glm::dvec3> points;
-        for (std::uint32_t v : loop) points.push_back(topology.position(v));
-        LoopCaps closed{caps_.size(), 0, glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max())};
-        addLoop(points, weight, caps_);
-        closed.end = caps_.size();
-        for (std::size_t c = closed.first; c < closed.end; ++c) {
-            closed.lo = glm::min(closed.lo, caps_[c].lo);
-            closed.hi = glm::max(closed.hi, caps_[c].hi);
-            closed.area += std::abs(caps_[c].weight) * caps_[c].area;
-            closed.length += std::abs(caps_[c].weight) * caps_[c].boundaryLength;
+        points.emplace_back();
+        for (std::uint32_t v : loop) points.back().push_back(topology.position(v));
+        weights.push_back(weight);
+    }
+    // Double-sided panels: each loop, in order, paired with the nearest loop by centroid's x of its
+    // length and weight that addStrip takes (candidates within a tenth of its size); the others
+    // closed by fans, in the same order as if no loop were paired.
+    std::vector<glm::dvec3> centroids(points.size(), glm::dvec3(0.0));
+    std::vector<double> sizes(points.size());
+    for (std::size_t l = 0; l < points.size(); ++l) {
+        glm::dvec3 lo = points[l][0], hi = points[l][0];
+        for (const glm::dvec3& v : points[l]) centroids[l] += v, lo = glm::min(lo, v), hi = glm::max(hi, v);
+        centroids[l] /= double(points[l].size());
+        sizes[l] = glm::length(hi - lo);
+    }
+    std::vector<std::size_t> byX(points.size()), rank(points.size());
+    std::iota(byX.begin(), byX.end(), std::size_t(0));
+    std::sort(byX.begin(), byX.end(), [&](std::size_t l, std::size_t r) {
+        return std::make_tuple(points[l].size(), centroids[l].x, l) < std::make_tuple(points[r].size(), centroids[r].x, r);
+    });
+    for (std::size_t o = 0; o < byX.size(); ++o) rank[byX[o]] = o;
+    std::vector<bool> closed(points.size(), false);
+    // Whether loop m, a candidate for l, is out of reach, and so is every one beyond it by x.
+    auto beyond = [&](std::size_t l, std::size_t m) {
+        return points[m].size() != points[l].size() || std::fabs(centroids[m].x - centroids[l].x) > 0.1 * sizes[l];
+    };
+    auto pair = [&](std::size_t l, std::size_t m) {
+        if (closed[m] || weights[m] != weights[l] || glm::length(centroids[m] - centroids[l]) > 0.1 * sizes[l]) return false;
+        if (!addStrip(points[l], points[m], weights[l], caps_)) return false;
+        closed[m] = true;
+        return true;
+    };
+    auto group = [&](std::size_t first) { // the caps from `first` on close one loop or one pair
+        LoopCaps caps{first, caps_.size(), glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max())};
+        for (std::size_t c = caps.first; c < caps.end; ++c) {
+            caps.lo = glm::min(caps.lo, caps_[c].lo);
+            caps.hi = glm::max(caps.hi, caps_[c].hi);
+            caps.area += std::abs(caps_[c].weight) * caps_[c].area;
+            caps.length += std::abs(caps_[c].weight) * caps_[c].boundaryLength;
         }
-        loops_.push_back(closed);
+        loops_.push_back(caps);
+    };
+    for (std::size_t l = 0; l < points.size(); ++l) {
+        if (closed[l]) continue;
+        closed[l] = true;
+        const std::size_t first = caps_.size();
+        bool paired = false;
+        for (std::size_t o = rank[l] + 1; !paired && o < byX.size() && !beyond(l, byX[o]); ++o) paired = pair(l, byX[o]);
+        for (std::size_t o = rank[l]; !paired && o-- > 0 && !beyond(l, byX[o]);) paired = pair(l, byX[o]);
+        if (!paired) addLoop(points[l], weights[l], caps_);
+        group(first);
     }
     if (caps_.empty()) return;
-    std::vector<std::uint32_t> order(caps_.size());
-    std::iota(order.begin(), order.end(), 0u);
+    std::vector<std::uint32_t> capOrder(caps_.size());
+    std::iota(capOrder.begin(), capOrder.end(), 0u);
     nodes_.reserve(2 * caps_.size());
     nodes_.push_back({});
-    build(0, order, 0, order.size());
+    build(0, capOrder, 0, capOrder.size());
 }
 
 void WindingCaps::flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const {
@@ -755,7 +822,8 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) con
             }
             // The ball reaches the cap's box (a fan across a wide hole): its boundary edges one by
             // one, each at its own distance.
-            for (std::size_t i = 0; i < cap.boundaryEdges; ++i) {
+            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+                if (!(cap.boundaryEdges >> i & 1u)) continue;
                 const glm::dvec3 a = cap.loop[i], b = cap.loop[(i + 1) % cap.loop.size()], ab = b - a;
                 const double length = glm::length(ab);
                 const double t = length > 0.0 ? std::clamp(glm::dot(centre - a, ab) / (length * length), 0.0, 1.0) : 0.0;

@@ -24,10 +24,11 @@ struct Cap {
     glm::dvec3 centre{0.0};
     glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
     double area = 0;
-    // The first boundaryEdges edges (loop[i], loop[i + 1]) are the mesh's boundary, the others
-    // chords between fans that cancel: the mesh's winding number has the field of the former as its
-    // gradient (windingVariation). boundaryLength is their length.
-    std::size_t boundaryEdges = 0;
+    // Bit i set: the edge (loop[i], loop[i + 1]) is the mesh's boundary; the others are chords or
+    // rungs between fans, which cancel. The mesh's winding number has the field of the former as
+    // its gradient (windingVariation); boundaryLength is their length. A cap has at most
+    // kMaxCapEdges + 1 edges.
+    std::uint32_t boundaryEdges = 0;
     double boundaryLength = 0;
     int weight = 1;    // equal loops (copies of open triangles) share one cap
 };
