@@ -1,8 +1,8 @@
 #include "nearest.hpp"
 
-#include "core/mesh/geometry.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
+#include "sdfgen/triangle.hpp"
 
 #include <glm/geometric.hpp>
 

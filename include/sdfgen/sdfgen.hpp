@@ -13,3 +13,4 @@
 #include "sdfgen/run_control.hpp"
 #include "sdfgen/sample.hpp"
 #include "sdfgen/surface.hpp"
+#include "sdfgen/triangle.hpp"
