@@ -564,6 +564,37 @@ TEST(WindingSign, BoundsOutliveANodeThatAllButTouchesItsBox) {
 
 // Point queries run the same steps per point as the bake's samples: at the samples' positions
 // they give the baked field, bit for bit, on meshes whose signs need the fans.
+// Dense points near a holed shell and a shell nested in it inside out, asked in one call: each
+// point may take its Morton neighbour's count of crossings where no surface or fan lies between
+// them, and every side must still be the reference winding number's.
+TEST(WindingSign, NeighbouringQueryPointsKeepTheirOwnSides) {
+    const Mesh outer = withHoles(test::icosphere(1.0f, 3), 11);
+    const Mesh mesh = combined("holed shell around a reversed shell", outer, reversed(test::icosphere(0.5f, 2)));
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<std::size_t> pick(0, mesh.triangleCount() - 1);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), offset(-0.05, 0.05);
+    std::vector<glm::dvec3> points;
+    while (points.size() < 40000) {
+        const std::size_t t = pick(rng);
+        const glm::dvec3 a(mesh.vertex(t, 0)), b(mesh.vertex(t, 1)), c(mesh.vertex(t, 2));
+        double u = unit(rng), v = unit(rng);
+        if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+        const glm::dvec3 normal = glm::normalize(glm::cross(b - a, c - a));
+        points.push_back(mesh.toWorld(a + u * (b - a) + v * (c - a) + offset(rng) * normal));
+    }
+    const std::vector<float> values = Model(mesh).signedDistance(points);
+    std::size_t compared = 0, inside = 0;
+    for (std::size_t n = 0; n < points.size(); ++n) {
+        const double w = windingNumber(mesh, mesh.toLocal(points[n]));
+        if (std::fabs(std::fabs(w) - 0.5) < 1e-9 || values[n] == 0.0f) continue;
+        ++compared;
+        inside += std::fabs(w) > 0.5;
+        ASSERT_EQ(values[n] < 0.0f, std::fabs(w) > 0.5) << n << ": w = " << w;
+    }
+    EXPECT_GT(compared, 39000u);
+    EXPECT_GT(inside, 10000u);
+}
+
 TEST(WindingSign, PointQueriesEqualTheBakedField) {
     for (const Mesh& mesh : {withHoles(test::torus(1.0f, 0.4f, 32, 16), 5), heightfield(30, true)}) {
         SCOPED_TRACE(mesh.source);

@@ -367,6 +367,7 @@ void queryWithChannels(const Model& model, const double* points, std::size_t cou
     parallelFor(blocks, control, [&](std::size_t block) {
         const std::size_t begin = block * kBlock, end = std::min(count, begin + kBlock);
         std::uint32_t hint = WideBvh::kEmpty;
+        PointSideMemo memo;
         for (std::size_t at = begin; at < end; ++at) {
             const std::size_t index = order[at];
             const glm::dvec3 p = mesh.toLocal({points[3 * index], points[3 * index + 1], points[3 * index + 2]});
@@ -387,7 +388,7 @@ void queryWithChannels(const Model& model, const double* points, std::size_t cou
                     for (int a = 0; a < 3; ++a) out.barycentric[3 * index + std::size_t(a)] = w[a];
                 }
                 if (needSign) {
-                    const bool inside = side->inside(p, NearestPoint{t, closest}, flipped);
+                    const bool inside = side->inside(p, NearestPoint{t, closest}, flipped, memo);
                     if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
                     if (out.gradient) {
                         // As the bake's gradient channel (core/method/channels.cpp's gradient entry, then signed by the value).

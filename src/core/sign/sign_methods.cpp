@@ -70,8 +70,19 @@ public:
     explicit WindingPointSide(const PointContext& context)
         : mesh_(context.mesh), tree_(context.tree), wide_(context.wide()), caps_(context.topology()),
           fansClose_(fansCloseMesh(context.topology())) {}
-    bool inside(const glm::dvec3& p, const NearestPoint&, bool) const override {
-        return caps_.insideSooner(p, crossingsAhead(mesh_, wide_, tree_, caps_, p, fansClose_));
+    // The count ahead is the winding number of the mesh closed by its fans, the same integer
+    // throughout a ball that neither the mesh nor a fan reaches: a point within the last point's
+    // ball (its distance to the nearest triangle, less that search's rounding, and clear of every
+    // fan's box) takes the last count instead of walking its row.
+    bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool, PointSideMemo& memo) const override {
+        const double step = glm::length(p - memo.point);
+        const int ahead = step < memo.clearance && caps_.noFanWithin(memo.point, step) ? memo.count
+                                                                                          : crossingsAhead(mesh_, wide_, tree_, caps_, p, fansClose_);
+        // The float search's triangle may be a rounding farther than the nearest one (as the band bake allows).
+        const double distance = std::sqrt(nearest.closest.distanceSquared);
+        const double magnitude = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) + distance;
+        memo = {p, distance - 1e-5 * magnitude, ahead};
+        return caps_.insideSooner(p, ahead);
     }
 
 private:
@@ -110,7 +121,7 @@ void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunC
 class PseudonormalPointSide final : public PointSide {
 public:
     explicit PseudonormalPointSide(const PointContext& context) : topology_(context.topology()) {}
-    bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool flipped) const override {
+    bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool flipped, PointSideMemo&) const override {
         return topology_.facesAway(nearest.triangle, nearest.closest.feature, p - nearest.closest.point) != flipped;
     }
 

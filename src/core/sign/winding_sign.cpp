@@ -753,6 +753,22 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& c
     return std::fabs(search.w) > 0.5;
 }
 
+bool WindingCaps::noFanWithin(const glm::dvec3& p, double reach) const {
+    if (nodes_.empty()) return true;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0)));
+        if (d > reach * (1.0 + 1e-9)) continue;
+        if (node.leaf) return false;
+        stack[top++] = node.first + 1;
+        stack[top++] = node.first;
+    }
+    return true;
+}
+
 bool WindingCaps::farFromEveryFan(const glm::dvec3& p, double reach) const {
     // Nodes bounded below kFarBound, and leaves, are summed, not opened; a fan the ball may touch
     // (an infinite bound) ends the search, as does a sum reaching 0.45. Below that, every point of the ball

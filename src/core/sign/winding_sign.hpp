@@ -63,6 +63,8 @@ public:
     // their dipoles where that bounds them more tightly, and a point that the bounds leave within
     // kDecisionMargin of 1/2 takes inside()'s own steps, so that the answer is inside()'s.
     bool insideSooner(const glm::dvec3& p, int ahead) const;
+    // Whether no fan's box comes within `reach` of p (then no fan meets that ball).
+    bool noFanWithin(const glm::dvec3& p, double reach) const;
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
