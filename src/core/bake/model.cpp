@@ -367,14 +367,26 @@ void queryWithChannels(const Model& model, const double* points, std::size_t cou
     parallelFor(blocks, control, [&](std::size_t block) {
         const std::size_t begin = block * kBlock, end = std::min(count, begin + kBlock);
         std::uint32_t hint = WideBvh::kEmpty;
-        PointSideMemo memo;
+        glm::dvec3 local[kBlock];
+        NearestPoint nearest[kBlock];
+        std::uint8_t inside[kBlock];
         for (std::size_t at = begin; at < end; ++at) {
             const std::size_t index = order[at];
-            const glm::dvec3 p = mesh.toLocal({points[3 * index], points[3 * index + 1], points[3 * index + 2]});
+            local[at - begin] = mesh.toLocal({points[3 * index], points[3 * index + 1], points[3 * index + 2]});
             if (needNearest) {
+                const glm::dvec3& p = local[at - begin];
                 const std::uint32_t t = nearestTriangle(*wide, glm::vec3(p), hint);
-                const ClosestPoint closest = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
-                                                                    glm::dvec3(mesh.vertex(t, 2)));
+                nearest[at - begin] = {t, closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
+                                                                 glm::dvec3(mesh.vertex(t, 2)))};
+            }
+        }
+        if (needSign) side->inside(local, nearest, end - begin, flipped, inside);
+        for (std::size_t at = begin; at < end; ++at) {
+            const std::size_t index = order[at];
+            const glm::dvec3& p = local[at - begin];
+            if (needNearest) {
+                const std::uint32_t t = nearest[at - begin].triangle;
+                const ClosestPoint& closest = nearest[at - begin].closest;
                 const float distance = float(std::sqrt(closest.distanceSquared) * mesh.unit);
                 if (out.unsignedDistance) out.unsignedDistance[index] = distance;
                 if (out.triangle) out.triangle[index] = std::int64_t(t);
@@ -388,15 +400,15 @@ void queryWithChannels(const Model& model, const double* points, std::size_t cou
                     for (int a = 0; a < 3; ++a) out.barycentric[3 * index + std::size_t(a)] = w[a];
                 }
                 if (needSign) {
-                    const bool inside = side->inside(p, NearestPoint{t, closest}, flipped, memo);
-                    if (out.signedDistance) out.signedDistance[index] = inside ? -distance : distance;
+                    const bool in = inside[at - begin] != 0;
+                    if (out.signedDistance) out.signedDistance[index] = in ? -distance : distance;
                     if (out.gradient) {
                         // As the bake's gradient channel (core/method/channels.cpp's gradient entry, then signed by the value).
                         const glm::dvec3 g = distance == 0.0f ? glm::dvec3(mesh.faceNormals[t]) * (flipped ? -1.0 : 1.0)
-                                                              : (p - closest.point) / std::sqrt(closest.distanceSquared) * (inside ? -1.0 : 1.0);
+                                                              : (p - closest.point) / std::sqrt(closest.distanceSquared) * (in ? -1.0 : 1.0);
                         for (int a = 0; a < 3; ++a) out.gradient[3 * index + std::size_t(a)] = g[a];
                     }
-                    if (channels) channels->write(index, ChannelHit{mesh, p, closest, t, distance, flipped}, inside && distance > 0.0f);
+                    if (channels) channels->write(index, ChannelHit{mesh, p, closest, t, distance, flipped}, in && distance > 0.0f);
                 }
             }
             if (out.windingNumber) {

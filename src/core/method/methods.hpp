@@ -87,24 +87,17 @@ struct PointContext {
     std::function<const MeshTopology&()> topology;
 };
 
-// What a PointSide may carry from one point to the next that one thread asks about (queries visit
-// points in Morton order, so the last point is a near neighbour), as the nearest search carries
-// its hint: the last point, the radius of a ball around it that the method found free of whatever
-// changes its answer, and an integer the method measured there. Starts empty for each run of points.
-struct PointSideMemo {
-    glm::dvec3 point{0.0};
-    double clearance = -1.0; // none kept while negative
-    int count = 0;
-};
-
 // A sign's answer for single points (Model::query), made once per mesh and kept by its Model, so
 // that what it prepares (the winding sign's fans) serves every later query.
 class PointSide {
 public:
     virtual ~PointSide() = default;
-    // Whether p (local coordinates) is inside; `flipped` as BakeContext's. The answer does not
-    // depend on `memo` (which the method may read and update), only the work does.
-    virtual bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool flipped, PointSideMemo& memo) const = 0;
+    // Whether each of `count` points (local coordinates) is inside, given its nearest point; `flipped`
+    // as BakeContext's. Model::query hands over the points of a block in Morton order, so that
+    // neighbours follow each other and a method may share work between them; each answer is the
+    // point's own, whatever its neighbours.
+    virtual void inside(const glm::dvec3* points, const NearestPoint* nearest, std::size_t count, bool flipped,
+                        std::uint8_t* inside) const = 0;
 };
 
 // A distance method: how it measures a dense grid, a band's bricks and on a compute device, and

@@ -8,8 +8,11 @@
 #include "sdfgen/error.hpp"
 
 #include <glm/geometric.hpp>
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <utility>
+#include <vector>
 
 namespace sdfgen {
 
@@ -74,15 +77,22 @@ public:
     // throughout a ball that neither the mesh nor a fan reaches: a point within the last point's
     // ball (its distance to the nearest triangle, less that search's rounding, and clear of every
     // fan's box) takes the last count instead of walking its row.
-    bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool, PointSideMemo& memo) const override {
-        const double step = glm::length(p - memo.point);
-        const int ahead = step < memo.clearance && caps_.noFanWithin(memo.point, step) ? memo.count
-                                                                                          : crossingsAhead(mesh_, wide_, tree_, caps_, p, fansClose_);
-        // The float search's triangle may be a rounding farther than the nearest one (as the band bake allows).
-        const double distance = std::sqrt(nearest.closest.distanceSquared);
-        const double magnitude = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) + distance;
-        memo = {p, distance - 1e-5 * magnitude, ahead};
-        return caps_.insideSooner(p, ahead);
+    void inside(const glm::dvec3* points, const NearestPoint* nearest, std::size_t count, bool, std::uint8_t* inside) const override {
+        thread_local std::vector<int> ahead;
+        ahead.resize(count);
+        glm::dvec3 last(0.0);
+        double clearance = -1.0; // of the last point's ball; none while negative
+        for (std::size_t i = 0; i < count; ++i) {
+            const glm::dvec3& p = points[i];
+            const double step = glm::length(p - last);
+            ahead[i] = i > 0 && step < clearance && caps_.noFanWithin(last, step) ? ahead[i - 1]
+                                                                               : crossingsAhead(mesh_, wide_, tree_, caps_, p, fansClose_);
+            // The float search's triangle may be a rounding farther than the nearest one (as the band bake allows).
+            const double distance = std::sqrt(nearest[i].closest.distanceSquared);
+            last = p;
+            clearance = distance - 1e-5 * (std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}) + distance);
+        }
+        caps_.insideMany(points, ahead.data(), count, inside);
     }
 
 private:
@@ -121,8 +131,10 @@ void pseudonormalSign(const BakeContext& context, DistancePass& pass, const RunC
 class PseudonormalPointSide final : public PointSide {
 public:
     explicit PseudonormalPointSide(const PointContext& context) : topology_(context.topology()) {}
-    bool inside(const glm::dvec3& p, const NearestPoint& nearest, bool flipped, PointSideMemo&) const override {
-        return topology_.facesAway(nearest.triangle, nearest.closest.feature, p - nearest.closest.point) != flipped;
+    void inside(const glm::dvec3* points, const NearestPoint* nearest, std::size_t count, bool flipped, std::uint8_t* inside) const override {
+        for (std::size_t i = 0; i < count; ++i) {
+            inside[i] = topology_.facesAway(nearest[i].triangle, nearest[i].closest.feature, points[i] - nearest[i].closest.point) != flipped;
+        }
     }
 
 private:

@@ -452,6 +452,7 @@ struct WindingCaps::Search {
     // Whether a waiting node counts as its dipole where that bounds it more tightly (the bake's
     // samples in doubt; inside(), the reference, counts waiting nodes as 0).
     bool dipoles = false;
+    std::size_t budget = std::numeric_limits<std::size_t>::max(); // fans measured before refine() stops in doubt
 
     void measure(std::uint32_t cap) {
         w -= fanWinding(p, caps.caps_[cap]);
@@ -527,7 +528,7 @@ struct WindingCaps::Search {
 
     void refine() {
         std::make_heap(pending.begin(), pending.end());
-        while ((!pending.empty() || ballNext != ballEnd) && doubtful()) {
+        while ((!pending.empty() || ballNext != ballEnd) && measured < budget && doubtful()) {
             Pending loosest;
             const bool fromBall = ballNext != ballEnd && (pending.empty() || pending.front().bound < ballNext->bound);
             if (fromBall) {
@@ -551,11 +552,13 @@ struct WindingCaps::Search {
     }
 };
 
-std::pair<double, bool> WindingCaps::walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles) const {
+std::pair<double, bool> WindingCaps::walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles,
+                                          std::size_t budget) const {
     thread_local std::vector<Pending> pending;
     pending.clear();
     Search search{*this, p, margin, double(ahead), pending};
     search.dipoles = dipoles;
+    search.budget = budget;
     if (!nodes_.empty()) search.add(0); // none: a closed surface, w is the integer count
     if (search.doubtful()) search.refine(); // most points are decided at once; the others refine, loosest node first
     if (evaluations) *evaluations += search.measured;
@@ -751,6 +754,47 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& c
     if (evaluations) *evaluations += search.measured;
     if (!decided) return inside(p, ahead, evaluations); // |w| within the margin of 1/2: inside()'s own steps
     return std::fabs(search.w) > 0.5;
+}
+
+void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const {
+    // As the dense bake's blocks of 4³ (BrickSigns): a cut bounding the rest within 0.01, with 12 near fans.
+    constexpr double kTarget = 0.01;
+    constexpr std::size_t kNearFans = 12;
+    thread_local Cut shared, scratch;
+    const double span = nodes_.empty() ? 0.0 : kGroupSpan * glm::length(nodes_[0].hi - nodes_[0].lo);
+    glm::dvec3 group[kFanPoints], lo(0.0), hi(0.0);
+    std::size_t at[kFanPoints];
+    int n = 0;
+    auto decide = [&] {
+        if (n == 1) {
+            flags[at[0]] = inside(group[0], ahead[at[0]]);
+        } else if (n > 1) {
+            cut(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) * (1.0 + 1e-9), kTarget, kNearFans, false, shared);
+            double near[kFanPoints];
+            fanWindings(shared.nearNodes, group, n, near);
+            for (int s = 0; s < n; ++s) flags[at[s]] = insideNear(group[s], ahead[at[s]], near[s], shared, scratch);
+        }
+        n = 0;
+    };
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::dvec3& p = points[i];
+        if (nodes_.empty() || bound(nodes_[0], p, 0.0) < 0.45) { // as insideSooner: the count decides
+            flags[i] = ahead[i] != 0;
+            continue;
+        }
+        const auto [w, doubtful] = walk(p, ahead[i], kDecisionMargin, nullptr, true, kWalkBudget);
+        if (!doubtful) {
+            flags[i] = std::fabs(w) > 0.5;
+            continue;
+        }
+        if (n > 0 && glm::length(glm::max(hi, p) - glm::min(lo, p)) > span) decide();
+        lo = n == 0 ? p : glm::min(lo, p);
+        hi = n == 0 ? p : glm::max(hi, p);
+        group[n] = p;
+        at[n++] = i;
+        if (n == kFanPoints) decide();
+    }
+    decide();
 }
 
 bool WindingCaps::noFanWithin(const glm::dvec3& p, double reach) const {
