@@ -545,9 +545,9 @@ TEST(SparseField, RefusesPartsThatDoNotDescribeAField) {
     header.grid.dims = {20, 16, 8}; // 3 x 2 x 1 bricks, the last column cut at 20
     header.background = 1.0f;
     const std::vector<float> brick(SparseField::kBrickSamples, 0.5f);
-    auto refused = [&](SparseField::Samples samples) {
+    auto refused = [&](SparseField::Storage storage) {
         try {
-            SparseField(header, std::move(samples), "parts.npz");
+            SparseField(header, std::move(storage), "parts.npz");
         } catch (const Error& e) {
             EXPECT_EQ(std::string(e.what()).rfind("parts.npz: ", 0), 0u) << e.what();
             EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
@@ -576,7 +576,7 @@ TEST(SparseField, RefusesPartsThatDoNotDescribeAField) {
     EXPECT_EQ(field.at(9, 1, 1), 0.5f);
     EXPECT_EQ(field.at(17, 1, 1), -1.0f);
     EXPECT_EQ(field.at(1, 9, 1), 1.0f);
-    const SparseField::Samples taken = field.release();
+    const SparseField::Storage taken = field.release();
     EXPECT_EQ(taken.values.data(), values) << "the values were copied";
     EXPECT_TRUE(field.bricks().empty() && field.values().empty() && field.insideBoxes().empty());
     EXPECT_EQ(field.at(17, 1, 1), 1.0f);

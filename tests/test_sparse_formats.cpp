@@ -52,14 +52,14 @@ Field ballsField() {
     return field;
 }
 
-// `field` with its header and samples as `change(header, samples)` leaves them: a new field,
+// `field` with its header and storage as `change(header, storage)` leaves them: a new field,
 // refused as any is when they no longer describe one (Error naming `where`).
 template <class Change>
 SparseField changed(const SparseField& field, Change change, const std::string& where = "changed") {
     FieldHeader header = field.header();
-    SparseField::Samples samples = field.samples();
-    change(header, samples);
-    return SparseField(header, std::move(samples), where);
+    SparseField::Storage storage = field.storage();
+    change(header, storage);
+    return SparseField(header, std::move(storage), where);
 }
 
 void expectSameSparse(const SparseField& a, const SparseField& b) {
@@ -153,9 +153,9 @@ TEST_F(SparseFormats, DenseFormatsHoldTheDenseFormAndReadBackAsTheBandField) {
 
 TEST_F(SparseFormats, DenseFormatsRefuseABandFieldThatDoesNotFitDense) {
     // 16384^3 samples: 16 TiB dense, a few kilobytes sparse.
-    const SparseField huge = changed(sparse_, [](FieldHeader& header, SparseField::Samples& samples) {
+    const SparseField huge = changed(sparse_, [](FieldHeader& header, SparseField::Storage& storage) {
         header.grid.dims = {16384, 16384, 16384};
-        samples.insideBoxes.clear();
+        storage.insideBoxes.clear();
     });
     for (const char* name : {"huge.npy", "huge.sdf", "huge.nrrd"}) {
         const std::string message = errorFrom([&] { saveSparseField(huge, path(name)); });
@@ -230,9 +230,9 @@ TEST_F(HostileSparseNpz, DimsWhoseProductPassesTwoToThe64AreRefused) {
     const std::string message = errorFrom([&] {
         changed(
             sparse_,
-            [](FieldHeader& header, SparseField::Samples& samples) {
+            [](FieldHeader& header, SparseField::Storage& storage) {
                 header.grid.dims = {4194304, 2097152, 2097152};
-                samples.insideBoxes.clear();
+                storage.insideBoxes.clear();
             },
             "huge");
     });
@@ -353,8 +353,8 @@ TEST_F(SparseFormats, BandFieldsCompareSparseAsTheirDenseFormsDo) {
 
 TEST_F(SparseFormats, InsideBoxesOverTheirFieldsBricksAreRefused) {
     const glm::ivec3 brick = sparse_.bricks()[0];
-    auto overBrick = [&](FieldHeader& header, SparseField::Samples& samples) {
-        samples.insideBoxes = {SparseField::insideBox(header.grid.dims, brick.x, brick.x + 1, brick.y, brick.z)};
+    auto overBrick = [&](FieldHeader& header, SparseField::Storage& storage) {
+        storage.insideBoxes = {SparseField::insideBox(header.grid.dims, brick.x, brick.x + 1, brick.y, brick.z)};
     };
     EXPECT_CONTAINS(errorFrom([&] { changed(sparse_, overBrick, "brick.npz"); }), "brick.npz: inside box 0 holds stored brick 0");
 }
@@ -399,16 +399,16 @@ TEST_F(SparseFormats, AFieldGivenUpIsSavedAsTheSameFileAndLeftEmpty) {
     header.grid.origin = {-1.0, -2.0, -3.0};
     header.grid.voxel = 0.01;
     header.background = 0.03f;
-    SparseField::Samples samples;
+    SparseField::Storage storage;
     for (int y = 0; y < 100; ++y)
-        for (int x = 0; x < 100; x += 2) samples.bricks.emplace_back(x, y, 1); // the brick cut at the grid's end
-    samples.values.resize(samples.bricks.size() * SparseField::kBrickSamples);
-    for (std::size_t n = 0; n < samples.values.size(); ++n) {
+        for (int x = 0; x < 100; x += 2) storage.bricks.emplace_back(x, y, 1); // the brick cut at the grid's end
+    storage.values.resize(storage.bricks.size() * SparseField::kBrickSamples);
+    for (std::size_t n = 0; n < storage.values.size(); ++n) {
         const bool pastTheEnd = n % SparseField::kBrickSamples >= 4 * 64; // z 12 and on (past the grid's end) hold the background
-        samples.values[n] = pastTheEnd ? header.background : header.background * float(std::sin(double(n) * 0.37));
+        storage.values[n] = pastTheEnd ? header.background : header.background * float(std::sin(double(n) * 0.37));
     }
-    samples.insideBoxes.push_back({0, 0, 0, 8 * 100, 8, 8});
-    const SparseField many(header, std::move(samples), "many");
+    storage.insideBoxes.push_back({0, 0, 0, 8 * 100, 8, 8});
+    const SparseField many(header, std::move(storage), "many");
     for (const char* extension : {".vdb", ".npz"}) {
         const std::string kept = path(std::string("kept") + extension), givenUp = path(std::string("given-up") + extension);
         saveSparseField(many, kept);
@@ -421,9 +421,9 @@ TEST_F(SparseFormats, AFieldGivenUpIsSavedAsTheSameFileAndLeftEmpty) {
 }
 
 TEST_F(SparseFormats, VdbOfAGridTooLargeToBeDenseStaysSparse) {
-    const SparseField huge = changed(sparse_, [](FieldHeader& header, SparseField::Samples& samples) {
+    const SparseField huge = changed(sparse_, [](FieldHeader& header, SparseField::Storage& storage) {
         header.grid.dims = {16384, 16384, 16384};
-        samples.insideBoxes.clear();
+        storage.insideBoxes.clear();
     });
     saveSparseField(huge, path("huge.vdb"));
     expectSameSparse(loadSparseField(path("huge.vdb")), huge);
@@ -469,8 +469,8 @@ TEST_F(SparseFormats, SurfaceOfABandFieldIsClosedAndEqualsTheDenseOnes) {
     EXPECT_EQ(check.nonManifoldVertices, 0u);
     EXPECT_CONTAINS(errorFrom([&] { extractSurface(sparse_, 3.0 * dense_.grid.voxel, 0.0); }), "outside the band field's band");
     // An inside box on the grid's boundary cuts the surface open.
-    const SparseField cut = changed(sparse_, [](FieldHeader&, SparseField::Samples& samples) {
-        samples.insideBoxes.insert(samples.insideBoxes.begin(), {0, 0, 0, 8, 8, 8});
+    const SparseField cut = changed(sparse_, [](FieldHeader&, SparseField::Storage& storage) {
+        storage.insideBoxes.insert(storage.insideBoxes.begin(), {0, 0, 0, 8, 8, 8});
     });
     EXPECT_CONTAINS(errorFrom([&] { extractSurface(cut, 0.0, 0.0); }), "reaches the grid's boundary");
 }

@@ -26,7 +26,7 @@ public:
     // Samples [lo, hi) entirely inside the solid: lo.x lo.y lo.z hi.x hi.y hi.z.
     using InsideBox = std::array<int, 6>;
 
-    // A band field's samples, as the constructor takes them and release() gives them back:
+    // What a band field stores, as the constructor takes it and release() gives it back:
     // - bricks: ordered by z, then y, then x; each is the sample box [8b, 8b + 8) (cut at the
     //   grid's end); a brick is stored where it holds a sample in the band or where the side
     //   changes inside it (near the open boundary of a mesh);
@@ -37,16 +37,16 @@ public:
     //   (+background). Each box is a run of whole bricks along x in one row of bricks (lo a
     //   multiple of 8 on every axis; hi.y = lo.y + 8 and hi.z = lo.z + 8, cut at the grid's end),
     //   ordered by z, y, x, none overlapping another.
-    struct Samples {
+    struct Storage {
         std::vector<glm::ivec3> bricks;
         std::vector<float> values;
         std::vector<InsideBox> insideBoxes;
     };
 
-    // The field of `header` (its grid, background and names) and `samples`, taken over as they are
+    // The field of `header` (its grid, background and names) and `storage`, taken over as it is
     // (never copied). Throws Error "where: problem" when they do not describe a field on the grid
     // (`where` names what they came from: the file read, the mesh baked).
-    SparseField(const FieldHeader& header, Samples samples, const std::string& where);
+    SparseField(const FieldHeader& header, Storage storage, const std::string& where);
 
     using FieldHeader::method;
     using FieldHeader::parameter;
@@ -55,13 +55,13 @@ public:
     const FieldHeader& header() const { return *this; }
     const Grid& grid() const { return FieldHeader::grid; }
     float background() const { return FieldHeader::background; } // band * voxel, > 0
-    const Samples& samples() const { return samples_; }
-    const std::vector<glm::ivec3>& bricks() const { return samples_.bricks; }
-    const std::vector<float>& values() const { return samples_.values; }
-    const std::vector<InsideBox>& insideBoxes() const { return samples_.insideBoxes; }
-    // The samples taken out, for a writer given the field that hands their memory back as it
-    // goes; the field is left with none (everywhere outside: still a field on its grid).
-    Samples release();
+    const Storage& storage() const { return storage_; }
+    const std::vector<glm::ivec3>& bricks() const { return storage_.bricks; }
+    const std::vector<float>& values() const { return storage_.values; }
+    const std::vector<InsideBox>& insideBoxes() const { return storage_.insideBoxes; }
+    // The storage taken out, for a writer given the field that hands its memory back as it goes;
+    // the field is left with no bricks and no boxes (everywhere outside: still a field on its grid).
+    Storage release();
 
     // The inside box of bricks x0 to x1 - 1 of the brick row (y, z) on a grid of `dims` samples.
     static InsideBox insideBox(const glm::ivec3& dims, int x0, int x1, int y, int z);
@@ -81,7 +81,7 @@ public:
 private:
     void check(const std::string& where) const;
 
-    Samples samples_;
+    Storage storage_;
 };
 
 } // namespace sdfgen

@@ -526,11 +526,11 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
 // A band field as a level-set FloatGrid named "surface" (the transform of fieldToGrid): each
 // brick a leaf, its samples in the band active; each inside box inactive -background tiles; the
 // rest the +background of the tree. Distances and grid scaled by 2^exponent. Initializes OpenVDB.
-// `samples` are the field's, or were taken out of it (SparseField::release) when its owner gave it
-// up: then `givenUp` is &samples, their memory goes back to the system as they become leaves, and
-// they are emptied.
-openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, const SparseField::Samples& samples, int exponent,
-                                     SparseField::Samples* givenUp = nullptr) {
+// `storage` is the field's, or was taken out of it (SparseField::release) when its owner gave it
+// up: then `givenUp` is &storage, the memory of its values goes back to the system as they become
+// leaves, and it is emptied.
+openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, const SparseField::Storage& storage, int exponent,
+                                     SparseField::Storage* givenUp = nullptr) {
     constexpr int B = SparseField::kBrick;
     initializeOpenVdb();
     const float background = std::ldexp(field.background(), exponent);
@@ -540,7 +540,7 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, const SparseField
     // Whole bricks (a box cut at the grid's end reaches on to its brick's end), so that fill makes
     // tiles and no leaves; prune then merges the tiles of nodes wholly inside.
     auto brickEnd = [](int v) { return (v + B - 1) / B * B - 1; };
-    for (const auto& box : samples.insideBoxes) {
+    for (const auto& box : storage.insideBoxes) {
         tree.fill(openvdb::CoordBBox(openvdb::Coord(box[0], box[1], box[2]), openvdb::Coord(brickEnd(box[3]), brickEnd(box[4]), brickEnd(box[5]))),
                   -background, /*active=*/false);
     }
@@ -550,13 +550,13 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, const SparseField
     // box's tiles.
     using Leaf = openvdb::FloatTree::LeafNodeType;
     auto makeLeaf = [&](std::size_t b) {
-        const glm::ivec3 lo = samples.bricks[b] * B;
+        const glm::ivec3 lo = storage.bricks[b] * B;
         const glm::ivec3 inGrid = glm::min(dims - lo, glm::ivec3(B)); // samples of the brick within the grid, per axis
         auto leaf = std::make_unique<Leaf>(openvdb::PartialCreate(), openvdb::Coord(lo.x, lo.y, lo.z), background);
         leaf->allocate(); // not filled: every value is written below
         float* out = leaf->buffer().data();
         openvdb::util::NodeMask<3> active;
-        const float* values = &samples.values[b * SparseField::kBrickSamples];
+        const float* values = &storage.values[b * SparseField::kBrickSamples];
         // A leaf's offset is 64 x + 8 y + z: word x of its mask holds bit 8 y + z.
         static_assert(B == 8 && Leaf::DIM == 8, "a brick is a leaf");
         for (int x = 0; x < B; ++x) {
@@ -573,10 +573,10 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, const SparseField
         return leaf;
     };
     constexpr std::size_t kChunk = 1 << 12; // bricks (8 MB of values)
-    std::vector<std::unique_ptr<Leaf>> leaves(std::min(kChunk, samples.bricks.size()));
+    std::vector<std::unique_ptr<Leaf>> leaves(std::min(kChunk, storage.bricks.size()));
     openvdb::tree::ValueAccessor<openvdb::FloatTree> access(tree); // caches the path to the last leaf: bricks come in order
-    for (std::size_t first = 0; first < samples.bricks.size(); first += kChunk) {
-        const std::size_t last = std::min(samples.bricks.size(), first + kChunk);
+    for (std::size_t first = 0; first < storage.bricks.size(); first += kChunk) {
+        const std::size_t last = std::min(storage.bricks.size(), first + kChunk);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 256), [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t b = range.begin(); b != range.end(); ++b) leaves[b - first] = makeLeaf(b);
         });
@@ -681,7 +681,7 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
         // A band: the level set of the field's band (sparseToGrid), as a band bake writes it.
         if (options.band > 0) {
             const SparseField band = sparseFromDense(field, float(options.band * h), path);
-            grid = sparseToGrid(band, band.samples(), 0);
+            grid = sparseToGrid(band, band.storage(), 0);
         } else {
             grid = fieldToGrid(field);
         }
@@ -694,8 +694,8 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
     writeGrids(grids, path);
 }
 
-// `samples` and `givenUp` as sparseToGrid's.
-void writeSparseVdbFile(const SparseField& field, const SparseField::Samples& samples, const std::string& path, SparseField::Samples* givenUp) {
+// `storage` and `givenUp` as sparseToGrid's.
+void writeSparseVdbFile(const SparseField& field, const SparseField::Storage& storage, const std::string& path, SparseField::Storage* givenUp) {
     checkSparseField(field, path);
     const Grid& g = field.grid();
     if (!representableVoxel(g.voxel)) {
@@ -704,7 +704,7 @@ void writeSparseVdbFile(const SparseField& field, const SparseField::Samples& sa
     }
     openvdb::FloatGrid::Ptr grid;
     try {
-        grid = sparseToGrid(field, samples, 0, givenUp);
+        grid = sparseToGrid(field, storage, 0, givenUp);
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": OpenVDB cannot hold this grid (" + e.what() + ")");
     }
@@ -712,12 +712,12 @@ void writeSparseVdbFile(const SparseField& field, const SparseField::Samples& sa
     writeGrids({grid}, path);
 }
 
-void saveSparseVdbFile(const SparseField& field, const std::string& path) { writeSparseVdbFile(field, field.samples(), path, nullptr); }
+void saveSparseVdbFile(const SparseField& field, const std::string& path) { writeSparseVdbFile(field, field.storage(), path, nullptr); }
 
 void saveSparseVdbFileGivenUp(SparseField&& field, const std::string& path) {
     SparseField mine = std::move(field);
-    SparseField::Samples samples = mine.release(); // mine keeps the grid, background and names
-    writeSparseVdbFile(mine, samples, path, &samples);
+    SparseField::Storage storage = mine.release(); // mine keeps the grid, background and names
+    writeSparseVdbFile(mine, storage, path, &storage);
 }
 
 // The grid's sdfgen_* metadata, all or none of dims, origin and voxel (a partial or mistyped
@@ -948,7 +948,7 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     }
     const float background = header.background;
     const glm::ivec3 dims = header.grid.dims;
-    SparseField::Samples samples;
+    SparseField::Storage storage;
     const openvdb::FloatTree& tree = grid.tree();
 
     // The leaves that hold samples of the grid, in z, y, x order.
@@ -962,13 +962,13 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
         const openvdb::Coord &p = a->origin(), &q = b->origin();
         return std::make_tuple(p.z(), p.y(), p.x()) < std::make_tuple(q.z(), q.y(), q.x());
     });
-    samples.bricks.reserve(leaves.size());
-    samples.values.resize(leaves.size() * SparseField::kBrickSamples);
+    storage.bricks.reserve(leaves.size());
+    storage.values.resize(leaves.size() * SparseField::kBrickSamples);
     for (std::size_t b = 0; b < leaves.size(); ++b) {
         if (b % 4096 == 0) throwIfCancelled(control);
         const openvdb::Coord o = leaves[b]->origin() - first;
-        samples.bricks.emplace_back(o.x() / B, o.y() / B, o.z() / B);
-        float* values = &samples.values[b * SparseField::kBrickSamples];
+        storage.bricks.emplace_back(o.x() / B, o.y() / B, o.z() / B);
+        float* values = &storage.values[b * SparseField::kBrickSamples];
         for (int z = 0; z < B; ++z)
             for (int y = 0; y < B; ++y)
                 for (int x = 0; x < B; ++x) {
@@ -1005,7 +1005,7 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     };
     double rows = 0;
     tiles([&](const openvdb::Coord& lo, const openvdb::Coord& hi) { rows += double(hi.y() - lo.y()) * double(hi.z() - lo.z()); });
-    checkBytesFit(rows * (sizeof(Run) + sizeof(samples.insideBoxes[0])), "the inside region's " + std::to_string(std::llround(rows)) + " rows of bricks", path);
+    checkBytesFit(rows * (sizeof(Run) + sizeof(storage.insideBoxes[0])), "the inside region's " + std::to_string(std::llround(rows)) + " rows of bricks", path);
     std::vector<Run> runs;
     runs.reserve(std::size_t(rows));
     tiles([&](const openvdb::Coord& lo, const openvdb::Coord& hi) {
@@ -1016,9 +1016,9 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     for (std::size_t n = 0; n < runs.size();) {
         Run run = runs[n++];
         while (n < runs.size() && runs[n].z == run.z && runs[n].y == run.y && runs[n].x0 == run.x1) run.x1 = runs[n++].x1;
-        samples.insideBoxes.push_back(SparseField::insideBox(dims, run.x0, run.x1, run.y, run.z));
+        storage.insideBoxes.push_back(SparseField::insideBox(dims, run.x0, run.x1, run.y, run.z));
     }
-    SparseField field(header, std::move(samples), path);
+    SparseField field(header, std::move(storage), path);
     checkSparseField(field, path);
     return field;
 }
@@ -1157,7 +1157,7 @@ void surfacePolygons(const Field& field, double iso, double adaptivity, std::vec
 void surfacePolygonsSparse(const SparseField& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
                            std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads) {
     const int exponent = meshingExponent(field.grid().voxel);
-    meshGrid(*sparseToGrid(field, field.samples(), exponent), iso, adaptivity, exponent, points, triangles, quads);
+    meshGrid(*sparseToGrid(field, field.storage(), exponent), iso, adaptivity, exponent, points, triangles, quads);
 }
 
 } // namespace

@@ -28,14 +28,14 @@ void forEachChunk(std::size_t count, const std::function<void(std::size_t, std::
 
 } // namespace
 
-SparseField::SparseField(const FieldHeader& header, Samples samples, const std::string& where)
-    : FieldHeader(header), samples_(std::move(samples)) {
+SparseField::SparseField(const FieldHeader& header, Storage storage, const std::string& where)
+    : FieldHeader(header), storage_(std::move(storage)) {
     check(where);
 }
 
-SparseField::Samples SparseField::release() {
-    Samples taken = std::move(samples_);
-    samples_ = {};
+SparseField::Storage SparseField::release() {
+    Storage taken = std::move(storage_);
+    storage_ = {};
     return taken;
 }
 

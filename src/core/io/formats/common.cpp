@@ -120,7 +120,7 @@ SparseField sparseFromDense(const Field& field, float background, const std::str
     constexpr int B = SparseField::kBrick;
     FieldHeader header = field;
     header.background = background;
-    SparseField::Samples samples;
+    SparseField::Storage storage;
     const glm::ivec3 dims = field.grid.dims, bricks = (dims + (B - 1)) / B;
     std::vector<float> brick(SparseField::kBrickSamples);
     for (int bz = 0; bz < bricks.z; ++bz) {
@@ -145,17 +145,17 @@ SparseField sparseFromDense(const Field& field, float background, const std::str
                 const bool inside = bx < bricks.x && !stored && negative;
                 if (inside && insideFrom < 0) insideFrom = bx;
                 if (!inside && insideFrom >= 0) {
-                    samples.insideBoxes.push_back(SparseField::insideBox(dims, insideFrom, bx, by, bz));
+                    storage.insideBoxes.push_back(SparseField::insideBox(dims, insideFrom, bx, by, bz));
                     insideFrom = -1;
                 }
                 if (stored) {
-                    samples.bricks.emplace_back(bx, by, bz);
-                    samples.values.insert(samples.values.end(), brick.begin(), brick.end());
+                    storage.bricks.emplace_back(bx, by, bz);
+                    storage.values.insert(storage.values.end(), brick.begin(), brick.end());
                 }
             }
         }
     }
-    return SparseField(header, std::move(samples), where);
+    return SparseField(header, std::move(storage), where);
 }
 
 void checkDimsFit(const std::uint64_t dims[3], const std::string& path) {

@@ -376,23 +376,23 @@ SparseField loadBandNpz(const ArchiveReader& archive, const std::string& path, c
     if (background.size() != 1) throw Error(path + ": " + kBackground + " is not a single number");
     header.background = float(background[0]);
     const std::vector<std::int32_t> origins = readIntRows(archive, kBrickOrigins, 3, path);
-    SparseField::Samples samples;
+    SparseField::Storage storage;
     const std::size_t bricks = origins.size() / 3;
-    samples.bricks.resize(bricks);
+    storage.bricks.resize(bricks);
     for (std::size_t b = 0; b < bricks; ++b) {
         for (int a = 0; a < 3; ++a) {
             const std::int32_t first = origins[3 * b + std::size_t(a)];
             if (first % SparseField::kBrick != 0) {
                 throw Error(path + ": " + kBrickOrigins + ": brick " + std::to_string(b) + " does not start on a multiple of 8");
             }
-            samples.bricks[b][a] = first / SparseField::kBrick;
+            storage.bricks[b][a] = first / SparseField::kBrick;
         }
     }
-    samples.values = readBrickValues(archive, bricks, path, control);
+    storage.values = readBrickValues(archive, bricks, path, control);
     const std::vector<std::int32_t> boxes = readIntRows(archive, kInsideBoxes, 6, path);
-    samples.insideBoxes.resize(boxes.size() / 6);
-    if (!boxes.empty()) std::memcpy(samples.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));
-    SparseField field(header, std::move(samples), path);
+    storage.insideBoxes.resize(boxes.size() / 6);
+    if (!boxes.empty()) std::memcpy(storage.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));
+    SparseField field(header, std::move(storage), path);
     checkSparseField(field, path);
     return field;
 }
