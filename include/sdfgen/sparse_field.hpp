@@ -16,9 +16,10 @@
 namespace sdfgen {
 
 // Valid by construction: the constructor checks the bricks, values and inside boxes against the
-// grid and the background and refuses what does not describe a field on the grid, so readers, the
-// band bake and writers never check it again. All that may change afterwards is its names (source,
-// method, parameters): its grid, background and samples are read-only.
+// grid and the background and refuses what does not describe a field on the grid, so that no
+// reader, bake or writer checks them again (writers check only what a file holds of the grid and
+// names). All that may change afterwards is its names (source, method, parameters): its grid,
+// background and samples are read-only.
 class SparseField : protected FieldHeader {
 public:
     static constexpr int kBrick = 8;                              // samples per brick edge
