@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
             settings.res = res;
             settings.rays = rays;
             settings.method = sdfgen::DistanceMethod::Rays;
-            const sdfgen::Field field = sdfgen::bake(sphere, tree, settings, sdfgen::RunControl{}).field;
+            const sdfgen::Field field = sdfgen::bake(sphere, tree, settings, sdfgen::RunControl{}).field.dense();
             const sdfgen::Grid& g = field.grid;
             std::vector<double> errors;
             errors.reserve(field.values.size());

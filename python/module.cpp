@@ -418,6 +418,7 @@ struct PyField {
 
 // A narrow-band field (a band bake, or a sparse file); `brick_values` and `inside_boxes` view its buffers.
 struct PySparseField {
+    explicit PySparseField(SparseField band, std::optional<BakeResult> baked = std::nullopt) : field(std::move(band)), bake(std::move(baked)) {}
     SparseField field;
     std::optional<BakeResult> bake; // what the bake decided (absent for a loaded field)
     // The bricks' first samples (field.bricks * 8), as the sparse .npz stores them: made on first use.
@@ -426,21 +427,36 @@ struct PySparseField {
 
 py::tuple tuple3(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 
+// A baked or loaded field as Python gets it: a SparseField for a band field, a Field otherwise.
+py::object fieldObject(AnyField field, std::optional<BakeResult> bake) {
+    if (field.isBand()) return py::cast(std::make_unique<PySparseField>(std::move(field.band()), std::move(bake)));
+    auto result = std::make_unique<PyField>();
+    result->field = std::move(field.dense());
+    result->bake = std::move(bake);
+    return py::cast(std::move(result));
+}
+
+const FieldHeader& headerOf(const Field& field) { return field; }
+const FieldHeader& headerOf(const SparseField& field) { return field.header(); }
+
 // The grid, provenance and bake decisions that Field and SparseField both have.
 template <class Py>
 void addFieldInfo(py::class_<Py>& cls) {
-    cls.def_property_readonly("dims", [](const Py& f) { return py::make_tuple(f.field.grid.dims.x, f.field.grid.dims.y, f.field.grid.dims.z); })
-        .def_property_readonly("origin", [](const Py& f) { return tuple3(f.field.grid.origin); },
+    cls.def_property_readonly("dims", [](const Py& f) {
+           const glm::ivec3 d = headerOf(f.field).grid.dims;
+           return py::make_tuple(d.x, d.y, d.z);
+       })
+        .def_property_readonly("origin", [](const Py& f) { return tuple3(headerOf(f.field).grid.origin); },
                                "The grid's minimum corner; sample (i, j, k) is at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size")
-        .def_property_readonly("voxel_size", [](const Py& f) { return f.field.grid.voxel; })
-        .def_property_readonly("source", [](const Py& f) { return f.field.source; })
-        .def_property_readonly("method", [](const Py& f) { return f.field.method; })
+        .def_property_readonly("voxel_size", [](const Py& f) { return headerOf(f.field).grid.voxel; })
+        .def_property_readonly("source", [](const Py& f) { return headerOf(f.field).source; })
+        .def_property_readonly("method", [](const Py& f) { return headerOf(f.field).method; })
         .def_property_readonly("parameters", [](const Py& f) {
             py::dict d;
-            for (const auto& [key, value] : f.field.parameters) d[py::str(key)] = value;
+            for (const auto& [key, value] : headerOf(f.field).parameters) d[py::str(key)] = value;
             return d;
         })
-        .def_property_readonly("sign", [](const Py& f) { return f.field.parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
+        .def_property_readonly("sign", [](const Py& f) { return headerOf(f.field).parameter("sign"); }, "The sign method used, e.g. 'auto/winding'")
         .def_property_readonly("device", [](const Py& f) { return f.bake ? py::object(py::str(f.bake->deviceReason)) : py::object(py::none()); },
                                "Where the bake ran and why, e.g. 'cpu: asked for' (None for a loaded field)")
         .def_property_readonly("warnings", [](const Py& f) { return f.bake ? f.bake->warnings : std::vector<std::string>{}; },
@@ -941,15 +957,13 @@ void registerSparseField(py::module_& m) {
         .def_static(
             "load",
             [](const std::string& path) {
-                auto result = std::make_unique<PySparseField>();
                 py::gil_scoped_release release;
-                result->field = loadSparseField(path);
-                return result;
+                return std::make_unique<PySparseField>(loadSparseField(path));
             },
             py::arg("path"),
             "Loads any field file as sparse: a sparse .npz or .vdb as it is, a dense file through its samples (bricks "
             "where a sample lies within the file's band of the surface, 3 voxels when it names none)")
-        .def_property_readonly("background", [](const PySparseField& f) { return f.field.background; },
+        .def_property_readonly("background", [](const PySparseField& f) { return f.field.background(); },
                                "band * voxel_size: the magnitude of every sample outside the band")
         .def_property_readonly(
             "band",
@@ -959,21 +973,21 @@ void registerSparseField(py::module_& m) {
                 const std::string given = f.field.parameter("band");
                 char* end = nullptr;
                 const double band = std::strtod(given.c_str(), &end);
-                return !given.empty() && *end == '\0' && std::isfinite(band) ? band : double(f.field.background / float(f.field.grid.voxel));
+                return !given.empty() && *end == '\0' && std::isfinite(band) ? band : double(f.field.background() / float(f.field.grid().voxel));
             },
             "The band's half-width in voxels")
         .def_property_readonly(
             "brick_origins",
             [](const py::object& self) {
                 PySparseField& f = self.cast<PySparseField&>();
-                if (f.brickOrigins.size() != 3 * f.field.bricks.size()) {
-                    f.brickOrigins.resize(3 * f.field.bricks.size());
-                    for (std::size_t b = 0; b < f.field.bricks.size(); ++b) {
-                        for (int a = 0; a < 3; ++a) f.brickOrigins[3 * b + std::size_t(a)] = f.field.bricks[b][a] * SparseField::kBrick;
+                if (f.brickOrigins.size() != 3 * f.field.bricks().size()) {
+                    f.brickOrigins.resize(3 * f.field.bricks().size());
+                    for (std::size_t b = 0; b < f.field.bricks().size(); ++b) {
+                        for (int a = 0; a < 3; ++a) f.brickOrigins[3 * b + std::size_t(a)] = f.field.bricks()[b][a] * SparseField::kBrick;
                     }
                 }
                 const py::ssize_t item = sizeof(int);
-                return sparseView(self, f.brickOrigins.data(), {py::ssize_t(f.field.bricks.size()), 3}, {3 * item, item});
+                return sparseView(self, f.brickOrigins.data(), {py::ssize_t(f.field.bricks().size()), 3}, {3 * item, item});
             },
             "(B, 3) int32 read-only view: the first sample (i, j, k) of each brick, multiples of 8, ordered by k, then j, "
             "then i (made once, 12 bytes a brick)")
@@ -983,7 +997,7 @@ void registerSparseField(py::module_& m) {
                 const SparseField& f = self.cast<const PySparseField&>().field;
                 const py::ssize_t item = sizeof(float), n = SparseField::kBrick;
                 // brick_values[a, b, c, n], as the sparse .npz stores it: x fastest, so Fortran order.
-                return sparseView(self, f.values.data(), {n, n, n, py::ssize_t(f.bricks.size())}, {item, item * n, item * n * n, item * n * n * n});
+                return sparseView(self, f.values().data(), {n, n, n, py::ssize_t(f.bricks().size())}, {item, item * n, item * n * n, item * n * n * n});
             },
             "(8, 8, 8, B) float32 read-only view in Fortran order (no copy): brick_values[a, b, c, n] is sample "
             "brick_origins[n] + (a, b, c); samples past the grid's end hold +background")
@@ -993,7 +1007,7 @@ void registerSparseField(py::module_& m) {
                 const SparseField& f = self.cast<const PySparseField&>().field;
                 const py::ssize_t item = sizeof(int);
                 static_assert(sizeof(std::array<int, 6>) == 6 * sizeof(int), "boxes are packed int sextuples");
-                return sparseView(self, reinterpret_cast<const int*>(f.insideBoxes.data()), {py::ssize_t(f.insideBoxes.size()), 6},
+                return sparseView(self, reinterpret_cast<const int*>(f.insideBoxes().data()), {py::ssize_t(f.insideBoxes().size()), 6},
                                   {6 * item, item});
             },
             "(R, 6) int32 read-only view (no copy): i0 j0 k0 i1 j1 k1, the samples [i0, i1) x [j0, j1) x [k0, k1) outside "
@@ -1003,7 +1017,7 @@ void registerSparseField(py::module_& m) {
         .def(
             "at",
             [](const PySparseField& f, int i, int j, int k) {
-                const glm::ivec3 d = f.field.grid.dims;
+                const glm::ivec3 d = f.field.grid().dims;
                 if (i < 0 || j < 0 || k < 0 || i >= d.x || j >= d.y || k >= d.z) {
                     throw Error("sample (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) +
                                 ") is outside the " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) + " grid");
@@ -1058,9 +1072,9 @@ void registerSparseField(py::module_& m) {
             "Saves atomically: .vdb (a level set) and .npz keep it sparse; .sdf, .npy and .nrrd write the dense form, "
             "or raise sdfgen.Error when it does not fit in memory")
         .def("__repr__", [](const PySparseField& f) {
-            const Grid& g = f.field.grid;
+            const Grid& g = f.field.grid();
             return "<sdfgen.SparseField " + std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z) +
-                   " of " + f.field.source + ", " + std::to_string(f.field.bricks.size()) + " bricks, " + f.field.method +
+                   " of " + f.field.source + ", " + std::to_string(f.field.bricks().size()) + " bricks, " + f.field.method +
                    " sign=" + f.field.parameter("sign") + ">";
         });
 }
@@ -1093,16 +1107,8 @@ void registerBakeAndLoad(py::module_& m) {
             // Refused before any work, as by every front end (the keywords are the settings' names).
             if (const std::optional<SettingsProblem> refused = problem(settings)) throw py::value_error(refused->message);
             BakeResult baked = runReleased([&](const RunControl& control) { return mesh.model->bake(settings, control); }, threads, progress);
-            if (band > 0) {
-                auto result = std::make_unique<PySparseField>();
-                result->field = std::move(baked.sparse);
-                result->bake = std::move(baked);
-                return py::cast(std::move(result));
-            }
-            auto result = std::make_unique<PyField>();
-            result->field = std::move(baked.field);
-            result->bake = std::move(baked);
-            return py::cast(std::move(result));
+            AnyField field = std::move(baked.field);
+            return fieldObject(std::move(field), std::move(baked));
         },
         py::arg("mesh"), py::arg("res") = 64, py::arg("padding") = 0.1, py::arg("method") = "exact", py::arg("sign") = "auto",
         py::arg("threads") = 0, py::arg("progress") = py::none(), py::arg("rays") = 64, py::arg("device") = "cpu",
@@ -1112,25 +1118,12 @@ void registerBakeAndLoad(py::module_& m) {
     m.def(
         "load_field",
         [](const std::string& path) -> py::object {
-            bool sparse = false;
+            AnyField field;
             {
                 py::gil_scoped_release release;
-                sparse = isSparseFieldFile(path);
+                field = loadAnyField(path);
             }
-            if (sparse) {
-                auto result = std::make_unique<PySparseField>();
-                {
-                    py::gil_scoped_release release;
-                    result->field = loadSparseField(path);
-                }
-                return py::cast(std::move(result));
-            }
-            auto result = std::make_unique<PyField>();
-            {
-                py::gil_scoped_release release;
-                result->field = loadField(path);
-            }
-            return py::cast(std::move(result));
+            return fieldObject(std::move(field), std::nullopt);
         },
         py::arg("path"),
         "Loads a field saved in any format sdfgen writes: a SparseField for a sparse file (a sparse .npz, a .vdb level set "

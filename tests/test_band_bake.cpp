@@ -36,29 +36,28 @@ std::size_t expectMatchesDense(const std::string& name, const Mesh& mesh, int re
     const BakeResult dense = test::bakeMesh(mesh, settings, threads);
     settings.band = band;
     const BakeResult sparse = test::bakeMesh(mesh, settings, threads);
-    const SparseField& s = sparse.sparse;
-    EXPECT_NO_THROW(s.check(name));
+    const SparseField& s = sparse.field.band(); // valid by construction
     EXPECT_EQ(sparse.sign, dense.sign) << name;
-    EXPECT_EQ(s.grid.dims, dense.field.grid.dims) << name;
-    EXPECT_EQ(s.background, float(band * dense.field.grid.voxel)) << name;
-    const Grid& g = dense.field.grid;
+    EXPECT_EQ(s.grid().dims, dense.field.dense().grid.dims) << name;
+    EXPECT_EQ(s.background(), float(band * dense.field.dense().grid.voxel)) << name;
+    const Grid& g = dense.field.dense().grid;
     std::size_t inBand = 0, wrong = 0;
     for (int k = 0; k < g.dims.z; ++k)
         for (int j = 0; j < g.dims.y; ++j)
             for (int i = 0; i < g.dims.x; ++i) {
-                const float d = dense.field.at(i, j, k), v = s.at(i, j, k);
-                if (std::fabs(d) < s.background) {
+                const float d = dense.field.dense().at(i, j, k), v = s.at(i, j, k);
+                if (std::fabs(d) < s.background()) {
                     ++inBand;
                     wrong += bits(v) != bits(d);
                 } else {
-                    wrong += v != (std::signbit(d) ? -s.background : s.background);
+                    wrong += v != (std::signbit(d) ? -s.background() : s.background());
                 }
             }
     EXPECT_EQ(wrong, 0u) << name << " res " << res << " band " << band << " sign " << toString(sign) << " threads " << threads;
     EXPECT_EQ(s.activeCount(), inBand) << name;
     // The dense form is the dense field clamped to the band.
     const Field made = s.toDense();
-    EXPECT_EQ(made.values.size(), dense.field.values.size());
+    EXPECT_EQ(made.values.size(), dense.field.dense().values.size());
     return inBand;
 }
 
@@ -170,8 +169,8 @@ TEST(BandBake, EdgesThroughTheCentresOfTheKernelsQuarters) {
     for (unsigned seed = 0; seed < 12; ++seed) {
         const Mesh mesh = edgesThroughQuarterCentres(seed, settings);
         expectMatchesDense(mesh.source, mesh, settings.res, 2.0, SignMethod::Winding, 1);
-        const Field exact = test::bakeWith(mesh, settings.res, DistanceMethod::Exact, SignMethod::Winding, 1).field;
-        const Field brute = test::bakeWith(mesh, settings.res, DistanceMethod::Brute, SignMethod::Winding, 1).field;
+        const Field exact = test::bakeWith(mesh, settings.res, DistanceMethod::Exact, SignMethod::Winding, 1).field.dense();
+        const Field brute = test::bakeWith(mesh, settings.res, DistanceMethod::Brute, SignMethod::Winding, 1).field.dense();
         std::size_t wrong = 0;
         for (std::size_t n = 0; n < exact.values.size(); ++n) wrong += std::fabs(std::fabs(exact.values[n]) - std::fabs(brute.values[n])) > 1e-5f;
         EXPECT_EQ(wrong, 0u) << mesh.source;
@@ -194,10 +193,10 @@ TEST(BandBake, SameOnAnyThreadCount) {
     settings.res = 64;
     settings.band = 3;
     settings.device = Device::Cpu;
-    const SparseField one = test::bakeMesh(cup, settings, 1).sparse, two = test::bakeMesh(cup, settings, 2).sparse;
-    EXPECT_EQ(one.bricks, two.bricks);
-    EXPECT_EQ(std::memcmp(one.values.data(), two.values.data(), one.values.size() * sizeof(float)), 0);
-    EXPECT_EQ(one.insideBoxes, two.insideBoxes);
+    const SparseField one = test::bakeMesh(cup, settings, 1).field.band(), two = test::bakeMesh(cup, settings, 2).field.band();
+    EXPECT_EQ(one.bricks(), two.bricks());
+    EXPECT_EQ(std::memcmp(one.values().data(), two.values().data(), one.values().size() * sizeof(float)), 0);
+    EXPECT_EQ(one.insideBoxes(), two.insideBoxes());
 }
 
 TEST(BandBake, StoresOnlyBricksNearTheSurface) {
@@ -206,9 +205,9 @@ TEST(BandBake, StoresOnlyBricksNearTheSurface) {
     settings.res = 128;
     settings.band = 2;
     settings.device = Device::Cpu;
-    const SparseField s = test::bakeMesh(test::icosphere(1.0f, 3), settings).sparse;
-    EXPECT_LT(s.bricks.size(), std::size_t(16 * 16 * 16) / 3);
-    EXPECT_FALSE(s.insideBoxes.empty());
+    const SparseField s = test::bakeMesh(test::icosphere(1.0f, 3), settings).field.band();
+    EXPECT_LT(s.bricks().size(), std::size_t(16 * 16 * 16) / 3);
+    EXPECT_FALSE(s.insideBoxes().empty());
     EXPECT_LT(s.at(64, 64, 64), 0.0f); // the centre is inside
     EXPECT_GT(s.at(0, 0, 0), 0.0f);
 }
@@ -229,15 +228,14 @@ TEST(BandBake, EmptySpaceCostsNothing) {
         settings.padding = 100;
         settings.band = 1;
         settings.device = Device::Cpu;
-        const SparseField s = test::bakeMesh(c.mesh, settings, 2).sparse;
-        ASSERT_NO_THROW(s.check(c.name));
+        const SparseField s = test::bakeMesh(c.mesh, settings, 2).field.band();
         // A shell one or two bricks thick around the mesh (of the grid's 2^39 or 2^27 bricks).
-        const glm::dvec3 across = glm::dvec3(c.mesh.bounds.extent()) / (s.grid.voxel * SparseField::kBrick) + 2.0;
-        EXPECT_LT(double(s.bricks.size()), 4.0 * (across.x * across.y + across.y * across.z + across.z * across.x)) << c.name;
-        const glm::ivec3 middle = s.grid.dims / 2;
+        const glm::dvec3 across = glm::dvec3(c.mesh.bounds.extent()) / (s.grid().voxel * SparseField::kBrick) + 2.0;
+        EXPECT_LT(double(s.bricks().size()), 4.0 * (across.x * across.y + across.y * across.z + across.z * across.x)) << c.name;
+        const glm::ivec3 middle = s.grid().dims / 2;
         EXPECT_LT(s.at(middle.x, middle.y, middle.z), 0.0f) << c.name; // both are solid (|w| > 1/2 in the holed sphere)
         EXPECT_GT(s.at(0, 0, 0), 0.0f) << c.name;
-        EXPECT_GT(s.at(s.grid.dims.x - 1, s.grid.dims.y - 1, s.grid.dims.z - 1), 0.0f) << c.name;
+        EXPECT_GT(s.at(s.grid().dims.x - 1, s.grid().dims.y - 1, s.grid().dims.z - 1), 0.0f) << c.name;
     }
 }
 
@@ -275,10 +273,10 @@ TEST(BandBake, MemoryEstimateIsAnUpperBoundWithinTwice) {
         const double before = residentBytes().first;
         const BakeResult result = bake(c.mesh, tree, settings, RunControl{});
         const double peak = residentBytes().second - before;
-        const double estimate = double(estimateBandBakeBytes(c.mesh, result.sparse.grid, settings.band));
-        EXPECT_GE(estimate, peak) << c.name << ": " << result.sparse.bricks.size() << " bricks";
-        EXPECT_LE(estimate, 2.0 * peak) << c.name << ": " << result.sparse.bricks.size() << " bricks";
-        std::printf("%s: %zu bricks, peak %.1f MiB, estimate %.1f MiB\n", c.name, result.sparse.bricks.size(), peak / 1048576.0,
+        const double estimate = double(estimateBandBakeBytes(c.mesh, result.field.band().grid(), settings.band));
+        EXPECT_GE(estimate, peak) << c.name << ": " << result.field.band().bricks().size() << " bricks";
+        EXPECT_LE(estimate, 2.0 * peak) << c.name << ": " << result.field.band().bricks().size() << " bricks";
+        std::printf("%s: %zu bricks, peak %.1f MiB, estimate %.1f MiB\n", c.name, result.field.band().bricks().size(), peak / 1048576.0,
                     estimate / 1048576.0);
     }
 }

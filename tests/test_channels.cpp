@@ -150,7 +150,7 @@ TEST(Channels, EqualBruteForceInDouble) {
         for (SignMethod sign : {SignMethod::Auto, SignMethod::Winding, SignMethod::Pseudonormal}) {
             SCOPED_TRACE(std::string(c.name) + ", sign " + toString(sign));
             const BakeResult result = bakeChannels(c.mesh, c.res, sign, allChannels());
-            expectMatchesBruteForce(c.mesh, result.field);
+            expectMatchesBruteForce(c.mesh, result.field.dense());
         }
     }
 }
@@ -159,12 +159,12 @@ TEST(Channels, LeaveTheDistancesBitIdentical) {
     for (const Case& c : cases()) {
         for (SignMethod sign : {SignMethod::Auto, SignMethod::Winding, SignMethod::Pseudonormal, SignMethod::Rays}) {
             SCOPED_TRACE(std::string(c.name) + ", sign " + toString(sign));
-            const Field plain = bakeChannels(c.mesh, c.res, sign, Channels{}).field;
+            const Field plain = bakeChannels(c.mesh, c.res, sign, Channels{}).field.dense();
             EXPECT_TRUE(floats(plain, "gradient").empty() && floats(plain, "closest").empty() && ints(plain, "triangle").empty());
             Channels one;
             one.add("triangle");
             for (const Channels& channels : {allChannels(), one}) {
-                const Field with = bakeChannels(c.mesh, c.res, sign, channels).field;
+                const Field with = bakeChannels(c.mesh, c.res, sign, channels).field.dense();
                 ASSERT_EQ(with.values.size(), plain.values.size());
                 EXPECT_EQ(std::memcmp(with.values.data(), plain.values.data(), plain.values.size() * sizeof(float)), 0);
                 EXPECT_EQ(channelsOf(with.channels), channels);
@@ -175,19 +175,19 @@ TEST(Channels, LeaveTheDistancesBitIdentical) {
 
 TEST(Channels, BitIdenticalForAnyThreadCountAndSimdPath) {
     const Mesh mesh = loadMesh(test::bundledBunnyPath());
-    const Field one = bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 1).field;
+    const Field one = bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 1).field.dense();
     auto expectSame = [&](const Field& other, const std::string& what) {
         EXPECT_EQ(other.values, one.values) << what;
         EXPECT_EQ(std::memcmp(floats(other, "gradient").data(), floats(one, "gradient").data(), floats(one, "gradient").size() * sizeof(float)), 0) << what;
         EXPECT_EQ(std::memcmp(floats(other, "closest").data(), floats(one, "closest").data(), floats(one, "closest").size() * sizeof(float)), 0) << what;
         EXPECT_EQ(ints(other, "triangle"), ints(one, "triangle")) << what;
     };
-    expectSame(bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 3).field, "3 threads");
+    expectSame(bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 3).field.dense(), "3 threads");
     const SimdPath chosen = simdPath();
     for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
         if (!simdPathAvailable(path)) continue;
         setSimdPath(path);
-        expectSame(bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 2).field, toString(path));
+        expectSame(bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 2).field.dense(), toString(path));
     }
     setSimdPath(chosen);
 }
@@ -198,7 +198,7 @@ TEST(Channels, PointQueriesGiveTheBakedGradientAtSamplePositions) {
     settings.res = 12;
     settings.device = Device::Cpu;
     settings.channels = allChannels();
-    const Field field = model.bake(settings).field;
+    const Field field = model.bake(settings).field.dense();
     const Grid& grid = field.grid;
     const std::size_t n = grid.sampleCount();
     const std::vector<double> points = test::samplePositions(grid);
@@ -304,7 +304,7 @@ TEST(Channels, RefusedWhereTheyCannotBeMade) {
     for (const char* extension : {".sdf", ".npy", ".nrrd"}) {
         const std::string path = folder + "/channels" + extension;
         try {
-            saveField(result.field, path);
+            saveField(result.field.dense(), path);
             ADD_FAILURE() << extension << " took the channels";
         } catch (const Error& e) {
             EXPECT_NE(std::string(e.what()).find(".npz or .vdb"), std::string::npos) << e.what();
@@ -336,13 +336,13 @@ TEST(Channels, EveryRegisteredOneIsBakedSampledAndSaved) {
     BakeSettings settings;
     settings.res = 10;
     settings.device = Device::Cpu;
-    const Field plain = model.bake(settings).field;
+    const Field plain = model.bake(settings).field.dense();
     const std::size_t n = plain.grid.sampleCount();
     for (const ChannelInfo& info : channelInfos()) {
         SCOPED_TRACE(info.name);
         settings.channels = parseChannels(std::string("sdf,") + info.name);
         EXPECT_EQ(toString(settings.channels), std::string("sdf,") + info.name);
-        const Field field = model.bake(settings).field;
+        const Field field = model.bake(settings).field.dense();
         EXPECT_EQ(field.values, plain.values);
         ASSERT_EQ(field.channels.size(), 1u);
         const ChannelValues& channel = field.channels[0];
@@ -377,7 +377,7 @@ TEST(Channels, EveryRegisteredOneIsBakedSampledAndSaved) {
 // The channel grids of a .vdb: the surface grid's active voxels, each with its sample's channel.
 TEST(Channels, VdbGridsHoldThem) {
     const Mesh mesh = test::torus(1.0f, 0.3f, 16, 8);
-    const Field field = bakeChannels(mesh, 14, SignMethod::Auto, allChannels()).field;
+    const Field field = bakeChannels(mesh, 14, SignMethod::Auto, allChannels()).field.dense();
     const std::size_t n = field.grid.sampleCount();
     for (double band : {0.0, 2.0}) {
         SCOPED_TRACE("band " + std::to_string(band));

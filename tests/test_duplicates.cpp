@@ -157,9 +157,9 @@ TEST(TriangleCopies, AHundredThousandCopiesOfATetrahedronBakeAsOne) {
     BakeSettings winding = settings;
     winding.sign = SignMethod::Winding;
     const BakeResult single = Model(one).bake(winding);
-    EXPECT_EQ(result.field.values, single.field.values);
+    EXPECT_EQ(result.field.dense().values, single.field.dense().values);
     std::size_t inside = 0;
-    for (float v : single.field.values) inside += v < 0.0f;
+    for (float v : single.field.dense().values) inside += v < 0.0f;
     EXPECT_GT(inside, 0u);
 }
 
@@ -201,7 +201,7 @@ TEST(TriangleCopies, StackedOpenTrianglesShareOneFan) {
     settings.res = 12;
     settings.padding = 0.15;
     settings.sign = SignMethod::Winding;
-    const Field field = model.bake(settings).field;
+    const Field field = model.bake(settings).field.dense();
     std::vector<glm::dvec3> points;
     for (int k = 0; k < grid.dims.z; k += 3)
         for (int j = 0; j < grid.dims.y; ++j)

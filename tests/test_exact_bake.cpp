@@ -19,14 +19,14 @@ using namespace test;
 TEST(ExactBake, BitIdenticalForAnyThreadCount) {
     const Mesh mesh = loadMesh(test::bundledBunnyPath());
     for (SignMethod sign : {SignMethod::Winding, SignMethod::Pseudonormal}) {
-        const Field one = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 1).field;
-        const Field many = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 5).field;
+        const Field one = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 1).field.dense();
+        const Field many = bakeWith(mesh, 28, DistanceMethod::Exact, sign, 5).field.dense();
         ASSERT_EQ(one.values.size(), many.values.size());
         EXPECT_EQ(std::memcmp(one.values.data(), many.values.data(), one.values.size() * sizeof(float)), 0) << toString(sign);
     }
     const Mesh small = test::torus(1.0f, 0.3f, 24, 12);
-    const Field one = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 1).field;
-    const Field many = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 5).field;
+    const Field one = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 1).field.dense();
+    const Field many = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 5).field.dense();
     EXPECT_EQ(std::memcmp(one.values.data(), many.values.data(), one.values.size() * sizeof(float)), 0) << "brute";
 }
 

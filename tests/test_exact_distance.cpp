@@ -18,16 +18,16 @@ TEST(ExactDistance, EqualsBruteForceOnClosedMeshes) {
     for (const Shape& shape : closedShapes()) {
         const Field& brute = bruteField(shape.name, shape.mesh, shape.res);
         const BakeResult exact = bakeWith(shape.mesh, shape.res, DistanceMethod::Exact, SignMethod::Auto);
-        const Grid& g = exact.field.grid;
+        const Grid& g = exact.field.dense().grid;
         const double tolerance = 1e-5 * g.voxel * glm::length(glm::vec3(g.dims));
-        const FieldDifference d = compareFields(exact.field, brute, 1.0);
+        const FieldDifference d = compareFields(exact.field.dense(), brute, 1.0);
         EXPECT_LT(d.maxAbs, tolerance) << shape.name;
         EXPECT_EQ(d.signDifferences, 0u) << shape.name;
         EXPECT_GT(d.compared, g.sampleCount() / 2) << shape.name;
         // Unsigned distances agree everywhere, the near-surface band included.
         double worst = 0;
         for (std::size_t i = 0; i < brute.values.size(); ++i) {
-            worst = std::max(worst, double(std::fabs(std::fabs(exact.field.values[i]) - std::fabs(brute.values[i]))));
+            worst = std::max(worst, double(std::fabs(std::fabs(exact.field.dense().values[i]) - std::fabs(brute.values[i]))));
         }
         EXPECT_LT(worst, tolerance) << shape.name;
     }

@@ -518,15 +518,16 @@ namespace {
 
 // A band field and its dense form share one header: the same source, method line, grid and background.
 TEST(FieldHeader, SharedByTheDenseAndSparseFields) {
-    SparseField sparse;
-    sparse.source = "m.obj";
-    sparse.method = "exact";
-    sparse.parameters = {{"band", "2"}};
-    sparse.grid.dims = {4, 4, 4};
-    sparse.grid.voxel = 0.5;
-    sparse.background = 1.0f;
+    FieldHeader header;
+    header.source = "m.obj";
+    header.method = "exact";
+    header.parameters = {{"band", "2"}};
+    header.grid.dims = {4, 4, 4};
+    header.grid.voxel = 0.5;
+    header.background = 1.0f;
+    const SparseField sparse(header, {}, "m.obj");
     const Field dense = sparse.toDense();
-    const FieldHeader& a = sparse;
+    const FieldHeader& a = sparse.header();
     const FieldHeader& b = dense;
     EXPECT_EQ(a.source, b.source);
     EXPECT_EQ(a.method, b.method);
@@ -535,6 +536,50 @@ TEST(FieldHeader, SharedByTheDenseAndSparseFields) {
     EXPECT_EQ(a.background, b.background);
     EXPECT_EQ(b.parameter("band"), "2");
     EXPECT_EQ(dense.values, std::vector<float>(64, 1.0f)); // no bricks or inside boxes: all outside
+}
+
+// A band field holds together by construction: parts that do not describe a field on the grid are
+// refused in one line naming where they came from, and what the field gives back is what it took.
+TEST(SparseField, RefusesPartsThatDoNotDescribeAField) {
+    FieldHeader header;
+    header.grid.dims = {20, 16, 8}; // 3 x 2 x 1 bricks, the last column cut at 20
+    header.background = 1.0f;
+    const std::vector<float> brick(SparseField::kBrickSamples, 0.5f);
+    auto refused = [&](SparseField::Storage storage) {
+        try {
+            SparseField(header, std::move(storage), "parts.npz");
+        } catch (const Error& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("parts.npz: ", 0), 0u) << e.what();
+            EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    EXPECT_CONTAINS(refused({{{0, 0, 0}}, std::vector<float>(100, 0.5f), {}}), "the brick values do not match the bricks");
+    EXPECT_CONTAINS(refused({{{0, 0, 0}, {1, 0, 0}}, brick, {}}), "the brick values do not match the bricks");
+    EXPECT_CONTAINS(refused({{{3, 0, 0}}, brick, {}}), "brick 0 lies outside the grid");
+    std::vector<float> two = brick;
+    two.insert(two.end(), brick.begin(), brick.end());
+    EXPECT_CONTAINS(refused({{{1, 0, 0}, {0, 0, 0}}, two, {}}), "not in z, y, x order");
+    EXPECT_CONTAINS(refused({{{0, 0, 0}}, std::vector<float>(SparseField::kBrickSamples, 2.0f), {}}), "exceeds the background");
+    EXPECT_CONTAINS(refused({{}, {}, {{0, 0, 0, 16, 8, 8}, {8, 0, 0, 20, 8, 8}}}), "inside boxes 0 and 1 overlap");
+    EXPECT_CONTAINS(refused({{{1, 0, 0}}, brick, {{0, 0, 0, 16, 8, 8}}}), "inside box 0 holds stored brick 0");
+    EXPECT_CONTAINS(refused({{}, {}, {{0, 0, 0, 12, 8, 8}}}), "inside box 0 does not hold whole bricks");
+    EXPECT_CONTAINS(refused({{}, {}, {{0, 8, 0, 8, 16, 8}, {0, 0, 0, 8, 8, 8}}}), "not in z, y, x order");
+    header.background = 0.0f;
+    EXPECT_CONTAINS(refused({}), "the band's background is not a positive finite number");
+
+    // Valid parts are taken as they are, and release() takes them back, leaving a field all outside.
+    header.background = 1.0f;
+    SparseField field(header, {{{1, 0, 0}}, brick, {{16, 0, 0, 20, 8, 8}}}, "parts.npz");
+    const float* values = field.values().data();
+    EXPECT_EQ(field.at(9, 1, 1), 0.5f);
+    EXPECT_EQ(field.at(17, 1, 1), -1.0f);
+    EXPECT_EQ(field.at(1, 9, 1), 1.0f);
+    const SparseField::Storage taken = field.release();
+    EXPECT_EQ(taken.values.data(), values) << "the values were copied";
+    EXPECT_TRUE(field.bricks().empty() && field.values().empty() && field.insideBoxes().empty());
+    EXPECT_EQ(field.at(17, 1, 1), 1.0f);
 }
 
 } // namespace

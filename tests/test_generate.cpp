@@ -31,7 +31,7 @@ Baked bakeMesh(Mesh mesh, int res, int rays, int threads = 0) {
     settings.res = res;
     settings.rays = rays;
     settings.method = DistanceMethod::Rays;
-    Field field = test::bakeMesh(mesh, settings, threads).field;
+    Field field = test::bakeMesh(mesh, settings, threads).field.dense();
     return {std::move(mesh), std::move(field)};
 }
 

@@ -149,8 +149,8 @@ TEST(InsideRule, BakesEqualTheReferenceWindingNumber) {
             const BakeResult result = model.bake(settings);
             EXPECT_EQ(result.sign, sign == SignMethod::Auto ? c.autoSign : sign);
             EXPECT_EQ(result.warnings.size(), 0u);
-            if (reference.empty()) reference = referenceWindings(c.mesh, result.field.grid);
-            const std::size_t inside = expectReferenceSigns(c, result.field, reference);
+            if (reference.empty()) reference = referenceWindings(c.mesh, result.field.dense().grid);
+            const std::size_t inside = expectReferenceSigns(c, result.field.dense(), reference);
             EXPECT_EQ(inside > 0, !c.inside.empty());
             if (sign == SignMethod::Auto) {
                 EXPECT_EQ(result.check.insideOut, c.insideOut);
@@ -170,7 +170,7 @@ TEST(InsideRule, PointQueriesEqualTheGrid) {
             BakeSettings settings;
             settings.res = 16;
             settings.sign = sign;
-            const Field field = model.bake(settings).field;
+            const Field field = model.bake(settings).field.dense();
             const Grid& grid = field.grid;
             const std::vector<double> xyz = test::samplePositions(grid);
             std::vector<float> values(grid.sampleCount());

@@ -38,7 +38,7 @@ void expectExactBox(const glm::dvec3& offset, double scale, SignMethod sign) {
     BakeSettings settings;
     settings.res = 16;
     settings.sign = sign;
-    const Field field = test::bakeMesh(mesh, settings).field;
+    const Field field = test::bakeMesh(mesh, settings).field.dense();
     const Grid& g = field.grid;
     double worst = 0.0;
     std::size_t wrongSigns = 0;
@@ -142,13 +142,13 @@ Samples nearSurface(const Field& field) {
 Samples nearSurface(const SparseField& field) {
     Samples near;
     constexpr int B = SparseField::kBrick;
-    for (std::size_t b = 0; b < field.bricks.size(); b += std::max<std::size_t>(1, field.bricks.size() / 500))
+    for (std::size_t b = 0; b < field.bricks().size(); b += std::max<std::size_t>(1, field.bricks().size() / 500))
         for (int z = 0; z < B; ++z)
             for (int y = 0; y < B; ++y)
                 for (int x = 0; x < B; ++x) {
-                    const glm::ivec3 s = field.bricks[b] * B + glm::ivec3(x, y, z);
-                    const float v = field.values[b * SparseField::kBrickSamples + std::size_t((z * B + y) * B + x)];
-                    if (glm::all(glm::lessThan(s, field.grid.dims)) && std::fabs(v) < 2.0 * field.grid.voxel) near.emplace_back(s, v);
+                    const glm::ivec3 s = field.bricks()[b] * B + glm::ivec3(x, y, z);
+                    const float v = field.values()[b * SparseField::kBrickSamples + std::size_t((z * B + y) * B + x)];
+                    if (glm::all(glm::lessThan(s, field.grid().dims)) && std::fabs(v) < 2.0 * field.grid().voxel) near.emplace_back(s, v);
                 }
     return near;
 }
@@ -180,11 +180,11 @@ TEST(LocalCoordinates, FloatMeshFarFromTheOriginIsExactAtHighResolution) {
         settings.res = 1024;
         settings.padding = 0.5; // the mesh across 512 voxels: a quarter of the bricks of padding 0.1
         settings.band = 3;
-        const SparseField band = test::bakeMesh(mesh, settings).sparse;
-        EXPECT_LT(worstAgainstBruteForce(mesh, band.grid, nearSurface(band)), 1e-4);
+        const SparseField band = test::bakeMesh(mesh, settings).field.band();
+        EXPECT_LT(worstAgainstBruteForce(mesh, band.grid(), nearSurface(band)), 1e-4);
         settings.res = 160;
         settings.band = 0;
-        const Field dense = test::bakeMesh(mesh, settings).field;
+        const Field dense = test::bakeMesh(mesh, settings).field.dense();
         EXPECT_LT(worstAgainstBruteForce(mesh, dense.grid, nearSurface(dense)), 1e-4);
     }
 }

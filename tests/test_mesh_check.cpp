@@ -35,7 +35,7 @@ TEST(MeshCheck, ClosedMeshesAreCleanAndAutoPicksPseudonormal) {
     EXPECT_TRUE(result.checked);
     EXPECT_TRUE(result.check.closedAndClean()) << result.check.describe();
     EXPECT_EQ(result.sign, SignMethod::Pseudonormal);
-    EXPECT_EQ(result.field.parameter("sign"), "auto/pseudonormal");
+    EXPECT_EQ(result.field.dense().parameter("sign"), "auto/pseudonormal");
     for (const Shape& shape : closedShapes()) {
         const MeshCheck check = checkMesh(shape.mesh);
         EXPECT_TRUE(check.closedAndClean()) << shape.name << ": " << check.describe();
@@ -48,7 +48,7 @@ TEST(MeshCheck, OpenAndOverlappingMeshesMakeAutoPickWinding) {
         EXPECT_TRUE(result.checked) << shape.name;
         EXPECT_FALSE(result.check.closedAndClean()) << shape.name;
         EXPECT_EQ(result.sign, SignMethod::Winding) << shape.name;
-        EXPECT_EQ(result.field.parameter("sign"), "auto/winding") << shape.name;
+        EXPECT_EQ(result.field.dense().parameter("sign"), "auto/winding") << shape.name;
         EXPECT_FALSE(result.signReason.empty());
         // The costly search runs only when the edges leave the choice open: closed shells that overlap.
         const MeshCheck edges = MeshTopology(shape.mesh).edgeCheck();
@@ -123,8 +123,8 @@ TEST(MeshCheck, OneFlippedTriangleGivesThreeInconsistentEdges) {
     EXPECT_EQ(result.sign, SignMethod::Winding);
     EXPECT_NE(result.signReason.find("flipped faces"), std::string::npos) << result.signReason;
     // The winding sign still matches the reference away from the surface.
-    const Field brute = bakeWith(mesh, 16, DistanceMethod::Brute, SignMethod::Auto).field;
-    EXPECT_EQ(compareFields(result.field, brute, 1.0).signDifferences, 0u);
+    const Field brute = bakeWith(mesh, 16, DistanceMethod::Brute, SignMethod::Auto).field.dense();
+    EXPECT_EQ(compareFields(result.field.dense(), brute, 1.0).signDifferences, 0u);
 }
 
 TEST(MeshCheck, ThreeTrianglesOnOneEdgeAreANonManifoldEdge) {
@@ -245,7 +245,7 @@ TEST(MeshCheck, VerticesDuplicatedPerTriangleAreMerged) {
         const BakeResult a = bakeWith(shared, 20, DistanceMethod::Exact, SignMethod::Auto);
         const BakeResult b = bakeWith(soup, 20, DistanceMethod::Exact, SignMethod::Auto);
         EXPECT_EQ(b.sign, SignMethod::Pseudonormal) << shared.source;
-        const FieldDifference d = compareFields(a.field, b.field, 0.0);
+        const FieldDifference d = compareFields(a.field.dense(), b.field.dense(), 0.0);
         EXPECT_EQ(d.signDifferences, 0u) << shared.source;
         EXPECT_EQ(d.maxAbs, 0.0) << shared.source;
     }

@@ -93,7 +93,7 @@ TEST_F(MeshFormats, EveryFormatGivesTheObjsField) {
     const Mesh fromObj = loadMesh(obj);
     BakeSettings settings;
     settings.res = 16;
-    const Field reference = test::bakeMesh(fromObj, settings).field;
+    const Field reference = test::bakeMesh(fromObj, settings).field.dense();
 
     std::vector<std::string> files = {write("sphere.off", offText(sphere))};
     const std::vector<std::pair<std::string, std::string>> exports = {
@@ -110,7 +110,7 @@ TEST_F(MeshFormats, EveryFormatGivesTheObjsField) {
         EXPECT_EQ(mesh.droppedDegenerate, 0u);
         EXPECT_EQ(mesh.bounds.min, fromObj.bounds.min);
         EXPECT_EQ(mesh.bounds.max, fromObj.bounds.max);
-        const Field field = test::bakeMesh(mesh, settings).field;
+        const Field field = test::bakeMesh(mesh, settings).field.dense();
         ASSERT_EQ(field.grid.dims, reference.grid.dims);
         ASSERT_EQ(field.values.size(), reference.values.size());
         std::size_t different = 0;

@@ -60,7 +60,7 @@ TEST(MergeMeshes, BakesTheUnionOfTheParts) {
     BakeSettings settings;
     settings.res = 24;
     settings.sign = SignMethod::Winding;
-    const Field field = test::bakeMesh(scene, settings).field;
+    const Field field = test::bakeMesh(scene, settings).field.dense();
     const float sag = test::icosphereSag(0.4f, 3);
     int checked = 0;
     for (int k = 0; k < field.grid.dims.z; ++k) {
@@ -87,7 +87,7 @@ TEST(FieldMismatch, NamesAnotherSourceOrAGridThatDoesNotCover) {
     box.source = "models/box.obj";
     BakeSettings settings;
     settings.res = 8;
-    Field field = test::bakeMesh(box, settings).field;
+    Field field = test::bakeMesh(box, settings).field.dense();
     field.source = "elsewhere/box.obj"; // the same file name in another folder still matches
     EXPECT_EQ(fieldMismatch(field, box), "");
     field.source = "ball.obj";

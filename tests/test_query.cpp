@@ -44,16 +44,16 @@ void expectQueriesEqualTheField(const Model& model, int res, SignMethod expected
     settings.res = res;
     const BakeResult baked = model.bake(settings);
     EXPECT_EQ(baked.sign, expectedSign);
-    const std::vector<double> points = positionsOf(baked.field);
-    std::vector<float> distance(baked.field.values.size());
+    const std::vector<double> points = positionsOf(baked.field.dense());
+    std::vector<float> distance(baked.field.dense().values.size());
     PointQueryOutputs out;
     out.signedDistance = distance.data();
     model.query(points.data(), distance.size(), out);
     std::size_t differing = 0;
     for (std::size_t i = 0; i < distance.size(); ++i) {
-        const bool differs = std::memcmp(&distance[i], &baked.field.values[i], sizeof(float)) != 0;
+        const bool differs = std::memcmp(&distance[i], &baked.field.dense().values[i], sizeof(float)) != 0;
         differing += differs;
-        if (differs) ADD_FAILURE() << "sample " << i << ": query " << distance[i] << ", field " << baked.field.values[i];
+        if (differs) ADD_FAILURE() << "sample " << i << ": query " << distance[i] << ", field " << baked.field.dense().values[i];
     }
     EXPECT_EQ(differing, 0u) << "of " << distance.size();
 }
@@ -69,7 +69,7 @@ TEST(PointQuery, WindingSignAtSamplesEqualsTheBakedWindingField) {
     BakeSettings settings;
     settings.res = 20;
     settings.sign = SignMethod::Winding;
-    const Field field = model.bake(settings).field;
+    const Field field = model.bake(settings).field.dense();
     const std::vector<double> points = positionsOf(field);
     std::vector<float> distance(field.values.size());
     PointQueryOutputs out;
@@ -223,7 +223,7 @@ TEST(PointQuery, RefitModelAnswersAsAFreshOne) {
             }
             BakeSettings settings;
             settings.res = 24;
-            EXPECT_TRUE(model.bake(settings).field.values == fresh.bake(settings).field.values) << step;
+            EXPECT_TRUE(model.bake(settings).field.dense().values == fresh.bake(settings).field.dense().values) << step;
         }
     }
 }

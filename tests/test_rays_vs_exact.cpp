@@ -14,11 +14,11 @@ using namespace test;
 TEST(RaysVsExact, ErrorShrinksWithRaysAndRaysNeverUndercut) {
     const Mesh mesh = loadMesh(test::bundledBunnyPath());
     const int res = 24;
-    const Field exact = bakeWith(mesh, res, DistanceMethod::Exact, SignMethod::Auto).field;
+    const Field exact = bakeWith(mesh, res, DistanceMethod::Exact, SignMethod::Auto).field.dense();
     const double voxel = exact.grid.voxel;
     double previousMean = std::numeric_limits<double>::infinity();
     for (int rays : {16, 64, 256}) {
-        const Field field = bakeWith(mesh, res, DistanceMethod::Rays, SignMethod::Rays, 0, rays).field;
+        const Field field = bakeWith(mesh, res, DistanceMethod::Rays, SignMethod::Rays, 0, rays).field.dense();
         double sum = 0;
         std::size_t undercuts = 0;
         for (std::size_t i = 0; i < exact.values.size(); ++i) {

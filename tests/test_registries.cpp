@@ -115,7 +115,7 @@ TEST(Registries, EveryPointQuerySignAgreesWithItsDenseBake) {
             settings.res = 12;
             settings.sign = sign.id;
             settings.device = Device::Cpu;
-            const Field field = model.bake(settings).field;
+            const Field field = model.bake(settings).field.dense();
             const Grid& g = field.grid;
             std::vector<double> points;
             for (int k = 0; k < g.dims.z; ++k)
@@ -151,8 +151,8 @@ TEST(Registries, EveryMethodAndSignEitherBakesOrIsRefused) {
             try {
                 const BakeResult result = bake(mesh, tree, settings, {});
                 EXPECT_FALSE(refused) << method.name << " " << sign.name;
-                EXPECT_EQ(result.field.method, method.name);
-                EXPECT_LT(result.field.values[result.field.grid.index(3, 3, 3)], 0.0f) << method.name << " " << sign.name;
+                EXPECT_EQ(result.field.dense().method, method.name);
+                EXPECT_LT(result.field.dense().values[result.field.dense().grid.index(3, 3, 3)], 0.0f) << method.name << " " << sign.name;
             } catch (const Error& e) {
                 EXPECT_TRUE(refused) << method.name << " " << sign.name << ": " << e.what();
             }

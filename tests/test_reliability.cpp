@@ -661,12 +661,12 @@ TEST(InsideOut, AutoFixesTheSignsOfAFlippedSphereAndBox) {
     const BakeResult sphere = test::bakeMesh(flipped(test::icosphere(1.0f, 3)), settings);
     EXPECT_EQ(sphere.sign, SignMethod::Pseudonormal);
     EXPECT_CONTAINS(sphere.signReason, "inside out");
-    EXPECT_EQ(wrongSigns(sphere.field, [](glm::vec3 p) { return test::sphereDistance(p, 1.0f); }, sag + 1e-4f), 0u);
+    EXPECT_EQ(wrongSigns(sphere.field.dense(), [](glm::vec3 p) { return test::sphereDistance(p, 1.0f); }, sag + 1e-4f), 0u);
 
     const glm::vec3 half(0.5f, 0.3f, 0.2f);
     const BakeResult box = test::bakeMesh(flipped(test::box(half)), settings);
     EXPECT_TRUE(box.check.insideOut);
-    EXPECT_EQ(wrongSigns(box.field, [&](glm::vec3 p) { return test::boxDistance(p, half); }, 1e-5f), 0u);
+    EXPECT_EQ(wrongSigns(box.field.dense(), [&](glm::vec3 p) { return test::boxDistance(p, half); }, 1e-5f), 0u);
 }
 
 TEST(InsideOut, AutoFixesTheWindingSignToo) {
@@ -684,7 +684,7 @@ TEST(InsideOut, AutoFixesTheWindingSignToo) {
     auto unionDistance = [](glm::vec3 p) {
         return std::min(test::sphereDistance(p, 1.0f), test::sphereDistance(p - glm::vec3(1, 0, 0), 1.0f));
     };
-    EXPECT_EQ(wrongSigns(result.field, unionDistance, sag + 1e-4f), 0u);
+    EXPECT_EQ(wrongSigns(result.field.dense(), unionDistance, sag + 1e-4f), 0u);
 }
 
 TEST(InsideOut, ExplicitPseudonormalFollowsTheFacesWithAWarning) {
@@ -696,7 +696,7 @@ TEST(InsideOut, ExplicitPseudonormalFollowsTheFacesWithAWarning) {
     ASSERT_EQ(result.warnings.size(), 1u);
     EXPECT_CONTAINS(result.warnings[0], "inside out");
     // Every sign inverted: negative outside.
-    EXPECT_EQ(wrongSigns(result.field, [](glm::vec3 p) { return -test::sphereDistance(p, 1.0f); }, sag + 1e-4f), 0u);
+    EXPECT_EQ(wrongSigns(result.field.dense(), [](glm::vec3 p) { return -test::sphereDistance(p, 1.0f); }, sag + 1e-4f), 0u);
 }
 
 TEST(InsideOut, ExplicitWindingSignNeedsNoFlip) {
@@ -707,8 +707,8 @@ TEST(InsideOut, ExplicitWindingSignNeedsNoFlip) {
     settings.sign = SignMethod::Winding;
     const BakeResult result = test::bakeMesh(flipped(test::icosphere(1.0f, 3)), settings);
     EXPECT_TRUE(result.warnings.empty());
-    EXPECT_EQ(wrongSigns(result.field, [](glm::vec3 p) { return test::sphereDistance(p, 1.0f); }, sag + 1e-4f), 0u);
-    EXPECT_LT(*std::min_element(result.field.values.begin(), result.field.values.end()), 0.0f);
+    EXPECT_EQ(wrongSigns(result.field.dense(), [](glm::vec3 p) { return test::sphereDistance(p, 1.0f); }, sag + 1e-4f), 0u);
+    EXPECT_LT(*std::min_element(result.field.dense().values.begin(), result.field.dense().values.end()), 0.0f);
 }
 
 } // namespace

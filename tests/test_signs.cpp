@@ -26,10 +26,10 @@ TEST(Signs, PseudonormalAndWindingEqualBruteOnClosedMeshes) {
             const BakeResult result = bakeWith(shape.mesh, shape.res, DistanceMethod::Exact, sign);
             EXPECT_EQ(result.sign, sign);
             EXPECT_FALSE(result.checked);
-            const SignCounts c = countSigns(result.field, brute);
+            const SignCounts c = countSigns(result.field.dense(), brute);
             EXPECT_EQ(c.farWrong, 0u) << shape.name << " " << toString(sign);
             EXPECT_GT(c.referenceInside, 0u) << shape.name;
-            EXPECT_EQ(compareFields(result.field, brute, 1.0).signDifferences, c.farWrong);
+            EXPECT_EQ(compareFields(result.field.dense(), brute, 1.0).signDifferences, c.farWrong);
         }
     }
 }
@@ -63,15 +63,15 @@ TEST(Signs, PseudonormalOfAnOpenMeshBuildsItsVertexNormalsOnFirstUse) {
     const BakeResult one = bakeWith(open, 24, DistanceMethod::Exact, SignMethod::Pseudonormal, 1);
     const BakeResult two = bakeWith(open, 24, DistanceMethod::Exact, SignMethod::Pseudonormal, 2);
     EXPECT_EQ(one.sign, SignMethod::Pseudonormal);
-    EXPECT_EQ(one.field.values, two.field.values);
-    EXPECT_LT(*std::min_element(one.field.values.begin(), one.field.values.end()), 0.0f) << "the inside is signed";
+    EXPECT_EQ(one.field.dense().values, two.field.dense().values);
+    EXPECT_LT(*std::min_element(one.field.dense().values.begin(), one.field.dense().values.end()), 0.0f) << "the inside is signed";
 }
 
 TEST(Signs, WindingEqualsBruteOnOpenAndOverlappingMeshes) {
     for (const Shape& shape : openShapes()) {
         const Field& brute = bruteField(shape.name, shape.mesh, shape.res);
         const BakeResult result = bakeWith(shape.mesh, shape.res, DistanceMethod::Exact, SignMethod::Winding);
-        const SignCounts c = countSigns(result.field, brute);
+        const SignCounts c = countSigns(result.field.dense(), brute);
         EXPECT_EQ(c.farWrong, 0u) << shape.name;
         // Not vacuous: the shapes with an inside have one (a flat disk's |w| stays below 1/2; the
         // cup has an inside either way round, |w| > 1/2 within it).
@@ -101,7 +101,7 @@ TEST(Signs, WindingCountsRowsThroughSharedEdgesOnce) {
                 bakeWith(*mesh, res, DistanceMethod::Exact, mesh == &open ? SignMethod::Auto : SignMethod::Winding);
             ASSERT_EQ(result.sign, SignMethod::Winding);
             const Field& brute = bruteField(name, *mesh, res);
-            const SignCounts c = countSigns(result.field, brute);
+            const SignCounts c = countSigns(result.field.dense(), brute);
             EXPECT_EQ(c.farWrong, 0u) << name << " res " << res << ": " << c.farWrong << " of " << c.far
                                       << " samples beyond one voxel have the wrong sign";
         }

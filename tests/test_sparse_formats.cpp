@@ -52,26 +52,34 @@ Field ballsField() {
     return field;
 }
 
+// `field` with its header and storage as `change(header, storage)` leaves them: a new field,
+// refused as any is when they no longer describe one (Error naming `where`).
+template <class Change>
+SparseField changed(const SparseField& field, Change change, const std::string& where = "changed") {
+    FieldHeader header = field.header();
+    SparseField::Storage storage = field.storage();
+    change(header, storage);
+    return SparseField(header, std::move(storage), where);
+}
+
 void expectSameSparse(const SparseField& a, const SparseField& b) {
-    EXPECT_EQ(a.grid.dims, b.grid.dims);
-    EXPECT_EQ(a.grid.origin, b.grid.origin);
-    EXPECT_EQ(a.grid.voxel, b.grid.voxel);
-    EXPECT_EQ(a.background, b.background);
+    EXPECT_EQ(a.grid().dims, b.grid().dims);
+    EXPECT_EQ(a.grid().origin, b.grid().origin);
+    EXPECT_EQ(a.grid().voxel, b.grid().voxel);
+    EXPECT_EQ(a.background(), b.background());
     EXPECT_EQ(a.source, b.source);
     EXPECT_EQ(a.method, b.method);
     EXPECT_EQ(a.parameters, b.parameters);
-    EXPECT_EQ(a.bricks, b.bricks);
-    EXPECT_EQ(a.insideBoxes, b.insideBoxes);
-    ASSERT_EQ(a.values.size(), b.values.size());
-    EXPECT_EQ(std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)), 0) << "brick values differ";
+    EXPECT_EQ(a.bricks(), b.bricks());
+    EXPECT_EQ(a.insideBoxes(), b.insideBoxes());
+    ASSERT_EQ(a.values().size(), b.values().size());
+    EXPECT_EQ(std::memcmp(a.values().data(), b.values().data(), a.values().size() * sizeof(float)), 0) << "brick values differ";
 }
 
 class SparseFormats : public test::ScratchFolderTest {
 protected:
     void SetUp() override {
         ScratchFolderTest::SetUp();
-        dense_ = ballsField();
-        sparse_ = formats::sparseFromDense(dense_, formats::bandBackground(dense_));
     }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
     // The band field saved as band.vdb, read back as OpenVDB's grids (for crafting bad files).
@@ -90,27 +98,28 @@ protected:
     void expectRoundTrip(const std::string& extension) {
         const std::string file = path("band" + extension), denseFile = path("dense" + extension);
         saveSparseField(sparse_, file);
-        EXPECT_TRUE(isSparseFieldFile(file));
+        const AnyField loaded = loadAnyField(file);
+        ASSERT_TRUE(loaded.isBand());
+        expectSameSparse(loaded.band(), sparse_);
         expectSameSparse(loadSparseField(file), sparse_);
         const Field dense = loadField(file);
-        EXPECT_EQ(dense.background, sparse_.background);
+        EXPECT_EQ(dense.background, sparse_.background());
         EXPECT_EQ(dense.values, sparse_.toDense().values);
         saveField(dense_, denseFile);
-        EXPECT_FALSE(isSparseFieldFile(denseFile));
+        EXPECT_EQ(loadAnyField(denseFile).dense().values, dense_.values);
         expectSameSparse(loadSparseField(denseFile), sparse_);
     }
 
-    Field dense_;
-    SparseField sparse_;
+    const Field dense_ = ballsField();
+    SparseField sparse_ = formats::sparseFromDense(dense_, formats::bandBackground(dense_), "balls");
 };
 
 TEST_F(SparseFormats, FromDenseKeepsTheBandAndTheSides) {
     const float background = float(2.5 * dense_.grid.voxel);
-    EXPECT_EQ(sparse_.background, background);
-    sparse_.check("balls");
-    EXPECT_GT(sparse_.bricks.size(), 0u);
-    EXPECT_LT(sparse_.bricks.size(), 10u * 8u * 6u / 2u) << "most bricks are away from the surface";
-    EXPECT_GT(sparse_.insideBoxes.size(), 0u) << "whole bricks lie inside the balls";
+    EXPECT_EQ(sparse_.background(), background);
+    EXPECT_GT(sparse_.bricks().size(), 0u);
+    EXPECT_LT(sparse_.bricks().size(), 10u * 8u * 6u / 2u) << "most bricks are away from the surface";
+    EXPECT_GT(sparse_.insideBoxes().size(), 0u) << "whole bricks lie inside the balls";
     std::size_t inBand = 0;
     for (int k = 0; k < dense_.grid.dims.z; ++k)
         for (int j = 0; j < dense_.grid.dims.y; ++j)
@@ -129,25 +138,25 @@ TEST_F(SparseFormats, DenseFormatsHoldTheDenseFormAndReadBackAsTheBandField) {
     for (const char* name : {"band.sdf", "band.nrrd", "band.npy"}) {
         SCOPED_TRACE(name);
         saveSparseField(sparse_, path(name));
-        EXPECT_FALSE(isSparseFieldFile(path(name)));
+        EXPECT_FALSE(loadAnyField(path(name)).isBand());
         const Field dense = loadField(path(name));
         EXPECT_EQ(dense.values, sparse_.toDense().values);
         if (std::string(name) != "band.npy") {
             // The method line keeps band=2.5: the field knows it is a band field.
-            EXPECT_EQ(dense.background, sparse_.background);
+            EXPECT_EQ(dense.background, sparse_.background());
             expectSameSparse(loadSparseField(path(name)), sparse_);
         }
     }
     // A bare .npy names no band, and its voxels are 1: 3 voxels.
-    EXPECT_EQ(loadSparseField(path("band.npy")).background, 3.0f);
+    EXPECT_EQ(loadSparseField(path("band.npy")).background(), 3.0f);
 }
 
 TEST_F(SparseFormats, DenseFormatsRefuseABandFieldThatDoesNotFitDense) {
     // 16384^3 samples: 16 TiB dense, a few kilobytes sparse.
-    SparseField huge = sparse_;
-    huge.grid.dims = {16384, 16384, 16384};
-    huge.insideBoxes.clear();
-    huge.check("huge");
+    const SparseField huge = changed(sparse_, [](FieldHeader& header, SparseField::Storage& storage) {
+        header.grid.dims = {16384, 16384, 16384};
+        storage.insideBoxes.clear();
+    });
     for (const char* name : {"huge.npy", "huge.sdf", "huge.nrrd"}) {
         const std::string message = errorFrom([&] { saveSparseField(huge, path(name)); });
         EXPECT_EQ(message.rfind(path(name), 0), 0u) << message;
@@ -168,14 +177,15 @@ protected:
     std::string writeWith(const std::string& name, const formats::NpzMember& replaced) {
         const SparseField& f = sparse_;
         std::vector<std::int32_t> origins;
-        for (const glm::ivec3& b : f.bricks) origins.insert(origins.end(), {8 * b.x, 8 * b.y, 8 * b.z});
+        for (const glm::ivec3& b : f.bricks()) origins.insert(origins.end(), {8 * b.x, 8 * b.y, 8 * b.z});
         std::string background = formats::npyHeader("<f4", false, {});
-        background.append(reinterpret_cast<const char*>(&f.background), 4);
-        const std::uint64_t bricks = f.bricks.size();
+        const float backgroundValue = f.background();
+        background.append(reinterpret_cast<const char*>(&backgroundValue), 4);
+        const std::uint64_t bricks = f.bricks().size();
         std::vector<formats::NpzMember> members = {
             {"brick_origins.npy", formats::npyHeader("<i4", false, {bricks, 3}), origins.data(), origins.size() * 4},
-            {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, bricks}), f.values.data(), f.values.size() * 4},
-            {"inside_boxes.npy", formats::npyHeader("<i4", false, {f.insideBoxes.size(), 6}), f.insideBoxes.data(), f.insideBoxes.size() * 24},
+            {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, bricks}), f.values().data(), f.values().size() * 4},
+            {"inside_boxes.npy", formats::npyHeader("<i4", false, {f.insideBoxes().size(), 6}), f.insideBoxes().data(), f.insideBoxes().size() * 24},
             {"background.npy", background},
             {"origin.npy", formats::npyFloat64Array({-0.1, -0.2, -0.3}, false)},
             {"voxel_size.npy", formats::npyFloat64Array({0.02}, true)},
@@ -199,9 +209,9 @@ protected:
 
 TEST_F(HostileSparseNpz, CountsAreCheckedAgainstTheBytes) {
     // A billion bricks claimed, a few held: refused before 2 TB are allocated.
-    const std::uint64_t bricks = sparse_.bricks.size();
-    expectRefused(writeWith("values.npz", {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, 1u << 30}), sparse_.values.data(),
-                                           sparse_.values.size() * 4}),
+    const std::uint64_t bricks = sparse_.bricks().size();
+    expectRefused(writeWith("values.npz", {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, 1u << 30}), sparse_.values().data(),
+                                           sparse_.values().size() * 4}),
                   "shape is not (8, 8, 8, " + std::to_string(bricks) + ")");
     std::vector<std::int32_t> many(3 * 1000, 0);
     expectRefused(writeWith("origins.npz", {"brick_origins.npy", formats::npyHeader("<i4", false, {1u << 30, 3}), many.data(), many.size() * 4}),
@@ -216,16 +226,18 @@ TEST_F(HostileSparseNpz, DimsWhoseProductPassesTwoToThe64AreRefused) {
     expectRefused(writeWith("wrap.npz", {"dims.npy", formats::npyInt64Array({4194304, 2097152, 2097152})}), "more than 2^58 samples");
     expectRefused(writeWith("past.npz", {"dims.npy", formats::npyInt64Array({2147483647, 2147483647, 2147483647})}), "more than 2^58 samples");
     // The one check every front end meets: the field itself, its dense form, a save.
-    SparseField huge = sparse_;
-    huge.grid.dims = {4194304, 2097152, 2097152};
-    huge.insideBoxes.clear();
-    EXPECT_CONTAINS(errorFrom([&] { huge.check("huge"); }), "more than 2^58 samples");
-    EXPECT_CONTAINS(errorFrom([&] { huge.toDense(); }), "no dense form");
-    for (const char* name : {"huge.npz", "huge.npy", "huge.sdf"}) {
-        const std::string message = errorFrom([&] { saveSparseField(huge, path(name)); });
-        EXPECT_EQ(message.rfind(path(name), 0), 0u) << message;
-        EXPECT_FALSE(std::filesystem::exists(path(name)));
-    }
+    // No such band field can be made: there is nothing to save.
+    const std::string message = errorFrom([&] {
+        changed(
+            sparse_,
+            [](FieldHeader& header, SparseField::Storage& storage) {
+                header.grid.dims = {4194304, 2097152, 2097152};
+                storage.insideBoxes.clear();
+            },
+            "huge");
+    });
+    EXPECT_EQ(message.rfind("huge: ", 0), 0u) << message;
+    EXPECT_CONTAINS(message, "more than 2^58 samples");
     Field dense;
     dense.grid.dims = {4194304, 2097152, 2097152};
     dense.grid.voxel = 1e-6;
@@ -234,8 +246,8 @@ TEST_F(HostileSparseNpz, DimsWhoseProductPassesTwoToThe64AreRefused) {
 
 TEST_F(HostileSparseNpz, FieldsThatAreNotBandFieldsAreRefused) {
     std::vector<std::int32_t> origins;
-    for (const glm::ivec3& b : sparse_.bricks) origins.insert(origins.end(), {8 * b.x, 8 * b.y, 8 * b.z});
-    const std::string originsHeader = formats::npyHeader("<i4", false, {sparse_.bricks.size(), 3});
+    for (const glm::ivec3& b : sparse_.bricks()) origins.insert(origins.end(), {8 * b.x, 8 * b.y, 8 * b.z});
+    const std::string originsHeader = formats::npyHeader("<i4", false, {sparse_.bricks().size(), 3});
     std::vector<std::int32_t> shifted = origins;
     shifted[0] += 1;
     expectRefused(writeWith("shifted.npz", {"brick_origins.npy", originsHeader, shifted.data(), shifted.size() * 4}), "multiple of 8");
@@ -245,19 +257,19 @@ TEST_F(HostileSparseNpz, FieldsThatAreNotBandFieldsAreRefused) {
     std::vector<std::int32_t> outside = origins;
     outside.back() = 1 << 20;
     expectRefused(writeWith("outside.npz", {"brick_origins.npy", originsHeader, outside.data(), outside.size() * 4}), "outside the grid");
-    std::vector<float> values = sparse_.values;
+    std::vector<float> values = sparse_.values();
     values[7] = 1.0f;
-    expectRefused(writeWith("value.npz", {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, sparse_.bricks.size()}), values.data(),
+    expectRefused(writeWith("value.npz", {"brick_values.npy", formats::npyHeader("<f4", true, {8, 8, 8, sparse_.bricks().size()}), values.data(),
                                           values.size() * 4}),
                   "exceeds the background");
-    std::vector<std::array<int, 6>> boxes = sparse_.insideBoxes;
+    std::vector<std::array<int, 6>> boxes = sparse_.insideBoxes();
     ASSERT_FALSE(boxes.empty());
     boxes[0][3] -= 1;
     expectRefused(writeWith("box.npz", {"inside_boxes.npy", formats::npyHeader("<i4", false, {boxes.size(), 6}), boxes.data(), boxes.size() * 24}),
                   "whole bricks");
     // Overlapping boxes: at() takes the last box of a row starting at or before a sample,
     // toDense() every box, so the two would disagree.
-    boxes = sparse_.insideBoxes;
+    boxes = sparse_.insideBoxes();
     const auto wide = std::find_if(boxes.begin(), boxes.end(), [](const std::array<int, 6>& b) { return b[3] - b[0] >= 16; });
     ASSERT_NE(wide, boxes.end()) << "a box of two bricks or more";
     std::array<int, 6> later = *wide;
@@ -312,10 +324,10 @@ TEST_F(SparseFormats, BandFieldsCompareSparseAsTheirDenseFormsDo) {
             for (int i = 0; i < moved.grid.dims.x; ++i) moved.values[moved.grid.index(i, j, k)] = dense_.at(std::max(i - 3, 0), j, k);
     const std::vector<std::pair<std::string, SparseField>> others = {
         {"itself", sparse_},
-        {"narrower", formats::sparseFromDense(dense_, 0.6f * sparse_.background)},
-        {"moved", formats::sparseFromDense(moved, sparse_.background)}};
+        {"narrower", formats::sparseFromDense(dense_, 0.6f * sparse_.background(), "narrower")},
+        {"moved", formats::sparseFromDense(moved, sparse_.background(), "moved")}};
     for (const auto& [name, other] : others) {
-        ASSERT_FALSE(other.insideBoxes.empty()) << name;
+        ASSERT_FALSE(other.insideBoxes().empty()) << name;
         for (const double band : {0.0, 1.0, 2.0, 100.0}) {
             expectSameDifference(compareSparseFields(sparse_, other, band), compareFields(sparse_.toDense(), other.toDense(), band),
                                  name + ", band " + std::to_string(band));
@@ -326,13 +338,12 @@ TEST_F(SparseFormats, BandFieldsCompareSparseAsTheirDenseFormsDo) {
     FieldDifference moved3 = compareSparseFields(sparse_, others[2].second, 0.0);
     EXPECT_GT(moved3.signDifferences, 0u);
     // A grid of 1000^3 samples and no bricks: counted, never made dense.
-    SparseField empty;
-    empty.grid = sparse_.grid;
-    empty.grid.dims = {1000, 1000, 1000};
-    empty.background = 0.1f;
-    empty.insideBoxes.push_back(SparseField::insideBox(empty.grid.dims, 0, 125, 0, 0)); // one row of bricks inside
-    SparseField other = empty;
-    other.insideBoxes[0] = SparseField::insideBox(empty.grid.dims, 100, 125, 0, 0);
+    FieldHeader header;
+    header.grid = sparse_.grid();
+    header.grid.dims = {1000, 1000, 1000};
+    header.background = 0.1f;
+    const SparseField empty(header, {{}, {}, {SparseField::insideBox(header.grid.dims, 0, 125, 0, 0)}}, "empty"); // one row of bricks inside
+    const SparseField other(header, {{}, {}, {SparseField::insideBox(header.grid.dims, 100, 125, 0, 0)}}, "other");
     const FieldDifference d = compareSparseFields(empty, other, 0.0);
     EXPECT_EQ(d.signOnly, 1000000000u);
     EXPECT_EQ(d.signDifferences, 100u * 8 * 8 * 8);
@@ -341,10 +352,11 @@ TEST_F(SparseFormats, BandFieldsCompareSparseAsTheirDenseFormsDo) {
 }
 
 TEST_F(SparseFormats, InsideBoxesOverTheirFieldsBricksAreRefused) {
-    SparseField overBrick = sparse_;
-    const glm::ivec3 brick = overBrick.bricks[0];
-    overBrick.insideBoxes = {SparseField::insideBox(overBrick.grid.dims, brick.x, brick.x + 1, brick.y, brick.z)};
-    EXPECT_CONTAINS(errorFrom([&] { overBrick.check("brick.npz"); }), "brick.npz: inside box 0 holds stored brick 0");
+    const glm::ivec3 brick = sparse_.bricks()[0];
+    auto overBrick = [&](FieldHeader& header, SparseField::Storage& storage) {
+        storage.insideBoxes = {SparseField::insideBox(header.grid.dims, brick.x, brick.x + 1, brick.y, brick.z)};
+    };
+    EXPECT_CONTAINS(errorFrom([&] { changed(sparse_, overBrick, "brick.npz"); }), "brick.npz: inside box 0 holds stored brick 0");
 }
 
 #if SDFGEN_HAS_OPENVDB
@@ -362,54 +374,57 @@ TEST_F(SparseFormats, VdbRoundTripIsExactAndALevelSetToOpenVdb) {
     vdb.close();
     ASSERT_TRUE(grid);
     EXPECT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
-    EXPECT_EQ(grid->background(), sparse_.background);
+    EXPECT_EQ(grid->background(), sparse_.background());
     EXPECT_EQ(grid->activeVoxelCount(), sparse_.activeCount());
-    EXPECT_EQ(grid->tree().leafCount(), sparse_.bricks.size());
+    EXPECT_EQ(grid->tree().leafCount(), sparse_.bricks().size());
     std::size_t insideTiles = 0;
-    for (auto tile = grid->tree().cbeginValueOff(); tile; ++tile) insideTiles += !tile.isVoxelValue() && *tile == -sparse_.background;
+    for (auto tile = grid->tree().cbeginValueOff(); tile; ++tile) insideTiles += !tile.isVoxelValue() && *tile == -sparse_.background();
     EXPECT_GT(insideTiles, 0u);
     const auto accessor = grid->getConstAccessor();
-    for (int k = 0; k < sparse_.grid.dims.z; ++k)
-        for (int j = 0; j < sparse_.grid.dims.y; ++j)
-            for (int i = 0; i < sparse_.grid.dims.x; ++i) ASSERT_EQ(accessor.getValue(openvdb::Coord(i, j, k)), sparse_.at(i, j, k));
+    for (int k = 0; k < sparse_.grid().dims.z; ++k)
+        for (int j = 0; j < sparse_.grid().dims.y; ++j)
+            for (int i = 0; i < sparse_.grid().dims.x; ++i) ASSERT_EQ(accessor.getValue(openvdb::Coord(i, j, k)), sparse_.at(i, j, k));
     const openvdb::Vec3d world = grid->indexToWorld(openvdb::Vec3d(3, 5, 7));
-    const glm::dvec3 expected = sparse_.grid.position(3, 5, 7);
+    const glm::dvec3 expected = sparse_.grid().position(3, 5, 7);
     EXPECT_NEAR(world.x(), expected.x, 1e-12);
     EXPECT_NEAR(world.z(), expected.z, 1e-12);
 }
 
 TEST_F(SparseFormats, AFieldGivenUpIsSavedAsTheSameFileAndLeftEmpty) {
     // More bricks than the .vdb writer takes at a time (it hands their memory back chunk by chunk).
-    SparseField many;
-    many.source = "many.obj";
-    many.method = "exact";
-    many.grid.dims = {8 * 100, 8 * 100, 12};
-    many.grid.origin = {-1.0, -2.0, -3.0};
-    many.grid.voxel = 0.01;
-    many.background = 0.03f;
+    FieldHeader header;
+    header.source = "many.obj";
+    header.method = "exact";
+    header.grid.dims = {8 * 100, 8 * 100, 12};
+    header.grid.origin = {-1.0, -2.0, -3.0};
+    header.grid.voxel = 0.01;
+    header.background = 0.03f;
+    SparseField::Storage storage;
     for (int y = 0; y < 100; ++y)
-        for (int x = 0; x < 100; x += 2) many.bricks.emplace_back(x, y, 1); // the brick cut at the grid's end
-    many.values.resize(many.bricks.size() * SparseField::kBrickSamples);
-    for (std::size_t n = 0; n < many.values.size(); ++n) {
+        for (int x = 0; x < 100; x += 2) storage.bricks.emplace_back(x, y, 1); // the brick cut at the grid's end
+    storage.values.resize(storage.bricks.size() * SparseField::kBrickSamples);
+    for (std::size_t n = 0; n < storage.values.size(); ++n) {
         const bool pastTheEnd = n % SparseField::kBrickSamples >= 4 * 64; // z 12 and on (past the grid's end) hold the background
-        many.values[n] = pastTheEnd ? many.background : many.background * float(std::sin(double(n) * 0.37));
+        storage.values[n] = pastTheEnd ? header.background : header.background * float(std::sin(double(n) * 0.37));
     }
-    many.insideBoxes.push_back({0, 0, 0, 8 * 100, 8, 8});
+    storage.insideBoxes.push_back({0, 0, 0, 8 * 100, 8, 8});
+    const SparseField many(header, std::move(storage), "many");
     for (const char* extension : {".vdb", ".npz"}) {
         const std::string kept = path(std::string("kept") + extension), givenUp = path(std::string("given-up") + extension);
         saveSparseField(many, kept);
         SparseField copy = many;
         saveSparseField(std::move(copy), givenUp);
-        EXPECT_TRUE(copy.bricks.empty() && copy.values.empty()) << extension;
+        EXPECT_TRUE(copy.bricks().empty() && copy.values().empty()) << extension;
         expectSameSparse(loadSparseField(givenUp), loadSparseField(kept));
         expectSameSparse(loadSparseField(givenUp), many);
     }
 }
 
 TEST_F(SparseFormats, VdbOfAGridTooLargeToBeDenseStaysSparse) {
-    SparseField huge = sparse_;
-    huge.grid.dims = {16384, 16384, 16384};
-    huge.insideBoxes.clear();
+    const SparseField huge = changed(sparse_, [](FieldHeader& header, SparseField::Storage& storage) {
+        header.grid.dims = {16384, 16384, 16384};
+        storage.insideBoxes.clear();
+    });
     saveSparseField(huge, path("huge.vdb"));
     expectSameSparse(loadSparseField(path("huge.vdb")), huge);
     const std::string message = errorFrom([&] { loadField(path("huge.vdb")); });
@@ -454,9 +469,9 @@ TEST_F(SparseFormats, SurfaceOfABandFieldIsClosedAndEqualsTheDenseOnes) {
     EXPECT_EQ(check.nonManifoldVertices, 0u);
     EXPECT_CONTAINS(errorFrom([&] { extractSurface(sparse_, 3.0 * dense_.grid.voxel, 0.0); }), "outside the band field's band");
     // An inside box on the grid's boundary cuts the surface open.
-    SparseField cut = sparse_;
-    cut.insideBoxes.insert(cut.insideBoxes.begin(), {0, 0, 0, 8, 8, 8});
-    cut.check("cut");
+    const SparseField cut = changed(sparse_, [](FieldHeader&, SparseField::Storage& storage) {
+        storage.insideBoxes.insert(storage.insideBoxes.begin(), {0, 0, 0, 8, 8, 8});
+    });
     EXPECT_CONTAINS(errorFrom([&] { extractSurface(cut, 0.0, 0.0); }), "reaches the grid's boundary");
 }
 

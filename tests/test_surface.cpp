@@ -127,7 +127,7 @@ TEST_F(Surface, BrokenMeshesGiveClosedManifoldSurfacesNearTheInput) {
         const std::vector<glm::dvec3> closing = closingFans(input);
         BakeSettings settings;
         settings.res = 24;
-        const Field field = test::bakeMesh(input, settings).field;
+        const Field field = test::bakeMesh(input, settings).field.dense();
         for (const double adaptivity : {0.0, 0.5}) {
             SCOPED_TRACE(adaptivity);
             const SurfaceMesh surface = extractSurface(field, 0.0, adaptivity);
@@ -155,7 +155,7 @@ TEST_F(Surface, OffsetSurfaceIsAtTheIsoDistance) {
     BakeSettings settings;
     settings.res = 32;
     settings.padding = 0.3f;
-    const Field field = test::bakeMesh(sphere, settings).field;
+    const Field field = test::bakeMesh(sphere, settings).field.dense();
     const double iso = 0.2;
     const SurfaceMesh surface = extractSurface(field, iso, 0.0);
     const double sag = test::icosphereSag(1.0f, 3);
@@ -167,7 +167,7 @@ TEST_F(Surface, OffsetSurfaceIsAtTheIsoDistance) {
 TEST_F(Surface, VerticesBeyondSinglePrecisionAreRefused) {
     BakeSettings settings;
     settings.res = 12;
-    Field field = test::bakeMesh(test::icosphere(1.0f, 2), settings).field;
+    Field field = test::bakeMesh(test::icosphere(1.0f, 2), settings).field.dense();
     field.grid.voxel = 1e300; // the vertices' float positions overflow: no mesh file can hold them
     EXPECT_CONTAINS(errorFrom([&] { extractSurface(field, 0.0, 0.0); }), "the surface's vertices are beyond single precision");
     field.grid.voxel = 1.0;
@@ -179,7 +179,7 @@ TEST_F(Surface, SurfaceReachingTheBoundaryIsRefused) {
     BakeSettings settings;
     settings.res = 16;
     settings.padding = 0.0f;
-    const Field field = test::bakeMesh(test::box({1, 1, 1}), settings).field;
+    const Field field = test::bakeMesh(test::box({1, 1, 1}), settings).field.dense();
     EXPECT_CONTAINS(errorFrom([&] { extractSurface(field, 0.5 * field.grid.voxel, 0.0); }), "padding");
     EXPECT_CONTAINS(errorFrom([&] { extractSurface(field, 0.0, 2.0); }), "adaptivity");
 }
@@ -187,7 +187,7 @@ TEST_F(Surface, SurfaceReachingTheBoundaryIsRefused) {
 TEST_F(Surface, ObjAndPlyReadBackAsTheSameMesh) {
     BakeSettings settings;
     settings.res = 16;
-    const SurfaceMesh surface = extractSurface(test::bakeMesh(test::icosphere(1.0f, 2), settings).field, 0.0, 0.0);
+    const SurfaceMesh surface = extractSurface(test::bakeMesh(test::icosphere(1.0f, 2), settings).field.dense(), 0.0, 0.0);
     for (const std::string name : {"surface.obj", "surface.ply"}) {
         SCOPED_TRACE(name);
         const std::string path = (dir_ / name).string();

@@ -396,15 +396,15 @@ TEST(ExactBricks, PseudonormalSignWrittenInlineEqualsTheClosestFeatureSign) {
     settings.method = DistanceMethod::Rays;
     settings.sign = SignMethod::Pseudonormal;
     const BakeResult separate = model.bake(settings);
-    const Grid& grid = baked.field.grid;
+    const Grid& grid = baked.field.dense().grid;
     std::size_t disagree = 0, wrong = 0;
     for (int k = 0; k < grid.dims.z; ++k) {
         for (int j = 0; j < grid.dims.y; ++j) {
             for (int i = 0; i < grid.dims.x; ++i) {
                 const std::size_t index = grid.index(i, j, k);
-                disagree += std::signbit(baked.field.values[index]) != std::signbit(separate.field.values[index]);
+                disagree += std::signbit(baked.field.dense().values[index]) != std::signbit(separate.field.dense().values[index]);
                 const double r = glm::length(grid.position(i, j, k));
-                if (std::fabs(r - 1.0) > 0.05) wrong += (baked.field.values[index] < 0.0f) != (r < 1.0);
+                if (std::fabs(r - 1.0) > 0.05) wrong += (baked.field.dense().values[index] < 0.0f) != (r < 1.0);
             }
         }
     }

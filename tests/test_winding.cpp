@@ -411,7 +411,7 @@ std::pair<std::vector<float>, Field> queriedAndBaked(const Mesh& mesh, int res) 
     BakeSettings settings;
     settings.res = res;
     settings.sign = SignMethod::Winding;
-    Field field = model.bake(settings).field;
+    Field field = model.bake(settings).field.dense();
     const std::vector<double> xyz = test::samplePositions(field.grid);
     std::vector<float> values(field.grid.sampleCount());
     PointQueryOutputs out;

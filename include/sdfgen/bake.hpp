@@ -1,9 +1,9 @@
 #pragma once
+#include "sdfgen/any_field.hpp"
 #include "sdfgen/channels.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/mesh_check.hpp"
-#include "sdfgen/sparse_field.hpp"
 
 #include <cctype>
 #include <cstdint>
@@ -90,7 +90,7 @@ struct BakeSettings {
     // method, on the CPU). The distances are the same, bit for bit, with or without them.
     Channels channels;
     // > 0: a narrow-band bake (exact method, CPU): exact distances only within `band` voxels of the
-    // surface, in bricks, into BakeResult::sparse; every other sample gets the winding sign's side and
+    // surface, in bricks, a SparseField in BakeResult::field; every other sample gets the winding sign's side and
     // the magnitude band * voxel. The dense grid is never allocated. 0: the dense field.
     double band = 0;
 };
@@ -126,8 +126,7 @@ std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double b
 
 // A bake's field and what was decided on the way.
 struct BakeResult {
-    Field field; // the dense field (for a band bake: empty, its grid and method line only)
-    SparseField sparse; // a band bake's field (BakeSettings::band > 0), empty otherwise
+    AnyField field; // a SparseField for a band bake (BakeSettings::band > 0), the dense Field otherwise
     SignMethod sign = SignMethod::Default; // the sign method actually used
     bool checked = false;                  // whether the mesh check ran (sign auto)
     MeshCheck check;

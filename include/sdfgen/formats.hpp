@@ -1,4 +1,5 @@
 #pragma once
+#include "sdfgen/any_field.hpp"
 #include "sdfgen/bake.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/run_control.hpp"
@@ -26,9 +27,13 @@ void saveField(const Field& field, const std::string& path, const SaveOptions& o
 // format cannot hold (.npz and .vdb hold them; .sdf, .npy and .nrrd the distance only).
 void checkFormatHoldsChannels(const std::string& path, const Channels& channels);
 
-// Loads a field in any of those formats, validated as strictly as the text format. A sparse file
-// (saveSparseField) is made dense (SparseField::toDense), or refused when that does not fit in memory.
-// `control` gets the fraction of the file read and stops the read (Cancelled) when its cancel is raised.
+// Loads a field in any of those formats as the file holds it, opening and reading the file once,
+// validated as strictly as the text format: a band field (a sparse .npz, or a .vdb level set: see
+// saveSparseField) as a SparseField, any other as a Field. `control` gets the fraction of the file
+// read and stops the read (Cancelled) when its cancel is raised.
+AnyField loadAnyField(const std::string& path, const RunControl& control = {});
+// loadAnyField's field as dense: a band field made dense (SparseField::toDense), or refused when
+// that does not fit in memory.
 Field loadField(const std::string& path, const RunControl& control = {});
 
 // Saves a narrow-band field: .vdb (a level set: the band's voxels active, ±background tiles for the
@@ -39,12 +44,12 @@ void saveSparseField(const SparseField& field, const std::string& path);
 // The same, giving the field up: a .vdb's leaves take the bricks' memory as they are made (the
 // band is never held twice), and the field is left empty, saved or not.
 void saveSparseField(SparseField&& field, const std::string& path);
-// Loads a field as sparse: a sparse .npz or a .vdb level set as it is, a dense file through its
-// samples (bricks where a sample lies within `band` voxels of the surface; 3 when the file names no band).
+// Saves a field as it is: a band field as saveSparseField(SparseField&&) does (given up: left
+// empty, saved or not), a dense one as saveField with `options`.
+void saveAnyField(AnyField&& field, const std::string& path, const SaveOptions& options = {});
+// loadAnyField's field as sparse: a band field as it is, a dense one through its samples (bricks
+// where a sample lies within `band` voxels of the surface; 3 when the file names no band).
 SparseField loadSparseField(const std::string& path, const RunControl& control = {});
-// Whether the file at `path` holds a sparse field (a sparse .npz, or a .vdb whose grid is not dense);
-// reads the header only. Error for an unreadable file or an unknown extension.
-bool isSparseFieldFile(const std::string& path);
 
 // The extensions saveField and loadField accept, with the dot (".sdf", ...).
 std::vector<std::string> fieldFormatExtensions();

@@ -19,7 +19,7 @@ struct Grid {
     static constexpr std::uint64_t kMaxSamples = std::uint64_t(1) << 58;
     // dims.x * dims.y * dims.z computed without overflow; 0 when a dimension is below 1 or the
     // count exceeds kMaxSamples (what every reader, writer and front end checks, through checkGrid
-    // and SparseField::check, before counting samples or bytes).
+    // and SparseField's constructor, before counting samples or bytes).
     static std::uint64_t checkedSampleCount(const glm::ivec3& dims) {
         if (dims.x < 1 || dims.y < 1 || dims.z < 1) return 0;
         const std::uint64_t xy = std::uint64_t(dims.x) * std::uint64_t(dims.y); // < 2^62

@@ -1,5 +1,6 @@
 #pragma once
 // The sdfgen library in one include: meshes in, signed distance fields and point queries out.
+#include "sdfgen/any_field.hpp"
 #include "sdfgen/bake.hpp"
 #include "sdfgen/compare.hpp"
 #include "sdfgen/error.hpp"

@@ -114,15 +114,15 @@ void FieldLoad::start(const std::string& path, int threads, int textureLimit) {
             };
         }
         LoadedField loaded;
-        if (isSparseFieldFile(path)) {
-            // Reading takes most of the time; the resampling the views show the rest.
-            SparseField band = loadSparseField(path, control.phase(0.0, 0.85));
-            render::BandDisplay shown = render::bandDisplay(band, textureLimit, control.phase(0.85, 1.0));
+        // Reading takes most of the time; a band field's resampling for the views the rest.
+        AnyField file = loadAnyField(path, control.phase(0.0, 0.85));
+        if (file.isBand()) {
+            render::BandDisplay shown = render::bandDisplay(file.band(), textureLimit, control.phase(0.85, 1.0));
             loaded.field = std::move(shown.field);
             loaded.bandLine = std::move(shown.line);
-            loaded.band = std::move(band);
+            loaded.band = std::move(file.band());
         } else {
-            loaded.field = loadField(path, control);
+            loaded.field = std::move(file.dense());
         }
         result_ = std::move(loaded);
     });

@@ -17,7 +17,7 @@ namespace sdfgen::app {
 
 namespace fs = std::filesystem;
 
-std::string signSummaryOf(const Field& field) {
+std::string signSummaryOf(const FieldHeader& field) {
     const std::string sign = field.parameter("sign");
     return "sign: " + (sign.empty() ? std::string("not recorded in the file") : sign);
 }
@@ -90,8 +90,7 @@ void Viewer::loadSavedField(const std::string& meshPath) {
 
 namespace {
 // Why a field saved beside `meshPath` is not the one the panel's settings would bake ("" when it is).
-template <class AnyField>
-std::string savedFieldMismatch(const AnyField& field, const std::string& meshPath, const BakeSettings& settings) {
+std::string savedFieldMismatch(const FieldHeader& field, const std::string& meshPath, const BakeSettings& settings) {
     if (fs::path(field.source).filename() != fs::path(meshPath).filename()) return "it was made from " + fs::path(field.source).filename().string();
     char padding[32];
     std::snprintf(padding, sizeof(padding), "%g", double(settings.padding));
@@ -112,7 +111,7 @@ void Viewer::collectSavedField(std::optional<LoadedField> loaded, const std::str
         else setMessage(modelMessage_, Message::Level::Warning, said + "could not be read: " + error);
         return;
     }
-    const std::string mismatch = loaded->band ? savedFieldMismatch(*loaded->band, savedField_.model, settings_)
+    const std::string mismatch = loaded->band ? savedFieldMismatch(loaded->band->header(), savedField_.model, settings_)
                                               : savedFieldMismatch(*loaded->field, savedField_.model, settings_);
     if (!mismatch.empty()) {
         setMessage(modelMessage_, Message::Level::Info, said + "is not shown: " + mismatch + "; Generate makes one");

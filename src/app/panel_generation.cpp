@@ -184,7 +184,7 @@ void Viewer::generationSection() {
 
     // The field's own figures, wrapped.
     if (field_) {
-        const Grid& g = band_ ? band_->grid : field_->grid; // a band field's own, not its resampling's
+        const Grid& g = band_ ? band_->grid() : field_->grid; // a band field's own, not its resampling's
         ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
         if (fieldInfo_.seconds >= 0) {
             wrappedText("%dx%dx%d voxels, %.2f s, %.3g voxels/s", g.dims.x, g.dims.y, g.dims.z, fieldInfo_.seconds, fieldInfo_.rate);
@@ -216,15 +216,16 @@ void Viewer::collectGeneration() {
         return;
     }
     try {
-        const Grid& g = result->field.grid;
-        FieldInfo info{"baked", result->field.method, seconds, double(g.sampleCount()) / std::max(seconds, 1e-9), signSummaryOf(result->field)};
+        const FieldHeader& baked = result->field.header();
+        const Grid& g = baked.grid;
+        FieldInfo info{"baked", baked.method, seconds, double(g.sampleCount()) / std::max(seconds, 1e-9), signSummaryOf(baked)};
         if (result->checked) info.signSummary += " (" + result->signReason + ")\nmesh check: " + result->check.describe();
         if (!result->deviceReason.empty()) info.signSummary += "\ndevice: " + result->deviceReason;
         const std::string dims = std::to_string(g.dims.x) + "x" + std::to_string(g.dims.y) + "x" + std::to_string(g.dims.z);
-        if (result->sparse.background > 0.0f) {
-            showBand(std::move(result->sparse), info);
+        if (result->field.isBand()) {
+            showBand(std::move(result->field.band()), info);
         } else {
-            showField(std::move(result->field), info);
+            showField(std::move(result->field.dense()), info);
         }
         setMessage(fieldMessage_, Message::Level::Info, "");
         char text[160];

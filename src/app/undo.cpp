@@ -32,7 +32,7 @@ double fieldBytes(const UndoEntry& e) {
         bytes += 4.0 * double(e.field->values.size());
         for (const ChannelValues& channel : e.field->channels) bytes += 4.0 * double(channel.size());
     }
-    if (e.band) bytes += 4.0 * double(e.band->values.size()) + 12.0 * double(e.band->bricks.size());
+    if (e.band) bytes += 4.0 * double(e.band->values().size()) + 12.0 * double(e.band->bricks().size());
     return bytes;
 }
 

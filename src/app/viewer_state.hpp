@@ -130,7 +130,7 @@ struct UndoEntry {
 
 bool isFieldPath(const std::string& path); // a field format's extension (formats.hpp)
 std::string widgetName(const std::string& label); // a label as the GUI test names it: spaces as underscores
-std::string signSummaryOf(const Field& field);    // "sign: " and how the field's signs were decided
+std::string signSummaryOf(const FieldHeader& field);    // "sign: " and how the field's signs were decided
 
 class Viewer {
 public:

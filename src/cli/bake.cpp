@@ -47,27 +47,26 @@ void runBake(BakeArgs args) {
         control.progress = bar.callback();
         result = model.bake(args.settings, control);
     }
-    std::string bandLine; // the band's figures, taken before the save gives its bricks up
-    if (args.settings.band > 0) {
-        const SparseField& sparse = result.sparse;
+    const FieldHeader field = result.field.header(); // kept: saving a band field gives it up
+    std::string bandLine;                            // the band's figures, taken before the save
+    if (result.field.isBand()) {
+        const SparseField& band = result.field.band();
         char line[512];
         std::snprintf(line, sizeof line,
                       "band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes; "
                       "tree and topology %.2f s, distances %.2f s, bricks and sides %.2f s\n",
-                      args.settings.band, double(sparse.background), sparse.bricks.size(), sparse.activeCount(), sparse.insideBoxes.size(),
+                      args.settings.band, double(band.background()), band.bricks().size(), band.activeCount(), band.insideBoxes().size(),
                       result.setupSeconds, result.distanceSeconds, result.signSeconds);
         bandLine = line;
-        saveSparseField(std::move(result.sparse), args.output);
-    } else {
-        saveField(result.field, args.output, args.save);
     }
+    saveAnyField(std::move(result.field), args.output, args.save);
     const double seconds = total.seconds();
     const int threads = args.threads > 0 ? args.threads : tbb::this_task_arena::max_concurrency();
-    const Grid& g = result.field.grid;
+    const Grid& g = field.grid;
     std::printf("%s -> %s: %zu triangles, %dx%dx%d voxels, method %s, sign %s, %d threads, %.3f s, %.0f voxels/s\n",
                 mesh.source.c_str(), args.output.c_str(), mesh.triangleCount(), g.dims.x, g.dims.y, g.dims.z,
-                (result.field.method + (result.field.parameter("rays").empty() ? "" : " (" + result.field.parameter("rays") + " rays)")).c_str(),
-                result.field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
+                (field.method + (field.parameter("rays").empty() ? "" : " (" + field.parameter("rays") + " rays)")).c_str(),
+                field.parameter("sign").c_str(), threads, seconds, double(g.sampleCount()) / seconds);
     if (args.settings.channels.any()) std::printf("channels: %s\n", toString(args.settings.channels).c_str());
     std::fputs(bandLine.c_str(), stdout);
     if (result.checked) std::printf("mesh check: %s\nsign: auto chose %s\n", result.check.describe().c_str(), result.signReason.c_str());

@@ -180,12 +180,10 @@ std::string bakeOne(const batch::Task& task, const BatchArgs& args, int threads,
         BakeResult result = model.bake(args.settings, control);
         // A band bake's field is sparse: .vdb and .npz keep it so, the dense formats get its dense
         // form where it fits; the save gives its bricks up.
-        const bool band = args.settings.band > 0;
-        const Grid g = band ? result.sparse.grid : result.field.grid;
-        const std::string sign = band ? result.sparse.parameter("sign") : result.field.parameter("sign");
+        const Grid g = result.field.header().grid;
+        const std::string sign = result.field.header().parameter("sign");
         try {
-            if (band) saveSparseField(std::move(result.sparse), partial.string());
-            else saveField(result.field, partial.string());
+            saveAnyField(std::move(result.field), partial.string());
         } catch (const Error& e) {
             // The writer names the hidden partial file; the user named the output.
             std::string message = e.what();

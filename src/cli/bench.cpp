@@ -58,12 +58,12 @@ Run runOnce(const std::string& path, const BenchArgs& args, const std::string& s
     run.timing.distance = result.distanceSeconds;
     run.timing.sign = result.signSeconds;
     watch = Stopwatch();
-    saveField(result.field, scratch);
+    saveField(result.field.dense(), scratch);
     run.timing.save = watch.seconds();
     run.triangles = mesh.triangleCount();
-    run.grid = result.field.grid;
-    run.sign = result.field.parameter("sign");
-    run.rays = !result.field.parameter("rays").empty();
+    run.grid = result.field.dense().grid;
+    run.sign = result.field.dense().parameter("sign");
+    run.rays = !result.field.dense().parameter("rays").empty();
     run.device = result.deviceReason;
     return run;
 }

@@ -4,11 +4,10 @@
 #include "sdfgen/error.hpp"
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
-#include "sdfgen/sparse_field.hpp"
+#include "sdfgen/any_field.hpp"
 
 #include <cstdio>
 #include <memory>
-#include <optional>
 #include <string>
 
 namespace sdfgen::cli {
@@ -20,48 +19,33 @@ struct CompareArgs {
     double band = 0.0;
 };
 
-// A field file as it is stored: a band file sparse, any other dense.
-struct StoredField {
-    std::optional<SparseField> sparse;
-    std::optional<Field> dense;
-    const Grid& grid() const { return sparse ? sparse->grid : dense->grid; }
-    float background() const { return sparse ? sparse->background : dense->background; }
-};
-
-StoredField loadStored(const std::string& path) {
-    StoredField field;
-    if (isSparseFieldFile(path)) field.sparse = loadSparseField(path);
-    else field.dense = loadField(path);
-    return field;
-}
-
 void runCompare(const CompareArgs& args) {
     // Both grids are checked before anything is made dense: band fields are compared sparse, and
     // one is made dense only beside a dense field of the same grid, which its file holds whole.
-    StoredField a = loadStored(args.first);
-    StoredField b = loadStored(args.second);
+    AnyField a = loadAnyField(args.first);
+    AnyField b = loadAnyField(args.second);
     FieldDifference d;
     try {
-        checkSameGrid(a.grid(), b.grid());
-        if (a.sparse && b.sparse) {
-            d = compareSparseFields(*a.sparse, *b.sparse, args.band);
+        checkSameGrid(a.header().grid, b.header().grid);
+        if (a.isBand() && b.isBand()) {
+            d = compareSparseFields(a.band(), b.band(), args.band);
         } else {
-            for (StoredField* field : {&a, &b}) {
-                if (!field->dense) field->dense = field->sparse->toDense();
+            for (AnyField* field : {&a, &b}) {
+                if (field->isBand()) *field = field->band().toDense();
             }
-            d = compareFields(*a.dense, *b.dense, args.band);
+            d = compareFields(a.dense(), b.dense(), args.band);
         }
     } catch (const Error& e) {
         throw Error(args.first + " vs " + args.second + ": " + e.what());
     }
     const double h = d.voxel;
     std::printf("%s vs %s: %zu of %zu samples compared (band %g voxels)\n", args.first.c_str(), args.second.c_str(),
-                d.compared, a.grid().sampleCount(), args.band);
+                d.compared, a.header().grid.sampleCount(), args.band);
     std::string bands; // the band fields among the two: compared by value in their band, by sign outside
     for (const auto& [name, field] : {std::pair{&args.first, &a}, {&args.second, &b}}) {
-        if (field->background() > 0) {
+        if (const float background = field->header().background; background > 0) {
             char band[64];
-            std::snprintf(band, sizeof band, " (|d| < %g, %.4g voxels)", double(field->background()), double(field->background()) / h);
+            std::snprintf(band, sizeof band, " (|d| < %g, %.4g voxels)", double(background), double(background) / h);
             bands += (bands.empty() ? "" : ", ") + *name + band;
         }
     }

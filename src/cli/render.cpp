@@ -7,7 +7,7 @@
 #include "sdfgen/field.hpp"
 #include "sdfgen/formats.hpp"
 #include "sdfgen/field_match.hpp"
-#include "sdfgen/sparse_field.hpp"
+#include "sdfgen/any_field.hpp"
 #include "sdfgen/mesh.hpp"
 #include "render/image.hpp"
 #include "render/band_display.hpp"
@@ -101,19 +101,12 @@ void runRender(const RenderArgs& args) {
     for (const std::string& path : args.meshes) meshes.push_back(loadMesh(path));
     const Model model(meshes.size() == 1 ? std::move(meshes[0]) : mergeScene(meshes, args.meshes), control);
     const Mesh& mesh = model.mesh();
-    Field field;
-    SparseField band; // a band field's file, shown through render::bandDisplay once there is a context
+    AnyField field; // a band field is shown through render::bandDisplay once there is a context
     bool needField = false;
     for (std::size_t i = 0; i < views.size(); ++i) needField |= views[i] && render::viewTypes()[i].needsField;
     if (!args.sdf.empty()) {
-        if (isSparseFieldFile(args.sdf)) {
-            band = loadSparseField(args.sdf);
-            field.source = band.source;
-            field.grid = band.grid;
-        } else {
-            field = loadField(args.sdf);
-        }
-        if (const std::string mismatch = fieldMismatch(field, mesh); !mismatch.empty()) {
+        field = loadAnyField(args.sdf);
+        if (const std::string mismatch = fieldMismatch(field.header(), mesh); !mismatch.empty()) {
             control.warn(args.sdf + ": " + mismatch);
         }
     } else if (needField) {
@@ -149,12 +142,12 @@ void runRender(const RenderArgs& args) {
         for (const Mesh& part : meshes) parts.push_back({&part, glm::dmat4(1.0)});
         scene.setMeshes(parts);
     }
-    if (band.background > 0.0f) {
-        render::BandDisplay shown = render::bandDisplay(band, render::textureLimit3D(), control);
+    if (field.isBand()) {
+        render::BandDisplay shown = render::bandDisplay(field.band(), render::textureLimit3D(), control);
         std::printf("%s: %s\n", args.sdf.c_str(), shown.line.c_str());
         field = std::move(shown.field);
     }
-    if (!field.values.empty()) scene.setField(field);
+    if (!field.dense().values.empty()) scene.setField(field.dense());
 
     render::OrbitCamera orbit;
     orbit.yaw = camera[0];

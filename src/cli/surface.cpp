@@ -37,16 +37,9 @@ void runSurface(const SurfaceArgs& args) {
     Stopwatch total;
     refuseOverwritingInput(args.output, {args.input});
     // A band field (a band bake, or a sparse .vdb or .npz) is meshed as it is, never made dense.
-    Field field;
-    SparseField sparse;
-    bool banded = false;
+    AnyField field;
     if (isFieldFile(args.input)) {
-        banded = isSparseFieldFile(args.input);
-        if (banded) {
-            sparse = loadSparseField(args.input);
-        } else {
-            field = loadField(args.input);
-        }
+        field = loadAnyField(args.input);
     } else {
         checkBakeSettings(args.settings);
         if (!(args.settings.padding > 0.0)) throw Error("--padding must be above 0: the surface must stay inside the grid to be closed");
@@ -54,17 +47,11 @@ void runSurface(const SurfaceArgs& args) {
         const Model model = Model::load(args.input, control);
         ProgressBar bar;
         control.progress = bar.callback();
-        BakeResult result = model.bake(args.settings, control);
-        banded = args.settings.band > 0;
-        if (banded) {
-            sparse = std::move(result.sparse);
-        } else {
-            field = std::move(result.field);
-        }
+        field = model.bake(args.settings, control).field;
     }
     SurfaceMesh surface;
     try {
-        surface = banded ? extractSurface(sparse, args.iso, args.adaptivity) : extractSurface(field, args.iso, args.adaptivity);
+        surface = field.visit([&](const auto& f) { return extractSurface(f, args.iso, args.adaptivity); });
     } catch (const Error& e) {
         throw Error(args.input + ": " + e.what());
     }
@@ -72,10 +59,10 @@ void runSurface(const SurfaceArgs& args) {
     const MeshCheck check = Model(buildMesh(args.output, surface.positions, surface.triangles)).check();
     saveSurface(surface, args.output);
     const double seconds = total.seconds();
-    const Grid& g = banded ? sparse.grid : field.grid;
+    const Grid& g = field.header().grid;
     std::printf("%s -> %s: %zu vertices, %zu triangles, iso %g, adaptivity %g, grid %dx%dx%d%s, %.3f s\n", args.input.c_str(),
                 args.output.c_str(), surface.positions.size(), surface.triangles.size(), args.iso, args.adaptivity, g.dims.x,
-                g.dims.y, g.dims.z, banded ? (" (band field, " + std::to_string(sparse.bricks.size()) + " bricks)").c_str() : "", seconds);
+                g.dims.y, g.dims.z, field.isBand() ? (" (band field, " + std::to_string(field.band().bricks().size()) + " bricks)").c_str() : "", seconds);
     std::printf("mesh check of the output: %s\n", check.describe().c_str());
 }
 

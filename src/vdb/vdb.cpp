@@ -33,8 +33,6 @@
 #include <set>
 #include <sstream>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <istream>
 #include <streambuf>
 #include <limits>
@@ -65,23 +63,6 @@ class VdbLayout {
 public:
     VdbLayout(std::istream& in, std::uint64_t fileBytes, const std::string& path) : in_(in), size_(fileBytes), path_(path) {}
 
-    // What the walk saw of each grid, enough to tell a band field from a dense one.
-    struct GridSummary {
-        std::string name, type;
-        double band = 0;         // its sdfgen_band metadata, 0 when absent
-        bool fromSdfgen = false; // it has sdfgen_dims metadata
-        std::string gridClass;   // its class metadata ("level set", "fog volume", ...), when short
-        // Read as a SparseField: a band field sdfgen wrote, or another program's level set.
-        bool sparse() const {
-            return band > 0 || (!fromSdfgen && gridClass == openvdb::GridBase::gridClassToString(openvdb::GRID_LEVEL_SET));
-        }
-        // Another program's grid of no class, or of class unknown (OpenVDB reads any other name as unknown).
-        bool unclassed() const {
-            return !fromSdfgen && openvdb::GridBase::stringToGridClass(gridClass) == openvdb::GRID_UNKNOWN;
-        }
-    };
-    const std::vector<GridSummary>& grids() const { return grids_; }
-
     void check() {
         if (read<std::int64_t>("the magic number") != std::int64_t(openvdb::OPENVDB_MAGIC)) fail("not an OpenVDB file (no VDB magic number)");
         version_ = read<std::uint32_t>("the format version");
@@ -102,9 +83,8 @@ public:
         }
         for (std::int32_t g = 0; g < grids; ++g) {
             const std::string what = "grid " + std::to_string(g);
-            GridSummary& summary = grids_.emplace_back();
-            summary.name = string(what + "'s name");
-            const std::string type = summary.type = string(what + "'s type");
+            string(what + "'s name");
+            const std::string type = string(what + "'s type");
             const bool instance = !string(what + "'s instance parent").empty();
             // OpenVDB reads every grid of the file; sdfgen checks the layout of the grid types it
             // writes (the distance and its channels).
@@ -117,7 +97,7 @@ public:
                      ") do not lie in the file's " + std::to_string(size_) + " bytes");
             }
             const std::uint32_t compression = read<std::uint32_t>(what + "'s compression flags");
-            metaMap(what + "'s metadata", &summary);
+            metaMap(what + "'s metadata");
             transform(what + "'s transform");
             if (!instance) tree(compression, layout, what + "'s tree");
             if (hasOffsets && std::uint64_t(endPos) != pos_) fail(what + " ends at byte " + std::to_string(pos_) + ", not at its end offset " + std::to_string(endPos));
@@ -283,9 +263,8 @@ private:
         seek(pos_ + stored);
     }
 
-    // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes; what
-    // tells a band field (sdfgen_band, sdfgen_dims, the class) into `grid` when given.
-    void metaMap(const std::string& what, GridSummary* grid = nullptr) {
+    // A MetaMap: a count, then per entry a name, a type name and the value's size and bytes.
+    void metaMap(const std::string& what) {
         const std::int32_t count = read<std::int32_t>(what);
         // Each entry takes at least 12 bytes (three lengths).
         if (count < 0 || std::uint64_t(count) > (size_ - pos_) / 12) {
@@ -293,7 +272,7 @@ private:
                  std::to_string(size_ - pos_) + " bytes hold");
         }
         for (std::int32_t i = 0; i < count; ++i) {
-            const std::string name = string(what);
+            string(what); // the name
             const std::uint32_t typeLength = read<std::uint32_t>(what);
             need(typeLength, what);
             std::string type(typeLength, '\0');
@@ -310,14 +289,7 @@ private:
             } else if (type != openvdb::StringMetadata::staticTypeName() && openvdb::Metadata::isRegisteredType(type) &&
                        bytes != openvdb::Metadata::createMetadata(type)->size()) {
                 fail("not a readable OpenVDB file: a " + printable(type) + " value in " + what + " claims " + std::to_string(bytes) + " bytes");
-            } else if (grid && name == "sdfgen_band" && type == openvdb::DoubleMetadata::staticTypeName()) {
-                grid->band = read<double>(what);
-            } else if (grid && name == openvdb::GridBase::META_GRID_CLASS && type == openvdb::StringMetadata::staticTypeName() && bytes <= 64) {
-                grid->gridClass.resize(bytes);
-                in_.read(grid->gridClass.data(), bytes);
-                pos_ += bytes;
             }
-            if (grid && name == "sdfgen_dims") grid->fromSdfgen = true;
             seek(end);
         }
     }
@@ -356,7 +328,6 @@ private:
     const std::string& path_;
     std::uint64_t pos_ = 0;
     std::uint32_t version_ = 0;
-    std::vector<GridSummary> grids_;
 };
 
 // OpenVDB 10's RootNode::readTopology news each root child and reads its subtree before the tree
@@ -555,19 +526,21 @@ openvdb::FloatGrid::Ptr fieldToGrid(const Field& field) {
 // A band field as a level-set FloatGrid named "surface" (the transform of fieldToGrid): each
 // brick a leaf, its samples in the band active; each inside box inactive -background tiles; the
 // rest the +background of the tree. Distances and grid scaled by 2^exponent. Initializes OpenVDB.
-// `givenUp`: null, or the field itself when its owner gives it up: the memory of its brick values
-// goes back to the system as they become leaves, and they are emptied.
-openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, SparseField* givenUp = nullptr) {
+// `storage` is the field's, or was taken out of it (SparseField::release) when its owner gave it
+// up: then `givenUp` is &storage, the memory of its values goes back to the system as they become
+// leaves, and it is emptied.
+openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, const SparseField::Storage& storage, int exponent,
+                                     SparseField::Storage* givenUp = nullptr) {
     constexpr int B = SparseField::kBrick;
     initializeOpenVdb();
-    const float background = std::ldexp(field.background, exponent);
+    const float background = std::ldexp(field.background(), exponent);
     const openvdb::FloatGrid::Ptr grid = std::make_shared<ParallelBuffersGrid>(background);
     openvdb::FloatTree& tree = grid->tree();
-    const glm::ivec3 dims = field.grid.dims;
+    const glm::ivec3 dims = field.grid().dims;
     // Whole bricks (a box cut at the grid's end reaches on to its brick's end), so that fill makes
     // tiles and no leaves; prune then merges the tiles of nodes wholly inside.
     auto brickEnd = [](int v) { return (v + B - 1) / B * B - 1; };
-    for (const auto& box : field.insideBoxes) {
+    for (const auto& box : storage.insideBoxes) {
         tree.fill(openvdb::CoordBBox(openvdb::Coord(box[0], box[1], box[2]), openvdb::Coord(brickEnd(box[3]), brickEnd(box[4]), brickEnd(box[5]))),
                   -background, /*active=*/false);
     }
@@ -577,13 +550,13 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, Spa
     // box's tiles.
     using Leaf = openvdb::FloatTree::LeafNodeType;
     auto makeLeaf = [&](std::size_t b) {
-        const glm::ivec3 lo = field.bricks[b] * B;
+        const glm::ivec3 lo = storage.bricks[b] * B;
         const glm::ivec3 inGrid = glm::min(dims - lo, glm::ivec3(B)); // samples of the brick within the grid, per axis
         auto leaf = std::make_unique<Leaf>(openvdb::PartialCreate(), openvdb::Coord(lo.x, lo.y, lo.z), background);
         leaf->allocate(); // not filled: every value is written below
         float* out = leaf->buffer().data();
         openvdb::util::NodeMask<3> active;
-        const float* values = &field.values[b * SparseField::kBrickSamples];
+        const float* values = &storage.values[b * SparseField::kBrickSamples];
         // A leaf's offset is 64 x + 8 y + z: word x of its mask holds bit 8 y + z.
         static_assert(B == 8 && Leaf::DIM == 8, "a brick is a leaf");
         for (int x = 0; x < B; ++x) {
@@ -600,10 +573,10 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, Spa
         return leaf;
     };
     constexpr std::size_t kChunk = 1 << 12; // bricks (8 MB of values)
-    std::vector<std::unique_ptr<Leaf>> leaves(std::min(kChunk, field.bricks.size()));
+    std::vector<std::unique_ptr<Leaf>> leaves(std::min(kChunk, storage.bricks.size()));
     openvdb::tree::ValueAccessor<openvdb::FloatTree> access(tree); // caches the path to the last leaf: bricks come in order
-    for (std::size_t first = 0; first < field.bricks.size(); first += kChunk) {
-        const std::size_t last = std::min(field.bricks.size(), first + kChunk);
+    for (std::size_t first = 0; first < storage.bricks.size(); first += kChunk) {
+        const std::size_t last = std::min(storage.bricks.size(), first + kChunk);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 256), [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t b = range.begin(); b != range.end(); ++b) leaves[b - first] = makeLeaf(b);
         });
@@ -612,8 +585,8 @@ openvdb::FloatGrid::Ptr sparseToGrid(const SparseField& field, int exponent, Spa
             releasePages(&givenUp->values[first * SparseField::kBrickSamples], (last - first) * SparseField::kBrickSamples * sizeof(float));
         }
     }
-    if (givenUp) givenUp->values = {}, givenUp->bricks = {};
-    Grid scaled = field.grid;
+    if (givenUp) *givenUp = {};
+    Grid scaled = field.grid();
     scaled.voxel = std::ldexp(scaled.voxel, exponent);
     for (int a = 0; a < 3; ++a) scaled.origin[a] = std::ldexp(scaled.origin[a], exponent);
     nameLevelSet(*grid, scaled);
@@ -706,7 +679,12 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
     openvdb::FloatGrid::Ptr grid;
     try {
         // A band: the level set of the field's band (sparseToGrid), as a band bake writes it.
-        grid = options.band > 0 ? sparseToGrid(sparseFromDense(field, float(options.band * h)), 0) : fieldToGrid(field);
+        if (options.band > 0) {
+            const SparseField band = sparseFromDense(field, float(options.band * h), path);
+            grid = sparseToGrid(band, band.storage(), 0);
+        } else {
+            grid = fieldToGrid(field);
+        }
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": OpenVDB cannot hold this grid (" + e.what() + ")");
     }
@@ -716,29 +694,30 @@ void saveVdbFile(const Field& field, const std::string& path, const SaveOptions&
     writeGrids(grids, path);
 }
 
-// `givenUp`: null, or the field itself when the caller gives it up (its brick values are handed
-// back to the system as they become leaves).
-void writeSparseVdbFile(const SparseField& field, const std::string& path, SparseField* givenUp) {
+// `storage` and `givenUp` as sparseToGrid's.
+void writeSparseVdbFile(const SparseField& field, const SparseField::Storage& storage, const std::string& path, SparseField::Storage* givenUp) {
     checkSparseField(field, path);
-    if (!representableVoxel(field.grid.voxel)) {
-        throw Error(path + ": voxel size " + std::to_string(field.grid.voxel) + " is below what an OpenVDB transform can hold (OpenVDB refuses voxels of volume under " +
+    const Grid& g = field.grid();
+    if (!representableVoxel(g.voxel)) {
+        throw Error(path + ": voxel size " + std::to_string(g.voxel) + " is below what an OpenVDB transform can hold (OpenVDB refuses voxels of volume under " +
                     std::to_string(kSmallestVoxelVolume) + ", sizes under about 1.45e-5)");
     }
     openvdb::FloatGrid::Ptr grid;
     try {
-        grid = sparseToGrid(field, 0, givenUp);
+        grid = sparseToGrid(field, storage, 0, givenUp);
     } catch (const openvdb::Exception& e) {
         throw Error(path + ": OpenVDB cannot hold this grid (" + e.what() + ")");
     }
-    insertSdfgenMetadata(*grid, field.grid, double(field.background) / field.grid.voxel, methodLine(field), field.source);
+    insertSdfgenMetadata(*grid, g, double(field.background()) / g.voxel, methodLine(field), field.source);
     writeGrids({grid}, path);
 }
 
-void saveSparseVdbFile(const SparseField& field, const std::string& path) { writeSparseVdbFile(field, path, nullptr); }
+void saveSparseVdbFile(const SparseField& field, const std::string& path) { writeSparseVdbFile(field, field.storage(), path, nullptr); }
 
 void saveSparseVdbFileGivenUp(SparseField&& field, const std::string& path) {
     SparseField mine = std::move(field);
-    writeSparseVdbFile(mine, path, &mine);
+    SparseField::Storage storage = mine.release(); // mine keeps the grid, background and names
+    writeSparseVdbFile(mine, storage, path, &storage);
 }
 
 // The grid's sdfgen_* metadata, all or none of dims, origin and voxel (a partial or mistyped
@@ -962,17 +941,14 @@ void checkBytesFit(double bytes, const std::string& what, const std::string& pat
 SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const openvdb::Coord& first, const std::string& path,
                          const RunControl& control) {
     constexpr int B = SparseField::kBrick;
-    SparseField field;
-    field.source = std::move(frame.source);
-    field.method = std::move(frame.method);
-    field.parameters = std::move(frame.parameters);
-    field.grid = frame.grid;
-    field.background = grid.background();
-    if (!(field.background > 0.0f) || !std::isfinite(field.background)) {
-        throw Error(path + ": the level set's background " + std::to_string(field.background) + " is not a positive number");
+    FieldHeader header = std::move(frame);
+    header.background = grid.background();
+    if (!(header.background > 0.0f) || !std::isfinite(header.background)) {
+        throw Error(path + ": the level set's background " + std::to_string(header.background) + " is not a positive number");
     }
-    const float background = field.background;
-    const glm::ivec3 dims = field.grid.dims;
+    const float background = header.background;
+    const glm::ivec3 dims = header.grid.dims;
+    SparseField::Storage storage;
     const openvdb::FloatTree& tree = grid.tree();
 
     // The leaves that hold samples of the grid, in z, y, x order.
@@ -986,13 +962,13 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
         const openvdb::Coord &p = a->origin(), &q = b->origin();
         return std::make_tuple(p.z(), p.y(), p.x()) < std::make_tuple(q.z(), q.y(), q.x());
     });
-    field.bricks.reserve(leaves.size());
-    field.values.resize(leaves.size() * SparseField::kBrickSamples);
+    storage.bricks.reserve(leaves.size());
+    storage.values.resize(leaves.size() * SparseField::kBrickSamples);
     for (std::size_t b = 0; b < leaves.size(); ++b) {
         if (b % 4096 == 0) throwIfCancelled(control);
         const openvdb::Coord o = leaves[b]->origin() - first;
-        field.bricks.emplace_back(o.x() / B, o.y() / B, o.z() / B);
-        float* values = &field.values[b * SparseField::kBrickSamples];
+        storage.bricks.emplace_back(o.x() / B, o.y() / B, o.z() / B);
+        float* values = &storage.values[b * SparseField::kBrickSamples];
         for (int z = 0; z < B; ++z)
             for (int y = 0; y < B; ++y)
                 for (int x = 0; x < B; ++x) {
@@ -1029,7 +1005,7 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     };
     double rows = 0;
     tiles([&](const openvdb::Coord& lo, const openvdb::Coord& hi) { rows += double(hi.y() - lo.y()) * double(hi.z() - lo.z()); });
-    checkBytesFit(rows * (sizeof(Run) + sizeof(field.insideBoxes[0])), "the inside region's " + std::to_string(std::llround(rows)) + " rows of bricks", path);
+    checkBytesFit(rows * (sizeof(Run) + sizeof(storage.insideBoxes[0])), "the inside region's " + std::to_string(std::llround(rows)) + " rows of bricks", path);
     std::vector<Run> runs;
     runs.reserve(std::size_t(rows));
     tiles([&](const openvdb::Coord& lo, const openvdb::Coord& hi) {
@@ -1040,8 +1016,9 @@ SparseField gridToSparse(const openvdb::FloatGrid& grid, Field&& frame, const op
     for (std::size_t n = 0; n < runs.size();) {
         Run run = runs[n++];
         while (n < runs.size() && runs[n].z == run.z && runs[n].y == run.y && runs[n].x0 == run.x1) run.x1 = runs[n++].x1;
-        field.insideBoxes.push_back(SparseField::insideBox(dims, run.x0, run.x1, run.y, run.z));
+        storage.insideBoxes.push_back(SparseField::insideBox(dims, run.x0, run.x1, run.y, run.z));
     }
+    SparseField field(header, std::move(storage), path);
     checkSparseField(field, path);
     return field;
 }
@@ -1070,18 +1047,14 @@ bool readsAsBand(const openvdb::FloatGrid& grid, const SdfgenMetadata& meta) {
     return grid.getGridClass() == openvdb::GRID_LEVEL_SET || (grid.getGridClass() == openvdb::GRID_UNKNOWN && levelSetButForItsClass(grid));
 }
 
-Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path, const RunControl& control) {
+// The grid as a band field (a level set, sdfgen's or another program's, named so or not: never
+// made dense over the box of its active voxels, which two small spheres far apart make huge), or
+// as a dense one (a dense grid, or another program's grid of no class that is not a level set).
+AnyField loadGrid(const openvdb::FloatGrid& grid, const std::string& path, const RunControl& control) {
     Field field;
     openvdb::CoordBBox box;
     const SdfgenMetadata meta = readFrame(grid, field, box, path);
-    if (readsAsBand(grid, meta)) { // the dense form of what loadSparseGrid reads
-        try {
-            return gridToSparse(grid, std::move(field), box.min(), path, control).toDense();
-        } catch (const Error& e) {
-            const std::string message = e.what();
-            throw Error(message.rfind(path, 0) == 0 ? message : path + ": " + message);
-        }
-    }
+    if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path, control);
     const std::uint64_t extent[3] = {std::uint64_t(field.grid.dims.x), std::uint64_t(field.grid.dims.y), std::uint64_t(field.grid.dims.z)};
     checkDimsFit(extent, path);
     field.values.resize(field.grid.sampleCount());
@@ -1089,19 +1062,6 @@ Field loadGrid(const openvdb::FloatGrid& grid, const std::string& path, const Ru
     openvdb::tools::copyToDense(grid, dense);
     checkField(field, path);
     return field;
-}
-
-SparseField loadSparseGrid(const openvdb::FloatGrid& grid, const std::string& path, const RunControl& control) {
-    Field field;
-    openvdb::CoordBBox box;
-    const SdfgenMetadata meta = readFrame(grid, field, box, path);
-    // Another program's level set too: never made dense over the box of its active voxels, which
-    // two small spheres far apart make huge.
-    if (readsAsBand(grid, meta)) return gridToSparse(grid, std::move(field), box.min(), path, control);
-    // A dense grid, or another program's grid of no class that is not a level set: its samples,
-    // read as any dense field (refused when they do not fit in memory).
-    const Field dense = loadGrid(grid, path, control);
-    return sparseFromDense(dense, bandBackground(dense));
 }
 
 // The whole file, read once, so that what is checked is what OpenVDB reads (a file rewritten in
@@ -1149,44 +1109,9 @@ auto readVdb(const std::string& path, const RunControl& control, const Read& rea
 }
 
 // Progress: the file's bytes read in the first half, OpenVDB's read of them in the second.
-Field loadVdbFile(const std::string& path, const RunControl& control) {
+AnyField loadVdbFile(const std::string& path, const RunControl& control) {
     const RunControl parse = control.phase(0.5, 1.0);
     return readVdb(path, control.phase(0.0, 0.5), [&](const std::string& bytes) { return loadGrid(*readFloatGrid(path, bytes, parse), path, control); });
-}
-
-SparseField loadSparseVdbFile(const std::string& path, const RunControl& control) {
-    const RunControl parse = control.phase(0.5, 1.0);
-    return readVdb(path, control.phase(0.0, 0.5), [&](const std::string& bytes) { return loadSparseGrid(*readFloatGrid(path, bytes, parse), path, control); });
-}
-
-// Whether the grid loadField reads (named "surface", else the first float grid) is a band
-// field's: from the layout walk alone, streamed from the file rather than read into memory (the
-// load that follows reads it whole, once). A pipe cannot be walked and then loaded: it is refused.
-bool isSparseVdbFile(const std::string& path) {
-    struct stat info;
-    if (stat(path.c_str(), &info) != 0) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    if (!S_ISREG(info.st_mode)) {
-        throw Error(path + ": not a regular file: a .vdb is told dense or sparse from its layout before it is loaded, which a pipe cannot give twice");
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    initializeOpenVdb();
-    VdbLayout layout(in, std::uint64_t(info.st_size), path);
-    withErrorsNamed(path, [&] { layout.check(); return 0; });
-    auto isFloat = [](const std::string& type) { return type.rfind(kFloatTreeType, 0) == 0; };
-    for (const bool byName : {true, false}) {
-        for (const VdbLayout::GridSummary& grid : layout.grids()) {
-            if (!isFloat(grid.type) || (byName && grid.name != kGridName)) continue;
-            // Another program's grid of no class is a level set or not by its tree.
-            if (grid.unclassed()) {
-                return readVdb(path, RunControl{}, [&](const std::string& bytes) {
-                    return readsAsBand(*readFloatGrid(path, bytes, RunControl{}), SdfgenMetadata{});
-                });
-            }
-            return grid.sparse();
-        }
-    }
-    throw Error(path + ": the file holds no float grid");
 }
 
 // The exponent that scales a voxel too small for OpenVDB's transforms into one it holds (powers
@@ -1231,8 +1156,8 @@ void surfacePolygons(const Field& field, double iso, double adaptivity, std::vec
 
 void surfacePolygonsSparse(const SparseField& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
                            std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads) {
-    const int exponent = meshingExponent(field.grid.voxel);
-    meshGrid(*sparseToGrid(field, exponent), iso, adaptivity, exponent, points, triangles, quads);
+    const int exponent = meshingExponent(field.grid().voxel);
+    meshGrid(*sparseToGrid(field, field.storage(), exponent), iso, adaptivity, exponent, points, triangles, quads);
 }
 
 } // namespace
@@ -1241,8 +1166,7 @@ void surfacePolygonsSparse(const SparseField& field, double iso, double adaptivi
 
 extern "C" __attribute__((visibility("default"))) const sdfgen::OpenVdbPlugin* sdfgen_openvdb_plugin() {
     namespace f = sdfgen::formats;
-    static const sdfgen::OpenVdbPlugin plugin{f::saveVdbFile,       f::loadVdbFile,     f::surfacePolygons,
-                                              f::saveSparseVdbFile, f::loadSparseVdbFile, f::isSparseVdbFile,
+    static const sdfgen::OpenVdbPlugin plugin{f::saveVdbFile, f::loadVdbFile, f::surfacePolygons, f::saveSparseVdbFile,
                                               f::saveSparseVdbFileGivenUp, f::surfacePolygonsSparse};
     return &plugin;
 }

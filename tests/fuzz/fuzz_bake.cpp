@@ -35,23 +35,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         sdfgen::RunControl control;
         control.threads = 1;
         const sdfgen::BakeResult result = sdfgen::bake(mesh, tree, settings, control);
-        if (result.field.values.size() != result.field.grid.sampleCount()) std::abort();
-        for (float v : result.field.values) {
+        const sdfgen::Field& field = result.field.dense();
+        if (field.values.size() != field.grid.sampleCount()) std::abort();
+        for (float v : field.values) {
             if (!std::isfinite(v)) {
                 std::fprintf(stderr, "non-finite value in the field\n");
                 std::abort();
             }
         }
         if (settings.method != sdfgen::DistanceMethod::Exact) return 0;
-        const sdfgen::Grid& grid = result.field.grid;
+        const sdfgen::Grid& grid = field.grid;
         // Exact distances are brute force's, to the rounding of a float search over local coordinates.
         sdfgen::BakeSettings bruteSettings = settings;
         bruteSettings.method = sdfgen::DistanceMethod::Brute;
         bruteSettings.sign = sdfgen::SignMethod::Winding;
-        const sdfgen::Field brute = sdfgen::bake(mesh, tree, bruteSettings, control).field;
+        const sdfgen::Field brute = sdfgen::bake(mesh, tree, bruteSettings, control).field.dense();
         const double extent = std::max({grid.dims.x, grid.dims.y, grid.dims.z}) * grid.voxel;
         for (std::size_t n = 0; n < brute.values.size(); ++n) {
-            const double exact = std::fabs(result.field.values[n]), reference = std::fabs(brute.values[n]);
+            const double exact = std::fabs(field.values[n]), reference = std::fabs(brute.values[n]);
             if (std::fabs(exact - reference) > 1e-5 * (extent + reference)) {
                 std::fprintf(stderr, "sample %zu: exact distance %.9g, brute force's %.9g\n", n, exact, reference);
                 std::abort();
@@ -60,12 +61,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (settings.sign != sdfgen::SignMethod::Winding) return 0;
         // The band bake: the dense field's values in the band, its sides beyond.
         settings.band = 2;
-        const sdfgen::BakeResult band = sdfgen::bake(mesh, tree, settings, control);
-        const float background = band.sparse.background;
+        const sdfgen::BakeResult baked = sdfgen::bake(mesh, tree, settings, control);
+        const sdfgen::SparseField& band = baked.field.band();
+        const float background = band.background();
         for (int k = 0; k < grid.dims.z; ++k)
             for (int j = 0; j < grid.dims.y; ++j)
                 for (int i = 0; i < grid.dims.x; ++i) {
-                    const float dense = result.field.at(i, j, k), sparse = band.sparse.at(i, j, k);
+                    const float dense = field.at(i, j, k), sparse = band.at(i, j, k);
                     const float expected = std::fabs(dense) < background ? dense : std::copysign(background, dense);
                     if (sparse != expected) {
                         std::fprintf(stderr, "band sample (%d, %d, %d): %g, the dense bake's %g\n", i, j, k, sparse, dense);
@@ -86,8 +88,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const sdfgen::Model model(mesh, control);
         model.query(xyz.data(), grid.sampleCount(), out, sdfgen::SignMethod::Winding, control);
         for (std::size_t n = 0; n < queried.size(); ++n) {
-            if (queried[n] != result.field.values[n]) {
-                std::fprintf(stderr, "query at sample %zu: %g, the dense bake's %g\n", n, queried[n], result.field.values[n]);
+            if (queried[n] != field.values[n]) {
+                std::fprintf(stderr, "query at sample %zu: %g, the dense bake's %g\n", n, queried[n], field.values[n]);
                 std::abort();
             }
         }

@@ -114,11 +114,11 @@ void expectEqualFields(const BakeResult& cpu, const BakeResult& gpu) {
     EXPECT_FALSE(cpu.onDevice);
     EXPECT_TRUE(gpu.onDevice);
     EXPECT_EQ(cpu.sign, gpu.sign);
-    EXPECT_EQ(cpu.field.method, gpu.field.method);
-    const std::vector<float>& a = cpu.field.values;
-    const std::vector<float>& b = gpu.field.values;
+    EXPECT_EQ(cpu.field.dense().method, gpu.field.dense().method);
+    const std::vector<float>& a = cpu.field.dense().values;
+    const std::vector<float>& b = gpu.field.dense().values;
     ASSERT_EQ(a.size(), b.size());
-    const double voxel = cpu.field.grid.voxel;
+    const double voxel = cpu.field.dense().grid.voxel;
     double worst = 0;
     std::size_t signs = 0;
     for (std::size_t i = 0; i < a.size(); ++i) {
@@ -206,7 +206,7 @@ TEST_F(Gpu, EqualsTheCpuWhereRowsHitEdgesAndVertices) {
             settings.device = Device::Gpu;
             const BakeResult gpu = test::bakeMesh(cube, settings);
             if (res == 5) {
-                ASSERT_EQ(cpu.field.grid.position(1, 1, 1), glm::dvec3(-1.0)) << "samples should sit on the cube's corners";
+                ASSERT_EQ(cpu.field.dense().grid.position(1, 1, 1), glm::dvec3(-1.0)) << "samples should sit on the cube's corners";
             }
             expectEqualFields(cpu, gpu);
         }
@@ -338,8 +338,8 @@ TEST_F(Gpu, IsDeterministic) {
     const Mesh bunny = loadObj(test::bundledBunnyPath());
     const BakeResult first = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
     const BakeResult second = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
-    ASSERT_EQ(first.field.values.size(), second.field.values.size());
-    EXPECT_EQ(std::memcmp(first.field.values.data(), second.field.values.data(), first.field.values.size() * sizeof(float)), 0);
+    ASSERT_EQ(first.field.dense().values.size(), second.field.dense().values.size());
+    EXPECT_EQ(std::memcmp(first.field.dense().values.data(), second.field.dense().values.data(), first.field.dense().values.size() * sizeof(float)), 0);
 }
 
 // Large grids go through in slabs with bounded buffers: a tiny budget (the test hook) makes this
@@ -413,7 +413,7 @@ TEST(GpuBadContext, ClearErrorAndAutoFallsBack) {
     const BakeResult automatic = bakeOn(sphere, 8, Device::Auto, SignMethod::Winding);
     EXPECT_FALSE(automatic.onDevice);
     EXPECT_NE(automatic.deviceReason.find("cpu"), std::string::npos) << automatic.deviceReason;
-    EXPECT_EQ(automatic.field.values.size(), 8u * 8u * 8u);
+    EXPECT_EQ(automatic.field.dense().values.size(), 8u * 8u * 8u);
 }
 
 } // namespace

@@ -80,7 +80,7 @@ protected:
         BakeSettings settings;
         settings.res = 512;
         settings.band = 1;
-        band_ = new SparseField(bake(bunny, Bvh(bunny), settings, RunControl{}).sparse);
+        band_ = new SparseField(bake(bunny, Bvh(bunny), settings, RunControl{}).field.band());
         bandShown_ = new BandDisplay(bandDisplay(*band_, 128));
         (*models_)["bunny band"] = Model{bunny, bandShown_->field};
     }
@@ -96,7 +96,7 @@ protected:
         const Bvh tree(mesh);
         BakeSettings settings;
         settings.res = res;
-        Field field = bake(mesh, tree, settings, RunControl{}).field;
+        Field field = bake(mesh, tree, settings, RunControl{}).field.dense();
         (*models_)[name] = Model{std::move(mesh), std::move(field)};
     }
 
@@ -476,13 +476,13 @@ TEST_F(RenderTest, SliceCutRemovesOneSide) {
 // A band field, shown resampled.
 
 TEST_F(RenderTest, BandFieldIsResampledToFit) {
-    const glm::ivec3 d = band_->grid.dims, shown = bandShown_->field.grid.dims;
+    const glm::ivec3 d = band_->grid().dims, shown = bandShown_->field.grid.dims;
     EXPECT_EQ(bandShown_->factor, 4);
     EXPECT_EQ(shown, (d + 3) / 4);
     EXPECT_EQ(bandShown_->line, "band field " + std::to_string(d.x) + "x" + std::to_string(d.y) + "x" + std::to_string(d.z) +
                                     " (band 1 voxels): shown resampled to " + std::to_string(shown.x) + "x" + std::to_string(shown.y) + "x" +
                                     std::to_string(shown.z));
-    EXPECT_EQ(bandShown_->field.background, band_->background);
+    EXPECT_EQ(bandShown_->field.background, band_->background());
     // The shown samples lie on the res-128 dense bake's: their sides agree but next to the surface.
     const Field& dense = models_->at("bunny").field;
     ASSERT_EQ(dense.grid.origin, bandShown_->field.grid.origin);
@@ -491,10 +491,10 @@ TEST_F(RenderTest, BandFieldIsResampledToFit) {
         for (int j = 0; j < std::min(shown.y, dense.grid.dims.y); ++j)
             for (int i = 0; i < std::min(shown.x, dense.grid.dims.x); ++i) {
                 const float v = bandShown_->field.at(i, j, k);
-                ASSERT_LE(std::abs(v), band_->background);
+                ASSERT_LE(std::abs(v), band_->background());
                 if ((i + j + k) % 5 == 0) { // SparseField::sample's value, exactly (clamped to the background)
                     const float sampled = band_->sample(bandShown_->field.grid.position(i, j, k));
-                    ASSERT_EQ(v, std::clamp(sampled, -band_->background, band_->background)) << i << " " << j << " " << k;
+                    ASSERT_EQ(v, std::clamp(sampled, -band_->background(), band_->background())) << i << " " << j << " " << k;
                 }
                 differ += std::abs(dense.at(i, j, k)) > float(dense.grid.voxel) && (v < 0.0f) != (dense.at(i, j, k) < 0.0f);
                 ++compared;
@@ -505,7 +505,7 @@ TEST_F(RenderTest, BandFieldIsResampledToFit) {
     BakeSettings settings;
     settings.res = 32;
     settings.band = 2;
-    const SparseField small = bake(torus, Bvh(torus), settings, RunControl{}).sparse;
+    const SparseField small = bake(torus, Bvh(torus), settings, RunControl{}).field.band();
     const BandDisplay full = bandDisplay(small, 128);
     EXPECT_EQ(full.factor, 1);
     EXPECT_EQ(full.field.values, small.toDense().values);
@@ -543,7 +543,7 @@ TEST_F(RenderTest, BandFieldRaymarchMatchesMesh) {
     const double dense = brightness(draw("bunny", only("raymarch"), 30.0f, 20.0f, black, true));
     EXPECT_GT(band, 0.85 * dense) << "the band field's surface is darker than the dense field's";
     draw("bunny band", only("slice"));
-    EXPECT_EQ(scene_->effectiveRange(glm::vec2(0.0f)), glm::vec2(-band_->background, band_->background));
+    EXPECT_EQ(scene_->effectiveRange(glm::vec2(0.0f)), glm::vec2(-band_->background(), band_->background()));
     const Image empty = draw("bunny band", only("none"));
     for (const char* view : {"slice", "volume"}) {
         EXPECT_GT(differingPixels(draw("bunny band", only(view)), empty, 8), pixelCount(empty) / 50) << view << " leaves the image (nearly) blank";

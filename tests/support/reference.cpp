@@ -27,7 +27,7 @@ const Field& bruteField(const std::string& name, const Mesh& mesh, int res) {
     const std::string key = name + "@" + std::to_string(res);
     auto it = cache.find(key);
     if (it == cache.end()) {
-        it = cache.emplace(key, bakeWith(mesh, res, DistanceMethod::Brute, SignMethod::Winding).field).first;
+        it = cache.emplace(key, bakeWith(mesh, res, DistanceMethod::Brute, SignMethod::Winding).field.dense()).first;
     }
     return it->second;
 }

@@ -109,12 +109,12 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
         return list;
     };
     if (banded) {
-        bakeBand(methodContext, result, control);
+        SparseField field = bakeBand(methodContext, result, control);
         result.sign = sign;
         result.signSeconds += checkSeconds;
-        result.sparse.method = method.name;
-        result.sparse.parameters = parameters(sign);
-        static_cast<FieldHeader&>(result.field) = result.sparse; // the dense field's header only, no values
+        field.method = method.name;
+        field.parameters = parameters(sign);
+        result.field = std::move(field);
         return result;
     }
 
@@ -138,7 +138,7 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     result.sign = sign;
     result.signSeconds = checkSeconds + since(signStart);
 
-    Field& field = result.field;
+    Field field;
     field.source = context.mesh.source;
     field.grid = context.grid;
     field.values = std::move(pass.distance);
@@ -150,6 +150,7 @@ BakeResult bakeContext(const BakeContext& context, const RunControl& control) {
     }
     field.method = method.name;
     field.parameters = parameters(result.sign);
+    result.field = std::move(field);
     return result;
 }
 

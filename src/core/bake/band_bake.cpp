@@ -198,7 +198,7 @@ std::uint64_t estimateBandBakeBytes(const Mesh& mesh, const Grid& grid, double b
                          double(mesh.triangleCount()) * 160.0);
 }
 
-void bakeBand(const BakeContext& context, BakeResult& result, const RunControl& control) {
+SparseField bakeBand(const BakeContext& context, BakeResult& result, const RunControl& control) {
     const DistanceMethodPlugin& method = distanceMethod(context.settings.method);
     const SignMethodPlugin& sign = signMethod(context.sign);
     const Mesh& mesh = context.mesh;
@@ -207,11 +207,11 @@ void bakeBand(const BakeContext& context, BakeResult& result, const RunControl& 
     using Clock = std::chrono::steady_clock;
     auto since = [](Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); };
 
-    SparseField& field = result.sparse;
-    field.grid = grid;
-    field.source = mesh.source;
-    field.background = float(band * grid.voxel);
-    if (!(field.background > 0.0f) || !std::isfinite(field.background)) {
+    FieldHeader header;
+    header.grid = grid;
+    header.source = mesh.source;
+    header.background = float(band * grid.voxel);
+    if (!(header.background > 0.0f) || !std::isfinite(header.background)) {
         throw Error(mesh.source + ": a band of " + std::to_string(band) + " voxels is beyond single precision at this grid's scale");
     }
     const glm::ivec3 brickDims = (grid.dims + (kBrick - 1)) / kBrick;
@@ -224,7 +224,7 @@ void bakeBand(const BakeContext& context, BakeResult& result, const RunControl& 
     std::vector<BrickFinder::Found> found(tops.size());
     parallelFor(tops.size(), control.phase(0.0, 0.05), [&](std::size_t n) { finder.visit(tops[n], BrickFinder::kTop, false, found[n]); });
     BandSides sides;
-    sides.background = field.background;
+    sides.background = header.background;
     for (BrickFinder::Found& f : found) {
         sides.bricks.insert(sides.bricks.end(), f.inBand.begin(), f.inBand.end());
         sides.fanBricks.insert(sides.fanBricks.end(), f.nearFans.begin(), f.nearFans.end());
@@ -242,7 +242,7 @@ void bakeBand(const BakeContext& context, BakeResult& result, const RunControl& 
     sides.bricks.reserve(sides.bricks.size() + sides.fanBricks.size());
     sides.values.reserve((sides.bricks.size() + sides.fanBricks.size()) * SparseField::kBrickSamples);
     populatePages(sides.values.data(), sides.bricks.size() * SparseField::kBrickSamples * sizeof(float), quiet(control));
-    sides.values.assign(sides.bricks.size() * SparseField::kBrickSamples, field.background);
+    sides.values.assign(sides.bricks.size() * SparseField::kBrickSamples, header.background);
     const bool signedAsMeasured = method.bricks(context, sides.bricks.data(), sides.bricks.size(), finder.band * (1.0 + 1e-5),
                                                 sides.values.data(), control.phase(0.05, 0.75));
     result.distanceSeconds = since(start);
@@ -253,9 +253,7 @@ void bakeBand(const BakeContext& context, BakeResult& result, const RunControl& 
     sides.signBricks = !signedAsMeasured && !sign.bricks;
     bandWindingSigns(mesh, context.topology(), caps, grid, sides, control.phase(0.75, 1.0));
     result.signSeconds += since(start);
-    field.bricks = std::move(sides.bricks);
-    field.values = std::move(sides.values);
-    field.insideBoxes = std::move(sides.insideBoxes);
+    return SparseField(header, {std::move(sides.bricks), std::move(sides.values), std::move(sides.insideBoxes)}, mesh.source);
 }
 
 } // namespace sdfgen

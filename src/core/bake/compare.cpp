@@ -119,23 +119,23 @@ FieldDifference compareFields(const Field& a, const Field& b, double bandVoxels,
 }
 
 FieldDifference compareSparseFields(const SparseField& a, const SparseField& b, double bandVoxels) {
-    checkSameGrid(a.grid, b.grid);
+    checkSameGrid(a.grid(), b.grid());
     constexpr int B = SparseField::kBrick;
-    const glm::ivec3 dims = a.grid.dims;
-    Tally tally(bandVoxels * a.grid.voxel, a.background, b.background);
+    const glm::ivec3 dims = a.grid().dims;
+    Tally tally(bandVoxels * a.grid().voxel, a.background(), b.background());
     // Sample by sample in the bricks either field stores, walking both brick lists in their order;
     // a field without the brick holds one value there (+-background, from its inside boxes).
     std::uint64_t brickSamples = 0;
     std::uint64_t insideA = 0, insideB = 0; // samples of each's inside boxes, less those in the other's bricks
-    for (const auto& box : a.insideBoxes) insideA += samplesIn(box);
-    for (const auto& box : b.insideBoxes) insideB += samplesIn(box);
-    for (std::size_t ia = 0, ib = 0; ia < a.bricks.size() || ib < b.bricks.size();) {
-        const bool inA = ib == b.bricks.size() || (ia < a.bricks.size() && !before(b.bricks[ib], a.bricks[ia]));
-        const bool inB = ia == a.bricks.size() || (ib < b.bricks.size() && !before(a.bricks[ia], b.bricks[ib]));
-        const glm::ivec3 lo = (inA ? a.bricks[ia] : b.bricks[ib]) * B, hi = glm::min(lo + B, dims);
+    for (const auto& box : a.insideBoxes()) insideA += samplesIn(box);
+    for (const auto& box : b.insideBoxes()) insideB += samplesIn(box);
+    for (std::size_t ia = 0, ib = 0; ia < a.bricks().size() || ib < b.bricks().size();) {
+        const bool inA = ib == b.bricks().size() || (ia < a.bricks().size() && !before(b.bricks()[ib], a.bricks()[ia]));
+        const bool inB = ia == a.bricks().size() || (ib < b.bricks().size() && !before(a.bricks()[ia], b.bricks()[ib]));
+        const glm::ivec3 lo = (inA ? a.bricks()[ia] : b.bricks()[ib]) * B, hi = glm::min(lo + B, dims);
         const std::uint64_t samples = std::uint64_t(hi.x - lo.x) * std::uint64_t(hi.y - lo.y) * std::uint64_t(hi.z - lo.z);
-        const float* valuesA = inA ? &a.values[ia * SparseField::kBrickSamples] : nullptr;
-        const float* valuesB = inB ? &b.values[ib * SparseField::kBrickSamples] : nullptr;
+        const float* valuesA = inA ? &a.values()[ia * SparseField::kBrickSamples] : nullptr;
+        const float* valuesB = inB ? &b.values()[ib * SparseField::kBrickSamples] : nullptr;
         const float sideA = inA ? 0.0f : a.at(lo.x, lo.y, lo.z), sideB = inB ? 0.0f : b.at(lo.x, lo.y, lo.z);
         if (!inA && sideA < 0) insideA -= samples;
         if (!inB && sideB < 0) insideB -= samples;
@@ -152,8 +152,8 @@ FieldDifference compareSparseFields(const SparseField& a, const SparseField& b, 
     // The rest: both at +-background, on different sides where exactly one is inside (inside
     // boxes never hold their own field's bricks, so the shared ones hold no brick at all).
     const std::uint64_t rest = Grid::checkedSampleCount(dims) - brickSamples;
-    tally.addOutsideBricks(rest, insideA + insideB - 2 * sharedInsideSamples(a.insideBoxes, b.insideBoxes));
-    return tally.result(a.grid.voxel);
+    tally.addOutsideBricks(rest, insideA + insideB - 2 * sharedInsideSamples(a.insideBoxes(), b.insideBoxes()));
+    return tally.result(a.grid().voxel);
 }
 
 } // namespace sdfgen

@@ -6,7 +6,7 @@
 
 namespace sdfgen {
 
-std::string fieldMismatch(const Field& field, const Mesh& mesh) {
+std::string fieldMismatch(const FieldHeader& field, const Mesh& mesh) {
     namespace fs = std::filesystem;
     const std::string fieldSource = fs::path(field.source).filename().string();
     const std::string meshSource = fs::path(mesh.source).filename().string();

@@ -31,7 +31,7 @@ void saveVdb(const Field& field, const std::string& path, const SaveOptions& opt
     openVdbPlugin().save(field, path, options);
 }
 
-Field loadVdb(const std::string& path, const RunControl& control) {
+AnyField loadVdb(const std::string& path, const RunControl& control) {
     if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
     return openVdbPlugin().load(path, control);
 }
@@ -44,16 +44,6 @@ void saveSparseVdb(const SparseField& field, const std::string& path) {
 void saveSparseVdbGivenUp(SparseField&& field, const std::string& path) {
     if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
     openVdbPlugin().saveSparseGivenUp(std::move(field), path);
-}
-
-SparseField loadSparseVdb(const std::string& path, const RunControl& control) {
-    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
-    return openVdbPlugin().loadSparse(path, control);
-}
-
-bool isSparseVdb(const std::string& path) {
-    if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
-    return openVdbPlugin().isSparse(path);
 }
 
 } // namespace formats

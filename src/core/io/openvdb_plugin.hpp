@@ -16,16 +16,14 @@ namespace sdfgen {
 
 struct OpenVdbPlugin {
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
-    Field (*load)(const std::string& path, const RunControl& control); // control as loadField's
+    AnyField (*load)(const std::string& path, const RunControl& control); // loadAnyField's
     // openvdb::tools::volumeToMesh of the field at `iso`: world positions, triangles and quads as
     // OpenVDB winds them.
     void (*polygons)(const Field& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
                      std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads);
-    // The same for band fields: a level set written straight from the bricks, read back as
-    // bricks, and meshed as a level set, never made dense.
+    // The same for band fields: a level set written straight from the bricks (and read back as
+    // bricks by load), and meshed as a level set, never made dense.
     void (*saveSparse)(const SparseField& field, const std::string& path);
-    SparseField (*loadSparse)(const std::string& path, const RunControl& control);
-    bool (*isSparse)(const std::string& path);
     void (*saveSparseGivenUp)(SparseField&& field, const std::string& path); // saveSparseField(SparseField&&)
     void (*polygonsSparse)(const SparseField& field, double iso, double adaptivity, std::vector<glm::vec3>& points,
                            std::vector<glm::uvec3>& triangles, std::vector<glm::uvec4>& quads);

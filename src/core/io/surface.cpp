@@ -38,22 +38,22 @@ bool boundaryReaches(const Field& field, double iso, glm::ivec3& where) {
 // it (every other sample is +background, above an iso within the band).
 bool boundaryReaches(const SparseField& field, double iso, glm::ivec3& where) {
     constexpr int B = SparseField::kBrick;
-    const glm::ivec3 n = field.grid.dims;
+    const glm::ivec3 n = field.grid().dims;
     auto onBoundary = [&](const glm::ivec3& p) { return glm::any(glm::equal(p, glm::ivec3(0))) || glm::any(glm::equal(p, n - 1)); };
-    for (std::size_t b = 0; b < field.bricks.size(); ++b) {
-        const glm::ivec3 lo = field.bricks[b] * B, hi = glm::min(lo + B, n);
+    for (std::size_t b = 0; b < field.bricks().size(); ++b) {
+        const glm::ivec3 lo = field.bricks()[b] * B, hi = glm::min(lo + B, n);
         if (!onBoundary(lo) && !glm::any(glm::equal(hi, n))) continue;
         for (int k = lo.z; k < hi.z; ++k)
             for (int j = lo.y; j < hi.y; ++j)
                 for (int i = lo.x; i < hi.x; ++i) {
                     const glm::ivec3 p(i, j, k);
-                    if (onBoundary(p) && double(field.values[b * SparseField::kBrickSamples + std::size_t(((k - lo.z) * B + (j - lo.y)) * B + (i - lo.x))]) <= iso) {
+                    if (onBoundary(p) && double(field.values()[b * SparseField::kBrickSamples + std::size_t(((k - lo.z) * B + (j - lo.y)) * B + (i - lo.x))]) <= iso) {
                         where = p;
                         return true;
                     }
                 }
     }
-    for (const auto& box : field.insideBoxes) {
+    for (const auto& box : field.insideBoxes()) {
         const glm::ivec3 lo(box[0], box[1], box[2]), hi(box[3], box[4], box[5]);
         for (int a = 0; a < 3; ++a) {
             if (lo[a] == 0 || hi[a] == n[a]) {
@@ -153,31 +153,31 @@ SurfaceMesh surfaceMesh(std::vector<glm::vec3>&& positions, const std::vector<gl
     return mesh;
 }
 
-// The plugin's polygons of `field` (its polygons or polygonsSparse) as a checked surface mesh.
-template <class AnyField, class Polygons>
-SurfaceMesh polygonize(const AnyField& field, double iso, double adaptivity, Polygons polygons) {
+// The plugin's polygons of `field` (its polygons or polygonsSparse) on `grid` as a checked surface mesh.
+template <class DenseOrBand, class Polygons>
+SurfaceMesh polygonize(const DenseOrBand& field, const Grid& grid, double iso, double adaptivity, Polygons polygons) {
     checkSurfaceCanClose(field, iso, adaptivity);
     std::vector<glm::vec3> positions;
     std::vector<glm::uvec3> triangles;
     std::vector<glm::uvec4> quads;
     polygons(field, iso, adaptivity, positions, triangles, quads);
-    return surfaceMesh(std::move(positions), triangles, quads, field.grid, iso);
+    return surfaceMesh(std::move(positions), triangles, quads, grid, iso);
 }
 
 } // namespace
 
 SurfaceMesh extractSurface(const Field& field, double iso, double adaptivity) {
-    return polygonize(field, iso, adaptivity, openVdbPlugin().polygons);
+    return polygonize(field, field.grid, iso, adaptivity, openVdbPlugin().polygons);
 }
 
 SurfaceMesh extractSurface(const SparseField& field, double iso, double adaptivity) {
-    if (std::isfinite(iso) && !(std::fabs(iso) < double(field.background))) {
+    if (std::isfinite(iso) && !(std::fabs(iso) < double(field.background()))) {
         char message[160];
         std::snprintf(message, sizeof message, "iso %g lies outside the band field's band (|d| < %g), where it holds only the side of the surface",
-                      iso, double(field.background));
+                      iso, double(field.background()));
         throw Error(message);
     }
-    return polygonize(field, iso, adaptivity, openVdbPlugin().polygonsSparse);
+    return polygonize(field, field.grid(), iso, adaptivity, openVdbPlugin().polygonsSparse);
 }
 
 void saveSurface(const SurfaceMesh& mesh, const std::string& path) {

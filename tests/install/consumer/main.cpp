@@ -14,12 +14,13 @@ int main(int argc, char** argv) {
         sdfgen::BakeSettings settings;
         settings.res = 16;
         const sdfgen::BakeResult result = model.bake(settings);
-        sdfgen::saveField(result.field, argv[2]);
+        const sdfgen::Field& field = result.field.dense();
+        sdfgen::saveField(field, argv[2]);
         const sdfgen::WorldBounds box = model.mesh().worldBounds();
         const glm::dvec3 centre = 0.5 * (box.min + box.max);
         const float inside = model.signedDistance({centre})[0];
         std::printf("%zu triangles, %dx%dx%d samples, sign %s, distance at the centre %g\n", model.mesh().triangleCount(),
-                    result.field.grid.dims.x, result.field.grid.dims.y, result.field.grid.dims.z,
+                    field.grid.dims.x, field.grid.dims.y, field.grid.dims.z,
                     sdfgen::toString(result.sign), double(inside));
         return 0;
     } catch (const sdfgen::Error& e) {

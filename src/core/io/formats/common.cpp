@@ -102,8 +102,7 @@ void checkField(const Field& field, const std::string& path) {
 }
 
 void checkSparseField(const SparseField& field, const std::string& path) {
-    checkGrid(field.grid, path);
-    field.check(path);
+    checkGrid(field.grid(), path);
     checkNames(field.source, field.method, field.parameters, path);
 }
 
@@ -117,14 +116,11 @@ float bandBackground(const Field& field) {
     return valid ? background : float(3 * field.grid.voxel);
 }
 
-SparseField sparseFromDense(const Field& field, float background) {
+SparseField sparseFromDense(const Field& field, float background, const std::string& where) {
     constexpr int B = SparseField::kBrick;
-    SparseField sparse;
-    sparse.source = field.source;
-    sparse.method = field.method;
-    sparse.parameters = field.parameters;
-    sparse.grid = field.grid;
-    sparse.background = background;
+    FieldHeader header = field;
+    header.background = background;
+    SparseField::Storage storage;
     const glm::ivec3 dims = field.grid.dims, bricks = (dims + (B - 1)) / B;
     std::vector<float> brick(SparseField::kBrickSamples);
     for (int bz = 0; bz < bricks.z; ++bz) {
@@ -149,17 +145,17 @@ SparseField sparseFromDense(const Field& field, float background) {
                 const bool inside = bx < bricks.x && !stored && negative;
                 if (inside && insideFrom < 0) insideFrom = bx;
                 if (!inside && insideFrom >= 0) {
-                    sparse.insideBoxes.push_back(SparseField::insideBox(dims, insideFrom, bx, by, bz));
+                    storage.insideBoxes.push_back(SparseField::insideBox(dims, insideFrom, bx, by, bz));
                     insideFrom = -1;
                 }
                 if (stored) {
-                    sparse.bricks.emplace_back(bx, by, bz);
-                    sparse.values.insert(sparse.values.end(), brick.begin(), brick.end());
+                    storage.bricks.emplace_back(bx, by, bz);
+                    storage.values.insert(storage.values.end(), brick.begin(), brick.end());
                 }
             }
         }
     }
-    return sparse;
+    return SparseField(header, std::move(storage), where);
 }
 
 void checkDimsFit(const std::uint64_t dims[3], const std::string& path) {

@@ -33,13 +33,11 @@ struct FieldFormat {
     const char* description; // for help texts (knownFieldFormats)
     bool holdsChannels;      // writes Field::channels (see sdfgen/channels.hpp)
     void (*save)(const Field& field, const std::string& path, const SaveOptions& options);
-    Field (*load)(const std::string& path, const RunControl& control);
+    // The field as the file holds it, dense or band (loadAnyField), the file read once.
+    AnyField (*load)(const std::string& path, const RunControl& control);
     // The narrow-band side, null for the dense-only formats (saveSparseField writes those the
-    // field's dense form; loadSparseField reads their samples). loadSparse reads any file of the
-    // format, dense ones through sparseFromDense; isSparse reads only what tells the two apart.
+    // field's dense form).
     void (*saveSparse)(const SparseField& field, const std::string& path) = nullptr;
-    SparseField (*loadSparse)(const std::string& path, const RunControl& control) = nullptr;
-    bool (*isSparse)(const std::string& path) = nullptr;
     // saveSparse for a field given up (saveSparseField(SparseField&&)); null where saveSparse needs no second copy.
     void (*saveSparseGivenUp)(SparseField&& field, const std::string& path) = nullptr;
 };
@@ -61,7 +59,8 @@ void checkGrid(const Grid& grid, const std::string& path);
 // values of its type ("the gradient channel has 9 values for WHAT").
 void checkChannelSize(const ChannelValues& channel, std::size_t count, const std::string& path, const std::string& what);
 
-// checkField for a narrow-band field: the grid, SparseField::check, and the names.
+// checkField for a narrow-band field: what its file can hold of its grid and names (its samples
+// are valid by construction).
 void checkSparseField(const SparseField& field, const std::string& path);
 
 // The background of a dense field read as a band field: Field::background when set, else the
@@ -69,7 +68,8 @@ void checkSparseField(const SparseField& field, const std::string& path);
 float bandBackground(const Field& field);
 // The band field of a dense one: bricks where a sample lies within `background` of the surface or
 // the side changes, values clamped to +-background; inside boxes where whole bricks are inside.
-SparseField sparseFromDense(const Field& field, float background);
+// Errors name `where`.
+SparseField sparseFromDense(const Field& field, float background, const std::string& where);
 
 // Throws Error naming `path` when a grid of these dimensions cannot be held in memory (the memory
 // available now), before anything is allocated for it. Every dimension must be at least 1 and fit
@@ -99,16 +99,12 @@ struct NpzMember {
 void writeNpz(const std::string& path, const std::vector<NpzMember>& members);
 
 void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadNpz(const std::string& path, const RunControl& control);
+AnyField loadNpz(const std::string& path, const RunControl& control);
 void saveSparseNpz(const SparseField& field, const std::string& path);
-SparseField loadSparseNpz(const std::string& path, const RunControl& control);
-bool isSparseNpz(const std::string& path);
 void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadVdb(const std::string& path, const RunControl& control);
+AnyField loadVdb(const std::string& path, const RunControl& control);
 void saveSparseVdb(const SparseField& field, const std::string& path);
 void saveSparseVdbGivenUp(SparseField&& field, const std::string& path);
-SparseField loadSparseVdb(const std::string& path, const RunControl& control);
-bool isSparseVdb(const std::string& path);
 void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);
 Field loadNrrd(const std::string& path, const RunControl& control);
 

@@ -364,16 +364,44 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     writeNpz(path, members);
 }
 
-Field loadNpz(const std::string& path, const RunControl& control) {
-    const ArchiveReader archive(path);
-    if (archive.has(kBrickOrigins)) {
-        try {
-            return loadSparseNpz(path, control).toDense();
-        } catch (const Error& e) {
-            const std::string message = e.what();
-            throw Error(message.rfind(path, 0) == 0 ? message : path + ": " + message);
+namespace {
+
+// The band field of an archive that has brick_origins.
+SparseField loadBandNpz(const ArchiveReader& archive, const std::string& path, const RunControl& control) {
+    Field names;
+    readGridAndNames(archive, path, names, true);
+    checkGrid(names.grid, path);
+    FieldHeader header = std::move(names);
+    const std::vector<double> background = parseNpyNumbers(archive.readSmall(kBackground), path + ": " + kBackground);
+    if (background.size() != 1) throw Error(path + ": " + kBackground + " is not a single number");
+    header.background = float(background[0]);
+    const std::vector<std::int32_t> origins = readIntRows(archive, kBrickOrigins, 3, path);
+    SparseField::Storage storage;
+    const std::size_t bricks = origins.size() / 3;
+    storage.bricks.resize(bricks);
+    for (std::size_t b = 0; b < bricks; ++b) {
+        for (int a = 0; a < 3; ++a) {
+            const std::int32_t first = origins[3 * b + std::size_t(a)];
+            if (first % SparseField::kBrick != 0) {
+                throw Error(path + ": " + kBrickOrigins + ": brick " + std::to_string(b) + " does not start on a multiple of 8");
+            }
+            storage.bricks[b][a] = first / SparseField::kBrick;
         }
     }
+    storage.values = readBrickValues(archive, bricks, path, control);
+    const std::vector<std::int32_t> boxes = readIntRows(archive, kInsideBoxes, 6, path);
+    storage.insideBoxes.resize(boxes.size() / 6);
+    if (!boxes.empty()) std::memcpy(storage.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));
+    SparseField field(header, std::move(storage), path);
+    checkSparseField(field, path);
+    return field;
+}
+
+} // namespace
+
+AnyField loadNpz(const std::string& path, const RunControl& control) {
+    const ArchiveReader archive(path);
+    if (archive.has(kBrickOrigins)) return loadBandNpz(archive, path, control);
     Field field;
     {
         const std::string where = path + ": sdf.npy";
@@ -390,26 +418,23 @@ Field loadNpz(const std::string& path, const RunControl& control) {
     return field;
 }
 
-} // namespace sdfgen::formats
-
-namespace sdfgen::formats {
-
 void saveSparseNpz(const SparseField& field, const std::string& path) {
     checkSparseField(field, path);
-    const Grid& g = field.grid;
+    const Grid& g = field.grid();
     std::vector<std::int32_t> origins;
-    origins.reserve(3 * field.bricks.size());
-    for (const glm::ivec3& brick : field.bricks) {
+    origins.reserve(3 * field.bricks().size());
+    for (const glm::ivec3& brick : field.bricks()) {
         for (int a = 0; a < 3; ++a) origins.push_back(brick[a] * SparseField::kBrick);
     }
+    const float backgroundValue = field.background();
     std::string background = npyHeader("<f4", false, {});
-    background.append(reinterpret_cast<const char*>(&field.background), sizeof(float));
-    const std::uint64_t bricks = field.bricks.size(), B = SparseField::kBrick;
+    background.append(reinterpret_cast<const char*>(&backgroundValue), sizeof(float));
+    const std::uint64_t bricks = field.bricks().size(), B = SparseField::kBrick;
     const std::vector<NpzMember> members = {
         {kBrickOrigins, npyHeader("<i4", false, {bricks, 3}), origins.data(), origins.size() * sizeof(std::int32_t)},
-        {kBrickValues, npyHeader("<f4", true, {B, B, B, bricks}), field.values.data(), field.values.size() * sizeof(float)},
-        {kInsideBoxes, npyHeader("<i4", false, {field.insideBoxes.size(), 6}), field.insideBoxes.data(),
-         field.insideBoxes.size() * sizeof(field.insideBoxes[0])},
+        {kBrickValues, npyHeader("<f4", true, {B, B, B, bricks}), field.values().data(), field.values().size() * sizeof(float)},
+        {kInsideBoxes, npyHeader("<i4", false, {field.insideBoxes().size(), 6}), field.insideBoxes().data(),
+         field.insideBoxes().size() * sizeof(field.insideBoxes()[0])},
         {kBackground, background},
         {"origin.npy", npyFloat64Array({double(g.origin.x), double(g.origin.y), double(g.origin.z)}, false)},
         {"voxel_size.npy", npyFloat64Array({double(g.voxel)}, true)},
@@ -419,44 +444,5 @@ void saveSparseNpz(const SparseField& field, const std::string& path) {
     };
     writeNpz(path, members);
 }
-
-SparseField loadSparseNpz(const std::string& path, const RunControl& control) {
-    const ArchiveReader archive(path);
-    if (!archive.has(kBrickOrigins)) {
-        const Field dense = loadNpz(path, control);
-        return sparseFromDense(dense, bandBackground(dense));
-    }
-    Field names;
-    readGridAndNames(archive, path, names, true);
-    SparseField field;
-    field.grid = names.grid;
-    field.source = std::move(names.source);
-    field.method = std::move(names.method);
-    field.parameters = std::move(names.parameters);
-    checkGrid(field.grid, path);
-    const std::vector<double> background = parseNpyNumbers(archive.readSmall(kBackground), path + ": " + kBackground);
-    if (background.size() != 1) throw Error(path + ": " + kBackground + " is not a single number");
-    field.background = float(background[0]);
-    const std::vector<std::int32_t> origins = readIntRows(archive, kBrickOrigins, 3, path);
-    const std::size_t bricks = origins.size() / 3;
-    field.bricks.resize(bricks);
-    for (std::size_t b = 0; b < bricks; ++b) {
-        for (int a = 0; a < 3; ++a) {
-            const std::int32_t first = origins[3 * b + std::size_t(a)];
-            if (first % SparseField::kBrick != 0) {
-                throw Error(path + ": " + kBrickOrigins + ": brick " + std::to_string(b) + " does not start on a multiple of 8");
-            }
-            field.bricks[b][a] = first / SparseField::kBrick;
-        }
-    }
-    field.values = readBrickValues(archive, bricks, path, control);
-    const std::vector<std::int32_t> boxes = readIntRows(archive, kInsideBoxes, 6, path);
-    field.insideBoxes.resize(boxes.size() / 6);
-    if (!boxes.empty()) std::memcpy(field.insideBoxes.data(), boxes.data(), boxes.size() * sizeof(std::int32_t));
-    checkSparseField(field, path);
-    return field;
-}
-
-bool isSparseNpz(const std::string& path) { return ArchiveReader(path).has(kBrickOrigins); }
 
 } // namespace sdfgen::formats

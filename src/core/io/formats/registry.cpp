@@ -7,24 +7,31 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 
 namespace sdfgen {
 
 namespace formats {
 
+namespace {
+
+// The load of a format that holds dense fields only.
+template <Field (*load)(const std::string&, const RunControl&)>
+AnyField loadDense(const std::string& path, const RunControl& control) {
+    return load(path, control);
+}
+
+} // namespace
+
 const std::vector<FieldFormat>& fieldFormats() {
     static const std::vector<FieldFormat> table = {
-        {".sdf", "sdfgen text (docs/field-format.md)", false, saveText, loadText, nullptr, nullptr, nullptr},
-        {".npy", "NumPy float32 array (nx, ny, nz), values only", false, saveNpy, loadNpy, nullptr, nullptr, nullptr},
+        {".sdf", "sdfgen text (docs/field-format.md)", false, saveText, loadDense<loadText>},
+        {".npy", "NumPy float32 array (nx, ny, nz), values only", false, saveNpy, loadDense<loadNpy>},
         {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source, and any channels; a band field as bricks",
-         true, saveNpz, loadNpz, saveSparseNpz, loadSparseNpz, isSparseNpz},
+         true, saveNpz, loadNpz, saveSparseNpz},
         {".vdb", "OpenVDB FloatGrid 'surface', level set class, and any channels as grids of their names", true, saveVdb, loadVdb,
-         saveSparseVdb, loadSparseVdb, isSparseVdb, saveSparseVdbGivenUp},
-        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadNrrd, nullptr, nullptr, nullptr},
+         saveSparseVdb, saveSparseVdbGivenUp},
+        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadDense<loadNrrd>},
     };
     return table;
 }
@@ -68,18 +75,32 @@ void refuseDirectory(const std::string& path) {
 
 } // namespace
 
-Field loadField(const std::string& path, const RunControl& control) {
+AnyField loadAnyField(const std::string& path, const RunControl& control) {
     refuseDirectory(path);
-    Field field = namingOutOfMemory(path, "reading it", [&] { return formats::formatOf(path).load(path, control); });
+    AnyField loaded = namingOutOfMemory(path, "reading it", [&] { return formats::formatOf(path).load(path, control); });
     // A band field's dense form saved in a dense format keeps only its `band` parameter.
-    if (field.background == 0 && !field.parameter("band").empty()) field.background = formats::bandBackground(field);
-    return field;
+    if (!loaded.isBand()) {
+        Field& field = loaded.dense();
+        if (field.background == 0 && !field.parameter("band").empty()) field.background = formats::bandBackground(field);
+    }
+    return loaded;
+}
+
+Field loadField(const std::string& path, const RunControl& control) {
+    AnyField loaded = loadAnyField(path, control);
+    if (!loaded.isBand()) return std::move(loaded.dense());
+    return namingOutOfMemory(path, "reading it", [&] {
+        try {
+            return loaded.band().toDense();
+        } catch (const Error& e) { // toDense names the field, not the file
+            throw Error(path + ": " + e.what());
+        }
+    });
 }
 
 void saveSparseField(const SparseField& field, const std::string& path) {
     const formats::FieldFormat& format = formats::formatOf(path);
     if (format.saveSparse) return namingOutOfMemory(path, "writing it", [&] { format.saveSparse(field, path); });
-    formats::checkSparseField(field, path);
     Field dense;
     try {
         dense = field.toDense();
@@ -98,22 +119,16 @@ void saveSparseField(SparseField&& field, const std::string& path) {
     saveSparseField(mine, path);
 }
 
-SparseField loadSparseField(const std::string& path, const RunControl& control) {
-    refuseDirectory(path);
-    const formats::FieldFormat& format = formats::formatOf(path);
-    return namingOutOfMemory(path, "reading it", [&] {
-        if (format.loadSparse) return format.loadSparse(path, control);
-        const Field dense = loadField(path, control);
-        return formats::sparseFromDense(dense, formats::bandBackground(dense));
-    });
+void saveAnyField(AnyField&& field, const std::string& path, const SaveOptions& options) {
+    if (field.isBand()) return saveSparseField(std::move(field.band()), path);
+    saveField(field.dense(), path, options);
 }
 
-bool isSparseFieldFile(const std::string& path) {
-    refuseDirectory(path);
-    const formats::FieldFormat& format = formats::formatOf(path);
-    if (format.isSparse) return format.isSparse(path);
-    if (!std::ifstream(path, std::ios::binary)) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
-    return false;
+SparseField loadSparseField(const std::string& path, const RunControl& control) {
+    AnyField loaded = loadAnyField(path, control);
+    if (loaded.isBand()) return std::move(loaded.band());
+    const Field& dense = loaded.dense();
+    return namingOutOfMemory(path, "reading it", [&] { return formats::sparseFromDense(dense, formats::bandBackground(dense), path); });
 }
 
 std::vector<std::string> fieldFormatExtensions() {
