@@ -29,7 +29,6 @@ using NearestRowStore = std::function<void(int i, int j, int k, int count, const
 
 // What a method may use: the mesh, its tree, the grid, the settings, and the mesh's wide tree,
 // topology and check, built on first use and cached by whoever owns the mesh (sdfgen::Model).
-
 struct BakeContext {
     const Mesh& mesh;
     const Bvh& tree;

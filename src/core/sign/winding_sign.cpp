@@ -569,13 +569,6 @@ bool WindingCaps::inside(const glm::dvec3& p, int ahead, std::size_t* evaluation
     return std::fabs(walk(p, ahead, 1e-15, evaluations).first) > 0.5;
 }
 
-bool WindingCaps::insideSooner(const glm::dvec3& p, int ahead) const {
-    // Most points: every fan together moves w by less than 0.45 (see farFromEveryFan).
-    if (nodes_.empty() || bound(nodes_[0], p, 0.0) < 0.45) return ahead != 0;
-    const auto [w, doubtful] = walk(p, ahead, kDecisionMargin, nullptr, true);
-    return doubtful ? inside(p, ahead) : std::fabs(w) > 0.5;
-}
-
 void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
                       const Cut* within) const {
     out.nearNodes.clear();
@@ -778,7 +771,7 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
     };
     for (std::size_t i = 0; i < count; ++i) {
         const glm::dvec3& p = points[i];
-        if (nodes_.empty() || bound(nodes_[0], p, 0.0) < 0.45) { // as insideSooner: the count decides
+        if (nodes_.empty() || bound(nodes_[0], p, 0.0) < 0.45) { // every fan together moves w by less than 0.45 (farFromEveryFan)
             flags[i] = ahead[i] != 0;
             continue;
         }

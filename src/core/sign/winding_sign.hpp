@@ -59,16 +59,14 @@ public:
     // every fan exactly; so the answer is that of w in double and p pays only for the fans that can
     // move w across 1/2 or -1/2. `evaluations` (when given) counts the fans measured.
     bool inside(const glm::dvec3& p, int ahead, std::size_t* evaluations = nullptr) const;
-    // inside(), with fewer fans measured where many are far (point queries): waiting nodes count as
-    // their dipoles where that bounds them more tightly, and a point that the bounds leave within
-    // kDecisionMargin of 1/2 takes inside()'s own steps, so that the answer is inside()'s.
-    bool insideSooner(const glm::dvec3& p, int ahead) const;
-    // The inside flags of `count` points given their counts ahead, each as inside() answers (point
-    // queries, whose points come in Morton order, neighbours after each other): a point that every
-    // fan together cannot move by 0.45 by its count; then as insideSooner walks, measuring at most
-    // kWalkBudget fans; runs of up to kFanPoints points left within a ball of kGroupSpan of the
-    // fans' box share a cut of the fan tree, measure its near fans together (the fan kernel) and
-    // are decided by insideNear; a point left alone by inside().
+    // The inside flags of `count` points given their counts ahead, each as inside() answers, with
+    // fewer fans measured (point queries, whose points come in Morton order, neighbours after each
+    // other): a point that every fan together cannot move by 0.45 by its count; then a walk whose
+    // waiting nodes count as their dipoles where that bounds them more tightly, measuring at most
+    // kWalkBudget fans and deciding only outside kDecisionMargin of 1/2; runs of up to kFanPoints
+    // points left within a ball of kGroupSpan of the fans' box share a cut of the fan tree, measure
+    // its near fans together (the fan kernel) and are decided by insideNear; a point left alone by
+    // inside().
     void insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const;
     static constexpr double kGroupSpan = 1.0 / 64.0;
     // Most points near a few holes are decided by the first fans or dipoles; a point among many
