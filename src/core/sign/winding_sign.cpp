@@ -994,15 +994,18 @@ struct BrickSigns {
     static constexpr int kEdge = 8;
     // The cuts' targets (sums of far bounds) and their most fans: expanded once per block, or
     // measured at every sample of a 4³ block by the fan kernel (tuned by time on open sheets,
-    // meshes with many holes and the band beside the holes of a scan).
-    static constexpr double kExpandTarget = 0.01, kPointTarget = 0.01;
+    // meshes with many holes, the messy corpus and the band beside the holes of a scan). Where
+    // the nearest fans leave the rest bounded by more than kHopeless (a block among open parts,
+    // whose samples are mostly far from |w| = 1/2 but near many fans), the block measures the fans
+    // that bring the rest within kLooseTarget instead.
+    static constexpr double kExpandTarget = 0.01, kPointTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
     static constexpr std::size_t kExpandedFans = 64, kMeasuredFans = 12, kMoreMeasuredFans = 96;
     static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
     std::size_t evaluations = 0, exactDecided = 0;
-    WindingCaps::Cut cuts[3], scratch; // per level: 8³ (expanded), 4³ (measured, twice); insideNear's heap
+    WindingCaps::Cut cuts[4], scratch; // per level: 8³ (expanded), 4³ (measured: nearest, more, loose); insideNear's heap
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
     // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
     // of undecided[k - k0]).
@@ -1094,7 +1097,8 @@ struct BrickSigns {
             if (batch > 0) decideBatch(), batch = 0;
         };
         if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
-            // First the nearest few fans; the samples they leave in doubt walk the tree on their
+            // First the nearest few fans (or, where those leave every sample in doubt, the fans
+            // within the loose target); the samples they leave in doubt walk the tree on their
             // own. Where the first walks cost more than measuring more fans at every sample would
             // (a block among many parts), the samples left measure those first.
             double nearAt[kMeasuredEdge * kMeasuredEdge * kMeasuredEdge];
@@ -1111,17 +1115,22 @@ struct BrickSigns {
                 });
             };
             caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
-            measure(cut);
-            WindingCaps::Cut* measured = &cut;
+            WindingCaps::Cut* first = &cut;
+            if (cut.farSum > kHopeless) {
+                first = &cuts[level + 2];
+                caps.cut(centre, reach, kLooseTarget, kMoreMeasuredFans, false, *first, &cut);
+            }
+            measure(*first);
+            WindingCaps::Cut* measured = first;
             std::size_t walks = 0, walked = 0;
             for (int k = ka; k < ke; ++k)
                 for (int j = ja; j < je; ++j)
                     for (int i = ia; i < ie; ++i) {
                         if (!(row(k) & bit(i - i0, j - j0))) continue;
-                        if (measured == &cut && walks == kFanPoints && walked > 8 * kFanPoints &&
+                        if (measured == first && walks == kFanPoints && walked > 8 * kFanPoints &&
                             undecidedIn(ia, ja, ka, ie, je, ke) >= kFanPoints) {
                             measured = &cuts[level + 1];
-                            caps.cut(centre, reach, kPointTarget, kMoreMeasuredFans, false, *measured, &cut);
+                            caps.cut(centre, reach, kPointTarget, kMoreMeasuredFans, false, *measured, first);
                             measure(*measured);
                             if (!(row(k) & bit(i - i0, j - j0))) continue;
                         }
