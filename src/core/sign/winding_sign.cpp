@@ -689,6 +689,15 @@ double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3*
     return w;
 }
 
+int WindingCaps::sideNear(const glm::dvec3& p, int ahead, double near, const Cut& cut) const {
+    // insideNear's first test, without its walk.
+    const glm::dvec3 offset = p - cut.centre;
+    const double w = double(ahead) - near - (cut.farValue + glm::dot(cut.farGradient, offset));
+    const double spread = cut.farSum + cut.curvature * glm::dot(offset, offset);
+    if (std::fabs(std::fabs(w) - 0.5) <= spread * (1.0 + 1e-12) + kDecisionMargin) return -1;
+    return std::fabs(w) > 0.5;
+}
+
 std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const {
     // Fans of weight 1 go to the kernel, the others (copies of open triangles, rare) are measured one by one.
     const Cap* unit[64];
@@ -750,42 +759,82 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& c
 }
 
 void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const {
-    // As the dense bake's blocks of 4³ (BrickSigns): a cut bounding the rest within 0.01, with 12 near fans.
-    constexpr double kTarget = 0.01;
-    constexpr std::size_t kNearFans = 12;
-    thread_local Cut shared, scratch;
+    // As the dense bake's blocks of 4³ (BrickSigns): a cut bounding the rest within 0.01, with 12
+    // near fans, or where that leaves every point in doubt, 0.1 with up to 96, then 0.01 with up
+    // to 96 for the points left.
+    constexpr double kTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
+    constexpr std::size_t kNearFans = 12, kMoreFans = 96;
+    thread_local Cut nearest, loose, tight, scratch;
     const double span = nodes_.empty() ? 0.0 : kGroupSpan * glm::length(nodes_[0].hi - nodes_[0].lo);
-    glm::dvec3 group[kFanPoints], lo(0.0), hi(0.0);
-    std::size_t at[kFanPoints];
+    glm::dvec3 group[kGroupPoints], lo(0.0), hi(0.0);
+    std::size_t at[kGroupPoints];
+    // The near fans of a cut at each of `count` points, kFanPoints at a time.
+    auto measure = [&](const Cut& c, const glm::dvec3* at, int count, double* near) {
+        for (int first = 0; first < count; first += kFanPoints) fanWindings(c.nearNodes, at + first, std::min(kFanPoints, count - first), near + first);
+    };
     int n = 0;
     auto decide = [&] {
         if (n == 1) {
             flags[at[0]] = inside(group[0], ahead[at[0]]);
         } else if (n > 1) {
-            cut(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) * (1.0 + 1e-9), kTarget, kNearFans, false, shared);
-            double near[kFanPoints];
-            fanWindings(shared.nearNodes, group, n, near);
-            for (int s = 0; s < n; ++s) flags[at[s]] = insideNear(group[s], ahead[at[s]], near[s], shared, scratch);
+            const glm::dvec3 centre = 0.5 * (lo + hi);
+            const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
+            cut(centre, reach, kTarget, kNearFans, false, nearest);
+            Cut* chosen = &nearest;
+            if (nearest.farSum > kHopeless) {
+                cut(centre, reach, kLooseTarget, kMoreFans, false, loose, &nearest);
+                chosen = &loose;
+            }
+            double near[kGroupPoints];
+            measure(*chosen, group, n, near);
+            if (chosen == &loose) { // the points the loose target leaves in doubt measure the fans within the tight one
+                glm::dvec3 doubtful[kGroupPoints];
+                int which[kGroupPoints], left = 0;
+                for (int s = 0; s < n; ++s) {
+                    const int side = sideNear(group[s], ahead[at[s]], near[s], loose);
+                    if (side >= 0) flags[at[s]] = std::uint8_t(side);
+                    else doubtful[left] = group[s], which[left++] = s;
+                }
+                if (left > 1) {
+                    cut(centre, reach, kTarget, kMoreFans, false, tight, &loose);
+                    chosen = &tight;
+                    double tightNear[kGroupPoints];
+                    measure(tight, doubtful, left, tightNear);
+                    for (int d = 0; d < left; ++d) near[which[d]] = tightNear[d];
+                }
+                for (int d = 0; d < left; ++d) {
+                    const int s = which[d];
+                    flags[at[s]] = insideNear(group[s], ahead[at[s]], near[s], *chosen, scratch);
+                }
+            } else {
+                for (int s = 0; s < n; ++s) flags[at[s]] = insideNear(group[s], ahead[at[s]], near[s], nearest, scratch);
+            }
         }
         n = 0;
     };
+    unsigned doubts = 0, skipped = 0; // the last first walks' outcomes (bit set: in doubt), the walks skipped
     for (std::size_t i = 0; i < count; ++i) {
         const glm::dvec3& p = points[i];
         if (nodes_.empty() || bound(nodes_[0], p, 0.0) < 0.45) { // every fan together moves w by less than 0.45 (farFromEveryFan)
             flags[i] = ahead[i] != 0;
             continue;
         }
-        const auto [w, doubtful] = walk(p, ahead[i], kDecisionMargin, nullptr, true, kWalkBudget);
-        if (!doubtful) {
-            flags[i] = std::fabs(w) > 0.5;
-            continue;
+        // Where most of the last eight first walks were left in doubt (among many open parts),
+        // points join the runs at once; one in eight still walks, so the choice follows the surface.
+        if (__builtin_popcount(doubts & 0xffu) < 6 || ++skipped % 8 == 0) {
+            const auto [w, doubtful] = walk(p, ahead[i], kDecisionMargin, nullptr, true, kWalkBudget);
+            doubts = doubts << 1 | unsigned(doubtful);
+            if (!doubtful) {
+                flags[i] = std::fabs(w) > 0.5;
+                continue;
+            }
         }
         if (n > 0 && glm::length(glm::max(hi, p) - glm::min(lo, p)) > span) decide();
         lo = n == 0 ? p : glm::min(lo, p);
         hi = n == 0 ? p : glm::max(hi, p);
         group[n] = p;
         at[n++] = i;
-        if (n == kFanPoints) decide();
+        if (n == kGroupPoints) decide();
     }
     decide();
 }

@@ -63,12 +63,15 @@ public:
     // fewer fans measured (point queries, whose points come in Morton order, neighbours after each
     // other): a point that every fan together cannot move by 0.45 by its count; then a walk whose
     // waiting nodes count as their dipoles where that bounds them more tightly, measuring at most
-    // kWalkBudget fans and deciding only outside kDecisionMargin of 1/2; runs of up to kFanPoints
-    // points left within a ball of kGroupSpan of the fans' box share a cut of the fan tree, measure
-    // its near fans together (the fan kernel) and are decided by insideNear; a point left alone by
-    // inside().
+    // kWalkBudget fans and deciding only outside kDecisionMargin of 1/2 (skipped, but for one
+    // point in eight, where most of the last eight walks were left in doubt); runs of up to
+    // kGroupPoints points left within a ball of kGroupSpan of the fans' box share a cut of the
+    // fan tree, measure its near fans together (the fan kernel) and are decided by insideNear, as
+    // the dense bake's blocks of 4³ are (the nearest fans, or the loose target's and then the
+    // tight one's where the nearest leave every point in doubt); a point left alone by inside().
     void insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const;
-    static constexpr double kGroupSpan = 1.0 / 64.0;
+    static constexpr double kGroupSpan = 1.0 / 32.0;
+    static constexpr int kGroupPoints = 128;
     // Most points near a few holes are decided by the first fans or dipoles; a point among many
     // open parts needs dozens, measured more cheaply by a run's shared cut (tuned by time on the
     // Stanford bunny, the bunny with 1.4k holes, an open terrain and the open-parts corpus).
@@ -133,6 +136,8 @@ public:
     // only outside that margin, it answers as inside() does (their doubles of w differ by
     // rounding, far below the margin), with the tree's top walked once per block.
     static constexpr double kDecisionMargin = 1e-7;
+    // insideNear's answer where the cut's bounds alone decide it (1 inside, 0 outside), else -1.
+    int sideNear(const glm::dvec3& p, int ahead, double near, const Cut& cut) const;
     // `scratch` is any Cut's: its heap is borrowed. The first point that the ball's bounds leave
     // in doubt sorts the cut's far nodes (loosest first), for every later one.
     // `evaluations` counts the fans measured beyond the near ones.
