@@ -67,7 +67,7 @@ struct PointQueryOutputs {
     // query's sign, as a bake's: each of `channels` is appended to *channelValues (which must then
     // be given), in the registry's order, interleaved (ChannelInfo::width values per point, as
     // Samples holds them).
-    Channels channels;
+    Channels channels = {};
     std::vector<ChannelValues>* channelValues = nullptr;
 };
 
