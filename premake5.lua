@@ -333,7 +333,7 @@ if not _OPTIONS["no-tests"] then
          sdfgen_use_render()
 
       project "sdfgen_gpu_tests"
-         sdfgen_gtest_program({ "tests/gpu/test_gpu.cpp", "tests/support/shapes.cpp" })
+         sdfgen_gtest_program({ "tests/gpu/test_gpu.cpp", "tests/support/shapes.cpp", "tests/support/stand_in_device.cpp" })
          links { "sdfgen_gpu" }
          sdfgen_use_gtest()
          sdfgen_use_render()

@@ -6,7 +6,7 @@
 #include "nearest.hpp"
 #include "core/runtime/parallel.hpp"
 #if SDFGEN_PYTHON_GPU
-#include "gpu/gl_device.hpp"
+#include "gpu/devices.hpp"
 #endif
 
 #include <pybind11/functional.h>
@@ -498,6 +498,9 @@ py::array sparseView(const py::object& self, const T* data, std::vector<py::ssiz
 // The module's notes (its methods, signs, devices and formats, from the registries), its version,
 // and the error, warning and result types every call shares.
 void registerModuleInfo(py::module_& m) {
+#if SDFGEN_PYTHON_GPU
+    gpu::registerDevices(); // first: the docstrings list them
+#endif
     // The names the arguments take, from the library's registries.
     std::string fieldFormats, meshFormats;
     for (const FieldFormatInfo& format : knownFieldFormats()) {
@@ -519,9 +522,6 @@ void registerModuleInfo(py::module_& m) {
     for (std::size_t i = 0; i < channelInfos().size(); ++i) channelNames[i] = channelInfos()[i].name;
     m.attr("CHANNELS") = channelNames; // the channels bake and sample take besides sdf, in their order
     m.attr("__version__") = "0.1.0";
-#if SDFGEN_PYTHON_GPU
-    gpu::registerGlDevice();
-#endif
     static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
     // Warnings from loads and bakes (what was skipped or is doubtful): warnings.warn with this
     // category, so that warnings.filterwarnings("error", category=sdfgen.Warning) turns them into errors.

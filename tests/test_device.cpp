@@ -1,88 +1,21 @@
-// The core's compute-device hook (sdfgen/device.hpp) without OpenGL: which device a bake picks,
-// and that a bake on a device uses its distances and winding numbers (with the holes' fractional
-// part still added on the CPU). The device here is a stand-in that answers on the CPU, by brute
-// force for the winding numbers; the real GPU device is tested in tests/gpu.
-#include "core/distance/exact.hpp"
-#include "core/mesh/geometry.hpp"
-#include "core/mesh/sample_positions.hpp"
+// The core's compute-device registry (sdfgen/device.hpp) without OpenGL: which device a bake
+// picks among several registered by name, and that a bake on a device uses its distances and
+// winding numbers (with the holes' fractional part still added on the CPU). The devices here are
+// stand-ins that answer on the CPU (support/stand_in_device.hpp); the GPU device is tested in tests/gpu.
 #include "sdfgen/device.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
+#include "support/stand_in_device.hpp"
 
 #include <gtest/gtest.h>
-#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
 
 namespace sdfgen {
 namespace {
 
-class StandInDevice final : public ComputeDevice {
-public:
-    StandInDevice(bool hardware, int* calls) : hardware_(hardware), calls_(calls) {}
-    std::string description() const override { return "stand-in"; }
-    std::string renderer() const override { return "stand-in"; }
-    bool hardware() const override { return hardware_; }
-    // Signed as the CPU signs, except every third sample left undecided (NaN) for the core to decide.
-    void nearest(const Mesh& mesh, const Grid& grid, const PseudonormalSign* sign, const RunControl& control,
-                 std::vector<float>& distance) override {
-        ++*calls_;
-        NearestField field = computeNearest(mesh, Bvh(mesh), grid, control);
-        distance = std::move(field.distance);
-        if (!sign) return;
-        for (int k = 0; k < grid.dims.z; ++k) {
-            for (int j = 0; j < grid.dims.y; ++j) {
-                for (int i = 0; i < grid.dims.x; ++i) {
-                    const std::size_t index = grid.index(i, j, k);
-                    const std::uint32_t t = field.triangle[index];
-                    const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
-                    const ClosestPoint q = closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)),
-                                                                  glm::dvec3(mesh.vertex(t, 2)));
-                    const bool inside = (glm::dot(p - q.point, sign->normals[7 * t + int(q.feature)]) < 0.0) != sign->flipped;
-                    if (inside) distance[index] = -distance[index];
-                    if (index % 3 == 0) distance[index] = std::nanf("");
-                }
-            }
-        }
-    }
-    // With fans: every other sample's side from w in double, the rest left undecided (2) for the core.
-    std::vector<std::int32_t> windingNumbers(const Mesh& mesh, const std::vector<glm::dvec3>& corners, const std::vector<std::int32_t>& weights,
-                                             const WindingFans* fans, const Grid& grid, const RunControl&,
-                                             std::vector<std::uint8_t>& sides) override {
-        ++*calls_;
-        std::vector<std::int32_t> out(grid.sampleCount());
-        if (fans) sides.assign(grid.sampleCount(), 2);
-        for (int k = 0; k < grid.dims.z; ++k) {
-            for (int j = 0; j < grid.dims.y; ++j) {
-                for (int i = 0; i < grid.dims.x; ++i) {
-                    const glm::dvec3 p = localPosition(mesh, grid, i, j, k);
-                    double sum = 0;
-                    for (std::size_t t = 0; 3 * t + 2 < corners.size(); ++t) {
-                        sum += weights[t] * solidAngle(p, corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]);
-                    }
-                    const std::size_t index = grid.index(i, j, k);
-                    out[index] = std::int32_t(std::lround(sum / (4.0 * M_PI)));
-                    if (!fans || index % 2 == 0) continue;
-                    double w = out[index];
-                    for (const WindingFans::Fan& fan : fans->fans) {
-                        const glm::dvec3& centre = fans->points[fan.first];
-                        for (std::uint32_t v = 0; v < fan.count; ++v) {
-                            const glm::dvec3& a = fans->points[fan.first + 1 + (v + 1) % fan.count];
-                            const glm::dvec3& b = fans->points[fan.first + 1 + v];
-                            w -= fan.weight * solidAngle(p, a, b, centre) / (4.0 * M_PI);
-                        }
-                    }
-                    sides[index] = std::fabs(w) > 0.5;
-                }
-            }
-        }
-        return out;
-    }
-
-private:
-    bool hardware_;
-    int* calls_;
-};
-
-BakeResult bakeOn(const Mesh& mesh, Device device, SignMethod sign) {
+BakeResult bakeOn(const Mesh& mesh, const std::string& device, SignMethod sign) {
     BakeSettings settings;
     settings.res = 12;
     settings.sign = sign;
@@ -100,51 +33,99 @@ Mesh holedSphere() {
     return buildMesh("holed sphere", sphere.positions, std::move(kept));
 }
 
-class DeviceHook : public ::testing::Test {
-protected:
-    void TearDown() override { registerComputeDevice({}); }
-};
+std::vector<std::string> deviceNames() {
+    std::vector<std::string> names;
+    for (const Choice<std::string>& choice : deviceChoices()) names.push_back(choice.name);
+    return names;
+}
 
-TEST_F(DeviceHook, ChoosesWhereTheBakeRuns) {
-    registerComputeDevice({});
+TEST(DeviceRegistry, ChoosesWhereTheBakeRuns) {
     std::string why;
-    EXPECT_EQ(selectComputeDevice(Device::Cpu, &why), nullptr);
-    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
-    EXPECT_CONTAINS(why, "built without a GPU device");
-    EXPECT_CONTAINS(test::errorFrom([] { selectComputeDevice(Device::Gpu); }), "device gpu: this program was built without a GPU device");
+    EXPECT_EQ(selectComputeDevice("cpu", &why), nullptr);
+    EXPECT_EQ(why, "cpu: asked for");
+    EXPECT_EQ(selectComputeDevice("auto", &why), nullptr);
+    EXPECT_EQ(why, "cpu: no GPU (this program was built without a GPU device)");
+    EXPECT_EQ(test::errorFrom([] { selectComputeDevice("gpu"); }),
+              "unknown device 'gpu'; known: cpu (the CPU) or auto (the CPU: this program has no compute device)");
+    {
+        ComputeDevicePlugin failing = test::standInDevice("stand-in", true);
+        failing.open = []() -> std::unique_ptr<ComputeDevice> { throw Error("no context today"); };
+        const test::ScopedDevice registered(failing);
+        EXPECT_EQ(selectComputeDevice("auto", &why), nullptr);
+        EXPECT_EQ(why, "cpu: no GPU (no context today)");
+        EXPECT_EQ(test::errorFrom([] { selectComputeDevice("stand-in"); }), "device stand-in: no context today");
+    }
+    {
+        const test::ScopedDevice software(test::standInDevice("stand-in", false));
+        EXPECT_EQ(selectComputeDevice("auto", &why), nullptr) << "a software device is not taken by auto";
+        EXPECT_EQ(why, "cpu: the only stand-in driver runs on the CPU (stand-in)");
+        EXPECT_NE(selectComputeDevice("Stand-In", &why), nullptr) << "a name in any case";
+        EXPECT_EQ(why, "stand-in: stand-in");
+    }
+    {
+        // A probe that finds no hardware spares opening anything.
+        bool opened = false;
+        ComputeDevicePlugin probed = test::standInDevice("stand-in", true);
+        probed.open = [&opened]() -> std::unique_ptr<ComputeDevice> {
+            opened = true;
+            return std::make_unique<test::StandInDevice>(true, nullptr);
+        };
+        probed.mayBeHardware = [] { return false; };
+        const test::ScopedDevice registered(probed);
+        EXPECT_EQ(selectComputeDevice("auto", &why), nullptr);
+        EXPECT_EQ(why, "cpu: no GPU hardware found");
+        EXPECT_FALSE(opened);
+    }
+    const test::ScopedDevice hardware(test::standInDevice("stand-in", true));
+    EXPECT_NE(selectComputeDevice("auto", &why), nullptr);
+    EXPECT_EQ(why, "stand-in: stand-in");
+    EXPECT_EQ(deviceNames(), (std::vector<std::string>{"cpu", "stand-in", "auto"}));
+}
 
-    registerComputeDevice([]() -> std::unique_ptr<ComputeDevice> { throw Error("no context today"); });
-    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
-    EXPECT_CONTAINS(why, "no context today");
-    EXPECT_CONTAINS(test::errorFrom([] { selectComputeDevice(Device::Gpu); }), "no context today");
-
-    int calls = 0;
-    registerComputeDevice([&] { return std::make_unique<StandInDevice>(false, &calls); });
-    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr) << "a software device is not taken by auto";
-    EXPECT_CONTAINS(why, "runs on the CPU");
-    EXPECT_NE(selectComputeDevice(Device::Gpu), nullptr);
-    // A probe that finds no hardware spares opening anything.
-    bool opened = false;
-    registerComputeDevice([&] { opened = true; return std::make_unique<StandInDevice>(true, &calls); }, [] { return false; });
-    EXPECT_EQ(selectComputeDevice(Device::Auto, &why), nullptr);
-    EXPECT_FALSE(opened);
-    registerComputeDevice([&] { return std::make_unique<StandInDevice>(true, &calls); });
-    EXPECT_NE(selectComputeDevice(Device::Auto, &why), nullptr);
-    EXPECT_EQ(why, "gpu: stand-in");
+// Devices coexist by name: listed between cpu and auto in the order registered, each chosen by its
+// name; auto takes the first on hardware, or says why it passed over each.
+TEST(DeviceRegistry, SeveralDevicesCoexistByName) {
+    const test::ScopedDevice software(test::standInDevice("software", false));
+    const test::ScopedDevice first(test::standInDevice("first", true));
+    const test::ScopedDevice second(test::standInDevice("second", true));
+    EXPECT_EQ(deviceNames(), (std::vector<std::string>{"cpu", "software", "first", "second", "auto"}));
+    EXPECT_EQ(parseDevice("SECOND"), "second");
+    ComputeDevice* chosen[3] = {selectComputeDevice("software"), selectComputeDevice("first"), selectComputeDevice("second")};
+    for (ComputeDevice* device : chosen) EXPECT_NE(device, nullptr);
+    EXPECT_NE(chosen[0], chosen[1]);
+    EXPECT_NE(chosen[1], chosen[2]);
+    std::string why;
+    EXPECT_EQ(selectComputeDevice("auto", &why), chosen[1]);
+    EXPECT_EQ(why, "first: stand-in");
+    // Registered again under its name, a device is replaced in its place.
+    registerComputeDevice(test::standInDevice("first", false));
+    EXPECT_EQ(deviceNames(), (std::vector<std::string>{"cpu", "software", "first", "second", "auto"}));
+    EXPECT_NE(selectComputeDevice("auto", &why), nullptr);
+    EXPECT_EQ(why, "second: stand-in");
+    unregisterComputeDevice("second");
+    EXPECT_EQ(selectComputeDevice("auto", &why), nullptr);
+    EXPECT_EQ(why, "cpu: device software: the only stand-in driver runs on the CPU (stand-in); "
+                   "device first: the only stand-in driver runs on the CPU (stand-in)");
+    EXPECT_EQ(deviceChoices().back().description, std::string("the GPU when a hardware stand-in driver or stand-in driver is there, else the CPU"));
+    // The core's own choices are not a device's to take, and a device needs its name, texts and opener.
+    EXPECT_CONTAINS(test::errorFrom([] { registerComputeDevice(test::standInDevice("auto", true)); }), "cannot be named auto");
+    ComputeDevicePlugin unopenable = test::standInDevice("x", true);
+    unopenable.open = nullptr;
+    EXPECT_CONTAINS(test::errorFrom([&] { registerComputeDevice(unopenable); }), "a way to open it");
 }
 
 // A bake on the device uses its answers, and gives the CPU's field: pseudonormal signed by the
 // device (the samples it leaves undecided by the CPU), and winding from its integers plus the
 // fans' part near the hole.
-TEST_F(DeviceHook, BakesWithTheDevicesAnswers) {
+TEST(DeviceRegistry, BakesWithTheDevicesAnswers) {
     int calls = 0;
-    registerComputeDevice([&] { return std::make_unique<StandInDevice>(true, &calls); });
+    const test::ScopedDevice registered(test::standInDevice("stand-in", true, &calls));
     for (const Mesh& mesh : {test::icosphere(1.0f, 2), holedSphere()}) {
         for (SignMethod sign : {SignMethod::Auto, SignMethod::Winding}) {
             SCOPED_TRACE(mesh.source + ", sign " + toString(sign));
-            const BakeResult cpu = bakeOn(mesh, Device::Cpu, sign);
+            const BakeResult cpu = bakeOn(mesh, "cpu", sign);
             const int before = calls;
-            const BakeResult device = bakeOn(mesh, Device::Gpu, sign);
+            const BakeResult device = bakeOn(mesh, "stand-in", sign);
             EXPECT_TRUE(device.onDevice);
             EXPECT_FALSE(cpu.onDevice);
             EXPECT_EQ(calls - before, device.sign == SignMethod::Winding ? 2 : 1);
@@ -152,13 +133,14 @@ TEST_F(DeviceHook, BakesWithTheDevicesAnswers) {
             EXPECT_EQ(cpu.field.dense().values, device.field.dense().values);
         }
     }
-    // Other methods stay on the CPU: refused for gpu, quietly for auto.
+    // Other methods stay on the CPU: refused for a device named, quietly for auto.
     BakeSettings settings;
     settings.res = 8;
     settings.method = DistanceMethod::Rays;
-    settings.device = Device::Gpu;
-    EXPECT_CONTAINS(test::errorFrom([&] { test::bakeMesh(test::box({1, 1, 1}), settings); }), "method rays runs on the CPU");
-    settings.device = Device::Auto;
+    settings.device = "stand-in";
+    EXPECT_EQ(test::errorFrom([&] { test::bakeMesh(test::box({1, 1, 1}), settings); }),
+              "device stand-in computes exact distances; method rays runs on the CPU");
+    settings.device = "auto";
     EXPECT_FALSE(test::bakeMesh(test::box({1, 1, 1}), settings).onDevice);
 }
 

@@ -266,6 +266,47 @@ TEST(PointQuery, IndependentOfTheThreadCount) {
     EXPECT_EQ(std::memcmp(one.data(), many.data(), one.size() * sizeof(float)), 0);
 }
 
+// Channels asked of a query (PointQueryOutputs::channels) are the bake's at its samples, bit for
+// bit: interleaved where the field's are planar.
+TEST(PointQuery, ChannelsEqualTheBakedChannelsAtItsSamples) {
+    const Model model(holedSphere());
+    BakeSettings settings;
+    settings.res = 12;
+    settings.channels = Channels::all();
+    const BakeResult baked = model.bake(settings);
+    const Field& field = baked.field.dense();
+    const std::vector<double> points = positionsOf(field);
+    const std::size_t count = field.values.size();
+    std::vector<float> distance(count);
+    std::vector<ChannelValues> channels;
+    PointQueryOutputs out;
+    out.signedDistance = distance.data();
+    out.channels = settings.channels;
+    out.channelValues = &channels;
+    model.query(points.data(), count, out);
+    EXPECT_EQ(distance, field.values);
+    ASSERT_EQ(channels.size(), field.channels.size());
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+        const ChannelValues& queried = channels[c];
+        const ChannelValues& bakedChannel = field.channels[c];
+        SCOPED_TRACE(queried.name);
+        EXPECT_EQ(queried.name, bakedChannel.name);
+        const std::size_t width = std::size_t(queried.info().width);
+        ASSERT_EQ(queried.size(), width * count);
+        for (std::size_t i = 0; i < count; ++i) {
+            for (std::size_t a = 0; a < width; ++a) {
+                if (queried.info().type == ChannelType::Int32) {
+                    EXPECT_EQ(queried.ints[width * i + a], bakedChannel.ints[a * count + i]) << i;
+                } else {
+                    EXPECT_EQ(queried.floats[width * i + a], bakedChannel.floats[a * count + i]) << i;
+                }
+            }
+        }
+    }
+    out.channelValues = nullptr;
+    EXPECT_CONTAINS(test::errorFrom([&] { model.query(points.data(), 1, out); }), "no channelValues");
+}
+
 TEST(PointQuery, BadPointsAndSignsAreErrors) {
     const Model model(test::icosphere(1.0f, 1));
     const double bad[3] = {0.0, std::nan(""), 0.0};

@@ -3,6 +3,7 @@
 #include "sdfgen/bake.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
+#include "support/stand_in_device.hpp"
 
 #include <gtest/gtest.h>
 #include <cmath>
@@ -48,6 +49,7 @@ TEST(Settings, EachLimitIsRefusedJustPastItAndNamesItsSetting) {
 }
 
 TEST(Settings, CombinationsAreRefusedByTheSettingToChange) {
+    const test::ScopedDevice standIn(test::standInDevice("stand-in", true));
     BakeSettings s;
     s.method = DistanceMethod::Brute;
     s.sign = SignMethod::Rays;
@@ -55,16 +57,16 @@ TEST(Settings, CombinationsAreRefusedByTheSettingToChange) {
     EXPECT_EQ(problem(s)->message, "method brute signs by the exact winding number; sign rays does not apply");
     s = {};
     s.method = DistanceMethod::Rays;
-    s.device = Device::Gpu;
+    s.device = "stand-in";
     EXPECT_EQ(refusedSetting(s), "device");
-    s.device = Device::Cpu;
+    s.device = "cpu";
     s.band = 2;
     EXPECT_EQ(refusedSetting(s), "method");
     s = {};
     s.band = 2;
-    s.device = Device::Gpu;
+    s.device = "stand-in";
     EXPECT_EQ(refusedSetting(s), "device");
-    s.device = Device::Auto;
+    s.device = "auto";
     s.sign = SignMethod::Rays;
     EXPECT_EQ(refusedSetting(s), "sign");
     s.sign = SignMethod::Default;
@@ -75,11 +77,16 @@ TEST(Settings, CombinationsAreRefusedByTheSettingToChange) {
     s.method = DistanceMethod::Rays;
     EXPECT_EQ(refusedSetting(s), "channels");
     s.method = DistanceMethod::Exact;
-    s.device = Device::Gpu;
+    s.device = "stand-in";
     EXPECT_EQ(refusedSetting(s), "device");
+    s = {};
+    s.device = "tpu";
+    EXPECT_EQ(refusedSetting(s), "device");
+    EXPECT_EQ(problem(s)->message.rfind("unknown device 'tpu'; known: cpu (the CPU), stand-in (", 0), 0u) << problem(s)->message;
 }
 
 TEST(Settings, MessagesNameSettingsNotCommandLineOptions) {
+    const test::ScopedDevice standIn(test::standInDevice("stand-in", true));
     BakeSettings s;
     s.res = 0;
     EXPECT_EQ(problem(s)->message, "res must be from 1 to 65536 voxels along the longest side (got 0)");
@@ -88,11 +95,11 @@ TEST(Settings, MessagesNameSettingsNotCommandLineOptions) {
     EXPECT_EQ(problem(s)->message, "rays must be from 1 to 65536 per sample (got 100000000)");
     for (DistanceMethod method : {DistanceMethod::Exact, DistanceMethod::Rays, DistanceMethod::Brute}) {
         for (SignMethod sign : {SignMethod::Default, SignMethod::Auto, SignMethod::Rays, SignMethod::Pseudonormal, SignMethod::Winding}) {
-            for (Device device : {Device::Cpu, Device::Gpu, Device::Auto}) {
+            for (const Choice<std::string>& device : deviceChoices()) {
                 for (double band : {0.0, 2.0}) {
                     for (const Channels& channels : {Channels{}, Channels::all()}) {
                         s = {};
-                        s.method = method, s.sign = sign, s.device = device, s.band = band, s.channels = channels;
+                        s.method = method, s.sign = sign, s.device = device.id, s.band = band, s.channels = channels;
                         if (const std::optional<SettingsProblem> refused = problem(s)) {
                             EXPECT_EQ(refused->message.find("--"), std::string::npos) << refused->message;
                         }
@@ -112,7 +119,7 @@ TEST(Settings, TheBakeRefusesExactlyWhatProblemRefuses) {
             for (double band : {0.0, 1.0}) {
                 for (const Channels& channels : {Channels{}, Channels::all()}) {
                     BakeSettings s;
-                    s.res = 6, s.rays = 4, s.device = Device::Cpu;
+                    s.res = 6, s.rays = 4, s.device = "cpu";
                     s.method = method, s.sign = sign, s.band = band, s.channels = channels;
                     const std::optional<SettingsProblem> refused = problem(s);
                     if (refused) {

@@ -33,15 +33,11 @@ const char* toString(SignMethod sign);
 DistanceMethod parseDistanceMethod(const std::string& name);
 SignMethod parseSignMethod(const std::string& name);
 
-// Where a bake runs: exact distances and winding signs on the CPU, or on a compute device that a
-// program registers (the viewer and the command line register the GPU; see sdfgen/device.hpp).
-enum class Device {
-    Cpu,  // the core library's generators
-    Gpu,  // the registered compute device; an error when there is none or it cannot start
-    Auto, // the compute device when it runs on real GPU hardware, the CPU otherwise
-};
-const char* toString(Device device);
-Device parseDevice(const std::string& name);
+// Where a bake runs (BakeSettings::device): "cpu", "auto" or a compute device that the program
+// registered (sdfgen/device.hpp; the command line, the viewer and the Python module register the
+// OpenGL one as "gpu"). The device `name` names (in any case), as deviceChoices() spells it;
+// throws Error listing the choices for another.
+std::string parseDevice(const std::string& name);
 
 // A distance method, sign method or device as its registry lists it: the name that toString
 // writes and parse* reads, and what it is in a line, for help texts, errors and tooltips. Front
@@ -55,7 +51,9 @@ struct Choice {
 std::vector<Choice<DistanceMethod>> distanceMethodChoices();
 std::vector<Choice<SignMethod>> signMethodChoices(); // auto first, default (the method's own) last
 std::vector<Choice<SignMethod>> pointQuerySignChoices(); // those Model::query signs by (it takes default as auto)
-std::vector<Choice<Device>> deviceChoices();
+// cpu, the registered devices in their order, auto: ids are the names. The texts stay valid until
+// the next device is registered or removed.
+std::vector<Choice<std::string>> deviceChoices();
 // "a (what a is), b (...) or c (...)", for help texts and errors.
 template <class Id>
 std::string describeChoices(const std::vector<Choice<Id>>& choices) {
@@ -84,8 +82,8 @@ struct BakeSettings {
     DistanceMethod method = DistanceMethod::Exact;
     SignMethod sign = SignMethod::Default;
     int rays = 64; // for the rays method and the rays sign
-    // Where exact distances and winding signs run; other methods run on the CPU.
-    Device device = Device::Cpu; // the GPU is opt-in: slower than the CPU cores where measured (docs/benchmarks.md#gpu)
+    // Where exact distances and winding signs run (a name of deviceChoices()); other methods run on the CPU.
+    std::string device = "cpu"; // the GPU is opt-in: slower than the CPU cores where measured (docs/benchmarks.md#gpu)
     // Per-sample channels besides the distance (sdfgen/channels.hpp), into Field::channels (exact
     // method, on the CPU). The distances are the same, bit for bit, with or without them.
     Channels channels;

@@ -1,7 +1,7 @@
 #pragma once
 // The compute device plug-in interface: how a library that can run the heavy parts of an exact
 // bake on other hardware (src/gpu: OpenGL 4.5 compute shaders) registers with the core at run
-// time. The core never links OpenGL; it only calls this interface. Programs that only bake and
+// time, by name, beside any other. The core never links OpenGL; it only calls this interface. Programs that only bake and
 // query need not include it: BakeSettings::device picks where a bake runs.
 #include "sdfgen/bake.hpp"
 #include "sdfgen/grid.hpp"
@@ -84,15 +84,35 @@ public:
                                                      const Grid& grid, const RunControl& control, std::vector<std::uint8_t>& sides) = 0;
 };
 
-// Registers how to open the compute device (called once by a program that links src/gpu). The
-// device is opened on first use and kept; `open` throws Error when it cannot open one.
-// `mayBeHardware`, when given, tells without opening anything whether the device could be real GPU
-// hardware; when it says no, auto takes the CPU at once (no context is made just to be refused).
-void registerComputeDevice(std::function<std::unique_ptr<ComputeDevice>()> open, std::function<bool()> mayBeHardware = {});
+// A compute device as a program registers it (a plug-in, as the distance and sign methods are;
+// docs/extending.md). Its texts are static (string literals), as the other registries' names.
+struct ComputeDevicePlugin {
+    const char* name = nullptr;        // BakeSettings::device's choice (--device, Python's device=, the viewer's combo), e.g. "gpu"
+    const char* description = nullptr; // what it is in a line, for help texts and tooltips
+    // What it runs through, as auto's description and its status lines name it: "OpenGL 4.5 driver".
+    const char* driver = nullptr;
+    // Tells without opening anything whether the device could be real GPU hardware; when it says
+    // no, auto passes the device over at once (no context is made just to be refused). Unset: auto
+    // opens the device and asks it (ComputeDevice::hardware).
+    std::function<bool()> mayBeHardware;
+    // Opens the device; throws Error when it cannot. Called on first use, once: the device is kept,
+    // or the failure remembered.
+    std::function<std::unique_ptr<ComputeDevice>()> open;
+};
 
-// The device a bake with `device` runs on: nullptr for the CPU. Gpu throws Error when no device is
-// registered or it cannot open; Auto returns nullptr then, or when the device is not hardware.
-// `why` (optional) receives a one-line reason for the choice.
-ComputeDevice* selectComputeDevice(Device device, std::string* why = nullptr);
+// Adds `plugin` to the devices a bake may run on, after those registered before it (auto takes
+// the first on hardware), or replaces the one of the same name (its device is closed). Called by
+// a program that links devices (src/gpu/devices.cpp) before its front end lists the choices.
+// Throws Error for a plugin without a name, texts or opener, or named cpu or auto.
+void registerComputeDevice(ComputeDevicePlugin plugin);
+// Removes the device named `name` (closing it, if open); nothing when there is none.
+void unregisterComputeDevice(const std::string& name);
+
+// The device a bake with BakeSettings::device `device` runs on: nullptr for the CPU. A device's
+// name gives that device, and throws Error ("device NAME: why") when it cannot open; "auto" gives
+// the first registered device that runs on hardware, nullptr when none does; another name throws
+// parseDevice's Error. `why` (optional) receives a one-line reason for the choice, starting with
+// where the bake runs: "cpu: asked for", "gpu: GL vendor ...".
+ComputeDevice* selectComputeDevice(const std::string& device, std::string* why = nullptr);
 
 } // namespace sdfgen

@@ -47,8 +47,6 @@
 
 namespace sdfgen {
 
-class ChannelWriter;
-
 // Where point queries write. Every pointer may be null (that output is not computed); each
 // non-null one holds `count` entries (closestPoint: 3 * count, x y z interleaved).
 struct PointQueryOutputs {
@@ -65,6 +63,12 @@ struct PointQueryOutputs {
     // mesh().triangles[triangle][0..2], in double: they sum to 1, and only the corners spanning the
     // closest point's feature (face, edge or vertex) carry weight.
     double* barycentric = nullptr;
+    // Channels besides these (sdfgen/channels.hpp), from the same closest hits and signed by the
+    // query's sign, as a bake's: each of `channels` is appended to *channelValues (which must then
+    // be given), in the registry's order, interleaved (ChannelInfo::width values per point, as
+    // Samples holds them).
+    Channels channels = {};
+    std::vector<ChannelValues>* channelValues = nullptr;
 };
 
 // What a query found at one point (Model::closest): fcpw's Interaction, Warp's mesh query.
@@ -135,9 +139,6 @@ public:
                                     const RunControl& control = {}) const;
 
 private:
-    // query() writing channels too, for samples (core/bake/bake.hpp).
-    friend void queryWithChannels(const Model& model, const double* points, std::size_t count, const PointQueryOutputs& outputs,
-                                  SignMethod sign, const RunControl& control, const ChannelWriter* channels);
     Model(); // for refit, which sets impl_
     struct Impl;
     std::unique_ptr<Impl> impl_;

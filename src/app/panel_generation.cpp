@@ -38,12 +38,9 @@ std::string formatNumber(double value) {
 // chosen entry's id goes into `value`.
 template <class Id>
 void choiceCombo(const char* label, Id& value, const std::vector<Choice<Id>>& choices) {
-    const bool open = ImGui::BeginCombo(label, toString(value));
-    if (!open && ImGui::IsItemHovered()) {
-        for (const Choice<Id>& choice : choices) {
-            if (choice.id == value) ImGui::SetTooltip("%s", choice.description);
-        }
-    }
+    const auto chosen = std::find_if(choices.begin(), choices.end(), [&](const Choice<Id>& choice) { return choice.id == value; });
+    const bool open = ImGui::BeginCombo(label, chosen == choices.end() ? "" : chosen->name);
+    if (!open && ImGui::IsItemHovered() && chosen != choices.end()) ImGui::SetTooltip("%s", chosen->description);
     if (!open) return;
     for (const Choice<Id>& choice : choices) {
         if (ImGui::Selectable(choice.name, choice.id == value)) value = choice.id;

@@ -145,11 +145,13 @@ void cancelAt(std::chrono::steady_clock::time_point deadline, std::atomic<bool>&
     }).detach();
 }
 
-// Where a bake ran, in a few words for the status lines: "cpu", or "gpu" and the GL renderer.
-std::string deviceUsed(const BakeResult& result, Device asked) {
+// Where a bake ran, in a few words for the status lines: "cpu", or the device's name and its
+// renderer ("gpu llvmpipe (...)").
+std::string deviceUsed(const BakeResult& result, const std::string& asked) {
     if (!result.onDevice) return "cpu";
-    const ComputeDevice* device = selectComputeDevice(asked);
-    return device ? "gpu " + device->renderer() : "gpu";
+    std::string why;
+    const ComputeDevice* device = selectComputeDevice(asked, &why);
+    return why.substr(0, why.find(':')) + " " + device->renderer(); // why starts with the device's name
 }
 
 // Bakes one mesh into its output; returns the status line's JSON members, sets `device` and adds

@@ -76,7 +76,7 @@ void runBench(const BenchArgs& args) {
         (std::filesystem::temp_directory_path() / ("sdfgen-bench-" + std::to_string(getpid()) + ".sdf")).string();
     std::printf("sdfgen bench: method %s, sign %s, res %d, %d rays, padding %g, %d threads, device %s, best of %d\n",
                 toString(args.settings.method), toString(args.settings.sign), args.settings.res, args.settings.rays,
-                double(args.settings.padding), threads, toString(args.settings.device), args.repeat);
+                double(args.settings.padding), threads, args.settings.device.c_str(), args.repeat);
     std::printf("%-22s %9s %13s %-22s %6s %6s %9s %7s %6s %8s %11s %11s %10s\n", "mesh", "triangles", "dims", "sign",
                 "load", "tree", "distance", "sign", "save", "total s", "voxels/s", "gen vox/s", "rays/s");
     for (const std::string& path : meshes) {

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace sdfgen::cli {
@@ -40,8 +41,9 @@ std::string fieldFormatList();
 // The mesh file extensions sdfgen is tested with, for help texts: ".obj, .ply, ...".
 std::string meshFormatList();
 
-// An option named from a registry's choices (in any case), turned into its enum value; an unknown
-// name is refused with parseChoice's Error (the known names and what each is).
+// An option named from a registry's choices (in any case), turned into its id (an enum's value, or
+// the device's name); an unknown name is refused with parseChoice's Error (the known names and what
+// each is).
 template <class Id>
 CLI::Validator choiceOf(const std::vector<Choice<Id>>& choices, const std::string& what) {
     std::string names;
@@ -49,7 +51,11 @@ CLI::Validator choiceOf(const std::vector<Choice<Id>>& choices, const std::strin
     return CLI::Validator(
         [choices, what](std::string& text) -> std::string {
             try {
-                text = std::to_string(int(parseChoice(choices, text, what)));
+                if constexpr (std::is_enum_v<Id>) {
+                    text = std::to_string(int(parseChoice(choices, text, what)));
+                } else {
+                    text = parseChoice(choices, text, what);
+                }
                 return "";
             } catch (const Error& e) {
                 return e.what();

@@ -5,7 +5,10 @@
 #include "sdfgen/device.hpp"
 #include "sdfgen/error.hpp"
 
+#include <cctype>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 namespace sdfgen::cli {
 
@@ -14,14 +17,20 @@ void addInfoCommand(CLI::App& app) {
     info->callback([] {
         std::printf("CPU kernel: %s (AVX2 %s on this CPU; SDFGEN_SIMD=baseline or avx2 forces a path)\n", toString(simdPath()),
                     simdPathAvailable(SimdPath::Avx2) ? "available" : "not available");
-        std::string why;
-        try {
-            selectComputeDevice(Device::Gpu, &why);
-            std::printf("GPU device: %s\n", why.substr(why.find(' ') + 1).c_str());
-        } catch (const Error& e) {
-            std::printf("GPU device: none (%s)\n", e.what());
+        // Each registered device (cpu and auto are the core's own), by its name in capitals: "GPU device: ...".
+        const std::vector<Choice<std::string>> devices = deviceChoices();
+        if (devices.size() == 2) std::printf("GPU device: none (this program was built without a GPU device)\n");
+        for (std::size_t d = 1; d + 1 < devices.size(); ++d) {
+            std::string label = devices[d].name;
+            for (char& c : label) c = char(std::toupper(static_cast<unsigned char>(c)));
+            try {
+                std::printf("%s device: %s\n", label.c_str(), selectComputeDevice(devices[d].id)->description().c_str());
+            } catch (const Error& e) {
+                std::printf("%s device: none (%s)\n", label.c_str(), e.what());
+            }
         }
-        selectComputeDevice(Device::Auto, &why);
+        std::string why;
+        selectComputeDevice("auto", &why);
         std::printf("--device auto: %s\n", why.c_str());
     });
 }

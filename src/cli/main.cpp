@@ -3,7 +3,7 @@
 // file manager's "open with" runs) opens it on those meshes.
 #if SDFGEN_HAS_VIEWER
 #include "app/viewer.hpp"
-#include "gpu/gl_device.hpp"
+#include "gpu/devices.hpp"
 #endif
 #include "cli/commands.hpp"
 #include "sdfgen/error.hpp"
@@ -14,6 +14,9 @@
 #include <vector>
 
 int main(int argc, char** argv) {
+#if SDFGEN_HAS_VIEWER
+    sdfgen::gpu::registerDevices(); // first: the commands' options list them
+#endif
     CLI::App app{"sdfgen: signed distance fields from triangle meshes. With no command, opens the viewer."};
     app.require_subcommand(0, 1);
     sdfgen::cli::addBakeCommand(app);
@@ -26,7 +29,6 @@ int main(int argc, char** argv) {
     sdfgen::cli::addBatchCommand(app, exitCode);
     sdfgen::cli::addInfoCommand(app);
 #if SDFGEN_HAS_VIEWER
-    sdfgen::gpu::registerGlDevice();
     sdfgen::cli::addRenderCommand(app);
     std::vector<std::string> viewMeshes;
     CLI::App* view = app.add_subcommand("view", "Open the viewer window (the default when no command is given)");

@@ -29,7 +29,8 @@ void addBakeOptions(CLI::App& command, BakeSettings& settings, int& threads) {
         ->capture_default_str();
     command.add_option("--device", settings.device, "Where exact distances and winding signs run: " + describeChoices(deviceChoices()))
         ->transform(choiceOf(deviceChoices(), "device"))
-        ->default_str(toString(settings.device));
+        ->type_name("ENUM") // one of the names listed, as --method's and --sign's
+        ->default_str(settings.device);
     addThreadsOption(command, threads);
 }
 

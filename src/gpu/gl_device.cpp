@@ -434,6 +434,14 @@ bool isSoftwareRenderer(const std::string& renderer) {
 
 std::unique_ptr<ComputeDevice> openGlDevice() { return std::make_unique<GlDevice>(); }
 
-void registerGlDevice() { registerComputeDevice(openGlDevice, render::eglMayHaveHardwareDevice); }
+ComputeDevicePlugin glDevicePlugin() {
+    ComputeDevicePlugin plugin;
+    plugin.name = "gpu";
+    plugin.description = "OpenGL 4.5 compute, on Mesa's llvmpipe too; an error when it cannot start";
+    plugin.driver = "OpenGL 4.5 driver";
+    plugin.mayBeHardware = render::eglMayHaveHardwareDevice;
+    plugin.open = openGlDevice;
+    return plugin;
+}
 
 } // namespace sdfgen::gpu

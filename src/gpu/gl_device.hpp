@@ -9,8 +9,8 @@ namespace sdfgen::gpu {
 // winding_rows.comp, winding_prefix.comp, winding_caps.comp) in its own headless context (EGL, else OSMesa). Throws Error when no 4.5 core context can be made.
 std::unique_ptr<ComputeDevice> openGlDevice();
 
-// Registers openGlDevice with the core (registerComputeDevice), for bakes with Device::Gpu or Auto.
-void registerGlDevice();
+// The OpenGL device as the core registers it (src/gpu/devices.cpp): "gpu", opened by openGlDevice.
+ComputeDevicePlugin glDevicePlugin();
 
 // Whether a driver name (GL_RENDERER) is a CPU emulation of a GPU: llvmpipe, softpipe, swrast.
 bool isSoftwareRenderer(const std::string& renderer);

@@ -8,12 +8,14 @@
 #include "core/mesh/sample_positions.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "core/accel/topology.hpp"
+#include "gpu/devices.hpp"
 #include "gpu/gl_device.hpp"
 #include "render/egl_context.hpp"
 #include "render/gl.hpp"
 #include "sdfgen/device.hpp"
 #include "support/checks.hpp"
 #include "support/shapes.hpp"
+#include "support/stand_in_device.hpp"
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -129,7 +131,7 @@ void expectEqualFields(const BakeResult& cpu, const BakeResult& gpu) {
     EXPECT_EQ(signs, 0u) << "of " << a.size() << " samples";
 }
 
-BakeResult bakeOn(const Mesh& mesh, int res, Device device, SignMethod sign, const RunControl& control = {}) {
+BakeResult bakeOn(const Mesh& mesh, int res, const std::string& device, SignMethod sign, const RunControl& control = {}) {
     BakeSettings settings;
     settings.res = res;
     settings.sign = sign;
@@ -154,12 +156,12 @@ void windingTriangles(const Mesh& mesh, const WindingCaps& caps, std::vector<glm
 
 class Gpu : public ::testing::Test {
 protected:
-    static void SetUpTestSuite() { gpu::registerGlDevice(); }
+    static void SetUpTestSuite() { gpu::registerDevices(); }
 };
 
 TEST_F(Gpu, OpensAndDescribesItsDriver) {
     std::string why;
-    ComputeDevice* device = selectComputeDevice(Device::Gpu, &why);
+    ComputeDevice* device = selectComputeDevice("gpu", &why);
     ASSERT_NE(device, nullptr);
     EXPECT_NE(device->description().find("renderer"), std::string::npos) << device->description();
     // gpu-osmesa (tests/CMakeLists.txt) runs this with SDFGEN_HEADLESS=osmesa.
@@ -167,10 +169,44 @@ TEST_F(Gpu, OpensAndDescribesItsDriver) {
     const std::string through = only && std::string(only) == "osmesa" ? "through OSMesa" : "through EGL";
     EXPECT_NE(device->description().find(through), std::string::npos) << device->description();
     // Auto takes the device only when it is hardware.
-    EXPECT_EQ(selectComputeDevice(Device::Auto) != nullptr, device->hardware());
-    EXPECT_EQ(selectComputeDevice(Device::Cpu), nullptr);
+    EXPECT_EQ(selectComputeDevice("auto") != nullptr, device->hardware());
+    EXPECT_EQ(selectComputeDevice("cpu"), nullptr);
     EXPECT_TRUE(gpu::isSoftwareRenderer("llvmpipe (LLVM 15.0.6, 256 bits)"));
     EXPECT_FALSE(gpu::isSoftwareRenderer("NVIDIA H200/PCIe/SSE2"));
+}
+
+// A second device beside the OpenGL one (a stand-in that answers on the CPU): both are listed and
+// chosen by name, and auto passes over the one that is not hardware.
+TEST_F(Gpu, CoexistsWithAnotherDevice) {
+    int calls = 0;
+    const test::ScopedDevice fake(test::standInDevice("fake", false, &calls));
+    std::vector<std::string> names;
+    for (const Choice<std::string>& choice : deviceChoices()) names.push_back(choice.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"cpu", "gpu", "fake", "auto"}));
+    std::string why;
+    ComputeDevice* gl = selectComputeDevice("gpu");
+    ComputeDevice* other = selectComputeDevice("fake", &why);
+    ASSERT_NE(gl, nullptr);
+    ASSERT_NE(other, nullptr);
+    EXPECT_NE(gl, other);
+    EXPECT_EQ(why, "fake: stand-in");
+    // Auto: the GL device where it is hardware, else the CPU; never the fake.
+    EXPECT_EQ(selectComputeDevice("auto", &why), gl->hardware() ? gl : nullptr) << why;
+    if (!gl->hardware()) {
+        EXPECT_CONTAINS(why, "; device fake: the only stand-in driver runs on the CPU (stand-in)");
+    }
+    {
+        // A fake on hardware, after the GL device: taken by auto only where the GL device is not hardware.
+        const test::ScopedDevice hardwareFake(test::standInDevice("hardware-fake", true));
+        ComputeDevice* fast = selectComputeDevice("hardware-fake");
+        EXPECT_EQ(selectComputeDevice("auto", &why), gl->hardware() ? gl : fast) << why;
+    }
+    // A bake on the fake uses its answers: the CPU's field, as the GL device's.
+    const Mesh sphere = test::icosphere(1.0f, 2);
+    const BakeResult onFake = bakeOn(sphere, 12, "fake", SignMethod::Winding);
+    EXPECT_EQ(calls, 2);
+    EXPECT_EQ(onFake.deviceReason, "fake: stand-in");
+    expectEqualFields(bakeOn(sphere, 12, "cpu", SignMethod::Winding), onFake);
 }
 
 // Sign auto (pseudonormal on the closed clean meshes, from the GPU's nearest triangles; winding on
@@ -178,12 +214,12 @@ TEST_F(Gpu, OpensAndDescribesItsDriver) {
 TEST_F(Gpu, EqualsTheCpu) {
     for (const Shape& shape : shapes()) {
         SCOPED_TRACE(shape.name);
-        const BakeResult cpu = bakeOn(shape.mesh, shape.res, Device::Cpu, SignMethod::Auto);
-        expectEqualFields(cpu, bakeOn(shape.mesh, shape.res, Device::Gpu, SignMethod::Auto));
+        const BakeResult cpu = bakeOn(shape.mesh, shape.res, "cpu", SignMethod::Auto);
+        expectEqualFields(cpu, bakeOn(shape.mesh, shape.res, "gpu", SignMethod::Auto));
         if (cpu.sign == SignMethod::Pseudonormal) {
             SCOPED_TRACE("sign winding");
-            expectEqualFields(bakeOn(shape.mesh, shape.res, Device::Cpu, SignMethod::Winding),
-                              bakeOn(shape.mesh, shape.res, Device::Gpu, SignMethod::Winding));
+            expectEqualFields(bakeOn(shape.mesh, shape.res, "cpu", SignMethod::Winding),
+                              bakeOn(shape.mesh, shape.res, "gpu", SignMethod::Winding));
         }
     }
 }
@@ -201,9 +237,9 @@ TEST_F(Gpu, EqualsTheCpuWhereRowsHitEdgesAndVertices) {
             settings.res = res;
             settings.padding = padding;
             settings.sign = sign;
-            settings.device = Device::Cpu;
+            settings.device = "cpu";
             const BakeResult cpu = test::bakeMesh(cube, settings);
-            settings.device = Device::Gpu;
+            settings.device = "gpu";
             const BakeResult gpu = test::bakeMesh(cube, settings);
             if (res == 5) {
                 ASSERT_EQ(cpu.field.dense().grid.position(1, 1, 1), glm::dvec3(-1.0)) << "samples should sit on the cube's corners";
@@ -225,7 +261,7 @@ TEST_F(Gpu, WhereTrianglesTieDistancesAndSignsAreTheCpus) {
     for (std::uint32_t t = 0; t < cube.triangleCount(); ++t) {
         for (int feature = 0; feature < 7; ++feature) sign.normals.push_back(topology.pseudonormal(t, TriangleFeature(feature)));
     }
-    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ComputeDevice* device = selectComputeDevice("gpu");
     ASSERT_NE(device, nullptr);
     for (int res : {5, 10}) {
         SCOPED_TRACE("res " + std::to_string(res));
@@ -261,9 +297,9 @@ TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
     settings.res = 5;
     settings.padding = 0.75f;
     settings.sign = SignMethod::Winding;
-    settings.device = Device::Cpu;
+    settings.device = "cpu";
     const BakeResult cpu = test::bakeMesh(open, settings);
-    settings.device = Device::Gpu;
+    settings.device = "gpu";
     expectEqualFields(cpu, test::bakeMesh(open, settings));
 
     const MeshTopology topology(open);
@@ -273,7 +309,7 @@ TEST_F(Gpu, LeavesWindingNumbersNearOneHalfToTheCpu) {
     std::vector<std::int32_t> weights;
     windingTriangles(open, caps, corners, weights);
     const WindingFans fans = caps.flattened();
-    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ComputeDevice* device = selectComputeDevice("gpu");
     ASSERT_NE(device, nullptr);
     // Two samples 2.5e-7 and 1.5e-7 below the centre of the missing face, and one far outside.
     Grid grid;
@@ -308,7 +344,7 @@ TEST_F(Gpu, DecidesInsideOutPartsByTheMagnitudeOfW) {
     std::vector<std::int32_t> weights;
     windingTriangles(open, caps, corners, weights);
     const WindingFans fans = caps.flattened();
-    ComputeDevice* device = selectComputeDevice(Device::Gpu);
+    ComputeDevice* device = selectComputeDevice("gpu");
     ASSERT_NE(device, nullptr);
     const Grid grid = makeGrid(open.worldBounds(), 16, 0.1);
     std::vector<std::uint8_t> sides;
@@ -336,8 +372,8 @@ TEST_F(Gpu, DecidesInsideOutPartsByTheMagnitudeOfW) {
 
 TEST_F(Gpu, IsDeterministic) {
     const Mesh bunny = loadObj(test::bundledBunnyPath());
-    const BakeResult first = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
-    const BakeResult second = bakeOn(bunny, 24, Device::Gpu, SignMethod::Winding);
+    const BakeResult first = bakeOn(bunny, 24, "gpu", SignMethod::Winding);
+    const BakeResult second = bakeOn(bunny, 24, "gpu", SignMethod::Winding);
     ASSERT_EQ(first.field.dense().values.size(), second.field.dense().values.size());
     EXPECT_EQ(std::memcmp(first.field.dense().values.data(), second.field.dense().values.data(), first.field.dense().values.size() * sizeof(float)), 0);
 }
@@ -346,13 +382,15 @@ TEST_F(Gpu, IsDeterministic) {
 // small grid take many, with the last one partly filled.
 TEST_F(Gpu, StreamsSlabs) {
     const Mesh holed = cutOpen(test::torus(1.0f, 0.3f, 24, 12), {0, 0, 1}, 0.5f);
-    const BakeResult cpu = bakeOn(holed, 18, Device::Cpu, SignMethod::Winding);
+    const BakeResult cpu = bakeOn(holed, 18, "cpu", SignMethod::Winding);
     ASSERT_EQ(setenv("SDFGEN_GPU_SLAB_BYTES", "4000", 1), 0);
     std::unique_ptr<ComputeDevice> small = gpu::openGlDevice();
     unsetenv("SDFGEN_GPU_SLAB_BYTES");
-    registerComputeDevice([&small] { return std::move(small); });
-    const BakeResult gpu = bakeOn(holed, 18, Device::Gpu, SignMethod::Winding);
-    gpu::registerGlDevice();
+    ComputeDevicePlugin slabbed = gpu::glDevicePlugin();
+    slabbed.open = [&small] { return std::move(small); };
+    registerComputeDevice(slabbed); // in the GL device's place, under its name
+    const BakeResult gpu = bakeOn(holed, 18, "gpu", SignMethod::Winding);
+    registerComputeDevice(gpu::glDevicePlugin());
     expectEqualFields(cpu, gpu);
 }
 
@@ -362,10 +400,10 @@ TEST_F(Gpu, BakesOnAWorkerThreadBesideAnotherContext) {
     const std::unique_ptr<render::GlContext> window = render::createEglContext({16, 16});
     const Mesh sphere = cutOpen(test::icosphere(1.0f, 2), {0, 1, 0}, 0.8f);
     std::optional<BakeResult> gpu;
-    std::thread worker([&] { gpu = bakeOn(sphere, 12, Device::Gpu, SignMethod::Winding); });
+    std::thread worker([&] { gpu = bakeOn(sphere, 12, "gpu", SignMethod::Winding); });
     worker.join();
     ASSERT_TRUE(gpu.has_value());
-    expectEqualFields(bakeOn(sphere, 12, Device::Cpu, SignMethod::Winding), *gpu);
+    expectEqualFields(bakeOn(sphere, 12, "cpu", SignMethod::Winding), *gpu);
     window->makeCurrent();
     glClearColor(0.0f, 1.0f, 0.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
@@ -386,7 +424,7 @@ TEST_F(Gpu, Cancels) {
         reported = fraction;
         cancel = true;
     };
-    EXPECT_THROW(bakeOn(bunny, 48, Device::Gpu, SignMethod::Winding, control), Cancelled);
+    EXPECT_THROW(bakeOn(bunny, 48, "gpu", SignMethod::Winding, control), Cancelled);
     EXPECT_GT(reported, 0.0);
     EXPECT_LT(reported, 0.5);
 }
@@ -395,7 +433,7 @@ TEST_F(Gpu, RefusesMethodsItDoesNotRun) {
     BakeSettings settings;
     settings.res = 8;
     settings.method = DistanceMethod::Rays;
-    settings.device = Device::Gpu;
+    settings.device = "gpu";
     const std::string message = test::errorFrom([&] { test::bakeMesh(test::box({1, 1, 1}), settings); });
     EXPECT_NE(message.find("device gpu computes exact distances; method rays runs on the CPU"), std::string::npos) << message;
 }
@@ -406,11 +444,11 @@ TEST(GpuBadContext, ClearErrorAndAutoFallsBack) {
     ASSERT_TRUE(override && std::string(override) == "3.3") << "run with MESA_GL_VERSION_OVERRIDE=3.3";
     const std::string message = test::errorFrom([] { gpu::openGlDevice(); });
     EXPECT_NE(message.find("4.5"), std::string::npos) << message;
-    gpu::registerGlDevice();
+    gpu::registerDevices();
     const Mesh sphere = test::icosphere(1.0f, 1);
-    const std::string gpuMessage = test::errorFrom([&] { bakeOn(sphere, 8, Device::Gpu, SignMethod::Winding); });
+    const std::string gpuMessage = test::errorFrom([&] { bakeOn(sphere, 8, "gpu", SignMethod::Winding); });
     EXPECT_NE(gpuMessage.find("device gpu: "), std::string::npos) << gpuMessage;
-    const BakeResult automatic = bakeOn(sphere, 8, Device::Auto, SignMethod::Winding);
+    const BakeResult automatic = bakeOn(sphere, 8, "auto", SignMethod::Winding);
     EXPECT_FALSE(automatic.onDevice);
     EXPECT_NE(automatic.deviceReason.find("cpu"), std::string::npos) << automatic.deviceReason;
     EXPECT_EQ(automatic.field.dense().values.size(), 8u * 8u * 8u);

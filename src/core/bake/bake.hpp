@@ -3,7 +3,6 @@
 #include "core/method/methods.hpp"
 #include "sdfgen/bake.hpp"
 #include "sdfgen/mesh.hpp"
-#include "sdfgen/model.hpp"
 
 #include <string>
 
@@ -16,10 +15,5 @@ BakeResult bake(const BakeContext& context, const RunControl& control);
 // The same for a mesh and its tree alone (topology and mesh check built when needed); for tests
 // and tools. Front ends use sdfgen::Model, which keeps them between bakes.
 BakeResult bake(const Mesh& mesh, const Bvh& tree, const BakeSettings& settings, const RunControl& control);
-
-// Model::query that also writes each point's channels through `channels` (interleaved, signed by
-// the query's sign; null: none), from the closest hit its distance is measured with.
-void queryWithChannels(const Model& model, const double* points, std::size_t count, const PointQueryOutputs& outputs,
-                       SignMethod sign, const RunControl& control, const ChannelWriter* channels);
 
 } // namespace sdfgen

@@ -5,6 +5,7 @@
 #include "core/accel/bvh.hpp"
 #include "core/distance/exact.hpp"
 #include "core/mesh/geometry.hpp"
+#include "core/method/channels.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "core/accel/topology.hpp"
@@ -263,16 +264,73 @@ BakeResult Model::bake(const BakeSettings& settings, const RunControl& control) 
     return result;
 }
 
-void Model::query(const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
-                  const RunControl& control) const {
-    queryWithChannels(*this, points, count, out, sign, control, nullptr);
+namespace {
+
+// The closest-point search runs in single precision in the mesh's local frame: exact near the
+// mesh, but about a million mesh sizes away a point is rounded by more than the differences
+// that decide its nearest triangle and sign (measured on the bundled bunny: wrong signs from
+// 1e6 sizes on, none up to 1e5). Farther points are refused, not answered wrongly.
+void refuseFarPoints(const Mesh& mesh, const double* points, std::size_t count) {
+    constexpr double kFarthestQuery = 1e4; // in mesh sizes (the bounding box's longest side)
+    const WorldBounds box = mesh.worldBounds();
+    const glm::dvec3 extent = box.extent();
+    const double size = std::max({extent.x, extent.y, extent.z});
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+        const glm::dvec3 outside = glm::max(glm::max(box.min - p, p - box.max), glm::dvec3(0.0));
+        const double away = std::max({outside.x, outside.y, outside.z});
+        if (away > kFarthestQuery * size) {
+            char message[320];
+            std::snprintf(message, sizeof(message),
+                          ": query point %zu (%.6g, %.6g, %.6g) is %.3g mesh sizes from the mesh's bounding box; points "
+                          "are answered up to %.0f mesh sizes away (farther, single-precision searches cannot tell its "
+                          "nearest triangle and sign)",
+                          i, p.x, p.y, p.z, away / size, kFarthestQuery);
+            throw Error(mesh.source + message);
+        }
+    }
 }
 
-void queryWithChannels(const Model& model, const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
-                       const RunControl& control, const ChannelWriter* channels) {
-    const Model::Impl& m = *model.impl_;
+// The points' indices in Morton order of their position, ties by index.
+std::vector<std::uint32_t> mortonOrder(const Mesh& mesh, const double* points, std::size_t count) {
+    std::vector<std::uint64_t> keys(count);
+    const Bounds& box = mesh.bounds;
+    const glm::dvec3 lo = glm::dvec3(box.min) - 1.0, size = glm::dvec3(box.extent()) + 2.0;
+    auto spread = [](std::uint64_t v) { // 21 bits to every third bit
+        v &= 0x1fffff;
+        v = (v | v << 32) & 0x1f00000000ffffULL;
+        v = (v | v << 16) & 0x1f0000ff0000ffULL;
+        v = (v | v << 8) & 0x100f00f00f00f00fULL;
+        v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+        v = (v | v << 2) & 0x1249249249249249ULL;
+        return v;
+    };
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::dvec3 q = glm::clamp((mesh.toLocal({points[3 * i], points[3 * i + 1], points[3 * i + 2]}) - lo) / size, 0.0, 1.0);
+        const auto cell = [&](double c) { return std::uint64_t(c * double(0x1fffff)); };
+        keys[i] = spread(cell(q.x)) | spread(cell(q.y)) << 1 | spread(cell(q.z)) << 2;
+    }
+    std::vector<std::uint32_t> order(count);
+    for (std::size_t i = 0; i < count; ++i) order[i] = std::uint32_t(i);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
+    return order;
+}
+
+} // namespace
+
+void Model::query(const double* points, std::size_t count, const PointQueryOutputs& out, SignMethod sign,
+                  const RunControl& control) const {
+    const Impl& m = *impl_;
     const Mesh& mesh = m.mesh;
     if (sign == SignMethod::Default) sign = SignMethod::Auto;
+    // Channels from the same closest hits, as a bake computes them at its samples.
+    std::optional<ChannelWriter> writer;
+    if (out.channels.any()) {
+        if (!out.channelValues) throw Error("point query channels asked with no channelValues to write them to");
+        checkChannels(mesh, out.channels);
+        writer.emplace(out.channels, count, false, *out.channelValues, control);
+    }
+    const ChannelWriter* channels = writer ? &*writer : nullptr;
     const bool needSign = out.signedDistance || out.gradient || channels;
     const bool needNearest = needSign || out.unsignedDistance || out.closestPoint || out.triangle || out.barycentric;
     if (needSign && !signMethod(sign).servesPointQueries()) {
@@ -304,30 +362,7 @@ void queryWithChannels(const Model& model, const double* points, std::size_t cou
     for (std::size_t i = 0; i < 3 * count; ++i) {
         if (!std::isfinite(points[i])) throw Error("query point " + std::to_string(i / 3) + " has a non-finite coordinate");
     }
-    // The closest-point search runs in single precision in the mesh's local frame: exact near the
-    // mesh, but about a million mesh sizes away a point is rounded by more than the differences
-    // that decide its nearest triangle and sign (measured on the bundled bunny: wrong signs from
-    // 1e6 sizes on, none up to 1e5). Farther points are refused, not answered wrongly.
-    constexpr double kFarthestQuery = 1e4; // in mesh sizes (the bounding box's longest side)
-    {
-        const WorldBounds box = mesh.worldBounds();
-        const glm::dvec3 extent = box.extent();
-        const double size = std::max({extent.x, extent.y, extent.z});
-        for (std::size_t i = 0; i < count; ++i) {
-            const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
-            const glm::dvec3 outside = glm::max(glm::max(box.min - p, p - box.max), glm::dvec3(0.0));
-            const double away = std::max({outside.x, outside.y, outside.z});
-            if (away > kFarthestQuery * size) {
-                char message[320];
-                std::snprintf(message, sizeof(message),
-                              ": query point %zu (%.6g, %.6g, %.6g) is %.3g mesh sizes from the mesh's bounding box; points "
-                              "are answered up to %.0f mesh sizes away (farther, single-precision searches cannot tell its "
-                              "nearest triangle and sign)",
-                              i, p.x, p.y, p.z, away / size, kFarthestQuery);
-                throw Error(mesh.source + message);
-            }
-        }
-    }
+    refuseFarPoints(mesh, points, count);
     // Build what the workers share before they start.
     const WideBvh* wide = needNearest ? &m.wide(quiet(control)) : nullptr;
     const PointSide* side = needSign ? &m.pointSide(signMethod(sign), quiet(control)) : nullptr;
@@ -338,29 +373,7 @@ void queryWithChannels(const Model& model, const double* points, std::size_t cou
     // by its neighbour's answer. Results do not depend on the order (the search is WideBvh's, ties
     // to the lower triangle index, as for the grid's samples), and the blocks are fixed, so they
     // never depend on the thread count either.
-    std::vector<std::uint64_t> keys(count);
-    {
-        const Bounds& box = mesh.bounds;
-        const glm::dvec3 lo = glm::dvec3(box.min) - 1.0, size = glm::dvec3(box.extent()) + 2.0;
-        auto spread = [](std::uint64_t v) { // 21 bits to every third bit
-            v &= 0x1fffff;
-            v = (v | v << 32) & 0x1f00000000ffffULL;
-            v = (v | v << 16) & 0x1f0000ff0000ffULL;
-            v = (v | v << 8) & 0x100f00f00f00f00fULL;
-            v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-            v = (v | v << 2) & 0x1249249249249249ULL;
-            return v;
-        };
-        for (std::size_t i = 0; i < count; ++i) {
-            const glm::dvec3 q = glm::clamp((mesh.toLocal({points[3 * i], points[3 * i + 1], points[3 * i + 2]}) - lo) / size, 0.0, 1.0);
-            const auto cell = [&](double c) { return std::uint64_t(c * double(0x1fffff)); };
-            keys[i] = spread(cell(q.x)) | spread(cell(q.y)) << 1 | spread(cell(q.z)) << 2;
-        }
-    }
-    std::vector<std::uint32_t> order(count);
-    for (std::size_t i = 0; i < count; ++i) order[i] = std::uint32_t(i);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b] || (keys[a] == keys[b] && a < b); });
-    keys = {};
+    const std::vector<std::uint32_t> order = mortonOrder(mesh, points, count);
 
     constexpr std::size_t kBlock = 256;
     const std::size_t blocks = (count + kBlock - 1) / kBlock;

@@ -1,6 +1,4 @@
 #include "sdfgen/sample.hpp"
-#include "core/bake/bake.hpp"
-#include "core/method/channels.hpp"
 #include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
@@ -155,10 +153,9 @@ Samples sampleSdf(const Model& model, std::size_t n, const SampleSettings& setti
     samples.sdf.resize(n);
     PointQueryOutputs outputs;
     outputs.signedDistance = samples.sdf.data();
-    // The channels from the same query, as a bake computes them at its samples.
-    checkChannels(mesh, settings.channels);
-    const ChannelWriter channels(settings.channels, n, false, samples.channels, control);
-    queryWithChannels(model, points.data(), n, outputs, settings.sign, control.phase(0.2, 1.0), channels.empty() ? nullptr : &channels);
+    outputs.channels = settings.channels;
+    outputs.channelValues = &samples.channels;
+    model.query(points.data(), n, outputs, settings.sign, control.phase(0.2, 1.0));
     if (!std::all_of(samples.sdf.begin(), samples.sdf.end(), finite)) {
         throw Error(mesh.source + ": the samples' distances are beyond single precision at this mesh's scale; scale the mesh "
                                   "nearer to unit size");

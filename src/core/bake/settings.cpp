@@ -1,6 +1,7 @@
 // problem(): the one check of BakeSettings that bake() and every front end share.
 #include "core/method/methods.hpp"
 #include "sdfgen/bake.hpp"
+#include "sdfgen/error.hpp"
 
 #include <cstdio>
 #include <optional>
@@ -43,15 +44,22 @@ std::optional<SettingsProblem> problem(const BakeSettings& settings) {
         return refuse("sign",
                       std::string("method ") + method.name + " signs by the exact winding number; sign " + toString(sign) + " does not apply");
     }
-    // The compute device (sdfgen/device.hpp) measures exact distances and counts winding numbers.
-    if (settings.device == Device::Gpu && !method.onDevice) {
-        return refuse("device", std::string("device gpu computes exact distances; method ") + method.name + " runs on the CPU");
+    // A compute device (sdfgen/device.hpp) measures exact distances and counts winding numbers.
+    std::string device;
+    try {
+        device = parseDevice(settings.device);
+    } catch (const Error& e) {
+        return refuse("device", e.what());
+    }
+    const bool namedDevice = device != "cpu" && device != "auto";
+    if (namedDevice && !method.onDevice) {
+        return refuse("device", "device " + device + " computes exact distances; method " + method.name + " runs on the CPU");
     }
     if (banded) {
         if (!method.bricks) {
             return refuse("method", std::string("a band bake measures exact distances; method ") + method.name + " makes dense fields only");
         }
-        if (settings.device == Device::Gpu) return refuse("device", "a band bake runs on the CPU only; choose device cpu or auto");
+        if (namedDevice) return refuse("device", "a band bake runs on the CPU only; choose device cpu or auto");
         if (settings.channels.any()) {
             return refuse("channels", "channels " + toString(settings.channels).substr(4) +
                                           " come from the dense bake only; a band bake gives the distance (sdf)");
@@ -67,7 +75,7 @@ std::optional<SettingsProblem> problem(const BakeSettings& settings) {
             return refuse("channels", "channels " + named + " come from the exact method's nearest triangles; method " + method.name +
                                           " gives the distance (sdf) only");
         }
-        if (settings.device == Device::Gpu) return refuse("device", "channels " + named + " are made on the CPU only; choose device cpu or auto");
+        if (namedDevice) return refuse("device", "channels " + named + " are made on the CPU only; choose device cpu or auto");
     }
     return std::nullopt;
 }
