@@ -1,8 +1,9 @@
 #pragma once
 // The compute device plug-in interface: how a library that can run the heavy parts of an exact
 // bake on other hardware (src/gpu: OpenGL 4.5 compute shaders) registers with the core at run
-// time, by name, beside any other. The core never links OpenGL; it only calls this interface. Programs that only bake and
-// query need not include it: BakeSettings::device picks where a bake runs.
+// time, by name, beside any other. The core never links OpenGL; it only calls this interface.
+// Programs that only bake and query need not include it: BakeSettings::device picks where a bake
+// runs.
 #include "sdfgen/bake.hpp"
 #include "sdfgen/grid.hpp"
 #include "sdfgen/mesh.hpp"

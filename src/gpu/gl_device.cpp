@@ -380,7 +380,7 @@ private:
         const std::size_t layers = budget / std::max<std::size_t>(layerBytes, 1) / std::size_t(multiple) * std::size_t(multiple);
         if (layers == 0) {
             throw Error("the grid's layers are too large for the GPU (" + std::to_string(layerBytes * std::size_t(multiple) >> 20) +
-                        " MiB for " + std::to_string(multiple) + ", the limit is " + std::to_string(budget >> 20) + " MiB); use --device cpu");
+                        " MiB for " + std::to_string(multiple) + ", the limit is " + std::to_string(budget >> 20) + " MiB); bake on device cpu instead");
         }
         const std::size_t needed = (std::size_t(gridLayers) + std::size_t(multiple) - 1) / std::size_t(multiple) * std::size_t(multiple);
         return int(std::min(layers, needed));
@@ -389,7 +389,7 @@ private:
     void checkFits(std::size_t bytes, const char* what) const {
         if (bytes > maxBlockBytes_) {
             throw Error(std::string(what) + " need " + std::to_string(bytes >> 20) + " MiB, more than the GPU's storage buffer limit of " +
-                        std::to_string(maxBlockBytes_ >> 20) + " MiB; use --device cpu");
+                        std::to_string(maxBlockBytes_ >> 20) + " MiB; bake on device cpu instead");
         }
     }
 
@@ -401,7 +401,7 @@ private:
         while (glGetError() != GL_NO_ERROR) continue; // the rest of the queue, so the next call starts clean
         const char* name = error == GL_OUT_OF_MEMORY ? "out of GPU memory" : error == GL_INVALID_VALUE ? "a value beyond the driver's limits"
                                                                                                        : "an OpenGL error";
-        throw Error(std::string("GPU: ") + pass + " failed (" + name + ", code " + std::to_string(error) + "); use --device cpu");
+        throw Error(std::string("GPU: ") + pass + " failed (" + name + ", code " + std::to_string(error) + "); bake on device cpu instead");
     }
 
     static void checkCancel(const RunControl& control) {
