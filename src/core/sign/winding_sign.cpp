@@ -415,7 +415,7 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
 
 WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach) {
     BallDipole out;
-    const double d = glm::length(glm::max(glm::max(node.lo - centre, centre - node.hi), glm::dvec3(0.0))) - reach;
+    const double d = boxDistance(node.lo, node.hi, centre) - reach;
     if (!(d > 0.0)) return out;
     const glm::dvec3 r = node.centroid - centre;
     const double length = glm::length(r), inverse3 = 1.0 / (length * length * length);
@@ -759,11 +759,7 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& c
 }
 
 void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const {
-    // As the dense bake's blocks of 4³ (BrickSigns): a cut bounding the rest within 0.01, with 12
-    // near fans, or where that leaves every point in doubt, 0.1 with up to 96, then 0.01 with up
-    // to 96 for the points left.
-    constexpr double kTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
-    constexpr std::size_t kNearFans = 12, kMoreFans = 96;
+    // The measured cuts, as the dense bake's blocks of 4³ take them (BrickSigns).
     thread_local Cut nearest, loose, tight, scratch;
     const double span = nodes_.empty() ? 0.0 : kGroupSpan * glm::length(nodes_[0].hi - nodes_[0].lo);
     glm::dvec3 group[kGroupPoints], lo(0.0), hi(0.0);
@@ -779,10 +775,10 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
         } else if (n > 1) {
             const glm::dvec3 centre = 0.5 * (lo + hi);
             const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
-            cut(centre, reach, kTarget, kNearFans, false, nearest);
+            cut(centre, reach, kTightTarget, kNearestFans, false, nearest);
             Cut* chosen = &nearest;
             if (nearest.farSum > kHopeless) {
-                cut(centre, reach, kLooseTarget, kMoreFans, false, loose, &nearest);
+                cut(centre, reach, kLooseTarget, kMeasuredFans, false, loose, &nearest);
                 chosen = &loose;
             }
             double near[kGroupPoints];
@@ -796,7 +792,7 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
                     else doubtful[left] = group[s], which[left++] = s;
                 }
                 if (left > 1) {
-                    cut(centre, reach, kTarget, kMoreFans, false, tight, &loose);
+                    cut(centre, reach, kTightTarget, kMeasuredFans, false, tight, &loose);
                     chosen = &tight;
                     double tightNear[kGroupPoints];
                     measure(tight, doubtful, left, tightNear);
@@ -846,7 +842,7 @@ bool WindingCaps::noFanWithin(const glm::dvec3& p, double reach) const {
     stack[top++] = 0;
     while (top > 0) {
         const Node& node = nodes_[stack[--top]];
-        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0)));
+        const double d = boxDistance(node.lo, node.hi, p);
         if (d > reach * (1.0 + 1e-9)) continue;
         if (node.leaf) return false;
         stack[top++] = node.first + 1;
@@ -902,7 +898,7 @@ int WindingCaps::sideBeyond(const glm::dvec3& p, int ahead, double margin) const
 
 double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) const {
     auto distance = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
-        return glm::length(glm::max(glm::max(lo - centre, centre - hi), glm::dvec3(0.0))) - reach;
+        return boxDistance(lo, hi, centre) - reach;
     };
     double gradient = 0.0;
     for (const LoopCaps& loop : loops_) {
@@ -1041,14 +1037,10 @@ struct SampleAxes {
 // and are decided by WindingCaps::insideNear.
 struct BrickSigns {
     static constexpr int kEdge = 8;
-    // The cuts' targets (sums of far bounds) and their most fans: expanded once per block, or
-    // measured at every sample of a 4³ block by the fan kernel (tuned by time on open sheets,
-    // meshes with many holes, the messy corpus and the band beside the holes of a scan). Where
-    // the nearest fans leave the rest bounded by more than kHopeless (a block among open parts,
-    // whose samples are mostly far from |w| = 1/2 but near many fans), the block measures the fans
-    // that bring the rest within kLooseTarget instead.
-    static constexpr double kExpandTarget = 0.01, kPointTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
-    static constexpr std::size_t kExpandedFans = 64, kMeasuredFans = 12, kMoreMeasuredFans = 96;
+    // The expanded cut's target (the sum of its far bounds) and its most fans, once per brick; the
+    // measured blocks of 4³ take WindingCaps's measured cuts (kNearestFans, kLooseTarget, ...).
+    static constexpr double kExpandTarget = 0.01;
+    static constexpr std::size_t kExpandedFans = 64;
     static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
     const SampleAxes& axes;
     const WindingCaps& caps;
@@ -1163,11 +1155,11 @@ struct BrickSigns {
                     }
                 });
             };
-            caps.cut(centre, reach, kPointTarget, kMeasuredFans, false, cut, within);
+            caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, cut, within);
             WindingCaps::Cut* first = &cut;
-            if (cut.farSum > kHopeless) {
+            if (cut.farSum > WindingCaps::kHopeless) {
                 first = &cuts[level + 2];
-                caps.cut(centre, reach, kLooseTarget, kMoreMeasuredFans, false, *first, &cut);
+                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, *first, &cut);
             }
             measure(*first);
             WindingCaps::Cut* measured = first;
@@ -1179,7 +1171,7 @@ struct BrickSigns {
                         if (measured == first && walks == kFanPoints && walked > 8 * kFanPoints &&
                             undecidedIn(ia, ja, ka, ie, je, ke) >= kFanPoints) {
                             measured = &cuts[level + 1];
-                            caps.cut(centre, reach, kPointTarget, kMoreMeasuredFans, false, *measured, first);
+                            caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kMeasuredFans, false, *measured, first);
                             measure(*measured);
                             if (!(row(k) & bit(i - i0, j - j0))) continue;
                         }

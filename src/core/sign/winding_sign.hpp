@@ -114,6 +114,14 @@ public:
         double curvature = 0, slack = 0;
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
     };
+    // The cuts of a ball of samples or query points whose near fans are measured at every point
+    // (BrickSigns' blocks of 4³, insideMany's runs): the nearest kNearestFans with the rest within
+    // kTightTarget; where those leave the rest bounded by more than kHopeless (a ball among open
+    // parts, whose points are mostly far from |w| = 1/2 but near dozens of fans), the fans that bring
+    // it within kLooseTarget instead, and for the points those leave in doubt, within kTightTarget;
+    // at most kMeasuredFans (tuned by time on open sheets, meshes with many holes and the messy corpus).
+    static constexpr double kTightTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
+    static constexpr std::size_t kNearestFans = 12, kMeasuredFans = 96;
     // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
     // expansion's rest over the ball is below its bound; a fan the ball may meet is exact; the
     // others stay far. With `within`, the cut of a ball that holds this one's samples, the walk
@@ -212,8 +220,12 @@ private:
     // node's plane plus the triangle's farthest vertex from it plus |m ∓ n| r: seen from near the
     // plane of a flat fan (a hole in a flat base, a sheet's border), far less than A / d². Inline:
     // the walks call it for every node they look at.
+    // The distance from p to the box [lo, hi] (0 inside).
+    static double boxDistance(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& p) {
+        return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0.0)));
+    }
     static double bound(const Node& node, const glm::dvec3& p, double reach) {
-        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0))) - reach;
+        const double d = boxDistance(node.lo, node.hi, p) - reach;
         if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
         const double height = std::fabs(glm::dot(node.normal, p - 0.5 * (node.lo + node.hi))) + reach;
         const double flat = (height + node.thickness) / d + node.tilt;
@@ -237,7 +249,7 @@ private:
     };
     static BallDipole dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach);
     static std::pair<double, double> dipole(const Node& node, const glm::dvec3& p) {
-        const double d = glm::length(glm::max(glm::max(node.lo - p, p - node.hi), glm::dvec3(0.0)));
+        const double d = boxDistance(node.lo, node.hi, p);
         if (!(d > 0.0)) return {0.0, std::numeric_limits<double>::infinity()};
         const glm::dvec3 r = node.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
