@@ -26,6 +26,8 @@ const OpenVdbPlugin& openVdbPlugin() {
 
 namespace formats {
 
+namespace {
+
 void saveVdb(const Field& field, const std::string& path, const SaveOptions& options) {
     if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
     openVdbPlugin().save(field, path, options);
@@ -44,6 +46,13 @@ void saveSparseVdb(const SparseField& field, const std::string& path) {
 void saveSparseVdbGivenUp(SparseField&& field, const std::string& path) {
     if (!SDFGEN_HAS_OPENVDB) throw Error(path + ": .vdb files need OpenVDB, and " + kBuiltWithout);
     openVdbPlugin().saveSparseGivenUp(std::move(field), path);
+}
+
+} // namespace
+
+FieldFormat vdbFormat() {
+    return {".vdb", "OpenVDB FloatGrid 'surface', level set class, and any channels as grids of their names", true, saveVdb, loadVdb,
+            saveSparseVdb, saveSparseVdbGivenUp};
 }
 
 } // namespace formats

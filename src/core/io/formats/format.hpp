@@ -1,6 +1,7 @@
 #pragma once
 // Field file formats as plug-ins: each format is one file in src/core/io/formats/ that defines its
-// save and load functions, plus one line in the table in registry.cpp.
+// save and load functions and a function returning its FieldFormat, which registry.cpp declares
+// and lists. What several formats share is declared here.
 #include "core/io/read_watch.hpp"
 #include "core/runtime/printable.hpp"
 #include "sdfgen/field.hpp"
@@ -82,12 +83,6 @@ std::string methodLine(const SparseField& field);
 // Splits a method line into the field's method and parameters; Error naming `path` when malformed.
 void parseMethodLine(const std::string& line, Field& field, const std::string& path);
 
-// The sdfgen-text format (text.cpp).
-void saveText(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadText(const std::string& path, const RunControl& control);
-// NumPy .npy (npy.cpp) and .npz (npz.cpp), OpenVDB (vdb.cpp), NRRD (nrrd.cpp).
-void saveNpy(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadNpy(const std::string& path, const RunControl& control);
 // One .npy member of an .npz archive: its header (or whole small array) and the data after it.
 struct NpzMember {
     std::string name;
@@ -98,14 +93,10 @@ struct NpzMember {
 // Writes the members as an .npz (stored zip, as numpy.savez lays it out), atomically.
 void writeNpz(const std::string& path, const std::vector<NpzMember>& members);
 
-void saveNpz(const Field& field, const std::string& path, const SaveOptions& options);
-AnyField loadNpz(const std::string& path, const RunControl& control);
-void saveSparseNpz(const SparseField& field, const std::string& path);
-void saveVdb(const Field& field, const std::string& path, const SaveOptions& options);
-AnyField loadVdb(const std::string& path, const RunControl& control);
-void saveSparseVdb(const SparseField& field, const std::string& path);
-void saveSparseVdbGivenUp(SparseField&& field, const std::string& path);
-void saveNrrd(const Field& field, const std::string& path, const SaveOptions& options);
-Field loadNrrd(const std::string& path, const RunControl& control);
+// FieldFormat::load for a format that holds dense fields only.
+template <Field (*load)(const std::string&, const RunControl&)>
+AnyField loadDense(const std::string& path, const RunControl& control) {
+    return load(path, control);
+}
 
 } // namespace sdfgen::formats

@@ -390,6 +390,8 @@ std::string parseNpyString(const std::string& bytes, const std::string& where) {
     return encodeUtf8(text, where);
 }
 
+namespace {
+
 void saveNpy(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const std::string header = npyFieldHeader(field);
@@ -412,5 +414,9 @@ Field loadNpy(const std::string& path, const RunControl& control) {
     checkField(field, path);
     return field;
 }
+
+} // namespace
+
+FieldFormat npyFormat() { return {".npy", "NumPy float32 array (nx, ny, nz), values only", false, saveNpy, loadDense<loadNpy>}; }
 
 } // namespace sdfgen::formats

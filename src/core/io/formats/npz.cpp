@@ -342,6 +342,8 @@ void writeNpz(const std::string& path, const std::vector<NpzMember>& members) {
     });
 }
 
+namespace {
+
 void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const Grid& g = field.grid;
@@ -363,8 +365,6 @@ void saveNpz(const Field& field, const std::string& path, const SaveOptions&) {
     }
     writeNpz(path, members);
 }
-
-namespace {
 
 // The band field of an archive that has brick_origins.
 SparseField loadBandNpz(const ArchiveReader& archive, const std::string& path, const RunControl& control) {
@@ -396,8 +396,6 @@ SparseField loadBandNpz(const ArchiveReader& archive, const std::string& path, c
     checkSparseField(field, path);
     return field;
 }
-
-} // namespace
 
 AnyField loadNpz(const std::string& path, const RunControl& control) {
     const ArchiveReader archive(path);
@@ -443,6 +441,13 @@ void saveSparseNpz(const SparseField& field, const std::string& path) {
         {"source.npy", npyUnicodeScalar(field.source)},
     };
     writeNpz(path, members);
+}
+
+} // namespace
+
+FieldFormat npzFormat() {
+    return {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source, and any channels; a band field as bricks",
+            true, saveNpz, loadNpz, saveSparseNpz};
 }
 
 } // namespace sdfgen::formats

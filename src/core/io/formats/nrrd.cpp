@@ -68,8 +68,6 @@ std::vector<double> numbers(const std::string& text, const std::string& path, co
     return values;
 }
 
-} // namespace
-
 void saveNrrd(const Field& field, const std::string& path, const SaveOptions&) {
     checkField(field, path);
     const Grid& g = field.grid;
@@ -98,8 +96,6 @@ void saveNrrd(const Field& field, const std::string& path, const SaveOptions&) {
         out.write(reinterpret_cast<const char*>(field.values.data()), std::streamsize(field.values.size() * sizeof(float)));
     });
 }
-
-namespace {
 
 // An NRRD header: its fields (by canonical name) and key/value pairs, and its length in bytes.
 struct NrrdHeader {
@@ -285,8 +281,6 @@ void readNrrdGrid(const NrrdHeader& header, Field& field) {
     if (const auto it = keyValues.find("sdfgen_source"); it != keyValues.end()) field.source = it->second;
 }
 
-} // namespace
-
 Field loadNrrd(const std::string& path, const RunControl& control) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
     if (!file) throw Error(path + ": cannot open file (" + std::strerror(errno) + ")");
@@ -324,5 +318,9 @@ Field loadNrrd(const std::string& path, const RunControl& control) {
     checkField(field, path);
     return field;
 }
+
+} // namespace
+
+FieldFormat nrrdFormat() { return {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadDense<loadNrrd>}; }
 
 } // namespace sdfgen::formats

@@ -1,5 +1,5 @@
 // The table of field formats behind saveField and loadField. A new format is one file in this
-// folder plus one line here.
+// folder that defines its FieldFormat, plus its lines here: the declaration and the table's entry.
 #include "core/io/formats/format.hpp"
 #include "sdfgen/error.hpp"
 #include "core/runtime/file_extension.hpp"
@@ -13,25 +13,20 @@ namespace sdfgen {
 
 namespace formats {
 
-namespace {
-
-// The load of a format that holds dense fields only.
-template <Field (*load)(const std::string&, const RunControl&)>
-AnyField loadDense(const std::string& path, const RunControl& control) {
-    return load(path, control);
-}
-
-} // namespace
+// Each defined in the file of its name (.vdb in core/io/openvdb_plugin.cpp, which opens the plug-in).
+FieldFormat textFormat();
+FieldFormat npyFormat();
+FieldFormat npzFormat();
+FieldFormat vdbFormat();
+FieldFormat nrrdFormat();
 
 const std::vector<FieldFormat>& fieldFormats() {
     static const std::vector<FieldFormat> table = {
-        {".sdf", "sdfgen text (docs/field-format.md)", false, saveText, loadDense<loadText>},
-        {".npy", "NumPy float32 array (nx, ny, nz), values only", false, saveNpy, loadDense<loadNpy>},
-        {".npz", "NumPy archive: the array as 'sdf' plus origin, voxel_size, dims, method, source, and any channels; a band field as bricks",
-         true, saveNpz, loadNpz, saveSparseNpz},
-        {".vdb", "OpenVDB FloatGrid 'surface', level set class, and any channels as grids of their names", true, saveVdb, loadVdb,
-         saveSparseVdb, saveSparseVdbGivenUp},
-        {".nrrd", "NRRD raw float32 (ParaView, 3D Slicer, teem)", false, saveNrrd, loadDense<loadNrrd>},
+        textFormat(),
+        npyFormat(),
+        npzFormat(),
+        vdbFormat(),
+        nrrdFormat(),
     };
     return table;
 }

@@ -239,7 +239,11 @@ Field loadFieldText(const std::string& path, const RunControl& control) {
 
 namespace sdfgen::formats {
 
+namespace {
 void saveText(const Field& field, const std::string& path, const SaveOptions&) { saveFieldText(field, path); }
 Field loadText(const std::string& path, const RunControl& control) { return loadFieldText(path, control); }
+} // namespace
+
+FieldFormat textFormat() { return {".sdf", "sdfgen text (docs/field-format.md)", false, saveText, loadDense<loadText>}; }
 
 } // namespace sdfgen::formats
