@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <thread>
 #include <cstring>
@@ -28,6 +29,22 @@ TEST(ExactBake, BitIdenticalForAnyThreadCount) {
     const Field one = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 1).field.dense();
     const Field many = bakeWith(small, 16, DistanceMethod::Brute, SignMethod::Winding, 5).field.dense();
     EXPECT_EQ(std::memcmp(one.values.data(), many.values.data(), one.values.size() * sizeof(float)), 0) << "brute";
+}
+
+// A float distance rounds at the scale of the triangle's vertices, not only of the sample's
+// coordinates: the one sample of a res-1 grid lies at the mesh's local origin, exactly on an edge
+// of the second triangle (fuzz_bake's find: the search's margin, scaled by the sample's coordinates
+// alone, was about 0 there and dropped that triangle, giving the first's 0.5).
+TEST(ExactBake, ASampleOnAnEdgeAtTheMeshsCentreIsOnTheSurface) {
+    const std::vector<glm::vec3> positions = {{0, 0, 0}, {1, 0.1f, 0}, {0, 1, 0}, {1, 0, 1}};
+    const Mesh mesh = buildMesh("edge through the centre", positions, {{0, 1, 2}, {1, 3, 2}});
+    for (SignMethod sign : {SignMethod::Winding, SignMethod::Pseudonormal}) {
+        const Field field = bakeWith(mesh, 1, DistanceMethod::Exact, sign, 1).field.dense();
+        ASSERT_EQ(field.values.size(), 1u);
+        EXPECT_LT(std::fabs(field.values[0]), 1e-6f) << toString(sign);
+        const Field brute = bakeWith(mesh, 1, DistanceMethod::Brute, SignMethod::Winding, 1).field.dense();
+        EXPECT_EQ(std::fabs(brute.values[0]), 0.0f);
+    }
 }
 
 TEST(ExactBake, HonoursCancelFromTheProgressCallback) {
