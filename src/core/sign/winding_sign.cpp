@@ -690,7 +690,7 @@ double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3*
 }
 
 int WindingCaps::sideNear(const glm::dvec3& p, int ahead, double near, const Cut& cut) const {
-    // insideNear's first test, without its walk.
+    // As a Search from the cut that has opened nothing yet doubts.
     const glm::dvec3 offset = p - cut.centre;
     const double w = double(ahead) - near - (cut.farValue + glm::dot(cut.farGradient, offset));
     const double spread = cut.farSum + cut.curvature * glm::dot(offset, offset);
@@ -733,6 +733,7 @@ std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, c
 }
 
 bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& cut, Cut& scratch, std::size_t* evaluations) const {
+    if (const int side = sideNear(p, ahead, near, cut); side >= 0) return side != 0; // the ball's bounds decide
     std::vector<Pending>& pending = scratch.scratch;
     pending.clear();
     // The cut's far nodes as the ball bounds them (dipoles expanded at its centre), opened loosest
@@ -741,17 +742,15 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& c
     Search search{*this, p, kDecisionMargin, double(ahead) - near - (cut.farValue + glm::dot(cut.farGradient, offset)), pending};
     search.farSum = cut.farSum + cut.curvature * glm::dot(offset, offset);
     search.dipoles = true;
-    if (search.doubtful()) {
-        if (!cut.farSorted) {
-            std::sort(cut.farNodes.begin(), cut.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
-            cut.farSorted = true;
-        }
-        search.ballNext = cut.farNodes.data();
-        search.ballEnd = cut.farNodes.data() + cut.farNodes.size();
-        search.ball = &cut;
-        search.offset = offset;
-        search.refine();
+    if (!cut.farSorted) {
+        std::sort(cut.farNodes.begin(), cut.farNodes.end(), [](const Pending& l, const Pending& r) { return r < l; });
+        cut.farSorted = true;
     }
+    search.ballNext = cut.farNodes.data();
+    search.ballEnd = cut.farNodes.data() + cut.farNodes.size();
+    search.ball = &cut;
+    search.offset = offset;
+    search.refine();
     const bool decided = !search.doubtful();
     if (evaluations) *evaluations += search.measured;
     if (!decided) return inside(p, ahead, evaluations); // |w| within the margin of 1/2: inside()'s own steps
