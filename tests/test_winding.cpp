@@ -404,6 +404,48 @@ double distanceToMesh(const Mesh& mesh, const glm::dvec3& q) {
     return distance;
 }
 
+// The band bake sides whole cubes off the surface from their centre's w and windingVariation's
+// bound on how far w moves over them. The bound holds against the reference winding number at
+// points throughout balls that miss the mesh, beside many small holes, a long border (whose fans
+// are closed by chords) and a reversed sheet; and it is tight enough to side most of them.
+TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
+    const Mesh parts = combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
+                                moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)));
+    for (const Mesh& mesh : {withHoles(test::icosphere(1.0f, 3), 7), heightfield(24, false), parts}) {
+        const MeshTopology topology(mesh);
+        const WindingCaps caps(topology);
+        ASSERT_FALSE(caps.empty());
+        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+            for (int c = 0; c < 3; ++c) lo = glm::min(lo, glm::dvec3(mesh.vertex(t, c))), hi = glm::max(hi, glm::dvec3(mesh.vertex(t, c)));
+        const double size = glm::length(hi - lo);
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
+        std::size_t balls = 0, sided = 0;
+        double worst = 0.0; // the largest move seen, over its bound
+        while (balls < 300) {
+            const glm::dvec3 centre = 0.5 * (lo + hi) + 0.6 * (hi - lo) * glm::dvec3(unit(rng), unit(rng), unit(rng));
+            const double reach = size * (0.005 + 0.03 * share(rng));
+            if (!(distanceToMesh(mesh, centre) > reach)) continue;
+            ++balls;
+            const double variation = caps.windingVariation(centre, reach);
+            if (!(variation < std::numeric_limits<double>::infinity())) continue;
+            sided += variation < 0.25;
+            const double w = windingNumber(mesh, centre);
+            for (int m = 0; m < 12; ++m) {
+                glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
+                offset *= (m < 6 ? 1.0 : share(rng)) / glm::length(offset); // on the rim, and within
+                const glm::dvec3 p = centre + offset * reach;
+                const double moved = std::fabs(windingNumber(mesh, p) - w);
+                ASSERT_LE(moved, variation) << mesh.source << " at " << p.x << "," << p.y << "," << p.z << " reach " << reach;
+                worst = std::max(worst, moved / variation);
+            }
+        }
+        EXPECT_GT(sided, 150u) << mesh.source;
+        EXPECT_GT(worst, 0.1) << mesh.source; // within a small factor of the moves seen (0.19-0.76 here)
+    }
+}
+
 // Signed point queries at the samples of the winding bake at `res` (the baked values, as
 // Model::query gives them) and the baked field.
 std::pair<std::vector<float>, Field> queriedAndBaked(const Mesh& mesh, int res) {

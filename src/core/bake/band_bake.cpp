@@ -103,8 +103,9 @@ struct BrickFinder {
             // Near a fan but clear of the surface: the winding number is smooth here; where it stays
             // off ±1/2 over the whole cube (its value at the centre, off ±1/2 by more than the bound on
             // its change), every sample has that side, as the dense bake decides it sample by sample.
-            const double variation = caps.windingVariation(centre, reach);
-            if (variation < 0.25) {
+            constexpr double kMostVariation = 0.25; // beyond, the centre's w rarely decides the cube
+            const double variation = caps.windingVariation(centre, reach, kMostVariation);
+            if (variation < kMostVariation) {
                 const int side = caps.sideBeyond(centre, crossingsAhead(mesh, rows, caps, centre), variation * (1.0 + 1e-9) + 1e-6);
                 if (side >= 0) {
                     for (int z = lo.z; z < hi.z; ++z)

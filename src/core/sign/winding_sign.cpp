@@ -160,12 +160,10 @@ bool clearOf(const Cap& cap, const glm::dvec3& centre, double reach) {
     return true;
 }
 
-// `boundaryEdges`: Cap::boundaryEdges.
-Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::uint32_t boundaryEdges) {
+Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
     Cap cap;
     cap.loop = std::move(loop);
     cap.weight = weight;
-    cap.boundaryEdges = boundaryEdges;
     for (const glm::dvec3& v : cap.loop) cap.centre += v;
     cap.centre /= double(cap.loop.size());
     cap.lo = cap.hi = cap.centre;
@@ -175,7 +173,6 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::uint32_t boundaryEdge
         cap.lo = glm::min(cap.lo, from);
         cap.hi = glm::max(cap.hi, from);
         cap.area += 0.5 * glm::length(glm::cross(from - cap.centre, to - cap.centre));
-        if (boundaryEdges >> i & 1u) cap.boundaryLength += glm::length(to - from);
     }
     return cap;
 }
@@ -184,12 +181,11 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight, std::uint32_t boundaryEdge
 // kMaxCapEdges edges, each closed by the chord back to the run's start, and then (recursively)
 // the polygon of those chords, whose edges cancel the chords. One fan over a long loop (a
 // terrain's border) would span the whole sheet: every sample near the sheet would be near it and
-// pay for its whole loop; small fans stay near the border and are bounded from afar. `chords`:
-// the loop is a polygon of chords (none of its edges is the mesh's boundary).
-void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps, bool chords = false) {
+// pay for its whole loop; small fans stay near the border and are bounded from afar.
+void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps) {
     constexpr std::size_t kEdges = WindingCaps::kMaxCapEdges;
     if (loop.size() <= kEdges + 1) {
-        caps.push_back(makeCap(loop, weight, chords ? 0u : (1u << loop.size()) - 1u));
+        caps.push_back(makeCap(loop, weight));
         return;
     }
     std::vector<glm::dvec3> coarse;
@@ -197,10 +193,10 @@ void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& 
         const std::size_t end = std::min(start + kEdges, loop.size()); // the run's last vertex is loop[end % size]
         std::vector<glm::dvec3> run(loop.begin() + std::ptrdiff_t(start), loop.begin() + std::ptrdiff_t(end));
         run.push_back(loop[end % loop.size()]);
-        caps.push_back(makeCap(std::move(run), weight, chords ? 0u : (1u << (end - start)) - 1u));
+        caps.push_back(makeCap(std::move(run), weight));
         coarse.push_back(loop[start]);
     }
-    addLoop(coarse, weight, caps, true);
+    addLoop(coarse, weight, caps);
 }
 
 
@@ -226,7 +222,7 @@ bool addStrip(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b
         if (!(glm::length(partner(i) - a[i]) <= width)) return false;
     }
     for (std::size_t i = 0; i < n; ++i) {
-        caps.push_back(makeCap({a[i], a[(i + 1) % n], partner(i + 1), partner(i)}, weight, 0b101u));
+        caps.push_back(makeCap({a[i], a[(i + 1) % n], partner(i + 1), partner(i)}, weight));
     }
     return true;
 }
@@ -283,25 +279,13 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
         closed[m] = true;
         return true;
     };
-    auto group = [&](std::size_t first) { // the caps from `first` on close one loop or one pair
-        LoopCaps caps{first, caps_.size(), glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max())};
-        for (std::size_t c = caps.first; c < caps.end; ++c) {
-            caps.lo = glm::min(caps.lo, caps_[c].lo);
-            caps.hi = glm::max(caps.hi, caps_[c].hi);
-            caps.area += std::abs(caps_[c].weight) * caps_[c].area;
-            caps.length += std::abs(caps_[c].weight) * caps_[c].boundaryLength;
-        }
-        loops_.push_back(caps);
-    };
     for (std::size_t l = 0; l < points.size(); ++l) {
         if (closed[l]) continue;
         closed[l] = true;
-        const std::size_t first = caps_.size();
         bool paired = false;
         for (std::size_t o = rank[l] + 1; !paired && o < byX.size() && !beyond(l, byX[o]); ++o) paired = pair(l, byX[o]);
         for (std::size_t o = rank[l]; !paired && o-- > 0 && !beyond(l, byX[o]);) paired = pair(l, byX[o]);
         if (!paired) addLoop(points[l], weights[l], caps_);
-        group(first);
     }
     if (caps_.empty()) return;
     std::vector<std::uint32_t> capOrder(caps_.size());
@@ -895,42 +879,39 @@ int WindingCaps::sideBeyond(const glm::dvec3& p, int ahead, double margin) const
     return doubtful ? -1 : std::fabs(w) > 0.5;
 }
 
-double WindingCaps::windingVariation(const glm::dvec3& centre, double reach) const {
-    auto distance = [&](const glm::dvec3& lo, const glm::dvec3& hi) {
-        return boxDistance(lo, hi, centre) - reach;
-    };
-    double gradient = 0.0;
-    for (const LoopCaps& loop : loops_) {
-        // A loop's field is its fans' winding number's gradient: at most L / (4π d²) from its
-        // edges, and at most 2 A / (4π d³) from its fans (the gradient of the solid angle's kernel
-        // m.r / |r|³ is at most 2 / |r|³), the tighter for loops far from the ball.
-        const double d = distance(loop.lo, loop.hi);
-        if (d > 0.0) {
-            gradient += std::min(loop.length, 2.0 * loop.area / d) / (4.0 * M_PI * d * d);
-            continue;
+double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, double limit) const {
+    // Nodes whose fans move w by less than this over the ball are bounded, not opened.
+    constexpr double kOpen = 1e-3;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    glm::dvec3 gradient(0.0); // the near caps' field at the centre
+    double curvature = 0.0, slack = 0.0, far = 0.0;
+    if (nodes_.empty()) return 0.0;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        const double d = boxDistance(node.lo, node.hi, centre) - reach;
+        // The gradient of the solid angle's kernel m.r / |r|³ is at most 2 / |r|³: over a ball
+        // that misses the node's box, its fans' winding number moves by at most 2 A reach / (4π d³).
+        const double bounded = d > 0.0 ? 2.0 * node.area * reach / (4.0 * M_PI * d * d * d) : inf;
+        if (bounded < kOpen) {
+            far += bounded;
+        } else if (!node.leaf) {
+            stack[top++] = node.first + 1;
+            stack[top++] = node.first;
+        } else if (const Cap& cap = caps_[node.first]; expansionBounds(cap, centre, reach, curvature, slack)) {
+            // The cap's loop's field at the centre (its chords and rungs cancel those of the
+            // neighbouring caps measured here too).
+            gradient += fanGradient(centre, cap);
+        } else if (bounded < inf) {
+            far += bounded;
+        } else {
+            return inf; // the ball reaches one of the cap's edges
         }
-        for (std::size_t c = loop.first; c < loop.end; ++c) {
-            const Cap& cap = caps_[c];
-            if (cap.boundaryEdges == 0) continue;
-            const double e = distance(cap.lo, cap.hi);
-            if (e > 0.0) {
-                gradient += std::abs(cap.weight) * cap.boundaryLength / (4.0 * M_PI * e * e);
-                continue;
-            }
-            // The ball reaches the cap's box (a fan across a wide hole): its boundary edges one by
-            // one, each at its own distance.
-            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
-                if (!(cap.boundaryEdges >> i & 1u)) continue;
-                const glm::dvec3 a = cap.loop[i], b = cap.loop[(i + 1) % cap.loop.size()], ab = b - a;
-                const double length = glm::length(ab);
-                const double t = length > 0.0 ? std::clamp(glm::dot(centre - a, ab) / (length * length), 0.0, 1.0) : 0.0;
-                const double f = glm::length(centre - (a + t * ab)) - reach;
-                if (!(f > 0.0)) return std::numeric_limits<double>::infinity();
-                gradient += std::abs(cap.weight) * length / (4.0 * M_PI * f * f);
-            }
-        }
+        if (!(far + (curvature * reach + slack) * reach <= limit)) return inf; // these only grow
     }
-    return gradient * reach;
+    return (glm::length(gradient) * reach + (curvature * reach + slack) * reach + far) * (1.0 + 1e-9);
 }
 
 int crossingsAhead(const Mesh& mesh, const Bvh& tree, const WindingCaps& caps, const glm::dvec3& p) {

@@ -24,12 +24,6 @@ struct Cap {
     glm::dvec3 centre{0.0};
     glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
     double area = 0;
-    // Bit i set: the edge (loop[i], loop[i + 1]) is the mesh's boundary; the others are chords or
-    // rungs between fans, which cancel. The mesh's winding number has the field of the former as
-    // its gradient (windingVariation); boundaryLength is their length. A cap has at most
-    // kMaxCapEdges + 1 edges.
-    std::uint32_t boundaryEdges = 0;
-    double boundaryLength = 0;
     int weight = 1;    // equal loops (copies of open triangles) share one cap
 };
 
@@ -178,13 +172,15 @@ public:
     // fans measured lazily, loosest node first, as inside() measures them, until the bounds of the
     // rest decide or every fan is measured.
     int sideBeyond(const glm::dvec3& p, int ahead, double margin) const;
-    // A bound on how far the mesh's winding number moves over the ball (centre, reach), which no
-    // mesh triangle meets: its gradient is the field of the mesh's boundary loops (a loop of
-    // length L whose fans, of area A, lie at distance d from the ball adds at most
-    // |weight| min(L, 2A / d) / (4π d²) per unit of distance; where the ball reaches the fans'
-    // box, each fan counts its boundary edges, at their own distance where it reaches the fan's).
-    // Infinite when the ball reaches a loop edge.
-    double windingVariation(const glm::dvec3& centre, double reach) const;
+    // A bound on how far the mesh's winding number w moves over the ball (centre, reach), which
+    // no mesh triangle meets. Its gradient there is minus the fans' (their steps across the fans
+    // aside, which the counts ahead cancel): the Biot-Savart field of the caps' loops, whose chords
+    // and rungs cancel. So the caps near the ball have their field summed at the centre (where the
+    // cancelling happens) and its change over the ball bounded by its curvature; the others are
+    // bounded by their fans' area (a surface of area A at distance d moves its winding number by
+    // at most 2 A / (4π d³) per unit of distance). Infinite where the ball reaches a cap's edge,
+    // or where the bound's parts that only grow on the walk pass `limit` (the walk stops there).
+    double windingVariation(const glm::dvec3& centre, double reach, double limit = std::numeric_limits<double>::infinity()) const;
 
 private:
     struct Node {
@@ -260,14 +256,6 @@ private:
     }
 
     std::vector<Cap> caps_;
-    // The caps [first, end) of one boundary loop (of equal loops), their box, their fans' area and
-    // their boundary edges' length, each times |weight|: the loop's field, bounded as a whole.
-    struct LoopCaps {
-        std::size_t first, end;
-        glm::dvec3 lo, hi;
-        double area = 0, length = 0;
-    };
-    std::vector<LoopCaps> loops_;
     std::vector<Node> nodes_;
 };
 
