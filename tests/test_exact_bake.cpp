@@ -47,6 +47,25 @@ TEST(ExactBake, ASampleOnAnEdgeAtTheMeshsCentreIsOnTheSurface) {
     }
 }
 
+// The local frame fits the triangles kept: a zero-area triangle out at a stray vertex (dropped)
+// once set a unit so large that the quad, far smaller, lost its extent in float, and the exact
+// search measured the wrong triangles (fuzz_bake's find: 0.28 where the distance is 0.15).
+TEST(ExactBake, ADroppedTriangleAtAStrayVertexLeavesTheFrameToTheRest) {
+    for (const double x : {0.0, 1.6e30}) {
+        const std::vector<glm::dvec3> positions = {{x, 0, 0}, {x, 5, 6}, {x, 0, 1}, {x, 1, 1}, {1e38, 1, 1}};
+        const Mesh mesh = buildMesh("quad and a stray vertex", positions, {{0, 3, 2}, {0, 2, 1}, {0, 4, 4}});
+        ASSERT_EQ(mesh.triangleCount(), 2u);
+        EXPECT_EQ(mesh.droppedDegenerate, 1u);
+        EXPECT_LE(mesh.unit, 4.0) << "the frame fits the quad";
+        const Field exact = bakeWith(mesh, 6, DistanceMethod::Exact, SignMethod::Winding, 1).field.dense();
+        const Field brute = bakeWith(mesh, 6, DistanceMethod::Brute, SignMethod::Winding, 1).field.dense();
+        ASSERT_EQ(exact.values.size(), brute.values.size());
+        for (std::size_t n = 0; n < exact.values.size(); ++n) {
+            ASSERT_NEAR(exact.values[n], brute.values[n], 1e-5) << "sample " << n << ", quad at x = " << x;
+        }
+    }
+}
+
 TEST(ExactBake, HonoursCancelFromTheProgressCallback) {
     const Mesh mesh = test::icosphere(1.0f, 2);
     const Bvh tree(mesh);

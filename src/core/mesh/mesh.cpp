@@ -168,46 +168,52 @@ Mesh buildMesh(std::string source, std::vector<glm::dvec3> positions, std::vecto
             }
         }
     }
-    // Local frame: the centre of the box of the vertices that triangles use, and a power-of-two unit.
-    if (!triangles.empty()) {
-        const auto [lo, hi] = usedBox(positions, triangles);
+    // Local frame: the centre of the box of the vertices that the kept triangles use, and a
+    // power-of-two unit. Zero-area triangles (and those whose normal overflows) are dropped; they
+    // get no normal. Which have zero area is measured on the local float positions, which are what
+    // every later step uses; then the frame is taken again from the triangles kept: a dropped one
+    // out at a stray vertex would otherwise set a unit so large that the kept ones, far smaller,
+    // lose their extent in float (their squared distances underflow, and searches go wrong). A
+    // triangle that the new frame leaves with zero area is dropped too; the frame still holds the rest.
+    std::vector<glm::vec3> local(positions.size());
+    std::vector<glm::uvec3> kept = std::move(triangles);
+    std::vector<glm::vec3> normals;
+    mesh.droppedDegenerate = 0;
+    for (int pass = 0; pass < 2 && !kept.empty(); ++pass) {
+        const auto [lo, hi] = usedBox(positions, kept);
         mesh.origin = lo + (hi - lo) * 0.5;
         const glm::dvec3 half = (hi - lo) * 0.5;
         mesh.unit = unitFor(std::max({half.x, half.y, half.z}));
-    }
-    std::vector<glm::vec3> local(positions.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i) local[i] = glm::vec3(mesh.toLocal(positions[i]));
-    });
-
-    // Zero-area triangles (and those whose normal overflows) are dropped; they get no normal.
-    std::vector<glm::vec3> normals(triangles.size());
-    std::vector<std::uint8_t> degenerate(triangles.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t t = r.begin(); t < r.end(); ++t) {
-            // Double precision so that thin but valid triangles keep an accurate normal; measured on
-            // the local float positions, which are what every later step uses.
-            const glm::uvec3& tri = triangles[t];
-            const glm::dvec3 a(local[tri[0]]), b(local[tri[1]]), c(local[tri[2]]);
-            const glm::dvec3 n = glm::cross(b - a, c - a);
-            const double length = glm::length(n);
-            degenerate[t] = !(length > 0.0) || !std::isfinite(length);
-            if (!degenerate[t]) normals[t] = glm::vec3(n / length);
-        }
-    });
-    mesh.droppedDegenerate = std::size_t(std::count(degenerate.begin(), degenerate.end(), std::uint8_t(1)));
-    if (mesh.droppedDegenerate == 0) {
-        mesh.triangles = std::move(triangles);
-        mesh.faceNormals = std::move(normals);
-    } else {
-        mesh.triangles.reserve(triangles.size() - mesh.droppedDegenerate);
-        mesh.faceNormals.reserve(triangles.size() - mesh.droppedDegenerate);
-        for (std::size_t t = 0; t < triangles.size(); ++t) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) local[i] = glm::vec3(mesh.toLocal(positions[i]));
+        });
+        normals.assign(kept.size(), glm::vec3(0.0f));
+        std::vector<std::uint8_t> degenerate(kept.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kept.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t t = r.begin(); t < r.end(); ++t) {
+                // Double precision so that thin but valid triangles keep an accurate normal.
+                const glm::uvec3& tri = kept[t];
+                const glm::dvec3 a(local[tri[0]]), b(local[tri[1]]), c(local[tri[2]]);
+                const glm::dvec3 n = glm::cross(b - a, c - a);
+                const double length = glm::length(n);
+                degenerate[t] = !(length > 0.0) || !std::isfinite(length);
+                if (!degenerate[t]) normals[t] = glm::vec3(n / length);
+            }
+        });
+        const std::size_t dropped = std::size_t(std::count(degenerate.begin(), degenerate.end(), std::uint8_t(1)));
+        if (dropped == 0) break;
+        mesh.droppedDegenerate += dropped;
+        std::size_t next = 0;
+        for (std::size_t t = 0; t < kept.size(); ++t) {
             if (degenerate[t]) continue;
-            mesh.triangles.push_back(triangles[t]);
-            mesh.faceNormals.push_back(normals[t]);
+            kept[next] = kept[t];
+            normals[next++] = normals[t];
         }
+        kept.resize(next);
+        normals.resize(next);
     }
+    mesh.triangles = std::move(kept);
+    mesh.faceNormals = std::move(normals);
     if (mesh.triangles.empty()) {
         throw Error(mesh.source + ": no triangles" +
                     (mesh.droppedDegenerate ? " (all " + std::to_string(mesh.droppedDegenerate) + " have zero area)"
