@@ -407,7 +407,7 @@ double distanceToMesh(const Mesh& mesh, const glm::dvec3& q) {
 // The band bake sides whole cubes off the surface from their centre's w and windingVariation's
 // bound on how far w moves over them. The bound holds against the reference winding number at
 // points throughout balls that miss the mesh, beside many small holes, a long border (whose fans
-// are closed by chords) and a reversed sheet; and it is tight enough to side most of them.
+// are closed by chords) and a reversed sheet; and it is small enough for the band in most of them.
 TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
     const Mesh parts = combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
                                 moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)));
@@ -421,7 +421,7 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
         const double size = glm::length(hi - lo);
         std::mt19937 rng(11);
         std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
-        std::size_t balls = 0, sided = 0;
+        std::size_t balls = 0, small = 0; // balls whose bound is below the 0.25 the band's cubes take
         double worst = 0.0; // the largest move seen, over its bound
         while (balls < 300) {
             const glm::dvec3 centre = 0.5 * (lo + hi) + 0.6 * (hi - lo) * glm::dvec3(unit(rng), unit(rng), unit(rng));
@@ -430,7 +430,7 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
             ++balls;
             const double variation = caps.windingVariation(centre, reach);
             if (!(variation < std::numeric_limits<double>::infinity())) continue;
-            sided += variation < 0.25;
+            small += variation < 0.25;
             const double w = windingNumber(mesh, centre);
             for (int m = 0; m < 12; ++m) {
                 glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
@@ -441,7 +441,7 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
                 worst = std::max(worst, moved / variation);
             }
         }
-        EXPECT_GT(sided, 150u) << mesh.source;
+        EXPECT_GT(small, 150u) << mesh.source;
         EXPECT_GT(worst, 0.1) << mesh.source; // within a small factor of the moves seen (0.19-0.76 here)
     }
 }

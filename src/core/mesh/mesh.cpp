@@ -179,8 +179,11 @@ Mesh buildMesh(std::string source, std::vector<glm::dvec3> positions, std::vecto
     std::vector<glm::uvec3> kept = std::move(triangles);
     std::vector<glm::vec3> normals;
     mesh.droppedDegenerate = 0;
+    glm::dvec3 frameLo(0.0), frameHi(0.0);
     for (int pass = 0; pass < 2 && !kept.empty(); ++pass) {
         const auto [lo, hi] = usedBox(positions, kept);
+        if (pass > 0 && lo == frameLo && hi == frameHi) break; // the dropped ones lay within the rest's box
+        frameLo = lo, frameHi = hi;
         mesh.origin = lo + (hi - lo) * 0.5;
         const glm::dvec3 half = (hi - lo) * 0.5;
         mesh.unit = unitFor(std::max({half.x, half.y, half.z}));

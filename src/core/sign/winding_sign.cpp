@@ -748,8 +748,8 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
     glm::dvec3 group[kGroupPoints], lo(0.0), hi(0.0);
     std::size_t at[kGroupPoints];
     // The near fans of a cut at each of `count` points, kFanPoints at a time.
-    auto measure = [&](const Cut& c, const glm::dvec3* at, int count, double* near) {
-        for (int first = 0; first < count; first += kFanPoints) fanWindings(c.nearNodes, at + first, std::min(kFanPoints, count - first), near + first);
+    auto measure = [&](const Cut& c, const glm::dvec3* where, int size, double* near) {
+        for (int first = 0; first < size; first += kFanPoints) fanWindings(c.nearNodes, where + first, std::min(kFanPoints, size - first), near + first);
     };
     int n = 0;
     auto decide = [&] {
@@ -900,10 +900,11 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
         } else if (!node.leaf) {
             stack[top++] = node.first + 1;
             stack[top++] = node.first;
-        } else if (const Cap& cap = caps_[node.first]; expansionBounds(cap, centre, reach, curvature, slack)) {
+        } else if (double c = 0.0, r = 0.0; expansionBounds(caps_[node.first], centre, reach, c, r)) {
             // The cap's loop's field at the centre (its chords and rungs cancel those of the
             // neighbouring caps measured here too).
-            gradient += fanGradient(centre, cap);
+            gradient += fanGradient(centre, caps_[node.first]);
+            curvature += c, slack += r;
         } else if (bounded < inf) {
             far += bounded;
         } else {
