@@ -5,6 +5,7 @@
 #include "core/accel/wide_bvh.hpp"
 #include "core/simd/path.hpp"
 #include "core/mesh/sample_positions.hpp"
+#include "core/sign/fan_kernel.hpp"
 #include "core/sign/winding_sign.hpp"
 #include "sdfgen/model.hpp"
 #include "core/accel/topology.hpp"
@@ -297,6 +298,7 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
 TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
     const Mesh sheet = withHoles(heightfield(10, false), 9);
     const SimdPath chosen = simdPath();
+    std::size_t nearFans = 0, farFans = 0; // as the kernel measures them (fans::FanReach)
     for (const Mesh& mesh : {sheet, combined("two copies", sheet, sheet)}) {
         const MeshTopology topology(mesh);
         const WindingCaps caps(topology);
@@ -312,6 +314,9 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
             for (int n = 0; n < 200; ++n) {
                 glm::dvec3 points[kFanPoints];
                 for (glm::dvec3& p : points) p = glm::dvec3(unit(rng), unit(rng), 0.4 * unit(rng));
+                if (n % 2) { // a block's samples: most fans are farther than they are across (no per-factor checks)
+                    for (glm::dvec3& p : points) p = points[0] + 0.01 * glm::dvec3(unit(rng), unit(rng), unit(rng));
+                }
                 if (n % 10 == 0) points[n % kFanPoints] = caps.caps()[std::size_t(n) % caps.caps().size()].loop[0];
                 const int count = 1 + n % kFanPoints;
                 caps.cut(points[0], 0.0, 0.0, std::size_t(-1), false, cut); // every fan near (but those of no area)
@@ -319,6 +324,8 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
                 ASSERT_GT(cut.nearNodes.size(), caps.caps().size() / 2);
                 double windings[kFanPoints];
                 caps.fanWindings(cut.nearNodes, points, count, windings);
+                const fans::FanReach reach(points, count);
+                for (const Cap& cap : caps.caps()) ++(reach.near(cap) ? nearFans : farFans);
                 for (int s = 0; s < count; ++s) {
                     const double alone = caps.nearWinding(points[s], cut);
                     ASSERT_NEAR(windings[s], alone, 1e-12) << mesh.source << ", " << toString(path) << ", point " << s << " of " << count;
@@ -327,6 +334,8 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
         }
     }
     setSimdPath(chosen);
+    EXPECT_GT(nearFans, 1000u);
+    EXPECT_GT(farFans, 1000u);
 }
 
 // The count of crossings ahead through the wide tree's walk (point queries) equals the binary

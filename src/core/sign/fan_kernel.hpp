@@ -28,6 +28,18 @@ inline bool onFanTriangle(double det, double den, double la, double lb, double l
     return std::fabs(det) <= slack && den <= slack;
 }
 
+// Whether some of a kernel call's points may be near a fan: within the fan's box's diagonal of
+// the box (there its factors may come near 0, and a point may lie on it), or so close to the box
+// or so far from it (beyond the range of distances in any grid of local coordinates) that a whole
+// fan's factors could leave the range the kernel keeps its product in. Elsewhere each factor of a
+// fan triangle (a, b, c) is at least 2.5 |a||b||c| (the corners are seen within 60 degrees of each
+// other), so a fan of up to 5 factors moves the product by 2^±600 at most.
+struct FanReach {
+    glm::dvec3 lo, hi; // the points' box
+    FanReach(const glm::dvec3* points, int n);
+    bool near(const Cap& cap) const;
+};
+
 using Kernel = void (*)(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
 namespace baseline {
 void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);

@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 #include <algorithm>
+#include <cassert>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -554,7 +555,7 @@ bool WindingCaps::inside(const glm::dvec3& p, int ahead, std::size_t* evaluation
 }
 
 void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
-                      const Cut* within) const {
+                      const Cut* within, bool keepNear) const {
     out.nearNodes.clear();
     out.exactNodes.clear();
     out.farNodes.clear();
@@ -597,7 +598,10 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         else ++touching;
     };
     if (within) { // a ball inside `within`'s: its cut refines that one
-        for (std::uint32_t index : within->nearNodes) push(index);
+        assert(!(keepNear && expand)); // expanded near fans carry curvature that a kept one would lose
+        if (keepNear) out.nearNodes = within->nearNodes;
+        else
+            for (std::uint32_t index : within->nearNodes) push(index);
         for (std::uint32_t index : within->exactNodes) push(index);
         for (const Pending& far : within->farNodes) {
             if (far.bound <= small && !far.dipole) { // a dipole is expanded afresh at this ball's centre
@@ -682,7 +686,22 @@ int WindingCaps::sideNear(const glm::dvec3& p, int ahead, double near, const Cut
     return std::fabs(w) > 0.5;
 }
 
-std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const {
+namespace fans {
+
+FanReach::FanReach(const glm::dvec3* points, int n) : lo(points[0]), hi(points[0]) {
+    for (int s = 1; s < n; ++s) lo = glm::min(lo, points[s]), hi = glm::max(hi, points[s]);
+}
+
+bool FanReach::near(const Cap& cap) const {
+    const glm::dvec3 gap = glm::max(glm::max(cap.lo - hi, lo - cap.hi), glm::dvec3(0.0)), across = cap.hi - cap.lo;
+    const glm::dvec3 farthest = glm::max(hi - cap.lo, cap.hi - lo);
+    const double gap2 = glm::dot(gap, gap);
+    return !(gap2 > glm::dot(across, across) && gap2 > 1e-24 && glm::dot(farthest, farthest) < 1e12) || cap.loop.size() > 5;
+}
+
+} // namespace fans
+
+std::size_t WindingCaps::fanWindings(const std::uint32_t* leaves, std::size_t count, const glm::dvec3* points, int n, double* windings) const {
     // Fans of weight 1 go to the kernel, the others (copies of open triangles, rare) are measured one by one.
     const Cap* unit[64];
     std::size_t units = 0, measured = 0;
@@ -702,8 +721,8 @@ std::size_t WindingCaps::fanWindings(const std::vector<std::uint32_t>& leaves, c
         }
         units = 0;
     };
-    for (std::uint32_t node : leaves) {
-        const Cap& cap = caps_[nodes_[node].first];
+    for (std::size_t leaf = 0; leaf < count; ++leaf) {
+        const Cap& cap = caps_[nodes_[leaves[leaf]].first];
         if (cap.weight != 1) {
             for (int s = 0; s < n; ++s) windings[s] += fanWinding(points[s], cap);
             measured += std::size_t(n);
@@ -747,9 +766,11 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
     const double span = nodes_.empty() ? 0.0 : kGroupSpan * glm::length(nodes_[0].hi - nodes_[0].lo);
     glm::dvec3 group[kGroupPoints], lo(0.0), hi(0.0);
     std::size_t at[kGroupPoints];
-    // The near fans of a cut at each of `count` points, kFanPoints at a time.
-    auto measure = [&](const Cut& c, const glm::dvec3* where, int size, double* near) {
-        for (int first = 0; first < size; first += kFanPoints) fanWindings(c.nearNodes, where + first, std::min(kFanPoints, size - first), near + first);
+    // The near fans of a cut from `from` on at each of `size` points, kFanPoints at a time.
+    auto measure = [&](const Cut& c, std::size_t from, const glm::dvec3* where, int size, double* near) {
+        for (int first = 0; first < size; first += kFanPoints) {
+            fanWindings(c.nearNodes.data() + from, c.nearNodes.size() - from, where + first, std::min(kFanPoints, size - first), near + first);
+        }
     };
     int n = 0;
     auto decide = [&] {
@@ -765,7 +786,7 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
                 chosen = &loose;
             }
             double near[kGroupPoints];
-            measure(*chosen, group, n, near);
+            measure(*chosen, 0, group, n, near);
             if (chosen == &loose) { // the points the loose target leaves in doubt measure the fans within the tight one
                 glm::dvec3 doubtful[kGroupPoints];
                 int which[kGroupPoints], left = 0;
@@ -774,12 +795,12 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
                     if (side >= 0) flags[at[s]] = std::uint8_t(side);
                     else doubtful[left] = group[s], which[left++] = s;
                 }
-                if (left > 1) {
-                    cut(centre, reach, kTightTarget, kMeasuredFans, false, tight, &loose);
+                if (left > 1) { // the loose cut carried on: only the fans it adds are measured
+                    cut(centre, reach, kTightTarget, loose.nearNodes.size() + kMeasuredFans, false, tight, &loose, true);
                     chosen = &tight;
-                    double tightNear[kGroupPoints];
-                    measure(tight, doubtful, left, tightNear);
-                    for (int d = 0; d < left; ++d) near[which[d]] = tightNear[d];
+                    double added[kGroupPoints];
+                    measure(tight, loose.nearNodes.size(), doubtful, left, added);
+                    for (int d = 0; d < left; ++d) near[which[d]] += added[d];
                 }
                 for (int d = 0; d < left; ++d) {
                     const int s = which[d];
@@ -1023,6 +1044,9 @@ struct BrickSigns {
     static constexpr double kExpandTarget = 0.01;
     static constexpr std::size_t kExpandedFans = 64;
     static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
+    // From that many samples in doubt after the first measure, a block carries its cut on to the
+    // tight target and measures the fans added, rather than walk the tree from each sample.
+    static constexpr int kCarriedOnAt = 2;
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
@@ -1120,48 +1144,45 @@ struct BrickSigns {
         };
         if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
             // First the nearest few fans (or, where those leave every sample in doubt, the fans
-            // within the loose target); the samples they leave in doubt walk the tree on their
-            // own. Where the first walks cost more than measuring more fans at every sample would
-            // (a block among many parts), the samples left measure those first.
-            double nearAt[kMeasuredEdge * kMeasuredEdge * kMeasuredEdge];
+            // within the loose target); where those leave samples in doubt, the cut is carried on
+            // to the tight target and only the fans it adds are measured at those samples; the
+            // samples still in doubt walk the tree on their own.
+            double nearAt[kMeasuredEdge * kMeasuredEdge * kMeasuredEdge] = {};
             auto local = [&](const glm::ivec3& q) { return (q.x - ia) + kMeasuredEdge * ((q.y - ja) + kMeasuredEdge * (q.z - ka)); };
-            auto measure = [&](WindingCaps::Cut& measured) {
+            // Measures the cut's near fans from `from` on, adds them to each undecided sample's
+            // nearAt and settles the samples that decides.
+            auto measure = [&](const WindingCaps::Cut& measured, std::size_t from) {
                 forEachBatch([&] {
                     double near[kFanPoints];
-                    evaluations += caps.fanWindings(measured.nearNodes, points, batch, near);
+                    evaluations += caps.fanWindings(measured.nearNodes.data() + from, measured.nearNodes.size() - from, points, batch, near);
                     for (int s = 0; s < batch; ++s) {
-                        nearAt[local(at[s])] = near[s];
+                        double& total = nearAt[local(at[s])];
+                        total += near[s];
                         const glm::dvec3 offset = points[s] - centre;
-                        settle(at[s], near[s] + measured.farValue + glm::dot(measured.farGradient, offset), glm::length(offset), measured);
+                        settle(at[s], total + measured.farValue + glm::dot(measured.farGradient, offset), glm::length(offset), measured);
                     }
                 });
             };
             caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, cut, within);
-            WindingCaps::Cut* first = &cut;
+            WindingCaps::Cut* measured = &cut;
             if (cut.farSum > WindingCaps::kHopeless) {
-                first = &cuts[level + 2];
-                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, *first, &cut);
+                measured = &cuts[level + 2];
+                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, *measured, &cut);
             }
-            measure(*first);
-            WindingCaps::Cut* measured = first;
-            std::size_t walks = 0, walked = 0;
+            measure(*measured, 0);
+            if (measured->farSum > WindingCaps::kTightTarget && undecidedIn(ia, ja, ka, ie, je, ke) >= kCarriedOnAt) {
+                WindingCaps::Cut& tight = cuts[level + 1];
+                caps.cut(centre, reach, WindingCaps::kTightTarget, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, tight, measured, true);
+                measure(tight, measured->nearNodes.size());
+                measured = &tight;
+            }
             for (int k = ka; k < ke; ++k)
                 for (int j = ja; j < je; ++j)
                     for (int i = ia; i < ie; ++i) {
                         if (!(row(k) & bit(i - i0, j - j0))) continue;
-                        if (measured == first && walks == kFanPoints && walked > 8 * kFanPoints &&
-                            undecidedIn(ia, ja, ka, ie, je, ke) >= kFanPoints) {
-                            measured = &cuts[level + 1];
-                            caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kMeasuredFans, false, *measured, first);
-                            measure(*measured);
-                            if (!(row(k) & bit(i - i0, j - j0))) continue;
-                        }
-                        const std::size_t before = evaluations;
                         const glm::ivec3 q(i, j, k);
                         output.set(output.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), nearAt[local(q)], *measured, scratch, &evaluations));
                         row(k) &= ~bit(i - i0, j - j0);
-                        ++walks;
-                        walked += evaluations - before;
                     }
             return;
         }

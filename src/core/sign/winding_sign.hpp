@@ -112,22 +112,29 @@ public:
     // (BrickSigns' blocks of 4³, insideMany's runs): the nearest kNearestFans with the rest within
     // kTightTarget; where those leave the rest bounded by more than kHopeless (a ball among open
     // parts, whose points are mostly far from |w| = 1/2 but near dozens of fans), the fans that bring
-    // it within kLooseTarget instead, and for the points those leave in doubt, within kTightTarget;
-    // at most kMeasuredFans (tuned by time on open sheets, meshes with many holes and the messy corpus).
+    // it within kLooseTarget instead, and for the points those leave in doubt, within kTightTarget
+    // (that cut carried on: its fans kept, only the ones added measured); at most kMeasuredFans
+    // each time (tuned by time on open sheets, meshes with many holes and the messy corpus).
     static constexpr double kTightTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
     static constexpr std::size_t kNearestFans = 12, kMeasuredFans = 96;
     // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
     // expansion's rest over the ball is below its bound; a fan the ball may meet is exact; the
     // others stay far. With `within`, the cut of a ball that holds this one's samples, the walk
-    // starts from that cut, and its far nodes too small to open keep their bounds.
-    void cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out, const Cut* within = nullptr) const;
+    // starts from that cut, and its far nodes too small to open keep their bounds. With `keepNear`
+    // too (a cut of the same ball whose near fans are measured already), within's near fans stay
+    // near, first in nearNodes: only its far nodes are opened, and the fans they add follow.
+    void cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out, const Cut* within = nullptr,
+             bool keepNear = false) const;
     // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
     // than splitting the block.
     static constexpr std::size_t kMaxExactFans = 4;
     // The winding number of the fans of `leaves` (a cut's near or exact nodes) at each of n <=
     // kFanPoints points, measured together by the fan kernel. Returns the fan measurements made
     // (WindingStats::fanEvaluations).
-    std::size_t fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const;
+    std::size_t fanWindings(const std::uint32_t* leaves, std::size_t count, const glm::dvec3* points, int n, double* windings) const;
+    std::size_t fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const {
+        return fanWindings(leaves.data(), leaves.size(), points, n, windings);
+    }
     // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
     double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
     // inside() for a point of the ball that `cut` was made for, given `near`, the near fans'
