@@ -762,7 +762,7 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& c
 
 void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const {
     // The measured cuts, as the dense bake's blocks of 4³ take them (BrickSigns).
-    thread_local Cut nearest, loose, tight, scratch;
+    thread_local Cut nearest, loose, carried[2], scratch;
     const double span = nodes_.empty() ? 0.0 : kGroupSpan * glm::length(nodes_[0].hi - nodes_[0].lo);
     glm::dvec3 group[kGroupPoints], lo(0.0), hi(0.0);
     std::size_t at[kGroupPoints];
@@ -787,27 +787,35 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
             }
             double near[kGroupPoints];
             measure(*chosen, 0, group, n, near);
-            if (chosen == &loose) { // the points the loose target leaves in doubt measure the fans within the tight one
-                glm::dvec3 doubtful[kGroupPoints];
-                int which[kGroupPoints], left = 0;
-                for (int s = 0; s < n; ++s) {
-                    const int side = sideNear(group[s], ahead[at[s]], near[s], loose);
-                    if (side >= 0) flags[at[s]] = std::uint8_t(side);
-                    else doubtful[left] = group[s], which[left++] = s;
-                }
-                if (left > 1) { // the loose cut carried on: only the fans it adds are measured
-                    cut(centre, reach, kTightTarget, loose.nearNodes.size() + kMeasuredFans, false, tight, &loose, true);
-                    chosen = &tight;
-                    double added[kGroupPoints];
-                    measure(tight, loose.nearNodes.size(), doubtful, left, added);
-                    for (int d = 0; d < left; ++d) near[which[d]] += added[d];
-                }
-                for (int d = 0; d < left; ++d) {
+            glm::dvec3 doubtful[kGroupPoints];
+            int which[kGroupPoints], left = 0;
+            // Decides the points `chosen` decides, and keeps the others in doubt.
+            auto settle = [&](int count) {
+                int still = 0;
+                for (int d = 0; d < count; ++d) {
                     const int s = which[d];
-                    flags[at[s]] = insideNear(group[s], ahead[at[s]], near[s], *chosen, scratch);
+                    const int side = sideNear(group[s], ahead[at[s]], near[s], *chosen);
+                    if (side >= 0) flags[at[s]] = std::uint8_t(side);
+                    else doubtful[still] = group[s], which[still++] = s;
                 }
-            } else {
-                for (int s = 0; s < n; ++s) flags[at[s]] = insideNear(group[s], ahead[at[s]], near[s], nearest, scratch);
+                left = still;
+            };
+            std::iota(which, which + n, 0);
+            settle(n);
+            // The cut carried on while points are left in doubt: only the fans it adds are measured.
+            for (double target : kCarriedTargets) {
+                if (left < 2 || !(chosen->farSum > target)) break;
+                Cut& next = carried[chosen == &carried[0]];
+                cut(centre, reach, target, chosen->nearNodes.size() + kMeasuredFans, false, next, chosen, true);
+                double added[kGroupPoints];
+                measure(next, chosen->nearNodes.size(), doubtful, left, added);
+                for (int d = 0; d < left; ++d) near[which[d]] += added[d];
+                chosen = &next;
+                settle(left);
+            }
+            for (int d = 0; d < left; ++d) {
+                const int s = which[d];
+                flags[at[s]] = insideNear(group[s], ahead[at[s]], near[s], *chosen, scratch);
             }
         }
         n = 0;
@@ -1044,14 +1052,16 @@ struct BrickSigns {
     static constexpr double kExpandTarget = 0.01;
     static constexpr std::size_t kExpandedFans = 64;
     static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
-    // From that many samples in doubt after the first measure, a block carries its cut on to the
-    // tight target and measures the fans added, rather than walk the tree from each sample.
+    // From that many samples in doubt after a measure, a block carries its cut on to the next of
+    // WindingCaps::kCarriedTargets and measures the fans added, rather than walk the tree from
+    // each sample.
     static constexpr int kCarriedOnAt = 2;
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
     std::size_t evaluations = 0, exactDecided = 0;
-    WindingCaps::Cut cuts[4], scratch; // per level: 8³ (expanded), 4³ (measured: nearest, more, loose); insideNear's heap
+    WindingCaps::Cut cuts[4], scratch; // per level: 8³ (expanded), 4³ (measured: nearest, -, loose); insideNear's heap
+    WindingCaps::Cut carried[2]; // a measured cut carried on, and the next
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
     // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
     // of undecided[k - k0]).
@@ -1144,8 +1154,9 @@ struct BrickSigns {
         };
         if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
             // First the nearest few fans (or, where those leave every sample in doubt, the fans
-            // within the loose target); where those leave samples in doubt, the cut is carried on
-            // to the tight target and only the fans it adds are measured at those samples; the
+            // within the loose target); while those leave samples in doubt, the cut is carried on
+            // to ever tighter targets and only the fans it adds are measured at those samples
+            // (beside an open sheet, where |w| nears 1/2, that costs a fraction of a walk); the
             // samples still in doubt walk the tree on their own.
             double nearAt[kMeasuredEdge * kMeasuredEdge * kMeasuredEdge] = {};
             auto local = [&](const glm::ivec3& q) { return (q.x - ia) + kMeasuredEdge * ((q.y - ja) + kMeasuredEdge * (q.z - ka)); };
@@ -1170,11 +1181,13 @@ struct BrickSigns {
                 caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, *measured, &cut);
             }
             measure(*measured, 0);
-            if (measured->farSum > WindingCaps::kTightTarget && undecidedIn(ia, ja, ka, ie, je, ke) >= kCarriedOnAt) {
-                WindingCaps::Cut& tight = cuts[level + 1];
-                caps.cut(centre, reach, WindingCaps::kTightTarget, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, tight, measured, true);
-                measure(tight, measured->nearNodes.size());
-                measured = &tight;
+            int flip = 0;
+            for (double target : WindingCaps::kCarriedTargets) {
+                if (!(measured->farSum > target) || undecidedIn(ia, ja, ka, ie, je, ke) < kCarriedOnAt) break;
+                WindingCaps::Cut& next = carried[flip ^= 1];
+                caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true);
+                measure(next, measured->nearNodes.size());
+                measured = &next;
             }
             for (int k = ka; k < ke; ++k)
                 for (int j = ja; j < je; ++j)
@@ -1361,7 +1374,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
         }
         SignOutput layout = output;
         layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
-        BrickSigns brick{axes, caps, layout, 0, 0, {}, {}};
+        BrickSigns brick{axes, caps, layout, 0, 0, {}, {}, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
@@ -1427,7 +1440,7 @@ struct BandLayerSigns {
         : shared(shared), out(out), bz(int(layerIndex)), k0(bz * kEdge), k1(std::min(shared.grid.dims.z, k0 + kEdge)),
           stored(shared.storedStart[layerIndex]), fan(shared.fanStart[layerIndex]), sided(shared.sidedStart[layerIndex]),
           storedEnd(shared.storedStart[layerIndex + 1]), fanEnd(shared.fanStart[layerIndex + 1]), sidedEnd(shared.sidedStart[layerIndex + 1]),
-          signs{shared.axes, shared.caps, {}, 0, 0, {}, {}} {}
+          signs{shared.axes, shared.caps, {}, 0, 0, {}, {}, {}} {}
 
     void run() {
         // A layer that no triangle reaches and that holds no brick of the lists is outside

@@ -61,8 +61,9 @@ public:
     // point in eight, where most of the last eight walks were left in doubt); runs of up to
     // kGroupPoints points left within a ball of kGroupSpan of the fans' box share a cut of the
     // fan tree, measure its near fans together (the fan kernel) and are decided by insideNear, as
-    // the dense bake's blocks of 4³ are (the nearest fans, or the loose target's and then the
-    // tight one's where the nearest leave every point in doubt); a point left alone by inside().
+    // the dense bake's blocks of 4³ are (the nearest fans, or the loose target's where the nearest
+    // leave every point in doubt, carried on through kCarriedTargets while points are left in
+    // doubt); a point left alone by inside().
     void insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const;
     static constexpr double kGroupSpan = 1.0 / 32.0;
     static constexpr int kGroupPoints = 128;
@@ -75,12 +76,15 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
-    // A node waiting in a walk, with its bound.
+    // A node waiting in a walk, with its bound (24 bytes: the walks' heaps move many).
     struct Pending {
-        double bound;
-        std::uint32_t node;
+        double bound = 0;
         double estimate = 0; // what the walk counted for the node while it waits (its dipole term, or 0)
+        std::uint32_t node = 0;
         bool dipole = false; // in a cut: bounded as a dipole expanded at the ball's centre (Cut::farValue)
+        Pending() = default;
+        Pending(double bound, std::uint32_t node, double estimate = 0, bool dipole = false)
+            : bound(bound), estimate(estimate), node(node), dipole(dipole) {}
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
     // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
@@ -116,6 +120,10 @@ public:
     // (that cut carried on: its fans kept, only the ones added measured); at most kMeasuredFans
     // each time (tuned by time on open sheets, meshes with many holes and the messy corpus).
     static constexpr double kTightTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
+    // The targets a measured cut is carried on to, in turn, while it leaves points in doubt (up to
+    // kMeasuredFans more fans each time): beside an open sheet |w| nears 1/2, and the fans measured
+    // together cost less than the walks they spare.
+    static constexpr double kCarriedTargets[] = {kTightTarget, 1e-3, 1e-4, 1e-5};
     static constexpr std::size_t kNearestFans = 12, kMeasuredFans = 96;
     // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
     // expansion's rest over the ball is below its bound; a fan the ball may meet is exact; the
