@@ -126,6 +126,17 @@ TEST(WindingSign, EqualsTheReferenceOnOpenSheetsWithLongBorders) {
     expectSignsEqualReference(sheetOverSphere, sheetOverSphere, 1.0, 18);
 }
 
+// Beside open sheets |w| nears 1/2 on both sides, and a block's samples left in doubt by its first
+// measure have their cut carried on to tighter targets (only the fans added measured): the signs
+// are still the reference's, among many open parts.
+TEST(WindingSign, CarriedCutsDecideAsTheReferenceDoes) {
+    Mesh parts = combined("sheet over holed spheres", heightfield(24, false), moved(withHoles(test::icosphere(0.35f, 2), 4), {-0.5, 0.0, 0.3}));
+    parts = combined("sheet over holed spheres", parts, moved(reversed(withHoles(test::icosphere(0.3f, 2), 5)), {0.45, 0.1, -0.35}));
+    WindingStats stats;
+    expectSignsEqualReference(parts, parts, 1.0, 28, &stats);
+    EXPECT_GT(stats.carriedSamples, 500u);
+}
+
 TEST(WindingSign, CoplanarOverlapsAndFlippedCopies) {
     // Two squares in one plane, overlapping in part.
     std::vector<glm::vec3> square = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};

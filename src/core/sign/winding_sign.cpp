@@ -1059,7 +1059,7 @@ struct BrickSigns {
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
-    std::size_t evaluations = 0, exactDecided = 0;
+    std::size_t evaluations = 0, exactDecided = 0, carriedOn = 0;
     WindingCaps::Cut cuts[4], scratch; // per level: 8³ (expanded), 4³ (measured: nearest, -, loose); insideNear's heap
     WindingCaps::Cut carried[2]; // a measured cut carried on, and the next
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
@@ -1185,6 +1185,7 @@ struct BrickSigns {
             for (double target : WindingCaps::kCarriedTargets) {
                 if (!(measured->farSum > target) || undecidedIn(ia, ja, ka, ie, je, ke) < kCarriedOnAt) break;
                 WindingCaps::Cut& next = carried[flip ^= 1];
+                carriedOn += std::size_t(undecidedIn(ia, ja, ka, ie, je, ke));
                 caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true);
                 measure(next, measured->nearNodes.size());
                 measured = &next;
@@ -1350,7 +1351,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
     //    subtracted wherever it might matter.
     constexpr int kBrickEdge = BrickSigns::kEdge;
-    std::atomic<std::size_t> fanEvaluations{0}, exactFanSamples{0};
+    std::atomic<std::size_t> fanEvaluations{0}, exactFanSamples{0}, carriedSamples{0};
     const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
         const int jb = kBrickEdge * int(block % std::size_t(blocksY)), kb = kBrickEdge * int(block / std::size_t(blocksY));
@@ -1374,18 +1375,20 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
         }
         SignOutput layout = output;
         layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
-        BrickSigns brick{axes, caps, layout, 0, 0, {}, {}, {}};
+        BrickSigns brick{axes, caps, layout, 0, 0, 0, {}, {}, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
         const std::size_t evaluations = brick.evaluations;
         fanEvaluations += evaluations;
         exactFanSamples += brick.exactDecided;
+        carriedSamples += brick.carriedOn;
     });
     if (stats) {
         stats->caps = caps.caps().size();
         stats->fanEvaluations = fanEvaluations;
         stats->exactFanSamples = exactFanSamples;
+        stats->carriedSamples = carriedSamples;
     }
 }
 
@@ -1440,7 +1443,7 @@ struct BandLayerSigns {
         : shared(shared), out(out), bz(int(layerIndex)), k0(bz * kEdge), k1(std::min(shared.grid.dims.z, k0 + kEdge)),
           stored(shared.storedStart[layerIndex]), fan(shared.fanStart[layerIndex]), sided(shared.sidedStart[layerIndex]),
           storedEnd(shared.storedStart[layerIndex + 1]), fanEnd(shared.fanStart[layerIndex + 1]), sidedEnd(shared.sidedStart[layerIndex + 1]),
-          signs{shared.axes, shared.caps, {}, 0, 0, {}, {}, {}} {}
+          signs{shared.axes, shared.caps, {}, 0, 0, 0, {}, {}, {}} {}
 
     void run() {
         // A layer that no triangle reaches and that holds no brick of the lists is outside

@@ -297,6 +297,7 @@ struct WindingStats {
     // (one vector of the fan kernel).
     std::size_t fanEvaluations = 0;
     std::size_t exactFanSamples = 0; // samples decided by a block's expansion with its exact fans measured at each
+    std::size_t carriedSamples = 0; // samples measured again by a cut carried on (each time counted)
 };
 
 // The generalized winding number w (Jacobson et al. 2013), inside where |w| > 1/2, computed exactly.
