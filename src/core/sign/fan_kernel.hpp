@@ -28,9 +28,9 @@ inline bool onFanTriangle(double det, double den, double la, double lb, double l
     return std::fabs(det) <= slack && den <= slack;
 }
 
-// Whether some of a kernel call's points may be near a fan: within the fan's box's diagonal of
-// the box (there its factors may come near 0, and a point may lie on it), or so close to the box
-// or so far from it (beyond the range of distances in any grid of local coordinates) that a whole
+// Whether some of a kernel call's points may be near a fan: no farther from the fan's box than
+// the box is across (there its factors may come near 0, and a point may lie on it), or so close to
+// the box or so far from it (beyond the distances of any grid in local coordinates) that a whole
 // fan's factors could leave the range the kernel keeps its product in. Elsewhere each factor of a
 // fan triangle (a, b, c) is at least 2.5 |a||b||c| (the corners are seen within 60 degrees of each
 // other), so a fan of up to 5 factors moves the product by 2^±600 at most.

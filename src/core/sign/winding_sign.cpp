@@ -1060,8 +1060,9 @@ struct BrickSigns {
     const WindingCaps& caps;
     SignOutput output;
     std::size_t evaluations = 0, exactDecided = 0, carriedOn = 0;
-    WindingCaps::Cut cuts[4], scratch; // per level: 8³ (expanded), 4³ (measured: nearest, -, loose); insideNear's heap
-    WindingCaps::Cut carried[2]; // a measured cut carried on, and the next
+    // Per level, 8³ (expanded) and 4³ (its nearest fans); a block of 4³'s loose cut; insideNear's
+    // heap; a measured cut carried on, and the next.
+    WindingCaps::Cut cuts[2], loose, scratch, carried[2];
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
     // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
     // of undecided[k - k0]).
@@ -1177,8 +1178,8 @@ struct BrickSigns {
             caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, cut, within);
             WindingCaps::Cut* measured = &cut;
             if (cut.farSum > WindingCaps::kHopeless) {
-                measured = &cuts[level + 2];
-                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, *measured, &cut);
+                measured = &loose;
+                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, loose, &cut);
             }
             measure(*measured, 0);
             int flip = 0;
@@ -1375,7 +1376,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
         }
         SignOutput layout = output;
         layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
-        BrickSigns brick{axes, caps, layout, 0, 0, 0, {}, {}, {}};
+        BrickSigns brick{axes, caps, layout, 0, 0, 0, {}, {}, {}, {}};
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
@@ -1443,7 +1444,7 @@ struct BandLayerSigns {
         : shared(shared), out(out), bz(int(layerIndex)), k0(bz * kEdge), k1(std::min(shared.grid.dims.z, k0 + kEdge)),
           stored(shared.storedStart[layerIndex]), fan(shared.fanStart[layerIndex]), sided(shared.sidedStart[layerIndex]),
           storedEnd(shared.storedStart[layerIndex + 1]), fanEnd(shared.fanStart[layerIndex + 1]), sidedEnd(shared.sidedStart[layerIndex + 1]),
-          signs{shared.axes, shared.caps, {}, 0, 0, 0, {}, {}, {}} {}
+          signs{shared.axes, shared.caps, {}, 0, 0, 0, {}, {}, {}, {}} {}
 
     void run() {
         // A layer that no triangle reaches and that holds no brick of the lists is outside
