@@ -696,7 +696,8 @@ bool FanReach::near(const Cap& cap) const {
     const glm::dvec3 gap = glm::max(glm::max(cap.lo - hi, lo - cap.hi), glm::dvec3(0.0)), across = cap.hi - cap.lo;
     const glm::dvec3 farthest = glm::max(hi - cap.lo, cap.hi - lo);
     const double gap2 = glm::dot(gap, gap);
-    return !(gap2 > glm::dot(across, across) && gap2 > 1e-24 && glm::dot(farthest, farthest) < 1e12) || cap.loop.size() > 5;
+    return !(gap2 > glm::dot(across, across) && gap2 > 1e-24 && glm::dot(farthest, farthest) < 1e12) ||
+           cap.loop.size() > WindingCaps::kMaxCapEdges + 1; // the bounds hold for up to that many factors
 }
 
 } // namespace fans
@@ -804,7 +805,7 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
             settle(n);
             // The cut carried on while points are left in doubt: only the fans it adds are measured.
             for (double target : kCarriedTargets) {
-                if (left < 2 || !(chosen->farSum > target)) break;
+                if (left < kCarriedFrom || !(chosen->farSum > target)) break;
                 Cut& next = carried[chosen == &carried[0]];
                 cut(centre, reach, target, chosen->nearNodes.size() + kMeasuredFans, false, next, chosen, true);
                 double added[kGroupPoints];
@@ -1052,10 +1053,6 @@ struct BrickSigns {
     static constexpr double kExpandTarget = 0.01;
     static constexpr std::size_t kExpandedFans = 64;
     static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
-    // From that many samples in doubt after a measure, a block carries its cut on to the next of
-    // WindingCaps::kCarriedTargets and measures the fans added, rather than walk the tree from
-    // each sample.
-    static constexpr int kCarriedOnAt = 2;
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
@@ -1184,9 +1181,11 @@ struct BrickSigns {
             measure(*measured, 0);
             int flip = 0;
             for (double target : WindingCaps::kCarriedTargets) {
-                if (!(measured->farSum > target) || undecidedIn(ia, ja, ka, ie, je, ke) < kCarriedOnAt) break;
+                if (!(measured->farSum > target)) break;
+                const int doubtful = undecidedIn(ia, ja, ka, ie, je, ke);
+                if (doubtful < WindingCaps::kCarriedFrom) break;
                 WindingCaps::Cut& next = carried[flip ^= 1];
-                carriedOn += std::size_t(undecidedIn(ia, ja, ka, ie, je, ke));
+                carriedOn += std::size_t(doubtful);
                 caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true);
                 measure(next, measured->nearNodes.size());
                 measured = &next;

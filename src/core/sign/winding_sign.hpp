@@ -76,15 +76,12 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
-    // A node waiting in a walk, with its bound (24 bytes: the walks' heaps move many).
+    // A node waiting in a walk, with its bound.
     struct Pending {
-        double bound = 0;
+        double bound;
+        std::uint32_t node;
         double estimate = 0; // what the walk counted for the node while it waits (its dipole term, or 0)
-        std::uint32_t node = 0;
         bool dipole = false; // in a cut: bounded as a dipole expanded at the ball's centre (Cut::farValue)
-        Pending() = default;
-        Pending(double bound, std::uint32_t node, double estimate = 0, bool dipole = false)
-            : bound(bound), estimate(estimate), node(node), dipole(dipole) {}
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
     // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
@@ -124,6 +121,8 @@ public:
     // kMeasuredFans more fans each time): beside an open sheet |w| nears 1/2, and the fans measured
     // together cost less than the walks they spare.
     static constexpr double kCarriedTargets[] = {kTightTarget, 1e-3, 1e-4, 1e-5};
+    // From that many points in doubt a cut is carried on; fewer walk the tree on their own.
+    static constexpr int kCarriedFrom = 2;
     static constexpr std::size_t kNearestFans = 12, kMeasuredFans = 96;
     // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
     // expansion's rest over the ball is below its bound; a fan the ball may meet is exact; the
