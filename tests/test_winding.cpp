@@ -336,7 +336,7 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
                 double windings[kFanPoints];
                 caps.fanWindings(cut.nearNodes, points, count, windings);
                 const fans::FanReach reach(points, count);
-                for (const Cap& cap : caps.caps()) ++(reach.near(cap) ? nearFans : farFans);
+                for (const Cap& cap : caps.caps()) ++(reach.near(cap.lo, cap.hi, cap.loop.size()) ? nearFans : farFans);
                 for (int s = 0; s < count; ++s) {
                     const double alone = caps.nearWinding(points[s], cut);
                     ASSERT_NEAR(windings[s], alone, 1e-12) << mesh.source << ", " << toString(path) << ", point " << s << " of " << count;

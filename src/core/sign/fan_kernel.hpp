@@ -6,6 +6,8 @@
 // (core/simd/path.hpp).
 #include "core/simd/path.hpp"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 #include <cmath>
 #include <cstddef>
@@ -34,10 +36,20 @@ inline bool onFanTriangle(double det, double den, double la, double lb, double l
 // fan's factors could leave the range the kernel keeps its product in. Elsewhere each factor of a
 // fan triangle (a, b, c) is at least 2.5 |a||b||c| (the corners are seen within 60 degrees of each
 // other), so a fan of up to 5 factors moves the product by 2^±600 at most.
+// Inline: the kernel asks it of every fan.
 struct FanReach {
-    glm::dvec3 lo, hi; // the points' box
-    FanReach(const glm::dvec3* points, int n);
-    bool near(const Cap& cap) const;
+    static constexpr std::size_t kMaxFactors = 5; // the bounds hold for fans of up to that many triangles
+    glm::dvec3 lo, hi;                            // the points' box
+    FanReach(const glm::dvec3* points, int n) : lo(points[0]), hi(points[0]) {
+        for (int s = 1; s < n; ++s) lo = glm::min(lo, points[s]), hi = glm::max(hi, points[s]);
+    }
+    // Of a fan with box [capLo, capHi] and `factors` triangles.
+    bool near(const glm::dvec3& capLo, const glm::dvec3& capHi, std::size_t factors) const {
+        const glm::dvec3 gap = glm::max(glm::max(capLo - hi, lo - capHi), glm::dvec3(0.0)), across = capHi - capLo;
+        const glm::dvec3 farthest = glm::max(hi - capLo, capHi - lo);
+        const double gap2 = glm::dot(gap, gap);
+        return !(gap2 > glm::dot(across, across) && gap2 > 1e-24 && glm::dot(farthest, farthest) < 1e12) || factors > kMaxFactors;
+    }
 };
 
 using Kernel = void (*)(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);

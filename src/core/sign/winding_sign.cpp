@@ -398,9 +398,8 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
 }
 
 
-WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach) {
+WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d) {
     BallDipole out;
-    const double d = boxDistance(node.lo, node.hi, centre) - reach;
     if (!(d > 0.0)) return out;
     const glm::dvec3 r = node.centroid - centre;
     const double length = glm::length(r), inverse3 = 1.0 / (length * length * length);
@@ -413,7 +412,7 @@ WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm:
     const double near = d * (1.0 - 1e-12);
     out.curvature = 3.0 * glm::length(node.vectorArea) * k / (near * near * near * near) * (1.0 + 1e-9);
     // The value's and gradient's rounding: a 1e-12 share of the plain bound (a few ulps of each term).
-    out.error = node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area * k / (d * d) * (1.0 + reach / d);
+    out.error = dipoleErrorFloor(node, d) + 1e-12 * node.area * k / (d * d) * (1.0 + reach / d);
     return out;
 }
 
@@ -524,7 +523,7 @@ struct WindingCaps::Search {
                 pending.pop_back();
             }
             if (loosest.dipole) { // a ball's far node: its expansion and its bound at p, as the cut summed them
-                const BallDipole dipole = dipoleOverBall(caps.nodes_[loosest.node], ball->centre, ball->reach);
+                const BallDipole& dipole = ball->dipoles[loosest.slot];
                 w += dipole.value + glm::dot(dipole.gradient, offset);
                 farSum -= dipole.error + dipole.curvature * glm::dot(offset, offset);
             } else {
@@ -568,34 +567,42 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.farGradient = glm::dvec3(0.0);
     out.centre = centre;
     out.reach = reach;
+    out.dipoles.clear();
     if (nodes_.empty()) return;
     // Nodes bounded by less than a twentieth of the target are not worth opening: they go to the
     // far nodes at once, and a smaller ball keeps the bounds they have in `within` (bounds over a
     // ball that holds every sample of this one), measuring only the nodes worth opening afresh.
-    const double small = 0.05 * target;
+    const double small = out.small = 0.05 * target;
     std::vector<Pending>& pending = out.scratch;
     pending.clear();
     double sum = 0.0; // of the finite bounds, far and pending, running (farSum is summed afresh at the end)
     int touching = 0; // pending nodes whose box the ball touches (infinite bound)
     // A node's bound over the ball: as a dipole expanded at the centre where that is tighter.
-    auto push = [&](std::uint32_t index) {
-        const Node& node = nodes_[index];
-        double b = bound(node, centre, reach);
-        if (b <= 0.0) return; // no area
-        bool asDipole = false;
-        if (std::isfinite(b) && b > small) { // below that, not worth the dipole's work
-            const BallDipole dipole = dipoleOverBall(node, centre, reach);
-            const double spread = dipole.error + dipole.curvature * reach * reach;
-            if (spread < b) b = spread, asDipole = true;
-        }
-        if (b <= small) {
-            out.farNodes.push_back({b, index, 0.0, asDipole});
-            sum += b;
+    auto place = [&](const Pending& node) {
+        if (node.bound <= small) {
+            out.farNodes.push_back(node);
+            sum += node.bound;
             return;
         }
-        pending.push_back({b, index, 0.0, asDipole});
-        if (std::isfinite(b)) sum += b;
+        pending.push_back(node);
+        if (std::isfinite(node.bound)) sum += node.bound;
         else ++touching;
+    };
+    auto push = [&](std::uint32_t index) {
+        const Node& node = nodes_[index];
+        Pending bounded{bound(node, centre, reach), index};
+        if (bounded.bound <= 0.0) return; // no area
+        const double d = boxDistance(node.lo, node.hi, centre) - reach; // as bound() finds it
+        // Below `small`, not worth the dipole's work; nor where its error alone exceeds the bound.
+        if (std::isfinite(bounded.bound) && bounded.bound > small && dipoleErrorFloor(node, d) < bounded.bound) {
+            const BallDipole dipole = dipoleOverBall(node, centre, reach, d);
+            const double spread = dipole.error + dipole.curvature * reach * reach;
+            if (spread < bounded.bound) {
+                bounded.bound = spread, bounded.dipole = true, bounded.slot = std::uint32_t(out.dipoles.size());
+                out.dipoles.push_back(dipole);
+            }
+        }
+        place(bounded);
     };
     if (within) { // a ball inside `within`'s: its cut refines that one
         assert(!(keepNear && expand)); // expanded near fans carry curvature that a kept one would lose
@@ -603,10 +610,25 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         else
             for (std::uint32_t index : within->nearNodes) push(index);
         for (std::uint32_t index : within->exactNodes) push(index);
+        // Over the same ball, a far node keeps its bound and dipole where push() would find them
+        // again: where its dipole was tried (its plain bound above within's `small`) if and only
+        // if it is tried here (above this cut's).
+        const bool sameBall = within->centre == centre && within->reach == reach;
+        auto boundAsHere = [&](const Pending& far) {
+            if (far.dipole) return small <= within->small || far.bound > small; // plain bound > far.bound
+            return small >= within->small || far.bound > within->small;
+        };
         for (const Pending& far : within->farNodes) {
             if (far.bound <= small && !far.dipole) { // a dipole is expanded afresh at this ball's centre
                 out.farNodes.push_back(far);
                 sum += far.bound;
+            } else if (sameBall && boundAsHere(far)) {
+                Pending kept = far;
+                if (far.dipole) {
+                    kept.slot = std::uint32_t(out.dipoles.size());
+                    out.dipoles.push_back(within->dipoles[far.slot]);
+                }
+                place(kept);
             } else {
                 push(far.node);
             }
@@ -655,7 +677,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.farNodes.insert(out.farNodes.end(), pending.begin(), pending.end());
     for (const Pending& far : out.farNodes) {
         if (far.dipole) {
-            const BallDipole dipole = dipoleOverBall(nodes_[far.node], centre, reach);
+            const BallDipole& dipole = out.dipoles[far.slot];
             out.farValue += dipole.value;
             out.farGradient += dipole.gradient;
             out.curvature += dipole.curvature;
@@ -686,21 +708,7 @@ int WindingCaps::sideNear(const glm::dvec3& p, int ahead, double near, const Cut
     return std::fabs(w) > 0.5;
 }
 
-namespace fans {
-
-FanReach::FanReach(const glm::dvec3* points, int n) : lo(points[0]), hi(points[0]) {
-    for (int s = 1; s < n; ++s) lo = glm::min(lo, points[s]), hi = glm::max(hi, points[s]);
-}
-
-bool FanReach::near(const Cap& cap) const {
-    const glm::dvec3 gap = glm::max(glm::max(cap.lo - hi, lo - cap.hi), glm::dvec3(0.0)), across = cap.hi - cap.lo;
-    const glm::dvec3 farthest = glm::max(hi - cap.lo, cap.hi - lo);
-    const double gap2 = glm::dot(gap, gap);
-    return !(gap2 > glm::dot(across, across) && gap2 > 1e-24 && glm::dot(farthest, farthest) < 1e12) ||
-           cap.loop.size() > WindingCaps::kMaxCapEdges + 1; // the bounds hold for up to that many factors
-}
-
-} // namespace fans
+static_assert(fans::FanReach::kMaxFactors == WindingCaps::kMaxCapEdges + 1, "a cap's fans have up to kMaxCapEdges + 1 triangles");
 
 std::size_t WindingCaps::fanWindings(const std::uint32_t* leaves, std::size_t count, const glm::dvec3* points, int n, double* windings) const {
     // Fans of weight 1 go to the kernel, the others (copies of open triangles, rare) are measured one by one.

@@ -76,12 +76,22 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
+    // The node as a dipole over a ball that misses its box: its error there (as dipole()'s, d
+    // the ball's distance from the box), and its first-order expansion at the centre o, whose rest
+    // at o + δ is at most curvature |δ|²: the dipole's potential is D.grad(1/|c - p|), whose
+    // third derivatives are at most 3! / r⁴ in every direction, so its Hessian is at most 6 |D| / r⁴
+    // (r >= |c - o| - reach along the way). Error infinite where the ball reaches the box.
+    struct BallDipole {
+        double value = 0, error = std::numeric_limits<double>::infinity(), curvature = 0;
+        glm::dvec3 gradient{0.0};
+    };
     // A node waiting in a walk, with its bound.
     struct Pending {
         double bound;
         std::uint32_t node;
         double estimate = 0; // what the walk counted for the node while it waits (its dipole term, or 0)
         bool dipole = false; // in a cut: bounded as a dipole expanded at the ball's centre (Cut::farValue)
+        std::uint32_t slot = 0; // a dipole's terms in the cut's Cut::dipoles
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
     // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
@@ -107,6 +117,10 @@ public:
         // offset d. curvature also bounds the far dipoles' expansion (with or without `expand`).
         bool smooth = true;
         double curvature = 0, slack = 0;
+        // The dipoles' terms over the ball (Pending::slot), computed once for the cut, its sums,
+        // its walks and the cuts of the same ball carried on from it.
+        std::vector<BallDipole> dipoles;
+        double small = 0; // bounds below this went far unopened, without a dipole tried
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
     };
     // The cuts of a ball of samples or query points whose near fans are measured at every point
@@ -248,16 +262,11 @@ private:
     // by K(centroid) errs by at most 4 radius / d³ per unit of area: area radius / (π d³) in
     // winding numbers, where the plain bound has area / (4π d²). Tighter beyond 4 radii, and it
     // shrinks as 1/d³. Infinite error where p touches the box.
-    // The node as a dipole over a ball that misses its box: its error there (as dipole()'s, d
-    // the ball's distance from the box), and its first-order expansion at the centre o, whose rest
-    // at o + δ is at most curvature |δ|²: the dipole's potential is D.grad(1/|c - p|), whose
-    // third derivatives are at most 3! / r⁴ in every direction, so its Hessian is at most 6 |D| / r⁴
-    // (r >= |c - o| - reach along the way). Error infinite where the ball reaches the box.
-    struct BallDipole {
-        double value = 0, error = std::numeric_limits<double>::infinity(), curvature = 0;
-        glm::dvec3 gradient{0.0};
-    };
-    static BallDipole dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach);
+    // d: the ball's distance from the node's box (boxDistance less reach).
+    static BallDipole dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d);
+    // The first term of dipoleOverBall's error: where it is no smaller than the plain bound, the
+    // dipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
+    static double dipoleErrorFloor(const Node& node, double d) { return node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9); }
     static std::pair<double, double> dipole(const Node& node, const glm::dvec3& p) {
         const double d = boxDistance(node.lo, node.hi, p);
         if (!(d > 0.0)) return {0.0, std::numeric_limits<double>::infinity()};
