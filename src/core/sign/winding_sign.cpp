@@ -573,7 +573,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     // far nodes at once, and a smaller ball keeps the bounds they have in `within` (bounds over a
     // ball that holds every sample of this one), measuring only the nodes worth opening afresh.
     const double small = out.small = 0.05 * target;
-    std::vector<Pending>& pending = out.scratch;
+    Waiting& pending = out.waiting;
     pending.clear();
     double sum = 0.0; // of the finite bounds, far and pending, running (farSum is summed afresh at the end)
     int touching = 0; // pending nodes whose box the ball touches (infinite bound)
@@ -584,7 +584,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
             sum += node.bound;
             return;
         }
-        pending.push_back(node);
+        pending.push(node);
         if (std::isfinite(node.bound)) sum += node.bound;
         else ++touching;
     };
@@ -636,22 +636,17 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     } else {
         push(0);
     }
-    std::make_heap(pending.begin(), pending.end());
     while (!pending.empty() && (touching > 0 || sum > target)) {
-        const Pending loosest = pending.front();
+        const Pending loosest = pending.loosest();
         const Node& node = nodes_[loosest.node];
         const bool touches = !std::isfinite(loosest.bound);
         if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() >= maxNear) break;
-        std::pop_heap(pending.begin(), pending.end());
-        pending.pop_back();
+        pending.pop();
         if (touches) --touching;
         else sum -= loosest.bound;
         if (!node.leaf) {
-            for (std::uint32_t child : {node.first, node.first + 1}) {
-                const std::size_t before = pending.size();
-                push(child);
-                if (pending.size() > before) std::push_heap(pending.begin(), pending.end());
-            }
+            push(node.first);
+            push(node.first + 1);
             continue;
         }
         const Cap& cap = caps_[node.first];
@@ -674,7 +669,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         out.nearNodes.push_back(loosest.node);
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
-    out.farNodes.insert(out.farNodes.end(), pending.begin(), pending.end());
+    pending.forEach([&](const Pending& node) { out.farNodes.push_back(node); });
     for (const Pending& far : out.farNodes) {
         if (far.dipole) {
             const BallDipole& dipole = out.dipoles[far.slot];

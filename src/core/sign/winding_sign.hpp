@@ -11,6 +11,7 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -94,6 +95,48 @@ public:
         std::uint32_t slot = 0; // a dipole's terms in the cut's Cut::dipoles
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
+    // A cut's nodes waiting to be opened, taken loosest first to within a factor of two: bucketed
+    // by their bounds' binary exponents, which costs less than a heap's order (a cut needs no more).
+    class Waiting {
+    public:
+        void clear() {
+            for (int b = 0; b <= highest_; ++b) buckets_[std::size_t(b)].clear();
+            top_ = highest_ = -1;
+            count_ = 0;
+        }
+        bool empty() const { return count_ == 0; }
+        void push(const Pending& node) {
+            const int b = bucketOf(node.bound);
+            buckets_[std::size_t(b)].push_back(node);
+            top_ = std::max(top_, b), highest_ = std::max(highest_, b);
+            ++count_;
+        }
+        const Pending& loosest() { // not empty()
+            while (buckets_[std::size_t(top_)].empty()) --top_;
+            return buckets_[std::size_t(top_)].back();
+        }
+        void pop() { // the loosest (after loosest())
+            buckets_[std::size_t(top_)].pop_back();
+            --count_;
+        }
+        template <class F>
+        void forEach(const F& f) const {
+            for (int b = 0; b <= highest_; ++b)
+                for (const Pending& node : buckets_[std::size_t(b)]) f(node);
+        }
+
+    private:
+        static constexpr int kBuckets = 64; // 2^-40 and below, ..., 2^22 and above, infinite
+        static int bucketOf(double bound) {
+            if (!std::isfinite(bound)) return kBuckets - 1;
+            std::uint64_t bits;
+            std::memcpy(&bits, &bound, sizeof bits);
+            return std::clamp(int(bits >> 52 & 0x7ff) - 1023 + 40, 0, kBuckets - 2);
+        }
+        std::array<std::vector<Pending>, kBuckets> buckets_;
+        int top_ = -1, highest_ = -1;
+        std::size_t count_ = 0;
+    };
     // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
     // whose leaves (near fans) are measured and whose other nodes are bounded over the whole ball,
     // opened loosest first until the bounds sum to at most `target`, with at most `maxNear` fans
@@ -121,6 +164,7 @@ public:
         // its walks and the cuts of the same ball carried on from it.
         std::vector<BallDipole> dipoles;
         double small = 0; // bounds below this went far unopened, without a dipole tried
+        Waiting waiting;              // cut()'s, kept for its memory
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
     };
     // The cuts of a ball of samples or query points whose near fans are measured at every point
