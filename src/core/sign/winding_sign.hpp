@@ -139,8 +139,9 @@ public:
     };
     // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
     // whose leaves (near fans) are measured and whose other nodes are bounded over the whole ball,
-    // opened loosest first until the bounds sum to at most `target`, with at most `maxNear` fans
-    // measured (beyond those whose boxes the ball touches, which are always measured).
+    // opened loosest first (to within a factor of two: Waiting) until the bounds sum to at most
+    // `target`, with at most `maxNear` fans measured (beyond those whose boxes the ball touches,
+    // which are always measured).
     struct Cut {
         std::vector<std::uint32_t> nearNodes; // leaves
         // With `expand`: leaves whose fan the ball may meet, measured at every point of the ball.
