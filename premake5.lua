@@ -146,7 +146,7 @@ project "sdfgen_core"
    sdfgen_flags()
    -- The kernels' functions start on cache lines, so that their speed does not shift with every
    -- change to the code linked before them.
-   filter "files:src/core/distance/exact_avx2.cpp or src/core/distance/exact_baseline.cpp or src/core/accel/ray_avx2.cpp or src/core/accel/ray_baseline.cpp or src/core/accel/wide_avx2.cpp or src/core/accel/wide_baseline.cpp or src/core/sign/fan_avx2.cpp or src/core/sign/fan_baseline.cpp or src/core/sign/row_count_avx2.cpp or src/core/sign/row_count_baseline.cpp"
+   filter "files:src/core/distance/exact_avx2.cpp or src/core/distance/exact_baseline.cpp or src/core/accel/ray_avx2.cpp or src/core/accel/ray_baseline.cpp or src/core/accel/wide_avx2.cpp or src/core/accel/wide_baseline.cpp or src/core/sign/fan_avx512.cpp or src/core/sign/fan_avx2.cpp or src/core/sign/fan_baseline.cpp or src/core/sign/row_count_avx2.cpp or src/core/sign/row_count_baseline.cpp"
       buildoptions { "-falign-functions=64" }
    filter {}
 

@@ -185,7 +185,7 @@ TEST(Channels, BitIdenticalForAnyThreadCountAndSimdPath) {
     };
     expectSame(bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 3).field.dense(), "3 threads");
     const SimdPath chosen = simdPath();
-    for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+    for (SimdPath path : kSimdPaths) {
         if (!simdPathAvailable(path)) continue;
         setSimdPath(path);
         expectSame(bakeChannels(mesh, 24, SignMethod::Auto, allChannels(), 2).field.dense(), toString(path));

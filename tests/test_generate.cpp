@@ -248,7 +248,7 @@ TEST(RayGenerator, EqualsTheBinaryTreePacketTraversalOnBothSimdPaths) {
         const Bvh tree(c.mesh);
         const Grid grid = makeGrid(c.mesh.worldBounds(), c.res, 0.25);
         const std::vector<float> expected = binaryTreeRayField(c.mesh, tree, grid, c.rays);
-        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+        for (SimdPath path : kSimdPaths) {
             if (!simdPathAvailable(path)) continue;
             setSimdPath(path);
             const std::vector<float> values = generateRayField(c.mesh, tree, grid, c.rays, RunControl{}).values;

@@ -165,7 +165,7 @@ TEST(WideBvh, PacketsEqualTheScalarFramesOnBothPathsBuiltOrRefit) {
         for (std::size_t v = 0; v < moved.size(); ++v) moved[v] += 1e-3 * glm::dvec3(mesh.positions[(v * 7) % moved.size()]);
         const Mesh movedMesh = buildMesh("moved", moved, mesh.triangles);
         ASSERT_EQ(movedMesh.triangleCount(), mesh.triangleCount());
-        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+        for (SimdPath path : kSimdPaths) {
             if (!simdPathAvailable(path)) continue;
             setSimdPath(path);
             const Bvh binary(mesh);
@@ -354,7 +354,7 @@ TEST(ExactBricks, RowMeasureEqualsTheScalarClosestPoint) {
         const MeshTopology topology(mesh);
         const Bvh binary(mesh);
         const WideBvh tree(mesh, binary);
-        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+        for (SimdPath path : kSimdPaths) {
             if (!simdPathAvailable(path)) continue;
             setSimdPath(path);
             for (int res : {27, 45}) {

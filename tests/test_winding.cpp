@@ -318,7 +318,7 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
         EXPECT_EQ(weighted, mesh.triangleCount() > sheet.triangleCount()) << mesh.source;
         std::mt19937 rng(4);
         std::uniform_real_distribution<double> unit(-1.2, 1.2);
-        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+        for (SimdPath path : kSimdPaths) {
             if (!simdPathAvailable(path)) continue;
             setSimdPath(path);
             WindingCaps::Cut cut;
@@ -571,7 +571,7 @@ TEST(WindingSign, CountsBehindEqualCountsAheadWhereTheFansCloseTheMesh) {
         const WideBvh wide(mesh, tree);
         const bool fansClose = fansCloseMesh(topology);
         (fansClose ? closed : open) += 1;
-        for (SimdPath path : {SimdPath::Baseline, SimdPath::Avx2}) {
+        for (SimdPath path : kSimdPaths) {
             if (!simdPathAvailable(path)) continue;
             setSimdPath(path);
             for (int k = 0; k < grid.dims.z; ++k)

@@ -15,8 +15,9 @@ namespace sdfgen::cli {
 void addInfoCommand(CLI::App& app) {
     CLI::App* info = app.add_subcommand("info", "Print the CPU kernel's SIMD path, the OpenGL driver the GPU device uses and what --device auto picks");
     info->callback([] {
-        std::printf("CPU kernel: %s (AVX2 %s on this CPU; SDFGEN_SIMD=baseline or avx2 forces a path)\n", toString(simdPath()),
-                    simdPathAvailable(SimdPath::Avx2) ? "available" : "not available");
+        auto available = [](SimdPath path) { return simdPathAvailable(path) ? "available" : "not available"; };
+        std::printf("CPU kernel: %s (AVX2 %s, AVX-512 %s on this CPU; SDFGEN_SIMD=baseline, avx2 or avx512 forces a path)\n",
+                    toString(simdPath()), available(SimdPath::Avx2), available(SimdPath::Avx512));
         // Each registered device (cpu and auto are the core's own), by its name in capitals: "GPU device: ...".
         const std::vector<Choice<std::string>> devices = deviceChoices();
         if (devices.size() == 2) std::printf("GPU device: none (this program was built without a GPU device)\n");

@@ -360,7 +360,7 @@ expect 0 '' -- test "$first_rc$second_rc" = 00
 expect 0 '' -- sh -c 'cmp -s "$1" "$2" || cmp -s "$1" "$3"' sh "$work/both.sdf" "$work/one.sdf" "$work/two.sdf"
 # The CPU kernel's SIMD path (core/distance/kernel.hpp): `sdfgen info` names it; forcing the baseline path
 # bakes the same field bit for bit; an unknown path is refused.
-expect 0 '^CPU kernel: (avx2|baseline) ' -- "$sdfgen" info
+expect 0 '^CPU kernel: (avx512|avx2|baseline) ' -- "$sdfgen" info
 expect 0 '^CPU kernel: baseline ' -- env SDFGEN_SIMD=baseline "$sdfgen" info
 expect 0 '' -- env SDFGEN_SIMD=baseline "$sdfgen" bake "$bunny" -o "$work/baseline.sdf" --res 24
 expect 0 '' -- cmp "$work/one.sdf" "$work/baseline.sdf"

@@ -81,7 +81,7 @@ void traceBlock(const RayTree& tree, const glm::vec3* directions, int rays, RayB
 using TraceKernel = void (*)(const RayTree&, const glm::vec3*, int, RayBlock&);
 inline TraceKernel activeTrace() {
 #if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx2) return avx2::traceBlock;
+    if (simdPath() >= SimdPath::Avx2) return avx2::traceBlock;
 #endif
     return baseline::traceBlock;
 }

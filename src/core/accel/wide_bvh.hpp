@@ -115,13 +115,13 @@ void fillPacket(const Mesh& mesh, const std::uint32_t* ids, TrianglePacket& p);
 #endif
 inline NearestKernel activeNearest() {
 #if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx2) return avx2::nearest;
+    if (simdPath() >= SimdPath::Avx2) return avx2::nearest;
 #endif
     return baseline::nearest;
 }
 inline FillKernel activeFill() {
 #if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx2) return avx2::fillPacket;
+    if (simdPath() >= SimdPath::Avx2) return avx2::fillPacket;
 #endif
     return baseline::fillPacket;
 }

@@ -18,7 +18,7 @@ namespace sdfgen {
 
 const kernel::Table& kernel::active() {
 #if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx2) return avx2::table;
+    if (simdPath() >= SimdPath::Avx2) return avx2::table;
 #endif
     return baseline::table;
 }

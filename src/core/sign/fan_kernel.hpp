@@ -1,8 +1,8 @@
 #pragma once
-// The fan kernel (core/sign/fan_kernel.inc), compiled for AVX2 (fan_avx2.cpp) and for baseline
-// x86-64 (fan_baseline.cpp): windings[s] = the summed winding number of `count` fans of weight 1
-// at points[s], s < n <= kFanPoints, or NaN where a point lies on a fan (onFanTriangle: the caller
-// measures those fans one by one). The sign stage's own dispatch: the copy for simdPath()
+// The fan kernel (core/sign/fan_kernel.inc), compiled for AVX-512 (fan_avx512.cpp), AVX2
+// (fan_avx2.cpp) and baseline x86-64 (fan_baseline.cpp): windings[s] = the summed winding number
+// of `count` fans of weight 1 at points[s], s < n <= kFanPoints, or NaN where a point lies on a
+// fan (onFanTriangle: the caller measures those fans one by one). The sign stage's own dispatch: the copy for simdPath()
 // (core/simd/path.hpp).
 #include "core/simd/path.hpp"
 
@@ -60,10 +60,14 @@ void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* po
 namespace avx2 {
 void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
 }
+namespace avx512 {
+void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
+}
 #endif
 
 inline Kernel active() {
 #if defined(__x86_64__) || defined(__i386__)
+    if (simdPath() == SimdPath::Avx512) return avx512::fanWindings;
     if (simdPath() == SimdPath::Avx2) return avx2::fanWindings;
 #endif
     return baseline::fanWindings;

@@ -66,7 +66,7 @@ int crossingsAhead(const Mesh& mesh, const WideBvh& wide, const Bvh& tree, const
 
 inline Kernel active() {
 #if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx2) return avx2::crossingsAhead;
+    if (simdPath() >= SimdPath::Avx2) return avx2::crossingsAhead;
 #endif
     return baseline::crossingsAhead;
 }

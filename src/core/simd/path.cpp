@@ -11,25 +11,31 @@ namespace {
 
 bool runs(SimdPath path) {
 #if defined(__x86_64__) || defined(__i386__)
-    if (path == SimdPath::Avx2) {
-        __builtin_cpu_init(); // in case the first use runs in another library's static constructor
-        return __builtin_cpu_supports("avx2");
+    __builtin_cpu_init(); // in case the first use runs in another library's static constructor
+    if (path == SimdPath::Avx2) return __builtin_cpu_supports("avx2");
+    if (path == SimdPath::Avx512) {
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
     }
 #endif
     return path == SimdPath::Baseline;
 }
 
-// AVX2 where the CPU has it, unless SDFGEN_SIMD names a path (an unknown or unavailable one is
-// an error at first use, not silently another path).
+// The last path the CPU has, unless SDFGEN_SIMD names one (an unknown or unavailable one is an
+// error at first use, not silently another path).
 SimdPath choosePath() {
     const char* forced = std::getenv("SDFGEN_SIMD");
     if (forced && *forced) {
         const std::string name = forced;
-        if (name == "baseline" && runs(SimdPath::Baseline)) return SimdPath::Baseline;
-        if (name == "avx2" && runs(SimdPath::Avx2)) return SimdPath::Avx2;
-        throw Error("SDFGEN_SIMD=" + name + ": not a SIMD path this binary and CPU can run (baseline or avx2)");
+        for (SimdPath path : kSimdPaths) {
+            if (name == toString(path) && runs(path)) return path;
+        }
+        throw Error("SDFGEN_SIMD=" + name + ": not a SIMD path this binary and CPU can run (baseline, avx2 or avx512)");
     }
-    return runs(SimdPath::Avx2) ? SimdPath::Avx2 : SimdPath::Baseline;
+    SimdPath best = SimdPath::Baseline;
+    for (SimdPath path : kSimdPaths) {
+        if (runs(path)) best = path;
+    }
+    return best;
 }
 
 constexpr int kUnset = -1;
@@ -37,7 +43,13 @@ std::atomic<int> chosen{kUnset};
 
 } // namespace
 
-const char* toString(SimdPath path) { return path == SimdPath::Avx2 ? "avx2" : "baseline"; }
+const char* toString(SimdPath path) {
+    switch (path) {
+    case SimdPath::Avx2: return "avx2";
+    case SimdPath::Avx512: return "avx512";
+    default: return "baseline";
+    }
+}
 
 bool simdPathAvailable(SimdPath path) { return runs(path); }
 
