@@ -577,7 +577,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     pending.clear();
     double sum = 0.0; // of the finite bounds, far and pending, running (farSum is summed afresh at the end)
     int touching = 0; // pending nodes whose box the ball touches (infinite bound)
-    // A node's bound over the ball: as a dipole expanded at the centre where that is tighter.
+    // A bounded node: far if too small to open, else waiting.
     auto place = [&](const Pending& node) {
         if (node.bound <= small) {
             out.farNodes.push_back(node);
@@ -588,6 +588,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         if (std::isfinite(node.bound)) sum += node.bound;
         else ++touching;
     };
+    // A node's bound over the ball: as a dipole expanded at the centre where that is tighter.
     auto push = [&](std::uint32_t index) {
         const Node& node = nodes_[index];
         Pending bounded{bound(node, centre, reach), index};
