@@ -16,6 +16,7 @@
 #include <glm/geometric.hpp>
 #include <cmath>
 #include <random>
+#include <set>
 
 namespace sdfgen {
 namespace {
@@ -303,9 +304,44 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
 }
 
 // The fan kernel (every fan's factors multiplied into one product per point, one atan2 at the end,
-// four points to a vector) agrees with the fans measured one by one, on each SIMD path: at points
+// four or eight points to a vector) agrees with the fans measured one by one, on each SIMD path: at points
 // around the fans of a sheet with holes and of two copies of it (fans of weight 2, measured apart),
 // and at a fan's own vertex, where a fan has no angle (that point is measured fan by fan).
+// A cut's waiting nodes come out loosest first to within a factor of two (by their bounds' binary
+// exponents, between the buckets' ends), infinite bounds first, each once, with pushes between
+// the pops; those left are all there.
+TEST(WindingSign, WaitingNodesComeLoosestFirstWithinAFactorOfTwo) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> exponent(-60.0, 40.0);
+    WindingCaps::Waiting waiting;
+    for (int round = 0; round < 3; ++round) {
+        waiting.clear();
+        std::multiset<double> held;
+        std::uint32_t next = 0;
+        auto add = [&](double bound) {
+            waiting.push({bound, next++});
+            held.insert(bound);
+        };
+        for (int i = 0; i < 200; ++i) add(std::exp2(exponent(rng)));
+        add(std::numeric_limits<double>::infinity());
+        for (int i = 0; i < 150; ++i) {
+            ASSERT_FALSE(waiting.empty());
+            const double loosest = waiting.loosest().bound, most = *held.rbegin();
+            if (std::isinf(most)) {
+                ASSERT_TRUE(std::isinf(loosest)) << i;
+            } else if (most >= 0x1p-39 && most < 0x1p22) {
+                ASSERT_GT(2.0 * loosest, most) << i;
+            }
+            held.erase(held.find(loosest));
+            waiting.pop();
+            if (i % 3 == 0) add(std::exp2(exponent(rng)));
+        }
+        std::multiset<double> left;
+        waiting.forEach([&](const WindingCaps::Pending& node) { left.insert(node.bound); });
+        EXPECT_EQ(left, held);
+    }
+}
+
 TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
     const Mesh sheet = withHoles(heightfield(10, false), 9);
     const SimdPath chosen = simdPath();

@@ -364,6 +364,11 @@ expect 0 '^CPU kernel: (avx512|avx2|baseline) ' -- "$sdfgen" info
 expect 0 '^CPU kernel: baseline ' -- env SDFGEN_SIMD=baseline "$sdfgen" info
 expect 0 '' -- env SDFGEN_SIMD=baseline "$sdfgen" bake "$bunny" -o "$work/baseline.sdf" --res 24
 expect 0 '' -- cmp "$work/one.sdf" "$work/baseline.sdf"
+if grep -qw avx512dq /proc/cpuinfo 2>/dev/null && grep -qw avx512f /proc/cpuinfo; then # the fan kernel's AVX-512 copy
+  expect 0 '^CPU kernel: avx512 ' -- env SDFGEN_SIMD=avx512 "$sdfgen" info
+  expect 0 '' -- env SDFGEN_SIMD=avx512 "$sdfgen" bake "$bunny" -o "$work/avx512.sdf" --res 24
+  expect 0 '' -- cmp "$work/one.sdf" "$work/avx512.sdf"
+fi
 expect fail '^sdfgen: SDFGEN_SIMD=sse9: ' -- env SDFGEN_SIMD=sse9 "$sdfgen" bake "$bunny" -o "$work/never.sdf" --res 8
 # SIGTERM, SIGINT or SIGHUP while the field is written: the temporary file is removed. (A
 # background job of a script starts with SIGINT ignored; env gives it back its default action.)
