@@ -591,9 +591,9 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     // A node's bound over the ball: as a dipole expanded at the centre where that is tighter.
     auto push = [&](std::uint32_t index) {
         const Node& node = nodes_[index];
-        Pending bounded{bound(node, centre, reach), index};
+        const double d = ballDistance(node, centre, reach);
+        Pending bounded{bound(node, centre, reach, d), index};
         if (bounded.bound <= 0.0) return; // no area
-        const double d = boxDistance(node.lo, node.hi, centre) - reach; // as bound() finds it
         // Below `small`, not worth the dipole's work; nor where its error alone exceeds the bound.
         if (std::isfinite(bounded.bound) && bounded.bound > small && dipoleErrorFloor(node, d) < bounded.bound) {
             const BallDipole dipole = dipoleOverBall(node, centre, reach, d);
@@ -613,7 +613,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         for (std::uint32_t index : within->exactNodes) push(index);
         // Over the same ball, a far node keeps its bound and dipole where push() would find them
         // again: where its dipole was tried (its plain bound above within's `small`) if and only
-        // if it is tried here (above this cut's).
+        // if it is tried here (above this cut's; dipoleErrorFloor's test is the same over the ball).
         const bool sameBall = within->centre == centre && within->reach == reach;
         auto boundAsHere = [&](const Pending& far) {
             if (far.dipole) return small <= within->small || far.bound > small; // plain bound > far.bound
@@ -925,7 +925,7 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
     stack[top++] = 0;
     while (top > 0) {
         const Node& node = nodes_[stack[--top]];
-        const double d = boxDistance(node.lo, node.hi, centre) - reach;
+        const double d = ballDistance(node, centre, reach);
         // The gradient of the solid angle's kernel m.r / |r|³ is at most 2 / |r|³: over a ball
         // that misses the node's box, its fans' winding number moves by at most 2 A reach / (4π d³).
         const double bounded = d > 0.0 ? 2.0 * node.area * reach / (4.0 * M_PI * d * d * d) : inf;

@@ -293,8 +293,10 @@ private:
     static double boxDistance(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& p) {
         return glm::length(glm::max(glm::max(lo - p, p - hi), glm::dvec3(0.0)));
     }
-    static double bound(const Node& node, const glm::dvec3& p, double reach) {
-        const double d = boxDistance(node.lo, node.hi, p) - reach;
+    static double bound(const Node& node, const glm::dvec3& p, double reach) { return bound(node, p, reach, ballDistance(node, p, reach)); }
+    // The ball's distance from the node's box (<= 0 where it touches it), and bound() given it.
+    static double ballDistance(const Node& node, const glm::dvec3& p, double reach) { return boxDistance(node.lo, node.hi, p) - reach; }
+    static double bound(const Node& node, const glm::dvec3& p, double reach, double d) {
         if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
         const double height = std::fabs(glm::dot(node.normal, p - 0.5 * (node.lo + node.hi))) + reach;
         const double flat = (height + node.thickness) / d + node.tilt;
@@ -307,7 +309,7 @@ private:
     // by K(centroid) errs by at most 4 radius / d³ per unit of area: area radius / (π d³) in
     // winding numbers, where the plain bound has area / (4π d²). Tighter beyond 4 radii, and it
     // shrinks as 1/d³. Infinite error where p touches the box.
-    // d: the ball's distance from the node's box (boxDistance less reach).
+    // d: the ball's distance from the node's box (ballDistance).
     static BallDipole dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d);
     // The first term of dipoleOverBall's error: where it is no smaller than the plain bound, the
     // dipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
