@@ -125,12 +125,25 @@ glm::dvec3 fanGradient(const glm::dvec3& p, const Cap& cap) {
     return sum * (-cap.weight / (4.0 * M_PI));
 }
 
+// A bound on |Hessian| / 2 of the winding number of fans of total area `area` (times their
+// weights) over a ball d > 0 from them: each triangle's solid angle is the integral over it of
+// the normal derivative of 1/r, whose second derivatives in p are third derivatives of 1/r,
+// at most 6 / r⁴ for any unit directions (|-15 a b² + 6 c b + 3 a| <= 6 for the cosines a, b, c
+// of the normal, the direction and r). Far from a fan (d beyond its size), far tighter than
+// expansionBounds' Biot-Savart bound. Infinite where d <= 0.
+double surfaceCurvature(double area, double d) {
+    if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
+    const double near = d * (1.0 - 1e-12);
+    return 3.0 * area / (4.0 * M_PI * near * near * near * near) * (1.0 + 1e-9);
+}
+
 // Bounds over the ball (centre, reach), which the fan does not meet, of the rest of the cap's
 // winding number's expansion at the centre: `curvature` bounds |Hessian| / 2 (each edge's field
 // r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the distance from
-// the ball to the edge) and `slack` the rounding of fanGradient (each edge's to 8 eps / h, h the
-// distance from the centre to its line, plus a relative 8 eps). False where the ball reaches an edge.
-bool expansionBounds(const Cap& cap, const glm::dvec3& centre, double reach, double& curvature, double& slack) {
+// the ball to the edge; or `surface`, surfaceCurvature's bound, where smaller) and `slack` the
+// rounding of fanGradient (each edge's to 8 eps / h, h the distance from the centre to its line,
+// plus a relative 8 eps). False where the ball reaches an edge.
+bool expansionBounds(const Cap& cap, const glm::dvec3& centre, double reach, double surface, double& curvature, double& slack) {
     constexpr double kEps = std::numeric_limits<double>::epsilon();
     const std::size_t n = cap.loop.size();
     double c = 0.0, r = 0.0;
@@ -146,9 +159,56 @@ bool expansionBounds(const Cap& cap, const glm::dvec3& centre, double reach, dou
         r += 8.0 * kEps * (h > 0.0 ? 1.0 / h : std::numeric_limits<double>::infinity()) + 8.0 * kEps * length / (d * d);
     }
     const double scale = std::abs(cap.weight) / (4.0 * M_PI);
-    curvature += c * scale;
+    curvature += std::min(c * scale, surface);
     slack += r * scale;
     return std::isfinite(c) && std::isfinite(r);
+}
+
+// The cap's winding number over the ball (centre, reach) as its exact first-order expansion at
+// the centre, given `curvature` (surfaceCurvature over the ball, which misses the fan's box by d
+// > 0): the rest at centre + δ is at most curvature |δ|², and the gradient's rounding at most
+// slack |δ| (as expansionBounds bounds it, each edge's length at most the box's diagonal),
+// counted at the rim in the error. fanSolidAngle's and fanGradient's loops in one, sharing each
+// vertex's distance. False where the centre is within rounding of a fan or on an edge's line.
+bool fanExpansion(const Cap& cap, const glm::dvec3& centre, double reach, double d, double curvature, WindingCaps::BallDipole& out) {
+    constexpr double kEps = std::numeric_limits<double>::epsilon();
+    const glm::dvec3 rc = cap.centre - centre;
+    const double lc = glm::length(rc);
+    const std::size_t n = cap.loop.size();
+    glm::dvec3 rb = cap.loop[0] - centre;
+    double lb = glm::length(rb), bc = glm::dot(rb, rc);
+    double re = 1.0, im = 0.0, lines = 0.0;
+    int turns = 0;
+    glm::dvec3 field(0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 ra = cap.loop[i + 1 < n ? i + 1 : 0] - centre;
+        const double la = glm::length(ra), ac = glm::dot(ra, rc);
+        const double det = glm::dot(ra, glm::cross(rb, rc));
+        const double den = la * lb * lc + glm::dot(ra, rb) * lc + bc * la + ac * lb;
+        if (fans::onFanTriangle(det, den, la, lb, lc)) return false;
+        const double nextRe = re * den - im * det, nextIm = re * det + im * den;
+        if (det > 0.0 && im >= 0.0 && nextIm < 0.0) ++turns;
+        else if (det < 0.0 && im < 0.0 && nextIm >= 0.0) --turns;
+        re = nextRe, im = nextIm;
+        const double scale = std::max(std::fabs(re), std::fabs(im));
+        if (scale == 0.0) return false;
+        if (scale < 0x1p-400 || scale > 0x1p400) re /= scale, im /= scale;
+        // The edge's Biot-Savart field, as fanGradient's.
+        const glm::dvec3 e = rb - ra, u = glm::cross(e, ra);
+        const double u2 = glm::dot(u, u);
+        if (!(u2 > 0.0)) return false;
+        field += u * ((glm::dot(e, rb) / lb - glm::dot(e, ra) / la) / u2);
+        lines += std::sqrt(glm::dot(e, e) / u2);
+        rb = ra, lb = la, bc = ac;
+    }
+    const double k = cap.weight / (4.0 * M_PI);
+    out.value = k * 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
+    out.gradient = -k * field;
+    const double near = d + reach; // the centre's distance from the fan's box
+    const double slack = 8.0 * kEps * (lines + double(n) * glm::length(cap.hi - cap.lo) / (near * near)) * std::abs(k);
+    out.curvature = curvature;
+    out.error = slack * reach;
+    return std::isfinite(out.error);
 }
 
 // Whether the ball (centre, reach) misses the cap's fan.
@@ -554,7 +614,7 @@ bool WindingCaps::inside(const glm::dvec3& p, int ahead, std::size_t* evaluation
 }
 
 void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out,
-                      const Cut* within, bool keepNear) const {
+                      const Cut* within, bool keepNear, int points) const {
     out.nearNodes.clear();
     out.exactNodes.clear();
     out.farNodes.clear();
@@ -616,6 +676,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         // if it is tried here (above this cut's; dipoleErrorFloor's test is the same over the ball).
         const bool sameBall = within->centre == centre && within->reach == reach;
         auto boundAsHere = [&](const Pending& far) {
+            if (far.expanded) return true; // an expansion holds over the ball for any target
             if (far.dipole) return small <= within->small || far.bound > small; // plain bound > far.bound
             return small >= within->small || far.bound > within->small;
         };
@@ -637,11 +698,30 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     } else {
         push(0);
     }
+    std::size_t expansions = 0; // made here (kExpandedFanPoints)
     while (!pending.empty() && (touching > 0 || sum > target)) {
         const Pending loosest = pending.loosest();
         const Node& node = nodes_[loosest.node];
         const bool touches = !std::isfinite(loosest.bound);
-        if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() >= maxNear) break;
+        if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() + expansions / 2 >= maxNear) break;
+        if (node.leaf && !touches && !expand && points >= kExpandedFanPoints && !loosest.expanded) { // expanded where twice as tight
+            const double d = ballDistance(node, centre, reach), curvature = surfaceCurvature(node.area, d);
+            BallDipole expansion;
+            if (curvature * reach * reach < 0.25 * loosest.bound && fanExpansion(caps_[node.first], centre, reach, d, curvature, expansion)) {
+                const double spread = expansion.error + expansion.curvature * reach * reach;
+                if (spread < 0.5 * loosest.bound) {
+                    pending.pop();
+                    sum -= loosest.bound;
+                    Pending bounded = loosest;
+                    bounded.bound = spread, bounded.dipole = bounded.expanded = true;
+                    bounded.slot = std::uint32_t(out.dipoles.size());
+                    out.dipoles.push_back(expansion);
+                    place(bounded);
+                    ++expansions;
+                    continue;
+                }
+            }
+        }
         pending.pop();
         if (touches) --touching;
         else sum -= loosest.bound;
@@ -654,7 +734,8 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         if (expand) {
             // Expanded if that bounds it more tightly than its bound does (a sliver's area is small).
             double curvature = 0.0, slack = 0.0;
-            const bool smooth = (!touches || clearOf(cap, centre, reach)) && expansionBounds(cap, centre, reach, curvature, slack);
+            const bool smooth = (!touches || clearOf(cap, centre, reach)) &&
+                                expansionBounds(cap, centre, reach, std::numeric_limits<double>::infinity(), curvature, slack);
             if (!touches && !(smooth && (curvature * reach + slack) * reach < loosest.bound)) {
                 out.farNodes.push_back(loosest);
                 sum += loosest.bound;
@@ -784,10 +865,10 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
         } else if (n > 1) {
             const glm::dvec3 centre = 0.5 * (lo + hi);
             const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
-            cut(centre, reach, kTightTarget, kNearestFans, false, nearest);
+            cut(centre, reach, kTightTarget, kNearestFans, false, nearest, nullptr, false, n);
             Cut* chosen = &nearest;
-            if (nearest.farSum > kHopeless) {
-                cut(centre, reach, kLooseTarget, kMeasuredFans, false, loose, &nearest);
+            if (nearest.spread() > kHopeless) {
+                cut(centre, reach, kLooseTarget, kMeasuredFans, false, loose, &nearest, false, n);
                 chosen = &loose;
             }
             double near[kGroupPoints];
@@ -809,9 +890,10 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
             settle(n);
             // The cut carried on while points are left in doubt: only the fans it adds are measured.
             for (double target : kCarriedTargets) {
-                if (left < kCarriedFrom || !(chosen->farSum > target)) break;
+                if (left < kCarriedFrom) break;
+                if (!(chosen->spread() > target)) continue; // met already
                 Cut& next = carried[chosen == &carried[0]];
-                cut(centre, reach, target, chosen->nearNodes.size() + kMeasuredFans, false, next, chosen, true);
+                cut(centre, reach, target, chosen->nearNodes.size() + kMeasuredFans, false, next, chosen, true, left);
                 double added[kGroupPoints];
                 measure(next, chosen->nearNodes.size(), doubtful, left, added);
                 for (int d = 0; d < left; ++d) near[which[d]] += added[d];
@@ -934,7 +1016,7 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
         } else if (!node.leaf) {
             stack[top++] = node.first + 1;
             stack[top++] = node.first;
-        } else if (double c = 0.0, r = 0.0; expansionBounds(caps_[node.first], centre, reach, c, r)) {
+        } else if (double c = 0.0, r = 0.0; expansionBounds(caps_[node.first], centre, reach, surfaceCurvature(node.area, d), c, r)) {
             // The cap's loop's field at the centre (its chords and rungs cancel those of the
             // neighbouring caps measured here too).
             gradient += fanGradient(centre, caps_[node.first]);
@@ -1176,21 +1258,22 @@ struct BrickSigns {
                     }
                 });
             };
-            caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, cut, within);
+            const int points = undecidedIn(ia, ja, ka, ie, je, ke);
+            caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, cut, within, false, points);
             WindingCaps::Cut* measured = &cut;
-            if (cut.farSum > WindingCaps::kHopeless) {
+            if (cut.spread() > WindingCaps::kHopeless) {
                 measured = &loose;
-                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, loose, &cut);
+                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, loose, &cut, false, points);
             }
             measure(*measured, 0);
             int flip = 0;
             for (double target : WindingCaps::kCarriedTargets) {
-                if (!(measured->farSum > target)) break;
+                if (!(measured->spread() > target)) continue; // met already
                 const int doubtful = undecidedIn(ia, ja, ka, ie, je, ke);
                 if (doubtful < WindingCaps::kCarriedFrom) break;
                 WindingCaps::Cut& next = carried[flip ^= 1];
                 carriedOn += std::size_t(doubtful);
-                caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true);
+                caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true, doubtful);
                 measure(next, measured->nearNodes.size());
                 measured = &next;
             }

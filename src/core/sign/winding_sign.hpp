@@ -93,6 +93,7 @@ public:
         double estimate = 0; // what the walk counted for the node while it waits (its dipole term, or 0)
         bool dipole = false; // in a cut: bounded as a dipole expanded at the ball's centre (Cut::farValue)
         std::uint32_t slot = 0; // a dipole's terms in the cut's Cut::dipoles
+        bool expanded = false; // in a measured cut: a fan bounded by its exact expansion (Cut's dipoles), measured when opened
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
     // A cut's nodes waiting to be opened, taken loosest first to within a factor of two: bucketed
@@ -149,6 +150,9 @@ public:
         std::vector<Pending> farNodes; // with their bounds over the ball
         bool farSorted = false; // farNodes loosest first (insideNear sorts them when it first needs them)
         double farSum = 0; // the sum of the far nodes' bounds over the ball
+        // The most the far nodes leave in doubt anywhere in the ball: their bounds and their
+        // expansions' rest at its rim.
+        double spread() const { return farSum + curvature * reach * reach; }
         // The far nodes bounded as dipoles: their winding number at the ball's centre and its
         // gradient (their rest over the ball is in farSum, their expansion's in curvature).
         double farValue = 0;
@@ -190,7 +194,14 @@ public:
     // too (a cut of the same ball whose near fans are measured already), within's near fans stay
     // near, first in nearNodes: only its far nodes are opened, and the fans they add follow.
     void cut(const glm::dvec3& centre, double reach, double target, std::size_t maxNear, bool expand, Cut& out, const Cut* within = nullptr,
-             bool keepNear = false) const;
+             bool keepNear = false, int points = 0) const;
+    // Without `expand`, for a cut whose near fans will be measured at `points` >= kExpandedFanPoints
+    // points: a fan about to be measured is bounded by its exact first-order expansion at the
+    // centre instead (a far dipole: measured only if opened again) where that bounds it at least
+    // twice as tightly, and counts as half a near fan towards maxNear. Most of the fans that a
+    // block of samples among open parts would measure lie dozens of reaches away, and an
+    // expansion costs about as much as measuring the fan at a few points.
+    static constexpr int kExpandedFanPoints = 24;
     // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
     // than splitting the block.
     static constexpr std::size_t kMaxExactFans = 4;
