@@ -209,10 +209,11 @@ TEST(WindingSign, NegatingInPlaceEqualsTheFlags) {
 
 // The fans are measured only where they can matter: far fewer than samples x fans, and no more
 // than a few per sample on average (the fan kernel's four samples at once counted once), with
-// many holes.
+// many holes. At res 64 a brick of 8³ spans an eighth of the sphere (at res 32, a quarter of it
+// and of its holes: a brick's near fans are then most of them).
 TEST(WindingSign, WorkIsBoundedByWhatIsNear) {
     const Mesh holed = withHoles(test::icosphere(1.0f, 4), 9); // 569 one-triangle holes
-    const Grid grid = makeGrid(holed.worldBounds(), 32, 0.15);
+    const Grid grid = makeGrid(holed.worldBounds(), 64, 0.15);
     WindingStats stats;
     insideByWinding(holed, MeshTopology(holed), grid, RunControl{}, &stats);
     ASSERT_GT(stats.caps, 500u);

@@ -847,7 +847,7 @@ bool WindingCaps::insideNear(const glm::dvec3& p, int ahead, double near, Cut& c
 }
 
 void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const {
-    // The measured cuts, as the dense bake's blocks of 4³ take them (BrickSigns).
+    // The measured cuts, as the dense bake's bricks take them (BrickSigns).
     thread_local Cut nearest, loose, carried[2], scratch;
     const double span = nodes_.empty() ? 0.0 : kGroupSpan * glm::length(nodes_[0].hi - nodes_[0].lo);
     glm::dvec3 group[kGroupPoints], lo(0.0), hi(0.0);
@@ -1126,26 +1126,26 @@ struct SampleAxes {
 };
 
 // The winding signs of one brick of up to 8³ samples, given each sample's count of crossings
-// ahead, coarse to fine: in the brick, the near fans that its ball misses have their winding
-// number expanded to first order at its centre, the few it may meet (a big fan across a sheet)
-// are measured at each sample, and every sample whose w the bounds (the far nodes' over the
-// ball, the expansion's rest) keep off ±1/2 is decided; the rest are split into octants, blocks
-// of 4³ whose samples measure their block's near fans (the fan kernel, eight samples at a time)
-// and are decided by WindingCaps::insideNear.
+// ahead, coarse to fine: a brick that no fan can reach is decided by its counts; else the near
+// fans that its ball misses have their winding number expanded to first order at its centre, the
+// few it may meet (a big fan across a sheet) are measured at each sample, and every sample whose
+// w the bounds (the far nodes' over the ball, the expansion's rest) keep off ±1/2 is decided; the
+// samples left measure the near fans of the brick or of its octant (the fan kernel, eight samples
+// at a time; the far fans expanded at the centre: WindingCaps::cut's measured cuts) and are
+// decided by WindingCaps::insideNear.
 struct BrickSigns {
     static constexpr int kEdge = 8;
-    // The expanded cut's target (the sum of its far bounds) and its most fans, once per brick; the
-    // measured blocks of 4³ take WindingCaps's measured cuts (kNearestFans, kLooseTarget, ...).
+    // The expanded cut's target (the sum of its far bounds) and its most fans; the measured cuts
+    // are WindingCaps's (kNearestFans, kLooseTarget, ...).
     static constexpr double kExpandTarget = 0.01;
     static constexpr std::size_t kExpandedFans = 64;
-    static constexpr int kMeasuredEdge = 4; // blocks of 4³ are measured sample by sample
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
     std::size_t evaluations = 0, exactDecided = 0, carriedOn = 0;
-    // Per level, 8³ (expanded) and 4³ (its nearest fans); a block of 4³'s loose cut; insideNear's
-    // heap; a measured cut carried on, and the next.
-    WindingCaps::Cut cuts[2], loose, scratch, carried[2];
+    // The brick's expanded cut; the measured cut of the nearest fans, and the loose one;
+    // insideNear's heap; a measured cut carried on, and the next.
+    WindingCaps::Cut expanded, nearest, loose, scratch, carried[2];
     // The brick being decided: its first sample, its end, its counts (row r = (j - j0) + 8 (k - k0)
     // at counts + r * stride, sample i at [i - i0]) and its undecided samples (bit (i - i0) + 8 (j - j0)
     // of undecided[k - k0]).
@@ -1153,11 +1153,46 @@ struct BrickSigns {
     const int* counts = nullptr;
     int stride = 0;
     std::uint64_t undecided[kEdge] = {};
+    glm::dvec3 centre{0.0}; // the ball around the region's samples
+    double reach = 0.0;
+
+    BrickSigns(const SampleAxes& axes, const WindingCaps& caps, const SignOutput& output) : axes(axes), caps(caps), output(output) {}
 
     const int& count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
     static std::uint64_t bit(int i, int j) { return std::uint64_t(1) << (i + kEdge * j); }
     std::uint64_t& row(int k) { return undecided[k - k0]; }
+    // The region whose samples are decided together: the brick, or an octant (layers [ka, ke),
+    // bits `mask` of each).
+    int ka = 0, ke = 0;
+    std::uint64_t mask = 0;
+    int undecidedCount() {
+        int n = 0;
+        for (int k = ka; k < ke; ++k) n += __builtin_popcountll(row(k) & mask);
+        return n;
+    }
+    // f(i, j, k) for each undecided sample of the region, in the grid's order.
+    template <class F>
+    void forEachUndecided(const F& f) {
+        for (int k = ka; k < ke; ++k)
+            for (std::uint64_t bits = row(k) & mask; bits; bits &= bits - 1) {
+                const int b = __builtin_ctzll(bits);
+                f(i0 + b % kEdge, j0 + b / kEdge, k);
+            }
+    }
+    // Sets the region to [ia, ie) x [ja, je) x [k, kEnd), and its ball.
+    void region(int ia, int ja, int k, int ie, int je, int kEnd) {
+        ka = k, ke = kEnd, mask = 0;
+        for (int j = ja; j < je; ++j)
+            for (int i = ia; i < ie; ++i) mask |= bit(i - i0, j - j0);
+        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
+        centre = 0.5 * (lo + hi);
+        reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
+    }
 
+    // Decides the brick: by its counts where no fan can reach it; else by its near fans'
+    // expansion; the samples left measure the near fans, the whole brick's at once where its ball
+    // meets at most kMaxExactFans fans (its expanded cut is smooth), else by octants, each
+    // measuring only the fans near it (a brick among many small holes meets dozens).
     void decide(int ib, int jb, int kb, int ie, int je, int ke, const int* brickCounts, int rowStride) {
         i0 = ib, j0 = jb, k0 = kb, i1 = ie, j1 = je, k1 = ke;
         counts = brickCounts;
@@ -1166,7 +1201,32 @@ struct BrickSigns {
         for (int j = 0; j < je - jb; ++j)
             for (int i = 0; i < ie - ib; ++i) layer |= bit(i, j);
         for (int k = 0; k < kEdge; ++k) undecided[k] = k < ke - kb ? layer : 0;
-        block(i0, j0, k0, kEdge, 0, nullptr);
+        if (axes.clearOfFans(caps, i0, j0, k0, i1, j1, k1)) { // the counts decide (as insideNear() would)
+            const SignOutput out = output; // a local copy: its pointers stay in registers across the stores
+            for (int k = k0; k < k1; ++k)
+                for (int j = j0; j < j1; ++j) {
+                    const int* rowCounts = &count(i0, j, k);
+                    const std::size_t rowStart = out.index(i0, j, k);
+                    for (int i = 0; i < i1 - i0; ++i) out.set(rowStart + std::size_t(i), rowCounts[i] != 0);
+                }
+            return;
+        }
+        region(i0, j0, k0, i1, j1, k1);
+        if (decideByExpansion()) return;
+        if (expanded.smooth) {
+            decideByMeasuring(&expanded);
+            return;
+        }
+        const int half = kEdge / 2;
+        for (int dk = 0; dk < kEdge; dk += half)
+            for (int dj = 0; dj < kEdge; dj += half)
+                for (int di = 0; di < kEdge; di += half) {
+                    const int ia = i0 + di, ja = j0 + dj, kb = k0 + dk;
+                    const int ie = std::min(i1, ia + half), je = std::min(j1, ja + half), kEnd = std::min(k1, kb + half);
+                    if (ie <= ia || je <= ja || kEnd <= kb) continue;
+                    region(ia, ja, kb, ie, je, kEnd);
+                    if (undecidedCount() > 0) decideByMeasuring(&expanded);
+                }
     }
 
     // Decides sample q where the fans' winding number there, estimated as `fans` by the cut's
@@ -1181,136 +1241,89 @@ struct BrickSigns {
         return true;
     }
 
-    int undecidedIn(int ia, int ja, int ka, int ie, int je, int ke) {
-        int n = 0;
-        for (int k = ka; k < ke; ++k)
-            for (int j = ja; j < je; ++j)
-                for (int i = ia; i < ie; ++i) n += (row(k) & bit(i - i0, j - j0)) != 0;
-        return n;
+    // The undecided samples, a batch of up to kFanPoints at a time: their fans are measured together.
+    glm::dvec3 points[kFanPoints];
+    glm::ivec3 at[kFanPoints];
+    int batch = 0;
+    template <class F>
+    void forEachBatch(const F& decideBatch) {
+        forEachUndecided([&](int i, int j, int k) {
+            points[batch] = axes.position(i, j, k), at[batch] = glm::ivec3(i, j, k);
+            if (++batch == kFanPoints) decideBatch(), batch = 0;
+        });
+        if (batch > 0) decideBatch(), batch = 0;
     }
 
-    void block(int ia, int ja, int ka, int edge, int level, const WindingCaps::Cut* within) {
-        const int ie = std::min(i1, ia + edge), je = std::min(j1, ja + edge), ke = std::min(k1, ka + edge);
-        if (ie <= ia || je <= ja || ke <= ka) return;
-        std::uint64_t mine = 0; // this block's samples in a layer of the brick
-        for (int j = ja; j < je; ++j)
-            for (int i = ia; i < ie; ++i) mine |= bit(i - i0, j - j0);
-        auto anyUndecided = [&] {
-            for (int k = ka; k < ke; ++k)
-                if (row(k) & mine) return true;
-            return false;
-        };
-        if (!anyUndecided()) return;
-        if (axes.clearOfFans(caps, ia, ja, ka, ie, je, ke)) { // the counts decide (as insideNear() would)
-            const SignOutput out = output; // a local copy: its pointers stay in registers across the stores
-            for (int k = ka; k < ke; ++k) {
-                const std::uint64_t open = row(k) & mine;
-                if (!open) continue;
-                for (int j = ja; j < je; ++j) {
-                    const unsigned rowOpen = unsigned(open >> (kEdge * (j - j0))) & 0xffu;
-                    const int* rowCounts = &count(i0, j, k);
-                    const std::size_t rowStart = out.index(i0, j, k);
-                    for (int i = ia - i0; i < ie - i0; ++i) {
-                        if (rowOpen >> i & 1u) out.set(rowStart + std::size_t(i), rowCounts[i] != 0);
-                    }
+    // The near fans expanded at the centre, the fans the ball may meet measured: whether that
+    // decides every sample.
+    bool decideByExpansion() {
+        WindingCaps::Cut& cut = expanded;
+        caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut);
+        if (!cut.smooth) return false;
+        glm::dvec3 gradient;
+        const double near = caps.nearWinding(centre, cut, &gradient) + cut.farValue;
+        gradient += cut.farGradient;
+        evaluations += cut.nearNodes.size();
+        forEachBatch([&] {
+            double exact[kFanPoints] = {};
+            if (!cut.exactNodes.empty()) {
+                evaluations += caps.fanWindings(cut.exactNodes, points, batch, exact);
+            }
+            for (int s = 0; s < batch; ++s) {
+                const glm::dvec3 offset = points[s] - centre;
+                if (settle(at[s], near + glm::dot(gradient, offset) + exact[s], glm::length(offset), cut)) {
+                    exactDecided += !cut.exactNodes.empty();
                 }
-                row(k) &= ~mine;
             }
-            return;
-        }
-        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
-        const glm::dvec3 centre = 0.5 * (lo + hi);
-        const double reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
-        WindingCaps::Cut& cut = cuts[level];
-        // The block's undecided samples, a batch of up to kFanPoints at a time: their fans are measured together.
-        glm::dvec3 points[kFanPoints];
-        glm::ivec3 at[kFanPoints];
-        int batch = 0;
-        auto forEachBatch = [&](const auto& decideBatch) {
-            for (int k = ka; k < ke; ++k)
-                for (int j = ja; j < je; ++j)
-                    for (int i = ia; i < ie; ++i) {
-                        if (!(row(k) & bit(i - i0, j - j0))) continue;
-                        points[batch] = axes.position(i, j, k), at[batch] = glm::ivec3(i, j, k);
-                        if (++batch == kFanPoints) decideBatch(), batch = 0;
-                    }
-            if (batch > 0) decideBatch(), batch = 0;
-        };
-        if (edge <= kMeasuredEdge) { // few samples: each measures its near fans (an expansion would cost as much)
-            // First the nearest few fans (or, where those leave every sample in doubt, the fans
-            // within the loose target); while those leave samples in doubt, the cut is carried on
-            // to ever tighter targets and only the fans it adds are measured at those samples
-            // (beside an open sheet, where |w| nears 1/2, that costs a fraction of a walk); the
-            // samples still in doubt walk the tree on their own.
-            double nearAt[kMeasuredEdge * kMeasuredEdge * kMeasuredEdge] = {};
-            auto local = [&](const glm::ivec3& q) { return (q.x - ia) + kMeasuredEdge * ((q.y - ja) + kMeasuredEdge * (q.z - ka)); };
-            // Measures the cut's near fans from `from` on, adds them to each undecided sample's
-            // nearAt and settles the samples that decides.
-            auto measure = [&](const WindingCaps::Cut& measured, std::size_t from) {
-                forEachBatch([&] {
-                    double near[kFanPoints];
-                    evaluations += caps.fanWindings(measured.nearNodes.data() + from, measured.nearNodes.size() - from, points, batch, near);
-                    for (int s = 0; s < batch; ++s) {
-                        double& total = nearAt[local(at[s])];
-                        total += near[s];
-                        const glm::dvec3 offset = points[s] - centre;
-                        settle(at[s], total + measured.farValue + glm::dot(measured.farGradient, offset), glm::length(offset), measured);
-                    }
-                });
-            };
-            const int points = undecidedIn(ia, ja, ka, ie, je, ke);
-            caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, cut, within, false, points);
-            WindingCaps::Cut* measured = &cut;
-            if (cut.spread() > WindingCaps::kHopeless) {
-                measured = &loose;
-                caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, loose, &cut, false, points);
-            }
-            measure(*measured, 0);
-            int flip = 0;
-            for (double target : WindingCaps::kCarriedTargets) {
-                if (!(measured->spread() > target)) continue; // met already
-                const int doubtful = undecidedIn(ia, ja, ka, ie, je, ke);
-                if (doubtful < WindingCaps::kCarriedFrom) break;
-                WindingCaps::Cut& next = carried[flip ^= 1];
-                carriedOn += std::size_t(doubtful);
-                caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true, doubtful);
-                measure(next, measured->nearNodes.size());
-                measured = &next;
-            }
-            for (int k = ka; k < ke; ++k)
-                for (int j = ja; j < je; ++j)
-                    for (int i = ia; i < ie; ++i) {
-                        if (!(row(k) & bit(i - i0, j - j0))) continue;
-                        const glm::ivec3 q(i, j, k);
-                        output.set(output.index(i, j, k), caps.insideNear(axes.position(i, j, k), count(i, j, k), nearAt[local(q)], *measured, scratch, &evaluations));
-                        row(k) &= ~bit(i - i0, j - j0);
-                    }
-            return;
-        }
-        caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut, within);
-        if (cut.smooth) {
-            glm::dvec3 gradient;
-            const double near = caps.nearWinding(centre, cut, &gradient) + cut.farValue;
-            gradient += cut.farGradient;
-            evaluations += cut.nearNodes.size();
+        });
+        return undecidedCount() == 0;
+    }
+
+    // The region's samples left measure its near fans: first the nearest few (or, where those leave every
+    // sample in doubt, the fans within the loose target); while those leave samples in doubt, the
+    // cut is carried on to ever tighter targets and only the fans it adds are measured at those
+    // samples (beside an open sheet, where |w| nears 1/2, that costs a fraction of a walk); the
+    // samples still in doubt walk the tree on their own.
+    void decideByMeasuring(const WindingCaps::Cut* within) {
+        double nearAt[kEdge * kEdge * kEdge] = {};
+        auto local = [&](const glm::ivec3& q) { return (q.x - i0) + kEdge * ((q.y - j0) + kEdge * (q.z - k0)); };
+        // Measures the cut's near fans from `from` on, adds them to each undecided sample's
+        // nearAt and settles the samples that decides.
+        auto measure = [&](const WindingCaps::Cut& measured, std::size_t from) {
             forEachBatch([&] {
-                double exact[kFanPoints] = {};
-                if (!cut.exactNodes.empty()) {
-                    evaluations += caps.fanWindings(cut.exactNodes, points, batch, exact);
-                }
+                double near[kFanPoints];
+                evaluations += caps.fanWindings(measured.nearNodes.data() + from, measured.nearNodes.size() - from, points, batch, near);
                 for (int s = 0; s < batch; ++s) {
+                    double& total = nearAt[local(at[s])];
+                    total += near[s];
                     const glm::dvec3 offset = points[s] - centre;
-                    if (settle(at[s], near + glm::dot(gradient, offset) + exact[s], glm::length(offset), cut)) {
-                        exactDecided += !cut.exactNodes.empty();
-                    }
+                    settle(at[s], total + measured.farValue + glm::dot(measured.farGradient, offset), glm::length(offset), measured);
                 }
             });
-            if (!anyUndecided()) return;
+        };
+        const int points = undecidedCount();
+        caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, nearest, within, false, points);
+        WindingCaps::Cut* measured = &nearest;
+        if (nearest.spread() > WindingCaps::kHopeless) {
+            measured = &loose;
+            caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, loose, &nearest, false, points);
         }
-        const int half = edge / 2;
-        for (int dk = 0; dk < edge; dk += half)
-            for (int dj = 0; dj < edge; dj += half)
-                for (int di = 0; di < edge; di += half) block(ia + di, ja + dj, ka + dk, half, level + 1, &cut);
+        measure(*measured, 0);
+        int flip = 0;
+        for (double target : WindingCaps::kCarriedTargets) {
+            if (!(measured->spread() > target)) continue; // met already
+            const int doubtful = undecidedCount();
+            if (doubtful < WindingCaps::kCarriedFrom) break;
+            WindingCaps::Cut& next = carried[flip ^= 1];
+            carriedOn += std::size_t(doubtful);
+            caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true, doubtful);
+            measure(next, measured->nearNodes.size());
+            measured = &next;
+        }
+        forEachUndecided([&](int i, int j, int k) {
+            output.set(output.index(i, j, k),
+                       caps.insideNear(axes.position(i, j, k), count(i, j, k), nearAt[local({i, j, k})], *measured, scratch, &evaluations));
+        });
     }
 };
 
@@ -1462,7 +1475,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
         }
         SignOutput layout = output;
         layout.rowStride = nx, layout.planeStride = std::ptrdiff_t(nx) * ny;
-        BrickSigns brick{axes, caps, layout, 0, 0, 0, {}, {}, {}, {}};
+        BrickSigns brick(axes, caps, layout);
         for (int ib = 0; ib < nx; ib += kBrickEdge) {
             brick.decide(ib, jb, kb, std::min(nx, ib + kBrickEdge), je, ke, ahead.data() + ib, nx);
         }
@@ -1530,7 +1543,7 @@ struct BandLayerSigns {
         : shared(shared), out(out), bz(int(layerIndex)), k0(bz * kEdge), k1(std::min(shared.grid.dims.z, k0 + kEdge)),
           stored(shared.storedStart[layerIndex]), fan(shared.fanStart[layerIndex]), sided(shared.sidedStart[layerIndex]),
           storedEnd(shared.storedStart[layerIndex + 1]), fanEnd(shared.fanStart[layerIndex + 1]), sidedEnd(shared.sidedStart[layerIndex + 1]),
-          signs{shared.axes, shared.caps, {}, 0, 0, 0, {}, {}, {}, {}} {}
+          signs(shared.axes, shared.caps, {}) {}
 
     void run() {
         // A layer that no triangle reaches and that holds no brick of the lists is outside
