@@ -255,8 +255,9 @@ TEST(WindingSign, FarFromEveryFanHoldsOnlyWhereTheFansCannotDecide) {
 // The fan tree's bounds hold where they are tightest: beside the fans, nearly in their plane (a
 // node's bound counts how flat its fans are). For balls beside random fans, the fans a cut leaves
 // far (the cut stopped at once, or as the bake makes it) differ from their estimate (the far
-// dipoles' expansion at the centre, 0 for the others) by at most the cut's farSum plus the
-// expansion's curvature term at every point of the ball, and many far nodes are dipoles. Fans along the border of a wavy sheet and of a crumpled one (bent, far from
+// dipoles' and far fans' expansion at the centre, 0 for the others) by at most the cut's farSum
+// plus the expansion's curvature term at every point of the ball, and many far nodes are dipoles
+// or fans bounded by their expansion; with `expand`, the near fans by their expansion too. Fans along the border of a wavy sheet and of a crumpled one (bent, far from
 // planar), and over the holes of a sphere.
 TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
     Mesh crumpled = heightfield(16, false);
@@ -272,7 +273,7 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
         std::mt19937 rng(9);
         std::uniform_real_distribution<double> unit(-1.0, 1.0), scale(0.0, 1.0);
         WindingCaps::Cut cut;
-        std::size_t bounded = 0, dipoles = 0;
+        std::size_t bounded = 0, dipoles = 0, expanded = 0;
         for (int n = 0; n < 2000; ++n) {
             const Cap& cap = caps.caps()[std::size_t(rng() % caps.caps().size())];
             const double size = glm::length(cap.hi - cap.lo);
@@ -281,27 +282,81 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
             const glm::dvec3 normal = glm::length(across) > 0.0 ? glm::normalize(across) : glm::dvec3(0.0);
             const glm::dvec3 centre = cap.loop[0] + along * (1.2 + 3.0 * scale(rng)) * (n % 2 ? 1.0 : -1.0) + normal * size * 0.05 * unit(rng);
             const double reach = n % 3 == 0 ? 0.0 : size * 0.1 * scale(rng);
-            if (n % 2) caps.cut(centre, reach, 0.0, 0, false, cut); // stops at the first fan: the nearest stay far
-            else caps.cut(centre, reach, 0.05, 4, false, cut);
+            const int mode = n % 4;
+            if (mode == 0) caps.cut(centre, reach, 0.0, 0, false, cut); // stops at the first fan: the nearest stay far
+            else if (mode == 1) caps.cut(centre, reach, 0.05, 4, false, cut);
+            else if (mode == 2) caps.cut(centre, reach, 1e-3, 4, false, cut, nullptr, false, WindingCaps::kExpandedFanPoints);
+            else caps.cut(centre, reach, 0.01, 64, true, cut); // near fans expanded too
             bounded += !cut.farNodes.empty();
-            for (const WindingCaps::Pending& node : cut.farNodes) dipoles += node.dipole;
+            for (const WindingCaps::Pending& node : cut.farNodes) dipoles += node.dipole, expanded += node.expanded;
             for (int m = 0; m < 8; ++m) {
                 glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
                 if (glm::length(offset) > 1.0) offset /= glm::length(offset);
                 const glm::dvec3 p = centre + offset * reach;
                 double exact = 0.0;
                 caps.fanWindings(cut.exactNodes, &p, 1, &exact);
-                const double far = -caps.winding(p, 0) - caps.nearWinding(p, cut) - exact;
-                // The far nodes bounded as dipoles count as their expansion at the centre.
+                const double near = mode == 3 ? 0.0 : caps.nearWinding(p, cut);
+                const double rest = -caps.winding(p, 0) - near - exact;
+                // The far nodes bounded as dipoles or fans' expansions, and an expanded cut's near
+                // fans, count as their expansion at the centre.
                 const glm::dvec3 d = p - centre;
-                const double estimate = cut.farValue + glm::dot(cut.farGradient, d);
-                ASSERT_LE(std::fabs(far - estimate), (cut.farSum + cut.curvature * glm::dot(d, d)) * (1.0 + 1e-9) + 1e-12)
-                    << mesh.source << " at " << p.x << "," << p.y << "," << p.z;
+                const double estimate = cut.farValue + cut.nearValue + glm::dot(cut.farGradient + cut.nearGradient, d);
+                const double spread = cut.farSum + (cut.curvature * glm::length(d) + cut.slack) * glm::length(d);
+                ASSERT_LE(std::fabs(rest - estimate), spread * (1.0 + 1e-9) + 1e-12)
+                    << mesh.source << " at " << p.x << "," << p.y << "," << p.z << ", cut " << mode;
             }
         }
         EXPECT_GT(bounded, 1000u) << mesh.source;
         EXPECT_GT(dipoles, 100u) << mesh.source;
+        EXPECT_GT(expanded, 100u) << mesh.source;
     }
+}
+
+// A measured cut bounds a fan far from its ball by the fan's exact first-order expansion at the
+// centre: the expansion's rest stays within curvature |δ|² (plus its rounding) at every point of
+// the ball, and that bound is tight (seen from afar along its normal, a small fan is a point
+// dipole, whose Hessian reaches it). One open triangle, whose cap is one fan.
+TEST(WindingSign, FarFanExpansionBoundsItsRestTightly) {
+    const Mesh triangle = buildMesh("triangle", std::vector<glm::dvec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
+    const MeshTopology topology(triangle);
+    const WindingCaps caps(topology);
+    ASSERT_EQ(caps.caps().size(), 1u);
+    const Cap& cap = caps.caps()[0];
+    const glm::dvec3 normal = glm::normalize(glm::cross(cap.loop[1] - cap.loop[0], cap.loop[2] - cap.loop[0]));
+    const double size = glm::length(cap.hi - cap.lo);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    double worst = 0.0;
+    int expansions = 0;
+    for (double distance : {3.0, 6.0, 12.0}) { // farther, the fan's dipole bounds it as tightly
+        for (const glm::dvec3& direction : {normal, -normal, glm::normalize(normal + glm::dvec3(0.3, -0.2, 0.1))}) {
+            const glm::dvec3 centre = cap.centre + distance * size * direction;
+            const double reach = 0.1 * distance * size;
+            // The fan's bound over the ball (a cut that stops at once), then a cut to half of it.
+            WindingCaps::Cut cut;
+            caps.cut(centre, reach, 0.0, 0, false, cut);
+            ASSERT_EQ(cut.farNodes.size(), 1u);
+            caps.cut(centre, reach, 0.5 * cut.farNodes[0].bound, 1, false, cut, nullptr, false, WindingCaps::kExpandedFanPoints);
+            ASSERT_EQ(cut.farNodes.size(), 1u) << "at " << distance << " sizes";
+            ASSERT_TRUE(cut.farNodes[0].expanded) << "at " << distance << " sizes";
+            ++expansions;
+            const WindingCaps::BallDipole& expansion = cut.dipoles[cut.farNodes[0].slot];
+            for (int m = 0; m < 64; ++m) {
+                // Along the axis to the rim (where the dipole's Hessian peaks), and at random.
+                glm::dvec3 offset = m < 8 ? direction * (m % 2 ? 1.0 : -1.0) * (0.25 + 0.75 * (m / 2) / 3.0)
+                                          : glm::dvec3(unit(rng), unit(rng), unit(rng));
+                if (glm::length(offset) > 1.0) offset /= glm::length(offset);
+                const glm::dvec3 d = offset * reach;
+                const double fan = -caps.winding(centre + d, 0); // the fan's own winding number
+                const double rest = fan - (expansion.value + glm::dot(expansion.gradient, d));
+                const double bound = expansion.curvature * glm::dot(d, d) + expansion.error;
+                ASSERT_LE(std::fabs(rest), bound * (1.0 + 1e-9) + 1e-15) << "at " << distance << " sizes, offset " << m;
+                if (bound > 0.0) worst = std::max(worst, std::fabs(rest) / bound);
+            }
+        }
+    }
+    EXPECT_EQ(expansions, 9);
+    EXPECT_GT(worst, 0.3); // not a bound that could never be reached
 }
 
 // The fan kernel (every fan's factors multiplied into one product per point, one atan2 at the end,

@@ -164,23 +164,29 @@ bool expansionBounds(const Cap& cap, const glm::dvec3& centre, double reach, dou
     return std::isfinite(c) && std::isfinite(r);
 }
 
-// The cap's winding number over the ball (centre, reach) as its exact first-order expansion at
-// the centre, given `curvature` (surfaceCurvature over the ball, which misses the fan's box by d
-// > 0): the rest at centre + δ is at most curvature |δ|², and the gradient's rounding at most
-// slack |δ| (as expansionBounds bounds it, each edge's length at most the box's diagonal),
-// counted at the rim in the error. fanSolidAngle's and fanGradient's loops in one, sharing each
-// vertex's distance. False where the centre is within rounding of a fan or on an edge's line.
-bool fanExpansion(const Cap& cap, const glm::dvec3& centre, double reach, double d, double curvature, WindingCaps::BallDipole& out) {
+// The cap's first-order expansion at the centre of the ball (centre, reach), in one pass over its
+// loop (each vertex's distance shared): its winding number there (fanWinding's), its gradient
+// (fanGradient's), a bound on that gradient's rounding per unit of distance (each edge's 8 eps /
+// h, h the centre's distance from its line, plus a relative 8 eps of the edge's field, at most
+// length / r², r the centre's distance from the edge), and expansionBounds' Biot-Savart bound on
+// |Hessian| / 2 over the ball. False where the ball reaches an edge or the centre is within
+// rounding of the fan.
+struct FanTerms {
+    double value = 0, slack = 0, curvature = 0;
+    glm::dvec3 gradient{0.0};
+};
+bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& out) {
     constexpr double kEps = std::numeric_limits<double>::epsilon();
     const glm::dvec3 rc = cap.centre - centre;
     const double lc = glm::length(rc);
     const std::size_t n = cap.loop.size();
     glm::dvec3 rb = cap.loop[0] - centre;
     double lb = glm::length(rb), bc = glm::dot(rb, rc);
-    double re = 1.0, im = 0.0, lines = 0.0;
+    double re = 1.0, im = 0.0, rounding = 0.0, segments = 0.0;
     int turns = 0;
     glm::dvec3 field(0.0);
     for (std::size_t i = 0; i < n; ++i) {
+        // Triangle (loop[i + 1], loop[i], centre) as fanSolidAngle measures it.
         const glm::dvec3 ra = cap.loop[i + 1 < n ? i + 1 : 0] - centre;
         const double la = glm::length(ra), ac = glm::dot(ra, rc);
         const double det = glm::dot(ra, glm::cross(rb, rc));
@@ -193,22 +199,31 @@ bool fanExpansion(const Cap& cap, const glm::dvec3& centre, double reach, double
         const double scale = std::max(std::fabs(re), std::fabs(im));
         if (scale == 0.0) return false;
         if (scale < 0x1p-400 || scale > 0x1p400) re /= scale, im /= scale;
-        // The edge's Biot-Savart field, as fanGradient's.
+        // Edge a -> b = loop[i + 1] -> loop[i]: its Biot-Savart field, as fanGradient's (none
+        // where it has no length).
         const glm::dvec3 e = rb - ra, u = glm::cross(e, ra);
-        const double u2 = glm::dot(u, u);
-        if (!(u2 > 0.0)) return false;
-        field += u * ((glm::dot(e, rb) / lb - glm::dot(e, ra) / la) / u2);
-        lines += std::sqrt(glm::dot(e, e) / u2);
+        const double u2 = glm::dot(u, u), length2 = glm::dot(e, e);
+        if (length2 > 0.0) {
+            if (!(u2 > 0.0)) return false; // on the edge's line: no bound on the rounding
+            field += u * ((glm::dot(e, rb) / lb - glm::dot(e, ra) / la) / u2);
+            // The centre's distance from the edge, and the ball's.
+            const double t = std::clamp(-glm::dot(ra, e) / length2, 0.0, 1.0);
+            const double r = glm::length(ra + t * e) * (1.0 - 1e-12), d = r - reach;
+            if (!(d > 0.0)) return false;
+            const double length = std::sqrt(length2);
+            segments += length / (d * d * d);
+            rounding += std::sqrt(length2 / u2) + length / (r * r);
+        } else if (!(la * (1.0 - 1e-12) > reach)) {
+            return false;
+        }
         rb = ra, lb = la, bc = ac;
     }
     const double k = cap.weight / (4.0 * M_PI);
     out.value = k * 2.0 * (std::atan2(im, re) + 2.0 * M_PI * turns);
     out.gradient = -k * field;
-    const double near = d + reach; // the centre's distance from the fan's box
-    const double slack = 8.0 * kEps * (lines + double(n) * glm::length(cap.hi - cap.lo) / (near * near)) * std::abs(k);
-    out.curvature = curvature;
-    out.error = slack * reach;
-    return std::isfinite(out.error);
+    out.slack = 8.0 * kEps * rounding * std::abs(k);
+    out.curvature = segments * std::abs(k);
+    return std::isfinite(out.slack) && std::isfinite(out.curvature);
 }
 
 // Whether the ball (centre, reach) misses the cap's fan.
@@ -623,8 +638,8 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.smooth = true;
     out.curvature = 0.0;
     out.slack = 0.0;
-    out.farValue = 0.0;
-    out.farGradient = glm::dvec3(0.0);
+    out.farValue = out.nearValue = 0.0;
+    out.farGradient = out.nearGradient = glm::dvec3(0.0);
     out.centre = centre;
     out.reach = reach;
     out.dipoles.clear();
@@ -705,9 +720,13 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         const bool touches = !std::isfinite(loosest.bound);
         if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() + expansions / 2 >= maxNear) break;
         if (node.leaf && !touches && !expand && points >= kExpandedFanPoints && !loosest.expanded) { // expanded where twice as tight
-            const double d = ballDistance(node, centre, reach), curvature = surfaceCurvature(node.area, d);
-            BallDipole expansion;
-            if (curvature * reach * reach < 0.25 * loosest.bound && fanExpansion(caps_[node.first], centre, reach, d, curvature, expansion)) {
+            const double surface = surfaceCurvature(node.area, ballDistance(node, centre, reach));
+            FanTerms terms;
+            if (surface * reach * reach < 0.25 * loosest.bound && fanTerms(caps_[node.first], centre, reach, terms)) {
+                BallDipole expansion;
+                expansion.value = terms.value, expansion.gradient = terms.gradient;
+                expansion.curvature = std::min(surface, terms.curvature);
+                expansion.error = terms.slack * reach; // the gradient's rounding, at the rim
                 const double spread = expansion.error + expansion.curvature * reach * reach;
                 if (spread < 0.5 * loosest.bound) {
                     pending.pop();
@@ -733,10 +752,9 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         const Cap& cap = caps_[node.first];
         if (expand) {
             // Expanded if that bounds it more tightly than its bound does (a sliver's area is small).
-            double curvature = 0.0, slack = 0.0;
-            const bool smooth = (!touches || clearOf(cap, centre, reach)) &&
-                                expansionBounds(cap, centre, reach, std::numeric_limits<double>::infinity(), curvature, slack);
-            if (!touches && !(smooth && (curvature * reach + slack) * reach < loosest.bound)) {
+            FanTerms terms;
+            const bool smooth = (!touches || clearOf(cap, centre, reach)) && fanTerms(cap, centre, reach, terms);
+            if (!touches && !(smooth && (terms.curvature * reach + terms.slack) * reach < loosest.bound)) {
                 out.farNodes.push_back(loosest);
                 sum += loosest.bound;
                 continue;
@@ -745,8 +763,10 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
                 out.exactNodes.push_back(loosest.node);
                 continue;
             }
-            out.curvature += curvature;
-            out.slack += slack;
+            out.curvature += terms.curvature;
+            out.slack += terms.slack;
+            out.nearValue += terms.value;
+            out.nearGradient += terms.gradient;
         }
         out.nearNodes.push_back(loosest.node);
     }
@@ -765,14 +785,9 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     }
 }
 
-double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient) const {
+double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut) const {
     double w = 0.0;
-    if (gradient) *gradient = glm::dvec3(0.0);
-    for (std::uint32_t node : cut.nearNodes) {
-        const Cap& cap = caps_[nodes_[node].first];
-        w += fanWinding(p, cap);
-        if (gradient) *gradient += fanGradient(p, cap);
-    }
+    for (std::uint32_t node : cut.nearNodes) w += fanWinding(p, caps_[nodes_[node].first]);
     return w;
 }
 
@@ -1260,9 +1275,8 @@ struct BrickSigns {
         WindingCaps::Cut& cut = expanded;
         caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut);
         if (!cut.smooth) return false;
-        glm::dvec3 gradient;
-        const double near = caps.nearWinding(centre, cut, &gradient) + cut.farValue;
-        gradient += cut.farGradient;
+        const double near = cut.nearValue + cut.farValue;
+        const glm::dvec3 gradient = cut.nearGradient + cut.farGradient;
         evaluations += cut.nearNodes.size();
         forEachBatch([&] {
             double exact[kFanPoints] = {};

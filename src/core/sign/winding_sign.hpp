@@ -161,10 +161,12 @@ public:
         double reach = 0;
         // The ball misses every near fan, and at most kMaxExactFans are exact: the near fans'
         // winding number is harmonic over it, and differs from its first-order expansion at the
-        // centre (nearWinding with the gradient) by at most (curvature * |d| + slack) * |d| at
-        // offset d. curvature also bounds the far dipoles' expansion (with or without `expand`).
+        // centre (nearValue, nearGradient: with `expand`) by at most (curvature * |d| + slack) * |d|
+        // at offset d. curvature also bounds the far dipoles' expansion (with or without `expand`).
         bool smooth = true;
         double curvature = 0, slack = 0;
+        double nearValue = 0;
+        glm::dvec3 nearGradient{0.0};
         // The dipoles' terms over the ball (Pending::slot), computed once for the cut, its sums,
         // its walks and the cuts of the same ball carried on from it.
         std::vector<BallDipole> dipoles;
@@ -187,7 +189,7 @@ public:
     // From that many points in doubt a cut is carried on; fewer walk the tree on their own.
     static constexpr int kCarriedFrom = 2;
     static constexpr std::size_t kNearestFans = 12, kMeasuredFans = 96;
-    // With `expand` (for nearWinding's expansion), a fan is near only if the ball misses it and its
+    // With `expand` (for the near fans' expansion), a fan is near only if the ball misses it and its
     // expansion's rest over the ball is below its bound; a fan the ball may meet is exact; the
     // others stay far. With `within`, the cut of a ball that holds this one's samples, the walk
     // starts from that cut, and its far nodes too small to open keep their bounds. With `keepNear`
@@ -212,8 +214,9 @@ public:
     std::size_t fanWindings(const std::vector<std::uint32_t>& leaves, const glm::dvec3* points, int n, double* windings) const {
         return fanWindings(leaves.data(), leaves.size(), points, n, windings);
     }
-    // The near fans' winding number at p (every near fan measured, in the cut's order), and its gradient.
-    double nearWinding(const glm::dvec3& p, const Cut& cut, glm::dvec3* gradient = nullptr) const;
+    // The near fans' winding number at p, each fan measured alone, in the cut's order (the fan
+    // kernel's reference).
+    double nearWinding(const glm::dvec3& p, const Cut& cut) const;
     // inside() for a point of the ball that `cut` was made for, given `near`, the near fans'
     // winding number there (fanWindings): the far nodes bounded (the ball's bounds, far dipoles
     // counted as their expansion; then, loosest first, each far node opened and its children
