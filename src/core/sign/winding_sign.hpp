@@ -62,7 +62,7 @@ public:
     // point in eight, where most of the last eight walks were left in doubt); runs of up to
     // kGroupPoints points left within a ball of kGroupSpan of the fans' box share a cut of the
     // fan tree, measure its near fans together (the fan kernel) and are decided by insideNear, as
-    // the dense bake's blocks of 4³ are (the nearest fans, or the loose target's where the nearest
+    // the dense bake's bricks are (the nearest fans, or the loose target's where the nearest
     // leave every point in doubt, carried on through kCarriedTargets while points are left in
     // doubt); a point left alone by inside().
     void insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const;
@@ -175,12 +175,13 @@ public:
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
     };
     // The cuts of a ball of samples or query points whose near fans are measured at every point
-    // (BrickSigns' blocks of 4³, insideMany's runs): the nearest kNearestFans with the rest within
+    // (BrickSigns' bricks or octants, insideMany's runs): the nearest kNearestFans with the rest within
     // kTightTarget; where those leave the rest bounded by more than kHopeless (a ball among open
     // parts, whose points are mostly far from |w| = 1/2 but near dozens of fans), the fans that bring
     // it within kLooseTarget instead, and for the points those leave in doubt, within kTightTarget
-    // (that cut carried on: its fans kept, only the ones added measured); at most kMeasuredFans
-    // each time (tuned by time on open sheets, meshes with many holes and the messy corpus).
+    // and on (that cut carried on to each of kCarriedTargets not met yet: its fans kept, only the
+    // ones added measured); at most kMeasuredFans each time (tuned by time on open sheets, meshes
+    // with many holes and the messy corpus).
     static constexpr double kTightTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
     // The targets a measured cut is carried on to, in turn, while it leaves points in doubt (up to
     // kMeasuredFans more fans each time): beside an open sheet |w| nears 1/2, and the fans measured
@@ -375,9 +376,10 @@ struct WindingStats {
 // (robust 2D point-in-triangle tests in double with symbolic tie-breaking, so shared edges count
 // once; copies of a triangle count once with their number as weight), scanned in parallel by bands
 // of z planes. The fans' own winding number is subtracted wherever it could move w across ±1/2,
-// by bricks of 8³ samples, coarse to fine: a block that no fan can reach is decided by the counts
-// alone, a block clear of its near fans by their first-order expansion at its centre (within
-// bounds), the samples left by WindingCaps::insideNear. So signs are those of the exact w (those
+// by bricks of 8³ samples, coarse to fine: a brick that no fan can reach is decided by the counts
+// alone, a brick clear of its near fans by their first-order expansion at its centre (within
+// bounds), the samples left by measuring the near fans (the far ones expanded) and
+// WindingCaps::insideNear. So signs are those of the exact w (those
 // of WindingCaps::inside, bit for bit), and a sample pays only for the fans near it. Robust to
 // holes, self-intersections, overlapping shells and flipped parts: by |w|, a closed part is solid
 // whichever way its faces point (w = -1 inside a part modelled inside out), a cavity bounded by a
