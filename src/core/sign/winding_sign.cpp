@@ -713,34 +713,36 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     } else {
         push(0);
     }
-    std::size_t expansions = 0; // made here (kExpandedFanPoints)
+    // The loosest waiting node, a fan about to be measured: bounded by its expansion at the centre
+    // instead (a far dipole) where that is twice as tight (kExpandedFanPoints).
+    std::size_t expansions = 0;
+    auto expandLoosest = [&](const Pending& fan) {
+        const Node& leaf = nodes_[fan.node];
+        const double surface = surfaceCurvature(leaf.area, ballDistance(leaf, centre, reach));
+        FanTerms terms;
+        if (!(surface * reach * reach < 0.25 * fan.bound) || !fanTerms(caps_[leaf.first], centre, reach, terms)) return false;
+        BallDipole expansion;
+        expansion.value = terms.value, expansion.gradient = terms.gradient;
+        expansion.curvature = std::min(surface, terms.curvature);
+        expansion.error = terms.slack * reach; // the gradient's rounding, at the rim
+        const double spread = expansion.error + expansion.curvature * reach * reach;
+        if (!(spread < 0.5 * fan.bound)) return false;
+        pending.pop();
+        sum -= fan.bound;
+        Pending bounded = fan;
+        bounded.bound = spread, bounded.dipole = bounded.expanded = true;
+        bounded.slot = std::uint32_t(out.dipoles.size());
+        out.dipoles.push_back(expansion);
+        place(bounded);
+        ++expansions;
+        return true;
+    };
     while (!pending.empty() && (touching > 0 || sum > target)) {
         const Pending loosest = pending.loosest();
         const Node& node = nodes_[loosest.node];
         const bool touches = !std::isfinite(loosest.bound);
         if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() + expansions / 2 >= maxNear) break;
-        if (node.leaf && !touches && !expand && points >= kExpandedFanPoints && !loosest.expanded) { // expanded where twice as tight
-            const double surface = surfaceCurvature(node.area, ballDistance(node, centre, reach));
-            FanTerms terms;
-            if (surface * reach * reach < 0.25 * loosest.bound && fanTerms(caps_[node.first], centre, reach, terms)) {
-                BallDipole expansion;
-                expansion.value = terms.value, expansion.gradient = terms.gradient;
-                expansion.curvature = std::min(surface, terms.curvature);
-                expansion.error = terms.slack * reach; // the gradient's rounding, at the rim
-                const double spread = expansion.error + expansion.curvature * reach * reach;
-                if (spread < 0.5 * loosest.bound) {
-                    pending.pop();
-                    sum -= loosest.bound;
-                    Pending bounded = loosest;
-                    bounded.bound = spread, bounded.dipole = bounded.expanded = true;
-                    bounded.slot = std::uint32_t(out.dipoles.size());
-                    out.dipoles.push_back(expansion);
-                    place(bounded);
-                    ++expansions;
-                    continue;
-                }
-            }
-        }
+        if (node.leaf && !touches && !expand && points >= kExpandedFanPoints && !loosest.expanded && expandLoosest(loosest)) continue;
         pending.pop();
         if (touches) --touching;
         else sum -= loosest.bound;
@@ -1236,10 +1238,10 @@ struct BrickSigns {
         for (int dk = 0; dk < kEdge; dk += half)
             for (int dj = 0; dj < kEdge; dj += half)
                 for (int di = 0; di < kEdge; di += half) {
-                    const int ia = i0 + di, ja = j0 + dj, kb = k0 + dk;
-                    const int ie = std::min(i1, ia + half), je = std::min(j1, ja + half), kEnd = std::min(k1, kb + half);
-                    if (ie <= ia || je <= ja || kEnd <= kb) continue;
-                    region(ia, ja, kb, ie, je, kEnd);
+                    const int x0 = i0 + di, y0 = j0 + dj, z0 = k0 + dk;
+                    const int x1 = std::min(i1, x0 + half), y1 = std::min(j1, y0 + half), z1 = std::min(k1, z0 + half);
+                    if (x1 <= x0 || y1 <= y0 || z1 <= z0) continue;
+                    region(x0, y0, z0, x1, y1, z1);
                     if (undecidedCount() > 0) decideByMeasuring(&expanded);
                 }
     }
