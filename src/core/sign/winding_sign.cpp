@@ -109,68 +109,28 @@ double fanWinding(const glm::dvec3& p, const Cap& cap) {
     return onFan ? windingOnFan(p, cap) : cap.weight * angle / (4.0 * M_PI);
 }
 
-// The Biot-Savart field of the cap's boundary (its loop reversed, as the fan's triangles run) at
-// p, over 4π and times its weight: the gradient of the cap's winding number at p, off the fan.
-glm::dvec3 fanGradient(const glm::dvec3& p, const Cap& cap) {
-    glm::dvec3 sum(0.0);
-    const std::size_t n = cap.loop.size();
-    for (std::size_t i = 0; i < n; ++i) {
-        // Segment a -> b: (e x ra) / |e x ra|² (e.rb / |rb| - e.ra / |ra|).
-        const glm::dvec3 ra = cap.loop[i + 1 < n ? i + 1 : 0] - p, rb = cap.loop[i] - p, e = rb - ra;
-        const glm::dvec3 u = glm::cross(e, ra);
-        const double u2 = glm::dot(u, u);
-        if (u2 == 0.0) continue; // p on the edge's line (off the edge: no field)
-        sum += u * ((glm::dot(e, rb) / glm::length(rb) - glm::dot(e, ra) / glm::length(ra)) / u2);
-    }
-    return sum * (-cap.weight / (4.0 * M_PI));
-}
-
 // A bound on |Hessian| / 2 of the winding number of fans of total area `area` (times their
 // weights) over a ball d > 0 from them: each triangle's solid angle is the integral over it of
 // the normal derivative of 1/r, whose second derivatives in p are third derivatives of 1/r,
 // at most 6 / r⁴ for any unit directions (|-15 a b² + 6 c b + 3 a| <= 6 for the cosines a, b, c
 // of the normal, the direction and r). Far from a fan (d beyond its size), far tighter than
-// expansionBounds' Biot-Savart bound. Infinite where d <= 0.
+// fanTerms' Biot-Savart bound. Infinite where d <= 0.
 double surfaceCurvature(double area, double d) {
     if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
     const double near = d * (1.0 - 1e-12);
     return 3.0 * area / (4.0 * M_PI * near * near * near * near) * (1.0 + 1e-9);
 }
 
-// Bounds over the ball (centre, reach), which the fan does not meet, of the rest of the cap's
-// winding number's expansion at the centre: `curvature` bounds |Hessian| / 2 (each edge's field
-// r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the distance from
-// the ball to the edge; or `surface`, surfaceCurvature's bound, where smaller) and `slack` the
-// rounding of fanGradient (each edge's to 8 eps / h, h the distance from the centre to its line,
-// plus a relative 8 eps). False where the ball reaches an edge.
-bool expansionBounds(const Cap& cap, const glm::dvec3& centre, double reach, double surface, double& curvature, double& slack) {
-    constexpr double kEps = std::numeric_limits<double>::epsilon();
-    const std::size_t n = cap.loop.size();
-    double c = 0.0, r = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec3& a = cap.loop[i];
-        const glm::dvec3 e = cap.loop[(i + 1) % n] - a, ra = a - centre;
-        const double length2 = glm::dot(e, e), length = std::sqrt(length2);
-        const double t = length2 > 0.0 ? std::clamp(-glm::dot(ra, e) / length2, 0.0, 1.0) : 0.0;
-        const double d = glm::length(ra + t * e) * (1.0 - 1e-12) - reach;
-        if (!(d > 0.0)) return false;
-        c += length / (d * d * d);
-        const double h = length > 0.0 ? glm::length(glm::cross(e, ra)) / length : glm::length(ra);
-        r += 8.0 * kEps * (h > 0.0 ? 1.0 / h : std::numeric_limits<double>::infinity()) + 8.0 * kEps * length / (d * d);
-    }
-    const double scale = std::abs(cap.weight) / (4.0 * M_PI);
-    curvature += std::min(c * scale, surface);
-    slack += r * scale;
-    return std::isfinite(c) && std::isfinite(r);
-}
-
 // The cap's first-order expansion at the centre of the ball (centre, reach), in one pass over its
-// loop (each vertex's distance shared): its winding number there (fanWinding's), its gradient
-// (fanGradient's), a bound on that gradient's rounding per unit of distance (each edge's 8 eps /
-// h, h the centre's distance from its line, plus a relative 8 eps of the edge's field, at most
-// length / r², r the centre's distance from the edge), and expansionBounds' Biot-Savart bound on
-// |Hessian| / 2 over the ball. False where the ball reaches an edge or the centre is within
-// rounding of the fan.
+// loop (each vertex's distance shared): its winding number there (fanWinding's, off the fan), its
+// gradient (the Biot-Savart field of its loop, reversed as the fan's triangles run, over 4π and
+// times its weight: segment a -> b gives (e x ra) / |e x ra|² (e.rb / |rb| - e.ra / |ra|)), a
+// bound on that gradient's rounding per unit of distance (each edge's 8 eps / h, h the centre's
+// distance from its line, plus a relative 8 eps of the edge's field, at most length / r², r the
+// centre's distance from the edge), and a bound on |Hessian| / 2 over the ball (each edge's field
+// r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the ball's
+// distance from the edge; surfaceCurvature's is tighter far from the fan). False where the ball
+// reaches an edge or the centre is within rounding of the fan.
 struct FanTerms {
     double value = 0, slack = 0, curvature = 0;
     glm::dvec3 gradient{0.0};
@@ -199,8 +159,7 @@ bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& 
         const double scale = std::max(std::fabs(re), std::fabs(im));
         if (scale == 0.0) return false;
         if (scale < 0x1p-400 || scale > 0x1p400) re /= scale, im /= scale;
-        // Edge a -> b = loop[i + 1] -> loop[i]: its Biot-Savart field, as fanGradient's (none
-        // where it has no length).
+        // Edge a -> b = loop[i + 1] -> loop[i]: its Biot-Savart field (none where it has no length).
         const glm::dvec3 e = rb - ra, u = glm::cross(e, ra);
         const double u2 = glm::dot(u, u), length2 = glm::dot(e, e);
         if (length2 > 0.0) {
@@ -1033,11 +992,11 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
         } else if (!node.leaf) {
             stack[top++] = node.first + 1;
             stack[top++] = node.first;
-        } else if (double c = 0.0, r = 0.0; expansionBounds(caps_[node.first], centre, reach, surfaceCurvature(node.area, d), c, r)) {
+        } else if (FanTerms terms; fanTerms(caps_[node.first], centre, reach, terms)) {
             // The cap's loop's field at the centre (its chords and rungs cancel those of the
             // neighbouring caps measured here too).
-            gradient += fanGradient(centre, caps_[node.first]);
-            curvature += c, slack += r;
+            gradient += terms.gradient;
+            curvature += std::min(terms.curvature, surfaceCurvature(node.area, d)), slack += terms.slack;
         } else if (bounded < inf) {
             far += bounded;
         } else {

@@ -138,8 +138,9 @@ public:
         int top_ = -1, highest_ = -1;
         std::size_t count_ = 0;
     };
-    // The fan tree as seen from every point of a ball (a block of samples): a cut through the tree
-    // whose leaves (near fans) are measured and whose other nodes are bounded over the whole ball,
+    // The fan tree as seen from every point of a ball (a brick of samples, a run of query points):
+    // a cut through the tree whose leaves (near fans) are measured and whose other nodes are
+    // bounded over the whole ball,
     // opened loosest first (to within a factor of two: Waiting) until the bounds sum to at most
     // `target`, with at most `maxNear` fans measured (beyond those whose boxes the ball touches,
     // which are always measured).
@@ -202,11 +203,11 @@ public:
     // points: a fan about to be measured is bounded by its exact first-order expansion at the
     // centre instead (a far dipole: measured only if opened again) where that bounds it at least
     // twice as tightly, and counts as half a near fan towards maxNear. Most of the fans that a
-    // block of samples among open parts would measure lie dozens of reaches away, and an
+    // brick of samples among open parts would measure lie dozens of reaches away, and an
     // expansion costs about as much as measuring the fan at a few points.
     static constexpr int kExpandedFanPoints = 24;
     // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
-    // than splitting the block.
+    // than splitting the brick into octants.
     static constexpr std::size_t kMaxExactFans = 4;
     // The winding number of the fans of `leaves` (a cut's near or exact nodes) at each of n <=
     // kFanPoints points, measured together by the fan kernel. Returns the fan measurements made
@@ -224,7 +225,7 @@ public:
     // bounded at the point, as dipoles where that is tighter) while |w| is within
     // kDecisionMargin of 1/2 plus the bounds; still in doubt, inside() decides. Deciding
     // only outside that margin, it answers as inside() does (their doubles of w differ by
-    // rounding, far below the margin), with the tree's top walked once per block.
+    // rounding, far below the margin), with the tree's top walked once per brick.
     static constexpr double kDecisionMargin = 1e-7;
     // insideNear's answer where the cut's bounds alone decide it (1 inside, 0 outside), else -1.
     int sideNear(const glm::dvec3& p, int ahead, double near, const Cut& cut) const;
@@ -366,7 +367,7 @@ struct WindingStats {
     // Fan measurements over all samples: a fan's solid angle at one point, or at up to four at once
     // (one vector of the fan kernel).
     std::size_t fanEvaluations = 0;
-    std::size_t exactFanSamples = 0; // samples decided by a block's expansion with its exact fans measured at each
+    std::size_t exactFanSamples = 0; // samples decided by a brick's expansion with its exact fans measured at each
     std::size_t carriedSamples = 0; // samples measured again by a cut carried on (each time counted)
 };
 
