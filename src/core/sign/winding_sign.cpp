@@ -129,11 +129,22 @@ double surfaceCurvature(double area, double d) {
 // distance from its line, plus a relative 8 eps of the edge's field, at most length / r², r the
 // centre's distance from the edge), and a bound on |Hessian| / 2 over the ball (each edge's field
 // r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the ball's
-// distance from the edge; surfaceCurvature's is tighter far from the fan). False where the ball
-// reaches an edge or the centre is within rounding of the fan.
+// distance from the edge; surfaceCurvature's is tighter far from the fan). That bound's terms of
+// the chords (Cap::chord) apart: expanded together with the cap on a chord's other side, a chord's
+// terms cancel (WindingCaps::ChordTerm). False where the ball reaches an edge or the centre is
+// within rounding of the fan.
 struct FanTerms {
-    double value = 0, slack = 0, curvature = 0;
+    double value = 0, slack = 0;
+    double curvature = 0; // of the edges of the mesh's boundary
     glm::dvec3 gradient{0.0};
+    std::array<WindingCaps::ChordTerm, Cap::kMaxEdges> chords;
+    std::size_t chordCount = 0;
+    // The bound with every chord's terms.
+    double allCurvature() const {
+        double sum = curvature;
+        for (std::size_t c = 0; c < chordCount; ++c) sum += chords[c].curvature;
+        return sum;
+    }
 };
 bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& out) {
     constexpr double kEps = std::numeric_limits<double>::epsilon();
@@ -144,6 +155,7 @@ bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& 
     double lb = glm::length(rb), bc = glm::dot(rb, rc);
     double re = 1.0, im = 0.0, rounding = 0.0, segments = 0.0;
     int turns = 0;
+    out.chordCount = 0;
     glm::dvec3 field(0.0);
     for (std::size_t i = 0; i < n; ++i) {
         // Triangle (loop[i + 1], loop[i], centre) as fanSolidAngle measures it.
@@ -170,7 +182,8 @@ bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& 
             const double r = glm::length(ra + t * e) * (1.0 - 1e-12), d = r - reach;
             if (!(d > 0.0)) return false;
             const double length = std::sqrt(length2);
-            segments += length / (d * d * d);
+            if (cap.chord[i]) out.chords[out.chordCount++] = {cap.chord[i], length / (d * d * d)};
+            else segments += length / (d * d * d);
             rounding += std::sqrt(length2 / u2) + length / (r * r);
         } else if (!(la * (1.0 - 1e-12) > reach)) {
             return false;
@@ -182,7 +195,8 @@ bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& 
     out.gradient = -k * field;
     out.slack = 8.0 * kEps * rounding * std::abs(k);
     out.curvature = segments * std::abs(k);
-    return std::isfinite(out.slack) && std::isfinite(out.curvature);
+    for (std::size_t c = 0; c < out.chordCount; ++c) out.chords[c].curvature *= std::abs(k);
+    return std::isfinite(out.slack) && std::isfinite(out.allCurvature());
 }
 
 // Whether the ball (centre, reach) misses the cap's fan.
@@ -217,21 +231,30 @@ Cap makeCap(std::vector<glm::dvec3> loop, int weight) {
 // the polygon of those chords, whose edges cancel the chords. One fan over a long loop (a
 // terrain's border) would span the whole sheet: every sample near the sheet would be near it and
 // pay for its whole loop; small fans stay near the border and are bounded from afar.
-void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& caps) {
+// `chords`: the loop's edges' chord ids (Cap::chord), `lastChord` the last id given out.
+void addLoop(const std::vector<glm::dvec3>& loop, const std::vector<std::uint32_t>& chords, int weight, std::vector<Cap>& caps,
+             std::uint32_t& lastChord) {
     constexpr std::size_t kEdges = WindingCaps::kMaxCapEdges;
+    static_assert(kEdges + 1 == Cap::kMaxEdges, "a run of kMaxCapEdges edges and its chord");
     if (loop.size() <= kEdges + 1) {
         caps.push_back(makeCap(loop, weight));
+        std::copy(chords.begin(), chords.end(), caps.back().chord.begin());
         return;
     }
     std::vector<glm::dvec3> coarse;
+    std::vector<std::uint32_t> coarseChords;
     for (std::size_t start = 0; start < loop.size(); start += kEdges) {
         const std::size_t end = std::min(start + kEdges, loop.size()); // the run's last vertex is loop[end % size]
         std::vector<glm::dvec3> run(loop.begin() + std::ptrdiff_t(start), loop.begin() + std::ptrdiff_t(end));
         run.push_back(loop[end % loop.size()]);
         caps.push_back(makeCap(std::move(run), weight));
+        Cap& cap = caps.back();
+        std::copy(chords.begin() + std::ptrdiff_t(start), chords.begin() + std::ptrdiff_t(end), cap.chord.begin());
+        cap.chord[end - start] = ++lastChord; // back to the run's start; the coarse loop runs it forward
         coarse.push_back(loop[start]);
+        coarseChords.push_back(lastChord);
     }
-    addLoop(coarse, weight, caps);
+    addLoop(coarse, coarseChords, weight, caps, lastChord);
 }
 
 
@@ -241,7 +264,8 @@ void addLoop(const std::vector<glm::dvec3>& loop, int weight, std::vector<Cap>& 
 // the panel twice with opposite signs, and every sample near the panel would measure both. The
 // strip is thin, so its bounds are small. False, with nothing added, unless b has a's length and
 // each b[j] lies within a tenth of a's size of its a[i] (j = s - i for the b[s] nearest a[0]).
-bool addStrip(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b, int weight, std::vector<Cap>& caps) {
+bool addStrip(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b, int weight, std::vector<Cap>& caps,
+              std::uint32_t& lastChord) {
     constexpr double kMaxWidth = 0.1; // of the loop's box's diagonal
     const std::size_t n = a.size();
     if (n < 3 || b.size() != n) return false;
@@ -256,9 +280,12 @@ bool addStrip(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b
     for (std::size_t i = 0; i < n; ++i) {
         if (!(glm::length(partner(i) - a[i]) <= width)) return false;
     }
+    const std::uint32_t rungs = lastChord; // rung i (a[i] to its partner) is rungs + 1 + i
     for (std::size_t i = 0; i < n; ++i) {
         caps.push_back(makeCap({a[i], a[(i + 1) % n], partner(i + 1), partner(i)}, weight));
+        caps.back().chord = {0, rungs + 1 + std::uint32_t((i + 1) % n), 0, rungs + 1 + std::uint32_t(i), 0};
     }
+    lastChord += std::uint32_t(n);
     return true;
 }
 
@@ -304,13 +331,14 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
     });
     for (std::size_t o = 0; o < byX.size(); ++o) rank[byX[o]] = o;
     std::vector<bool> closed(points.size(), false);
+    std::uint32_t lastChord = 0;
     // Whether loop m, a candidate for l, is out of reach, and so is every one beyond it by x.
     auto beyond = [&](std::size_t l, std::size_t m) {
         return points[m].size() != points[l].size() || std::fabs(centroids[m].x - centroids[l].x) > 0.1 * sizes[l];
     };
     auto pair = [&](std::size_t l, std::size_t m) {
         if (closed[m] || weights[m] != weights[l] || glm::length(centroids[m] - centroids[l]) > 0.1 * sizes[l]) return false;
-        if (!addStrip(points[l], points[m], weights[l], caps_)) return false;
+        if (!addStrip(points[l], points[m], weights[l], caps_, lastChord)) return false;
         closed[m] = true;
         return true;
     };
@@ -320,7 +348,7 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
         bool paired = false;
         for (std::size_t o = rank[l] + 1; !paired && o < byX.size() && !beyond(l, byX[o]); ++o) paired = pair(l, byX[o]);
         for (std::size_t o = rank[l]; !paired && o-- > 0 && !beyond(l, byX[o]);) paired = pair(l, byX[o]);
-        if (!paired) addLoop(points[l], weights[l], caps_);
+        if (!paired) addLoop(points[l], std::vector<std::uint32_t>(points[l].size(), 0), weights[l], caps_, lastChord);
     }
     if (caps_.empty()) return;
     std::vector<std::uint32_t> capOrder(caps_.size());
@@ -602,6 +630,8 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.centre = centre;
     out.reach = reach;
     out.dipoles.clear();
+    out.chordTerms.clear();
+    out.nearChords.clear();
     if (nodes_.empty()) return;
     // Nodes bounded by less than a twentieth of the target are not worth opening: they go to the
     // far nodes at once, and a smaller ball keeps the bounds they have in `within` (bounds over a
@@ -662,7 +692,11 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
                 Pending kept = far;
                 if (far.dipole) {
                     kept.slot = std::uint32_t(out.dipoles.size());
-                    out.dipoles.push_back(within->dipoles[far.slot]);
+                    BallDipole dipole = within->dipoles[far.slot];
+                    const auto first = within->chordTerms.begin() + std::ptrdiff_t(dipole.chordFirst);
+                    dipole.chordFirst = std::uint32_t(out.chordTerms.size());
+                    out.chordTerms.insert(out.chordTerms.end(), first, first + std::ptrdiff_t(dipole.chordCount));
+                    out.dipoles.push_back(dipole);
                 }
                 place(kept);
             } else {
@@ -680,12 +714,18 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         const double surface = surfaceCurvature(leaf.area, ballDistance(leaf, centre, reach));
         FanTerms terms;
         if (!(surface * reach * reach < 0.25 * fan.bound) || !fanTerms(caps_[leaf.first], centre, reach, terms)) return false;
-        BallDipole expansion;
-        expansion.value = terms.value, expansion.gradient = terms.gradient;
-        expansion.curvature = std::min(surface, terms.curvature);
-        expansion.error = terms.slack * reach; // the gradient's rounding, at the rim
-        const double spread = expansion.error + expansion.curvature * reach * reach;
+        const double error = terms.slack * reach; // the gradient's rounding, at the rim
+        const double spread = error + std::min(surface, terms.allCurvature()) * reach * reach;
         if (!(spread < 0.5 * fan.bound)) return false;
+        BallDipole expansion;
+        expansion.value = terms.value, expansion.gradient = terms.gradient, expansion.error = error;
+        if (terms.allCurvature() <= surface) { // the chords' terms apart, to cancel with their other sides'
+            expansion.curvature = terms.curvature;
+            expansion.chordFirst = std::uint32_t(out.chordTerms.size()), expansion.chordCount = std::uint32_t(terms.chordCount);
+            out.chordTerms.insert(out.chordTerms.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
+        } else {
+            expansion.curvature = surface;
+        }
         pending.pop();
         sum -= fan.bound;
         Pending bounded = fan;
@@ -715,7 +755,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
             // Expanded if that bounds it more tightly than its bound does (a sliver's area is small).
             FanTerms terms;
             const bool smooth = (!touches || clearOf(cap, centre, reach)) && fanTerms(cap, centre, reach, terms);
-            if (!touches && !(smooth && (terms.curvature * reach + terms.slack) * reach < loosest.bound)) {
+            if (!touches && !(smooth && (terms.allCurvature() * reach + terms.slack) * reach < loosest.bound)) {
                 out.farNodes.push_back(loosest);
                 sum += loosest.bound;
                 continue;
@@ -725,6 +765,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
                 continue;
             }
             out.curvature += terms.curvature;
+            out.nearChords.insert(out.nearChords.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
             out.slack += terms.slack;
             out.nearValue += terms.value;
             out.nearGradient += terms.gradient;
@@ -733,6 +774,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
     pending.forEach([&](const Pending& node) { out.farNodes.push_back(node); });
+    out.live = out.nearChords;
     for (const Pending& far : out.farNodes) {
         if (far.dipole) {
             const BallDipole& dipole = out.dipoles[far.slot];
@@ -740,10 +782,26 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
             out.farGradient += dipole.gradient;
             out.curvature += dipole.curvature;
             out.farSum += dipole.error;
+            const auto first = out.chordTerms.begin() + std::ptrdiff_t(dipole.chordFirst);
+            out.live.insert(out.live.end(), first, first + std::ptrdiff_t(dipole.chordCount));
         } else {
             out.farSum += far.bound;
         }
     }
+    out.curvature += uncancelled(out.live);
+}
+
+double WindingCaps::uncancelled(std::vector<ChordTerm>& terms) {
+    std::sort(terms.begin(), terms.end(), [](const ChordTerm& a, const ChordTerm& b) { return a.id < b.id; });
+    double sum = 0.0;
+    for (std::size_t t = 0; t < terms.size();) {
+        if (t + 1 < terms.size() && terms[t].id == terms[t + 1].id) {
+            t += 2; // the chord's two sides
+        } else {
+            sum += terms[t++].curvature;
+        }
+    }
+    return sum;
 }
 
 double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut) const {
@@ -977,6 +1035,7 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
     constexpr double inf = std::numeric_limits<double>::infinity();
     glm::dvec3 gradient(0.0); // the near caps' field at the centre
     double curvature = 0.0, slack = 0.0, far = 0.0;
+    std::vector<ChordTerm> chords; // of the caps summed
     if (nodes_.empty()) return 0.0;
     std::uint32_t stack[128];
     int top = 0;
@@ -994,9 +1053,16 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
             stack[top++] = node.first;
         } else if (FanTerms terms; fanTerms(caps_[node.first], centre, reach, terms)) {
             // The cap's loop's field at the centre (its chords and rungs cancel those of the
-            // neighbouring caps measured here too).
+            // neighbouring caps measured here too, and so do their terms of the bound).
             gradient += terms.gradient;
-            curvature += std::min(terms.curvature, surfaceCurvature(node.area, d)), slack += terms.slack;
+            const double surface = surfaceCurvature(node.area, d);
+            if (terms.curvature <= surface) {
+                curvature += terms.curvature;
+                chords.insert(chords.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
+            } else {
+                curvature += surface;
+            }
+            slack += terms.slack;
         } else if (bounded < inf) {
             far += bounded;
         } else {
@@ -1004,6 +1070,7 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
         }
         if (!(far + (curvature * reach + slack) * reach <= limit)) return inf; // these only grow
     }
+    curvature += uncancelled(chords);
     return (glm::length(gradient) * reach + (curvature * reach + slack) * reach + far) * (1.0 + 1e-9);
 }
 
@@ -1295,6 +1362,7 @@ struct BrickSigns {
             measure(next, measured->nearNodes.size());
             measured = &next;
         }
+       
         forEachUndecided([&](int i, int j, int k) {
             output.set(output.index(i, j, k),
                        caps.insideNear(axes.position(i, j, k), count(i, j, k), nearAt[local({i, j, k})], *measured, scratch, &evaluations));

@@ -26,6 +26,11 @@ struct Cap {
     glm::dvec3 lo{0.0}, hi{0.0}; // bounds of the fan (of the loop and the centre)
     double area = 0;
     int weight = 1;    // equal loops (copies of open triangles) share one cap
+    // Per edge loop[i] -> loop[i + 1]: 0 for an edge of the mesh's boundary, else the id of the
+    // chord that splits a long loop (or a strip's rung), which exactly one other cap of the same
+    // weight runs the other way: where both caps are expanded together, its fields cancel.
+    static constexpr std::size_t kMaxEdges = 5;
+    std::array<std::uint32_t, kMaxEdges> chord{};
 };
 
 // The points the fan kernel (core/sign/fan_kernel.hpp) measures at once.
@@ -85,7 +90,19 @@ public:
     struct BallDipole {
         double value = 0, error = std::numeric_limits<double>::infinity(), curvature = 0;
         glm::dvec3 gradient{0.0};
+        // An expanded fan's: its chords' terms (Cut::chordTerms[chordFirst, + chordCount)), not in curvature.
+        std::uint32_t chordFirst = 0, chordCount = 0;
     };
+    // A chord's share of an expanded fan's |Hessian| / 2 bound over a ball (Cap::chord). The two
+    // caps on a chord run it both ways, so where both are expanded at the same centre the chord's
+    // Biot-Savart fields cancel, and with them its share of the bound: a long loop's fans, split
+    // by chords that cross its hole, are bounded together by the loop's own edges.
+    struct ChordTerm {
+        std::uint32_t id;
+        double curvature;
+    };
+    // The sum of the terms whose chord's other side is not among them (sorts them by id).
+    static double uncancelled(std::vector<ChordTerm>& terms);
     // A node waiting in a walk, with its bound.
     struct Pending {
         double bound;
@@ -171,6 +188,8 @@ public:
         // The dipoles' terms over the ball (Pending::slot), computed once for the cut, its sums,
         // its walks and the cuts of the same ball carried on from it.
         std::vector<BallDipole> dipoles;
+        // The expanded fans' chord terms (BallDipole::chordFirst), and (with `expand`) the near fans'.
+        std::vector<ChordTerm> chordTerms, nearChords, live;
         double small = 0; // bounds below this went far unopened, without a dipole tried
         Waiting waiting;              // cut()'s, kept for its memory
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
