@@ -350,6 +350,7 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
         for (std::size_t o = rank[l]; !paired && o-- > 0 && !beyond(l, byX[o]);) paired = pair(l, byX[o]);
         if (!paired) addLoop(points[l], std::vector<std::uint32_t>(points[l].size(), 0), weights[l], caps_, lastChord);
     }
+    chords_ = lastChord + 1;
     if (caps_.empty()) return;
     std::vector<std::uint32_t> capOrder(caps_.size());
     std::iota(capOrder.begin(), capOrder.end(), 0u);
@@ -774,7 +775,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
     pending.forEach([&](const Pending& node) { out.farNodes.push_back(node); });
-    out.live = out.nearChords;
+    out.farChords.clear();
     for (const Pending& far : out.farNodes) {
         if (far.dipole) {
             const BallDipole& dipole = out.dipoles[far.slot];
@@ -783,25 +784,17 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
             out.curvature += dipole.curvature;
             out.farSum += dipole.error;
             const auto first = out.chordTerms.begin() + std::ptrdiff_t(dipole.chordFirst);
-            out.live.insert(out.live.end(), first, first + std::ptrdiff_t(dipole.chordCount));
+            out.farChords.insert(out.farChords.end(), first, first + std::ptrdiff_t(dipole.chordCount));
         } else {
             out.farSum += far.bound;
         }
     }
-    out.curvature += uncancelled(out.live);
-}
-
-double WindingCaps::uncancelled(std::vector<ChordTerm>& terms) {
-    std::sort(terms.begin(), terms.end(), [](const ChordTerm& a, const ChordTerm& b) { return a.id < b.id; });
-    double sum = 0.0;
-    for (std::size_t t = 0; t < terms.size();) {
-        if (t + 1 < terms.size() && terms[t].id == terms[t + 1].id) {
-            t += 2; // the chord's two sides
-        } else {
-            sum += terms[t++].curvature;
-        }
+    if (!out.nearChords.empty() || !out.farChords.empty()) {
+        out.curvature += out.marks.uncancelled(chords_, [&](const auto& f) {
+            for (const ChordTerm& term : out.nearChords) f(term);
+            for (const ChordTerm& term : out.farChords) f(term);
+        });
     }
-    return sum;
 }
 
 double WindingCaps::nearWinding(const glm::dvec3& p, const Cut& cut) const {
@@ -1035,7 +1028,8 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
     constexpr double inf = std::numeric_limits<double>::infinity();
     glm::dvec3 gradient(0.0); // the near caps' field at the centre
     double curvature = 0.0, slack = 0.0, far = 0.0;
-    std::vector<ChordTerm> chords; // of the caps summed
+    thread_local std::vector<ChordTerm> chords; // of the caps summed (kept for its memory)
+    chords.clear();
     if (nodes_.empty()) return 0.0;
     std::uint32_t stack[128];
     int top = 0;
@@ -1070,7 +1064,12 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
         }
         if (!(far + (curvature * reach + slack) * reach <= limit)) return inf; // these only grow
     }
-    curvature += uncancelled(chords);
+    if (!chords.empty()) {
+        thread_local ChordMarks marks;
+        curvature += marks.uncancelled(chords_, [&](const auto& f) {
+            for (const ChordTerm& term : chords) f(term);
+        });
+    }
     return (glm::length(gradient) * reach + (curvature * reach + slack) * reach + far) * (1.0 + 1e-9);
 }
 

@@ -101,8 +101,33 @@ public:
         std::uint32_t id;
         double curvature;
     };
-    // The sum of the terms whose chord's other side is not among them (sorts them by id).
-    static double uncancelled(std::vector<ChordTerm>& terms);
+    // Sums the terms whose chord's other side is not among them: a mark per chord id, stamped
+    // afresh for each set, so that nothing is sorted or cleared between sets.
+    class ChordMarks {
+    public:
+        // forEach(f) calls f(term) for each term of the set (twice: marks, then sums).
+        template <class ForEach>
+        double uncancelled(std::uint32_t chords, const ForEach& forEach) {
+            if (marks_.size() < chords || stamp_ > std::numeric_limits<std::uint32_t>::max() - 2) {
+                marks_.assign(std::max<std::size_t>(marks_.size(), chords), 0);
+                stamp_ = 0;
+            }
+            const std::uint32_t once = ++stamp_, twice = ++stamp_;
+            forEach([&](const ChordTerm& term) {
+                std::uint32_t& mark = marks_[term.id];
+                mark = mark == once ? twice : once;
+            });
+            double sum = 0.0;
+            forEach([&](const ChordTerm& term) {
+                if (marks_[term.id] == once) sum += term.curvature;
+            });
+            return sum;
+        }
+
+    private:
+        std::vector<std::uint32_t> marks_;
+        std::uint32_t stamp_ = 0;
+    };
     // A node waiting in a walk, with its bound.
     struct Pending {
         double bound;
@@ -188,8 +213,10 @@ public:
         // The dipoles' terms over the ball (Pending::slot), computed once for the cut, its sums,
         // its walks and the cuts of the same ball carried on from it.
         std::vector<BallDipole> dipoles;
-        // The expanded fans' chord terms (BallDipole::chordFirst), and (with `expand`) the near fans'.
-        std::vector<ChordTerm> chordTerms, nearChords, live;
+        // The expanded fans' chord terms (BallDipole::chordFirst), and (with `expand`) the near fans';
+        // the far ones' gathered, and their marks.
+        std::vector<ChordTerm> chordTerms, nearChords, farChords;
+        ChordMarks marks;
         double small = 0; // bounds below this went far unopened, without a dipole tried
         Waiting waiting;              // cut()'s, kept for its memory
         std::vector<Pending> scratch; // the walks' heap, kept for its memory
@@ -361,6 +388,7 @@ private:
     }
 
     std::vector<Cap> caps_;
+    std::uint32_t chords_ = 1; // chord ids run from 1 (Cap::chord)
     std::vector<Node> nodes_;
 };
 
