@@ -524,6 +524,60 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
     EXPECT_GT(farFans, 1000u);
 }
 
+// The fan-terms kernel (eight caps to a vector on AVX-512, four on AVX2 and the baseline) gives
+// each cap's expansion as fanTerms computes it alone, on each SIMD path, for batches of 1 to 8 caps
+// of 2 to 5 edges (runs of a long border, their chords' polygons, a strip's quads) around balls of
+// every size: the same answer (false where the ball reaches an edge or its centre lies on the
+// fan), and the same terms but for rounding.
+TEST(WindingSign, FanTermsKernelEqualsEachCapAlone) {
+    const Mesh sheet = heightfield(30, false);
+    const Mesh panel = combined("double-sided panel", sheet, moved(reversed(sheet), {0.0, 0.0, -0.003}));
+    const SimdPath chosen = simdPath();
+    std::size_t answers = 0, refused = 0;
+    for (const Mesh& mesh : {sheet, panel, withHoles(test::icosphere(1.0f, 3), 7)}) {
+        const MeshTopology topology(mesh);
+        const WindingCaps caps(topology);
+        std::mt19937 rng(8);
+        std::uniform_real_distribution<double> unit(-1.2, 1.2), share(0.0, 1.0);
+        for (SimdPath path : kSimdPaths) {
+            if (!simdPathAvailable(path)) continue;
+            setSimdPath(path);
+            for (int n = 0; n < 300; ++n) {
+                const int count = 1 + n % kFanPoints;
+                const Cap* batch[kFanPoints];
+                for (int f = 0; f < count; ++f) batch[f] = &caps.caps()[std::size_t(rng()) % caps.caps().size()];
+                glm::dvec3 centre(unit(rng), unit(rng), 0.5 * unit(rng));
+                if (n % 7 == 0) centre = batch[0]->centre; // on a fan
+                const double reach = n % 3 == 0 ? 0.0 : 0.2 * share(rng);
+                FanTerms terms[kFanPoints];
+                bool ok[kFanPoints];
+                fans::activeTerms()(batch, count, centre, reach, terms, ok);
+                for (int f = 0; f < count; ++f) {
+                    FanTerms alone;
+                    const bool aloneOk = fanTerms(*batch[f], centre, reach, alone);
+                    const std::string where = mesh.source + ", " + toString(path) + ", batch " + std::to_string(n) + ", cap " + std::to_string(f);
+                    ASSERT_EQ(ok[f], aloneOk) << where;
+                    ++(ok[f] ? answers : refused);
+                    if (!ok[f]) continue;
+                    const auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-12 * (1.0 + std::fabs(b)); };
+                    EXPECT_TRUE(near(terms[f].value, alone.value)) << where;
+                    EXPECT_TRUE(near(terms[f].curvature, alone.curvature)) << where;
+                    EXPECT_TRUE(near(terms[f].slack, alone.slack)) << where;
+                    EXPECT_LE(glm::length(terms[f].gradient - alone.gradient), 1e-12 * (1.0 + glm::length(alone.gradient))) << where;
+                    ASSERT_EQ(terms[f].chordCount, alone.chordCount) << where;
+                    for (std::size_t c = 0; c < alone.chordCount; ++c) {
+                        EXPECT_EQ(terms[f].chords[c].id, alone.chords[c].id) << where;
+                        EXPECT_TRUE(near(terms[f].chords[c].curvature, alone.chords[c].curvature)) << where;
+                    }
+                }
+            }
+        }
+    }
+    setSimdPath(chosen);
+    EXPECT_GT(answers, 2000u);
+    EXPECT_GT(refused, 100u);
+}
+
 // The count of crossings ahead through the wide tree's walk (point queries) equals the binary
 // tree's (the bake's reference) at points on vertices, edges and faces of the mesh and its fans as
 // well as off them: a holed sphere, copies of an open sheet (a weighted fan, copies counted once)

@@ -15,6 +15,7 @@
 namespace sdfgen {
 
 struct Cap;
+struct FanTerms;
 
 namespace fans {
 // Whether p lies on a fan triangle, or within rounding of it, given the triangle's factor den +
@@ -53,17 +54,25 @@ struct FanReach {
 };
 
 using Kernel = void (*)(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
+// The fan-terms kernel: ok[f] = fanTerms(*caps[f], centre, reach, out[f]) for f < n <= kFanPoints,
+// each cap of at most Cap::kMaxEdges edges, the caps in the lanes of a vector (the same
+// operations, so the same answers but for rounding).
+using TermsKernel = void (*)(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);
+#define SDFGEN_FAN_KERNELS                                                                                                      \
+    void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);             \
+    void fanTerms(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);
 namespace baseline {
-void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
+SDFGEN_FAN_KERNELS
 }
 #if defined(__x86_64__) || defined(__i386__)
 namespace avx2 {
-void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
+SDFGEN_FAN_KERNELS
 }
 namespace avx512 {
-void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);
+SDFGEN_FAN_KERNELS
 }
 #endif
+#undef SDFGEN_FAN_KERNELS
 
 inline Kernel active() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -71,6 +80,13 @@ inline Kernel active() {
     if (simdPath() == SimdPath::Avx2) return avx2::fanWindings;
 #endif
     return baseline::fanWindings;
+}
+inline TermsKernel activeTerms() {
+#if defined(__x86_64__) || defined(__i386__)
+    if (simdPath() == SimdPath::Avx512) return avx512::fanTerms;
+    if (simdPath() == SimdPath::Avx2) return avx2::fanTerms;
+#endif
+    return baseline::fanTerms;
 }
 } // namespace fans
 

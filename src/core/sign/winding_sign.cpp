@@ -121,31 +121,11 @@ double surfaceCurvature(double area, double d) {
     return 3.0 * area / (4.0 * M_PI * near * near * near * near) * (1.0 + 1e-9);
 }
 
-// The cap's first-order expansion at the centre of the ball (centre, reach), in one pass over its
-// loop (each vertex's distance shared): its winding number there (fanWinding's, off the fan), its
-// gradient (the Biot-Savart field of its loop, reversed as the fan's triangles run, over 4π and
-// times its weight: segment a -> b gives (e x ra) / |e x ra|² (e.rb / |rb| - e.ra / |ra|)), a
-// bound on that gradient's rounding per unit of distance (each edge's 8 eps / h, h the centre's
-// distance from its line, plus a relative 8 eps of the edge's field, at most length / r², r the
-// centre's distance from the edge), and a bound on |Hessian| / 2 over the ball (each edge's field
-// r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the ball's
-// distance from the edge; surfaceCurvature's is tighter far from the fan). That bound's terms of
-// the chords (Cap::chord) apart: expanded together with the cap on a chord's other side, a chord's
-// terms cancel (WindingCaps::ChordTerm). False where the ball reaches an edge or the centre is
-// within rounding of the fan.
-struct FanTerms {
-    double value = 0, slack = 0;
-    double curvature = 0; // of the edges of the mesh's boundary
-    glm::dvec3 gradient{0.0};
-    std::array<WindingCaps::ChordTerm, Cap::kMaxEdges> chords;
-    std::size_t chordCount = 0;
-    // The bound with every chord's terms.
-    double allCurvature() const {
-        double sum = curvature;
-        for (std::size_t c = 0; c < chordCount; ++c) sum += chords[c].curvature;
-        return sum;
-    }
-};
+} // namespace
+
+// fanTerms (winding_sign.hpp) for one cap, in double, as the fan-terms kernel computes it for
+// eight at once: the kernel's reference, and the answer for one cap that a ball touches or for
+// caps of more than Cap::kMaxEdges edges.
 bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& out) {
     constexpr double kEps = std::numeric_limits<double>::epsilon();
     const glm::dvec3 rc = cap.centre - centre;
@@ -198,6 +178,8 @@ bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& 
     for (std::size_t c = 0; c < out.chordCount; ++c) out.chords[c].curvature *= std::abs(k);
     return std::isfinite(out.slack) && std::isfinite(out.allCurvature());
 }
+
+namespace {
 
 // Whether the ball (centre, reach) misses the cap's fan.
 bool clearOf(const Cap& cap, const glm::dvec3& centre, double reach) {
@@ -707,71 +689,112 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     } else {
         push(0);
     }
-    // The loosest waiting node, a fan about to be measured: bounded by its expansion at the centre
-    // instead (a far dipole) where that is twice as tight (kExpandedFanPoints).
-    std::size_t expansions = 0;
-    auto expandLoosest = [&](const Pending& fan) {
+    // A fan's surface bound over the ball (surfaceCurvature).
+    auto surfaceOf = [&](const Pending& fan) {
         const Node& leaf = nodes_[fan.node];
-        const double surface = surfaceCurvature(leaf.area, ballDistance(leaf, centre, reach));
-        FanTerms terms;
-        if (!(surface * reach * reach < 0.25 * fan.bound) || !fanTerms(caps_[leaf.first], centre, reach, terms)) return false;
-        const double error = terms.slack * reach; // the gradient's rounding, at the rim
-        const double spread = error + std::min(surface, terms.allCurvature()) * reach * reach;
-        if (!(spread < 0.5 * fan.bound)) return false;
-        BallDipole expansion;
-        expansion.value = terms.value, expansion.gradient = terms.gradient, expansion.error = error;
-        if (terms.allCurvature() <= surface) { // the chords' terms apart, to cancel with their other sides'
-            expansion.curvature = terms.curvature;
-            expansion.chordFirst = std::uint32_t(out.chordTerms.size()), expansion.chordCount = std::uint32_t(terms.chordCount);
-            out.chordTerms.insert(out.chordTerms.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
-        } else {
-            expansion.curvature = surface;
-        }
-        pending.pop();
-        sum -= fan.bound;
-        Pending bounded = fan;
-        bounded.bound = spread, bounded.dipole = bounded.expanded = true;
-        bounded.slot = std::uint32_t(out.dipoles.size());
-        out.dipoles.push_back(expansion);
-        place(bounded);
-        ++expansions;
-        return true;
+        return surfaceCurvature(leaf.area, ballDistance(leaf, centre, reach));
     };
-    while (!pending.empty() && (touching > 0 || sum > target)) {
-        const Pending loosest = pending.loosest();
-        const Node& node = nodes_[loosest.node];
-        const bool touches = !std::isfinite(loosest.bound);
-        if (node.leaf && !touches && out.nearNodes.size() + out.exactNodes.size() + expansions / 2 >= maxNear) break;
-        if (node.leaf && !touches && !expand && points >= kExpandedFanPoints && !loosest.expanded && expandLoosest(loosest)) continue;
-        pending.pop();
-        if (touches) --touching;
-        else sum -= loosest.bound;
-        if (!node.leaf) {
-            push(node.first);
-            push(node.first + 1);
-            continue;
-        }
-        const Cap& cap = caps_[node.first];
-        if (expand) {
-            // Expanded if that bounds it more tightly than its bound does (a sliver's area is small).
-            FanTerms terms;
-            const bool smooth = (!touches || clearOf(cap, centre, reach)) && fanTerms(cap, centre, reach, terms);
-            if (!touches && !(smooth && (terms.allCurvature() * reach + terms.slack) * reach < loosest.bound)) {
-                out.farNodes.push_back(loosest);
-                sum += loosest.bound;
+    // Fans whose expansion (their fanTerms) the walk wants: a near fan with `expand`; without, the
+    // loosest waiting fan about to be measured, bounded by its expansion at the centre instead (a
+    // far dipole) where that is twice as tight (kExpandedFanPoints; its surface bound must promise
+    // that). Taken as if their terms had come out as they mostly do (the fan expanded), computed
+    // kFanPoints at a time by the fan-terms kernel, then settled in turn: the walk goes on where
+    // one came out otherwise. Popped already.
+    std::array<Pending, kFanPoints> deferred;
+    int deferredCount = 0;
+    std::size_t expansions = 0; // far fans expanded (or deferred to be), each half a near fan towards maxNear
+    auto settleDeferred = [&] {
+        const int n = deferredCount;
+        deferredCount = 0;
+        std::uint32_t leaves[kFanPoints];
+        for (int f = 0; f < n; ++f) leaves[f] = deferred[std::size_t(f)].node;
+        FanTerms terms[kFanPoints];
+        bool ok[kFanPoints];
+        fanTermsOf(leaves, n, centre, reach, terms, ok);
+        for (int f = 0; f < n; ++f) {
+            const Pending& fan = deferred[std::size_t(f)];
+            const FanTerms& t = terms[f];
+            if (expand) {
+                // Expanded if that bounds it more tightly than its bound does (a sliver's area is small).
+                if (!(ok[f] && (t.allCurvature() * reach + t.slack) * reach < fan.bound)) {
+                    out.farNodes.push_back(fan);
+                    sum += fan.bound;
+                    continue;
+                }
+                out.curvature += t.curvature;
+                out.nearChords.insert(out.nearChords.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
+                out.slack += t.slack;
+                out.nearValue += t.value;
+                out.nearGradient += t.gradient;
+                out.nearNodes.push_back(fan.node);
                 continue;
             }
-            if (!smooth) { // the ball may meet the fan: measured at every point
-                out.exactNodes.push_back(loosest.node);
+            // A far dipole where its expansion bounds it twice as tightly; else measured after all.
+            const double surface = surfaceOf(fan);
+            const double error = t.slack * reach; // the gradient's rounding, at the rim
+            const double spread = error + std::min(surface, t.allCurvature()) * reach * reach;
+            if (!(ok[f] && spread < 0.5 * fan.bound)) {
+                --expansions;
+                out.nearNodes.push_back(fan.node);
                 continue;
             }
-            out.curvature += terms.curvature;
-            out.nearChords.insert(out.nearChords.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
-            out.slack += terms.slack;
-            out.nearValue += terms.value;
-            out.nearGradient += terms.gradient;
+            BallDipole expansion;
+            expansion.value = t.value, expansion.gradient = t.gradient, expansion.error = error;
+            if (t.allCurvature() <= surface) { // the chords' terms apart, to cancel with their other sides'
+                expansion.curvature = t.curvature;
+                expansion.chordFirst = std::uint32_t(out.chordTerms.size()), expansion.chordCount = std::uint32_t(t.chordCount);
+                out.chordTerms.insert(out.chordTerms.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
+            } else {
+                expansion.curvature = surface;
+            }
+            Pending bounded = fan;
+            bounded.bound = spread, bounded.dipole = bounded.expanded = true;
+            bounded.slot = std::uint32_t(out.dipoles.size());
+            out.dipoles.push_back(expansion);
+            place(bounded);
         }
-        out.nearNodes.push_back(loosest.node);
+    };
+    auto defer = [&](const Pending& fan) {
+        deferred[std::size_t(deferredCount++)] = fan;
+        if (deferredCount == kFanPoints) settleDeferred();
+    };
+    for (;;) {
+        while (!pending.empty() && (touching > 0 || sum > target)) {
+            const Pending loosest = pending.loosest();
+            const Node& node = nodes_[loosest.node];
+            const bool touches = !std::isfinite(loosest.bound);
+            const std::size_t nearSoFar = out.nearNodes.size() + out.exactNodes.size() + (expand ? std::size_t(deferredCount) : 0);
+            if (node.leaf && !touches && nearSoFar + expansions / 2 >= maxNear) break;
+            pending.pop();
+            if (touches) --touching;
+            else sum -= loosest.bound;
+            if (!node.leaf) {
+                push(node.first);
+                push(node.first + 1);
+                continue;
+            }
+            if (!touches && (expand || (points >= kExpandedFanPoints && !loosest.expanded && surfaceOf(loosest) * reach * reach < 0.25 * loosest.bound))) {
+                expansions += !expand;
+                defer(loosest);
+                continue;
+            }
+            if (expand) { // the ball may meet the fan: expanded only where it misses it, else measured at every point
+                const Cap& cap = caps_[node.first];
+                FanTerms terms;
+                if (!(clearOf(cap, centre, reach) && fanTerms(cap, centre, reach, terms))) {
+                    out.exactNodes.push_back(loosest.node);
+                    continue;
+                }
+                out.curvature += terms.curvature;
+                out.nearChords.insert(out.nearChords.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
+                out.slack += terms.slack;
+                out.nearValue += terms.value;
+                out.nearGradient += terms.gradient;
+            }
+            out.nearNodes.push_back(loosest.node);
+        }
+        if (deferredCount == 0) break;
+        settleDeferred(); // and on, where that leaves the sum above the target
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
     pending.forEach([&](const Pending& node) { out.farNodes.push_back(node); });
@@ -1022,6 +1045,20 @@ int WindingCaps::sideBeyond(const glm::dvec3& p, int ahead, double margin) const
     return doubtful ? -1 : std::fabs(w) > 0.5;
 }
 
+void WindingCaps::fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok) const {
+    const Cap* fanCaps[kFanPoints];
+    bool small = true; // every cap within the kernel's edges
+    for (int f = 0; f < n; ++f) {
+        fanCaps[f] = &caps_[nodes_[leaves[f]].first];
+        small &= fanCaps[f]->loop.size() <= Cap::kMaxEdges;
+    }
+    if (small) {
+        fans::activeTerms()(fanCaps, n, centre, reach, terms, ok);
+    } else {
+        for (int f = 0; f < n; ++f) ok[f] = fanTerms(*fanCaps[f], centre, reach, terms[f]);
+    }
+}
+
 double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, double limit) const {
     // Nodes whose fans move w by less than this over the ball are bounded, not opened.
     constexpr double kOpen = 1e-3;
@@ -1031,11 +1068,42 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
     thread_local std::vector<ChordTerm> chords; // of the caps summed (kept for its memory)
     chords.clear();
     if (nodes_.empty()) return 0.0;
+    // The caps met, with their bounds: their terms are computed kFanPoints at a time.
+    std::uint32_t leaves[kFanPoints];
+    double distances[kFanPoints], bounds[kFanPoints];
+    int count = 0;
+    auto sumCaps = [&] {
+        FanTerms terms[kFanPoints];
+        bool ok[kFanPoints];
+        fanTermsOf(leaves, count, centre, reach, terms, ok);
+        for (int f = 0; f < count; ++f) {
+            if (ok[f]) {
+                // The cap's loop's field at the centre (its chords and rungs cancel those of the
+                // neighbouring caps measured here too, and so do their terms of the bound).
+                gradient += terms[f].gradient;
+                const double surface = surfaceCurvature(nodes_[leaves[f]].area, distances[f]);
+                if (terms[f].curvature <= surface) {
+                    curvature += terms[f].curvature;
+                    chords.insert(chords.end(), terms[f].chords.begin(), terms[f].chords.begin() + std::ptrdiff_t(terms[f].chordCount));
+                } else {
+                    curvature += surface;
+                }
+                slack += terms[f].slack;
+            } else if (bounds[f] < inf) {
+                far += bounds[f];
+            } else {
+                return false; // the ball reaches one of the cap's edges
+            }
+        }
+        count = 0;
+        return far + (curvature * reach + slack) * reach <= limit; // these only grow
+    };
     std::uint32_t stack[128];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
+        const std::uint32_t index = stack[--top];
+        const Node& node = nodes_[index];
         const double d = ballDistance(node, centre, reach);
         // The gradient of the solid angle's kernel m.r / |r|³ is at most 2 / |r|³: over a ball
         // that misses the node's box, its fans' winding number moves by at most 2 A reach / (4π d³).
@@ -1045,25 +1113,13 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
         } else if (!node.leaf) {
             stack[top++] = node.first + 1;
             stack[top++] = node.first;
-        } else if (FanTerms terms; fanTerms(caps_[node.first], centre, reach, terms)) {
-            // The cap's loop's field at the centre (its chords and rungs cancel those of the
-            // neighbouring caps measured here too, and so do their terms of the bound).
-            gradient += terms.gradient;
-            const double surface = surfaceCurvature(node.area, d);
-            if (terms.curvature <= surface) {
-                curvature += terms.curvature;
-                chords.insert(chords.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
-            } else {
-                curvature += surface;
-            }
-            slack += terms.slack;
-        } else if (bounded < inf) {
-            far += bounded;
         } else {
-            return inf; // the ball reaches one of the cap's edges
+            leaves[count] = index, distances[count] = d, bounds[count] = bounded;
+            if (++count == kFanPoints && !sumCaps()) return inf;
         }
-        if (!(far + (curvature * reach + slack) * reach <= limit)) return inf; // these only grow
+        if (!(far + (curvature * reach + slack) * reach <= limit)) return inf;
     }
+    if (count > 0 && !sumCaps()) return inf;
     if (!chords.empty()) {
         thread_local ChordMarks marks;
         curvature += marks.uncancelled(chords_, [&](const auto& f) {

@@ -33,6 +33,8 @@ struct Cap {
     std::array<std::uint32_t, kMaxEdges> chord{};
 };
 
+struct FanTerms; // below: a cap's first-order expansion over a ball
+
 // The points the fan kernel (core/sign/fan_kernel.hpp) measures at once.
 constexpr int kFanPoints = 8;
 
@@ -161,6 +163,16 @@ public:
         void pop() { // the loosest (after loosest())
             buckets_[std::size_t(top_)].pop_back();
             --count_;
+        }
+        // f(node) for the nodes that loosest() returns next, in that order while nothing else is
+        // pushed, as long as f returns true and they are in loosest()'s bucket.
+        template <class F>
+        void forEachNext(const F& f) {
+            if (empty()) return;
+            loosest();
+            const std::vector<Pending>& bucket = buckets_[std::size_t(top_)];
+            for (std::size_t i = bucket.size(); i-- > 0;)
+                if (!f(bucket[i])) return;
         }
         template <class F>
         void forEach(const F& f) const {
@@ -342,6 +354,9 @@ private:
     std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles = false,
                                  std::size_t budget = std::numeric_limits<std::size_t>::max()) const;
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    // terms[f] = fanTerms of the cap of leaf leaves[f] over the ball, ok[f] its answer, f < n <=
+    // kFanPoints: by the fan-terms kernel (fans::activeTerms).
+    void fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok) const;
     // Sets node's plane (normal, thickness, tilt) from the fans order[begin, end).
     void flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const;
     // The winding-number bound of a node for every point within `reach` of p (infinite when the
@@ -391,6 +406,34 @@ private:
     std::uint32_t chords_ = 1; // chord ids run from 1 (Cap::chord)
     std::vector<Node> nodes_;
 };
+
+// The cap's first-order expansion at the centre of the ball (centre, reach), in one pass over its
+// loop (each vertex's distance shared): its winding number there (fanWinding's, off the fan), its
+// gradient (the Biot-Savart field of its loop, reversed as the fan's triangles run, over 4π and
+// times its weight: segment a -> b gives (e x ra) / |e x ra|² (e.rb / |rb| - e.ra / |ra|)), a
+// bound on that gradient's rounding per unit of distance (each edge's 8 eps / h, h the centre's
+// distance from its line, plus a relative 8 eps of the edge's field, at most length / r², r the
+// centre's distance from the edge), and a bound on |Hessian| / 2 over the ball (each edge's field
+// r / |r|³ has a Jacobian of norm 2 / |r|³, so |H| <= Σ 2 length / d³ over 4π, d the ball's
+// distance from the edge; surfaceCurvature's is tighter far from the fan). That bound's terms of
+// the chords (Cap::chord) apart: expanded together with the cap on a chord's other side, a chord's
+// terms cancel (WindingCaps::ChordTerm). False where the ball reaches an edge or the centre is
+// within rounding of the fan.
+// fans::activeTerms() computes them for up to kFanPoints caps at once (core/sign/fan_kernel.hpp).
+struct FanTerms {
+    double value = 0, slack = 0;
+    double curvature = 0; // of the edges of the mesh's boundary
+    glm::dvec3 gradient{0.0};
+    std::array<WindingCaps::ChordTerm, Cap::kMaxEdges> chords{};
+    std::size_t chordCount = 0;
+    // The bound with every chord's terms.
+    double allCurvature() const {
+        double sum = curvature;
+        for (std::size_t c = 0; c < chordCount; ++c) sum += chords[c].curvature;
+        return sum;
+    }
+};
+bool fanTerms(const Cap& cap, const glm::dvec3& centre, double reach, FanTerms& out);
 
 // `ahead` for one point p (local coordinates), from the tree: what insideByWinding's row scan
 // finds for a sample at p (copies of a triangle and caps counted with their weight).
