@@ -694,11 +694,11 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         const Node& leaf = nodes_[fan.node];
         return surfaceCurvature(leaf.area, ballDistance(leaf, centre, reach));
     };
-    // Fans whose expansion (their fanTerms) the walk wants: a near fan with `expand`; without, the
+    // Fans whose expansion (their fanTerms) the cut wants: a near fan with `expand`; without, the
     // loosest waiting fan about to be measured, bounded by its expansion at the centre instead (a
     // far dipole) where that is twice as tight (kExpandedFanPoints; its surface bound must promise
     // that). Taken as if their terms had come out as they mostly do (the fan expanded), computed
-    // kFanPoints at a time by the fan-terms kernel, then settled in turn: the walk goes on where
+    // kFanPoints at a time by the fan-terms kernel, then settled in turn: the cut goes on where
     // one came out otherwise. Popped already.
     std::array<Pending, kFanPoints> deferred;
     int deferredCount = 0;
@@ -740,7 +740,9 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
             }
             BallDipole expansion;
             expansion.value = t.value, expansion.gradient = t.gradient, expansion.error = error;
-            if (t.allCurvature() <= surface) { // the chords' terms apart, to cancel with their other sides'
+            // Its edges' bound, its chords' terms apart to cancel with their other sides' where those
+            // are expanded too (chosen with them: the fans beside a far one are mostly measured).
+            if (t.allCurvature() <= surface) {
                 expansion.curvature = t.curvature;
                 expansion.chordFirst = std::uint32_t(out.chordTerms.size()), expansion.chordCount = std::uint32_t(t.chordCount);
                 out.chordTerms.insert(out.chordTerms.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
@@ -1081,6 +1083,8 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
                 // The cap's loop's field at the centre (its chords and rungs cancel those of the
                 // neighbouring caps measured here too, and so do their terms of the bound).
                 gradient += terms[f].gradient;
+                // Its edges' bound, its chords' terms apart (the caps beside it are summed here
+                // too, and mostly cancel them), or its surface bound where that is tighter.
                 const double surface = surfaceCurvature(nodes_[leaves[f]].area, distances[f]);
                 if (terms[f].curvature <= surface) {
                     curvature += terms[f].curvature;

@@ -164,16 +164,6 @@ public:
             buckets_[std::size_t(top_)].pop_back();
             --count_;
         }
-        // f(node) for the nodes that loosest() returns next, in that order while nothing else is
-        // pushed, as long as f returns true and they are in loosest()'s bucket.
-        template <class F>
-        void forEachNext(const F& f) {
-            if (empty()) return;
-            loosest();
-            const std::vector<Pending>& bucket = buckets_[std::size_t(top_)];
-            for (std::size_t i = bucket.size(); i-- > 0;)
-                if (!f(bucket[i])) return;
-        }
         template <class F>
         void forEach(const F& f) const {
             for (int b = 0; b <= highest_; ++b)
