@@ -703,6 +703,15 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     std::array<Pending, kFanPoints> deferred;
     int deferredCount = 0;
     std::size_t expansions = 0; // far fans expanded (or deferred to be), each half a near fan towards maxNear
+    // A near fan of an expanded cut: its expansion joins the near fans' sums.
+    auto addExpandedNear = [&](std::uint32_t node, const FanTerms& t) {
+        out.curvature += t.curvature;
+        out.nearChords.insert(out.nearChords.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
+        out.slack += t.slack;
+        out.nearValue += t.value;
+        out.nearGradient += t.gradient;
+        out.nearNodes.push_back(node);
+    };
     auto settleDeferred = [&] {
         const int n = deferredCount;
         deferredCount = 0;
@@ -721,12 +730,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
                     sum += fan.bound;
                     continue;
                 }
-                out.curvature += t.curvature;
-                out.nearChords.insert(out.nearChords.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
-                out.slack += t.slack;
-                out.nearValue += t.value;
-                out.nearGradient += t.gradient;
-                out.nearNodes.push_back(fan.node);
+                addExpandedNear(fan.node, t);
                 continue;
             }
             // A far dipole where its expansion bounds it twice as tightly; else measured after all.
@@ -787,11 +791,8 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
                     out.exactNodes.push_back(loosest.node);
                     continue;
                 }
-                out.curvature += terms.curvature;
-                out.nearChords.insert(out.nearChords.end(), terms.chords.begin(), terms.chords.begin() + std::ptrdiff_t(terms.chordCount));
-                out.slack += terms.slack;
-                out.nearValue += terms.value;
-                out.nearGradient += terms.gradient;
+                addExpandedNear(loosest.node, terms);
+                continue;
             }
             out.nearNodes.push_back(loosest.node);
         }
