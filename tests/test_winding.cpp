@@ -657,12 +657,15 @@ double distanceToMesh(const Mesh& mesh, const glm::dvec3& q) {
 // bound on how far w moves over them. The bound holds against the reference winding number at
 // points throughout balls that miss the mesh, beside many small holes, a long border (whose fans
 // are closed by chords) and a reversed sheet; and it is small enough for the band in most of them.
+// sideBeyond, given that bound as its margin, answers with the reference w's side wherever w is
+// off ±1/2 by more than the margin, and only there.
 TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
     const Mesh parts = combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
                                 moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)));
     for (const Mesh& mesh : {withHoles(test::icosphere(1.0f, 3), 7), heightfield(24, false), parts}) {
         const MeshTopology topology(mesh);
         const WindingCaps caps(topology);
+        const Bvh tree(mesh);
         ASSERT_FALSE(caps.empty());
         glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
         for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
@@ -671,6 +674,7 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
         std::mt19937 rng(11);
         std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
         std::size_t balls = 0, small = 0; // balls whose bound is below the 0.25 the band's cubes take
+        std::size_t sided = 0;            // of those, the balls sideBeyond sides
         double worst = 0.0; // the largest move seen, over its bound
         while (balls < 300) {
             const glm::dvec3 centre = 0.5 * (lo + hi) + 0.6 * (hi - lo) * glm::dvec3(unit(rng), unit(rng), unit(rng));
@@ -681,6 +685,17 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
             if (!(variation < std::numeric_limits<double>::infinity())) continue;
             small += variation < 0.25;
             const double w = windingNumber(mesh, centre);
+            if (variation < 0.25) {
+                const double margin = variation + 1e-6, off = std::fabs(std::fabs(w) - 0.5);
+                const int side = caps.sideBeyond(centre, crossingsAhead(mesh, tree, caps, centre), margin);
+                if (side >= 0) {
+                    ++sided;
+                    EXPECT_EQ(side, int(std::fabs(w) > 0.5)) << mesh.source << " w " << w;
+                    EXPECT_GT(off, margin - 1e-9) << mesh.source << " w " << w;
+                } else {
+                    EXPECT_LE(off, margin + 1e-9) << mesh.source << " w " << w << " margin " << margin;
+                }
+            }
             for (int m = 0; m < 12; ++m) {
                 glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
                 offset *= (m < 6 ? 1.0 : share(rng)) / glm::length(offset); // on the rim, and within
@@ -691,6 +706,7 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
             }
         }
         EXPECT_GT(small, 150u) << mesh.source;
+        EXPECT_GT(sided, small / 2) << mesh.source;
         EXPECT_GT(worst, 0.1) << mesh.source; // within a small factor of the moves seen (0.19-0.76 here)
     }
 }

@@ -305,9 +305,10 @@ public:
     WindingFans flattened() const;
     // The exact winding number at p given `ahead`: every fan measured.
     double winding(const glm::dvec3& p, int ahead) const;
-    // The side at p (1 inside, 0 outside) where |w| is farther than `margin` from 1/2, else -1:
-    // fans measured lazily, loosest node first, as inside() measures them, until the bounds of the
-    // rest decide or every fan is measured.
+    // The side at p (1 inside, 0 outside) where |w| is farther than `margin` from 1/2, else -1
+    // (a cube's centre, the margin its variation): from an estimate of the fans where that
+    // decides either way, else from fans measured lazily, loosest node first, as inside()
+    // measures them, until the bounds of the rest decide or every fan is measured.
     int sideBeyond(const glm::dvec3& p, int ahead, double margin) const;
     // A bound on how far the mesh's winding number w moves over the ball (centre, reach), which
     // no mesh triangle meets. Its gradient there is minus the fans' (their steps across the fans
@@ -391,6 +392,15 @@ private:
         const double error = node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area / (4.0 * M_PI * d * d);
         return {estimate, error};
     }
+
+    // The fans' winding number at p within `error`: each node whose dipole (or area's bound)
+    // errs by less than `nodeError` counts as that, the others are opened, down to fans measured
+    // exactly. A pass over the nodes near p, with no heap: cheaper than a walk where a margin
+    // well above nodeError is wanted.
+    struct FansEstimate {
+        double value = 0.0, error = 0.0;
+    };
+    FansEstimate estimateFans(const glm::dvec3& p, double nodeError) const;
 
     std::vector<Cap> caps_;
     std::uint32_t chords_ = 1; // chord ids run from 1 (Cap::chord)
