@@ -72,23 +72,23 @@ SDFGEN_FAN_KERNELS
 namespace avx512 {
 SDFGEN_FAN_KERNELS
 }
+#else
+namespace avx2 = baseline; // other CPUs build the baseline copy only
+namespace avx512 = baseline;
 #endif
 #undef SDFGEN_FAN_KERNELS
 
-inline Kernel active() {
-#if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx512) return avx512::fanWindings;
-    if (simdPath() == SimdPath::Avx2) return avx2::fanWindings;
-#endif
-    return baseline::fanWindings;
+// The copy of a kernel for simdPath().
+template <class K>
+K forPath(K baseline, K avx2, K avx512) {
+    switch (simdPath()) {
+    case SimdPath::Avx512: return avx512;
+    case SimdPath::Avx2: return avx2;
+    default: return baseline;
+    }
 }
-inline TermsKernel activeTerms() {
-#if defined(__x86_64__) || defined(__i386__)
-    if (simdPath() == SimdPath::Avx512) return avx512::fanTerms;
-    if (simdPath() == SimdPath::Avx2) return avx2::fanTerms;
-#endif
-    return baseline::fanTerms;
-}
+inline Kernel active() { return forPath(baseline::fanWindings, avx2::fanWindings, avx512::fanWindings); }
+inline TermsKernel activeTerms() { return forPath(baseline::fanTerms, avx2::fanTerms, avx512::fanTerms); }
 } // namespace fans
 
 } // namespace sdfgen
