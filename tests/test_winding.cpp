@@ -658,7 +658,8 @@ double distanceToMesh(const Mesh& mesh, const glm::dvec3& q) {
 // points throughout balls that miss the mesh, beside many small holes, a long border (whose fans
 // are closed by chords) and a reversed sheet; and it is small enough for the band in most of them.
 // sideBeyond, given that bound as its margin, answers with the reference w's side wherever w is
-// off ±1/2 by more than the margin, and only there.
+// off ±1/2 by more than the margin, and only there; so does sidesBeyond for the same balls taken
+// eight at a time (their estimate shared), and with the same answers.
 TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
     const Mesh parts = combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
                                 moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)));
@@ -676,6 +677,9 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
         std::size_t balls = 0, small = 0; // balls whose bound is below the 0.25 the band's cubes take
         std::size_t sided = 0;            // of those, the balls sideBeyond sides
         double worst = 0.0; // the largest move seen, over its bound
+        std::vector<glm::dvec3> centres; // the balls with a bound below 0.25: their centres, counts ahead,
+        std::vector<int> aheads;         // margins and reference winding numbers
+        std::vector<double> margins, references;
         while (balls < 300) {
             const glm::dvec3 centre = 0.5 * (lo + hi) + 0.6 * (hi - lo) * glm::dvec3(unit(rng), unit(rng), unit(rng));
             const double reach = size * (0.005 + 0.03 * share(rng));
@@ -686,15 +690,8 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
             small += variation < 0.25;
             const double w = windingNumber(mesh, centre);
             if (variation < 0.25) {
-                const double margin = variation + 1e-6, off = std::fabs(std::fabs(w) - 0.5);
-                const int side = caps.sideBeyond(centre, crossingsAhead(mesh, tree, caps, centre), margin);
-                if (side >= 0) {
-                    ++sided;
-                    EXPECT_EQ(side, int(std::fabs(w) > 0.5)) << mesh.source << " w " << w;
-                    EXPECT_GT(off, margin - 1e-9) << mesh.source << " w " << w;
-                } else {
-                    EXPECT_LE(off, margin + 1e-9) << mesh.source << " w " << w << " margin " << margin;
-                }
+                centres.push_back(centre), aheads.push_back(crossingsAhead(mesh, tree, caps, centre));
+                margins.push_back(variation + 1e-6), references.push_back(w);
             }
             for (int m = 0; m < 12; ++m) {
                 glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
@@ -703,6 +700,23 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
                 const double moved = std::fabs(windingNumber(mesh, p) - w);
                 ASSERT_LE(moved, variation) << mesh.source << " at " << p.x << "," << p.y << "," << p.z << " reach " << reach;
                 worst = std::max(worst, moved / variation);
+            }
+        }
+        for (std::size_t first = 0; first < centres.size(); first += kFanPoints) {
+            const int n = int(std::min<std::size_t>(kFanPoints, centres.size() - first));
+            int sides[kFanPoints];
+            caps.sidesBeyond(&centres[first], &aheads[first], &margins[first], n, sides);
+            for (int i = 0; i < n; ++i) {
+                const std::size_t b = first + std::size_t(i);
+                const double w = references[b], off = std::fabs(std::fabs(w) - 0.5);
+                EXPECT_EQ(sides[i], caps.sideBeyond(centres[b], aheads[b], margins[b])) << mesh.source << " w " << w;
+                if (sides[i] >= 0) {
+                    ++sided;
+                    EXPECT_EQ(sides[i], int(std::fabs(w) > 0.5)) << mesh.source << " w " << w;
+                    EXPECT_GT(off, margins[b] - 1e-9) << mesh.source << " w " << w;
+                } else {
+                    EXPECT_LE(off, margins[b] + 1e-9) << mesh.source << " w " << w << " margin " << margins[b];
+                }
             }
         }
         EXPECT_GT(small, 150u) << mesh.source;

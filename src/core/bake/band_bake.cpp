@@ -88,41 +88,68 @@ struct BrickFinder {
         return std::sqrt(closestPointOnTriangle(p, glm::dvec3(mesh.vertex(t, 0)), glm::dvec3(mesh.vertex(t, 1)), glm::dvec3(mesh.vertex(t, 2)))
                              .distanceSquared);
     }
-    void visit(const glm::ivec3& lo, int size, bool outOfBand, Found& found) const {
-        const glm::ivec3 hi = glm::min(lo + size, brickDims);
-        if (glm::any(glm::lessThanEqual(hi, lo))) return;
-        const auto [centre, reach] = ball(lo, hi);
-        if (!outOfBand) {
-            const double d = nearestDistance(centre);
-            // The float search's answer may be a rounding farther than the true nearest triangle.
-            const double magnitude = std::max({std::fabs(centre.x), std::fabs(centre.y), std::fabs(centre.z)}) + reach + d;
-            outOfBand = d - reach - 1e-5 * magnitude > band * (1.0 + 1e-5);
-        }
-        if (outOfBand && caps.farFromEveryFan(centre, reach)) return;
-        if (outOfBand) {
-            // Near a fan but clear of the surface: the winding number is smooth here; where it stays
-            // off ±1/2 over the whole cube (its value at the centre, off ±1/2 by more than the bound on
-            // its change), every sample has that side, as the dense bake decides it sample by sample.
-            constexpr double kMostVariation = 0.25; // beyond, the centre's w rarely decides the cube
-            const double variation = caps.windingVariation(centre, reach, kMostVariation);
-            if (variation < kMostVariation) {
-                const int side = caps.sideBeyond(centre, crossingsAhead(mesh, rows, caps, centre), variation * (1.0 + 1e-9) + 1e-6);
-                if (side >= 0) {
-                    for (int z = lo.z; z < hi.z; ++z)
-                        for (int y = lo.y; y < hi.y; ++y)
-                            for (int x = lo.x; x < hi.x; ++x) found.sided.emplace_back(glm::ivec3(x, y, z), std::uint8_t(side));
-                    return;
+    // A cube of the search: `size` bricks from `lo`, and whether it is known to be out of the band.
+    struct Cube {
+        glm::ivec3 lo;
+        int size;
+        bool outOfBand;
+    };
+    // Searches n <= 8 cubes (a cube's children, decided together). A cube out of the band and clear
+    // of the fans is skipped; one near a fan but clear of the surface, where the winding number is
+    // smooth, takes one side throughout where w at its centre is off ±1/2 by more than the bound
+    // on its change (the dense bake decides every sample so); the others are split, down to
+    // bricks. The centres' sides come from one estimate for the cubes together (sidesBeyond).
+    void visit(const Cube* cubes, int n, Found& found) const {
+        constexpr double kMostVariation = 0.25; // beyond, the centre's w rarely decides the cube
+        Cube kept[8];
+        glm::dvec3 centres[8];
+        int ahead[8], sides[8], sided[8], split = 0, candidates = 0;
+        double margins[8];
+        for (int c = 0; c < n; ++c) {
+            Cube cube = cubes[c];
+            const glm::ivec3 hi = glm::min(cube.lo + cube.size, brickDims);
+            if (glm::any(glm::lessThanEqual(hi, cube.lo))) continue;
+            const auto [centre, reach] = ball(cube.lo, hi);
+            if (!cube.outOfBand) {
+                const double d = nearestDistance(centre);
+                // The float search's answer may be a rounding farther than the true nearest triangle.
+                const double magnitude = std::max({std::fabs(centre.x), std::fabs(centre.y), std::fabs(centre.z)}) + reach + d;
+                cube.outOfBand = d - reach - 1e-5 * magnitude > band * (1.0 + 1e-5);
+            }
+            if (cube.outOfBand && caps.farFromEveryFan(centre, reach)) continue;
+            sided[split] = -1;
+            if (cube.outOfBand) {
+                const double variation = caps.windingVariation(centre, reach, kMostVariation);
+                if (variation < kMostVariation) {
+                    centres[candidates] = centre, ahead[candidates] = crossingsAhead(mesh, rows, caps, centre);
+                    margins[candidates] = variation * (1.0 + 1e-9) + 1e-6;
+                    sided[split] = candidates++;
                 }
             }
+            kept[split++] = cube;
         }
-        if (size == 1) {
-            (outOfBand ? found.nearFans : found.inBand).push_back(lo);
-            return;
+        if (candidates > 0) caps.sidesBeyond(centres, ahead, margins, candidates, sides);
+        for (int c = 0; c < split; ++c) {
+            const Cube& cube = kept[c];
+            const glm::ivec3 hi = glm::min(cube.lo + cube.size, brickDims);
+            if (sided[c] >= 0 && sides[sided[c]] >= 0) {
+                for (int z = cube.lo.z; z < hi.z; ++z)
+                    for (int y = cube.lo.y; y < hi.y; ++y)
+                        for (int x = cube.lo.x; x < hi.x; ++x) found.sided.emplace_back(glm::ivec3(x, y, z), std::uint8_t(sides[sided[c]]));
+                continue;
+            }
+            if (cube.size == 1) {
+                (cube.outOfBand ? found.nearFans : found.inBand).push_back(cube.lo);
+                continue;
+            }
+            const int half = cube.size / 2;
+            Cube children[8];
+            int count = 0;
+            for (int dz = 0; dz < cube.size; dz += half)
+                for (int dy = 0; dy < cube.size; dy += half)
+                    for (int dx = 0; dx < cube.size; dx += half) children[count++] = {cube.lo + glm::ivec3(dx, dy, dz), half, cube.outOfBand};
+            visit(children, count, found);
         }
-        const int half = size / 2;
-        for (int dz = 0; dz < size; dz += half)
-            for (int dy = 0; dy < size; dy += half)
-                for (int dx = 0; dx < size; dx += half) visit(lo + glm::ivec3(dx, dy, dz), half, outOfBand, found);
     }
 };
 
@@ -223,7 +250,10 @@ SparseField bakeBand(const BakeContext& context, BakeResult& result, const RunCo
     const BrickFinder finder{mesh, context.wide(), caps, grid, brickDims, band * grid.voxel / mesh.unit, context.tree};
     const std::vector<glm::ivec3> tops = finder.topCubes();
     std::vector<BrickFinder::Found> found(tops.size());
-    parallelFor(tops.size(), control.phase(0.0, 0.05), [&](std::size_t n) { finder.visit(tops[n], BrickFinder::kTop, false, found[n]); });
+    parallelFor(tops.size(), control.phase(0.0, 0.05), [&](std::size_t n) {
+        const BrickFinder::Cube top{tops[n], BrickFinder::kTop, false};
+        finder.visit(&top, 1, found[n]);
+    });
     BandSides sides;
     sides.background = header.background;
     for (BrickFinder::Found& f : found) {

@@ -1043,43 +1043,70 @@ double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
     return w;
 }
 
-int WindingCaps::sideBeyond(const glm::dvec3& p, int ahead, double margin) const {
+void WindingCaps::sidesBeyond(const glm::dvec3* points, const int* ahead, const double* margins, int n, int* sides) const {
     // An estimate to a thousandth a node decides most cubes, and shows where even w itself
     // would leave |w| within the margin of 1/2; the rest walk.
     constexpr double kNodeError = 1e-3;
-    const FansEstimate fans = estimateFans(p, kNodeError);
-    const double estimate = double(ahead) - fans.value, off = std::fabs(std::fabs(estimate) - 0.5);
-    if (off > (fans.error + margin) * (1.0 + 1e-12)) return std::fabs(estimate) > 0.5;
-    if (off + fans.error * (1.0 + 1e-12) < margin * (1.0 - 1e-12)) return -1;
-    const auto [w, doubtful] = walk(p, ahead, margin, nullptr);
-    return doubtful ? -1 : std::fabs(w) > 0.5;
+    FansEstimate fans[kFanPoints];
+    estimateFans(points, n, kNodeError, fans);
+    for (int i = 0; i < n; ++i) {
+        const double estimate = double(ahead[i]) - fans[i].value, off = std::fabs(std::fabs(estimate) - 0.5), margin = margins[i];
+        if (off > (fans[i].error + margin) * (1.0 + 1e-12)) {
+            sides[i] = std::fabs(estimate) > 0.5;
+        } else if (off + fans[i].error * (1.0 + 1e-12) < margin * (1.0 - 1e-12)) {
+            sides[i] = -1;
+        } else {
+            const auto [w, doubtful] = walk(points[i], ahead[i], margin, nullptr);
+            sides[i] = doubtful ? -1 : std::fabs(w) > 0.5;
+        }
+    }
 }
 
-WindingCaps::FansEstimate WindingCaps::estimateFans(const glm::dvec3& p, double nodeError) const {
-    FansEstimate out;
-    if (nodes_.empty()) return out;
-    double magnitude = 0.0; // of the terms summed
+void WindingCaps::estimateFans(const glm::dvec3* points, int n, double nodeError, FansEstimate* out) const {
+    assert(n > 0 && n <= kFanPoints);
+    double magnitude[kFanPoints] = {}; // of the terms summed
+    for (int i = 0; i < n; ++i) out[i] = {};
+    if (nodes_.empty()) return;
+    // The leaves to measure, kFanPoints-wide batches of the kernel's fans at a time.
+    std::uint32_t leaves[64];
+    std::size_t count = 0;
+    auto measure = [&] {
+        double windings[kFanPoints];
+        fanWindings(leaves, count, points, n, windings);
+        // The kernel's rounding: a few ulps of each fan's turn (at most one) on top of the sum's.
+        for (int i = 0; i < n; ++i) out[i].value += windings[i], magnitude[i] += std::fabs(windings[i]) + double(count);
+        count = 0;
+    };
     std::uint32_t stack[128];
     int top = 0;
     stack[top++] = 0;
+    FansEstimate terms[kFanPoints];
     while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        const auto [estimate, error] = dipole(node, p);
-        const double plain = bound(node, p, 0.0);
-        if (std::min(error, plain) < nodeError) {
-            if (error < plain) out.value += estimate, out.error += error, magnitude += std::fabs(estimate);
-            else out.error += plain;
+        const std::uint32_t index = stack[--top];
+        const Node& node = nodes_[index];
+        bool counted = true; // every point takes the node's dipole or bound
+        for (int i = 0; i < n && counted; ++i) {
+            const auto [estimate, error] = dipole(node, points[i]);
+            const double plain = bound(node, points[i], 0.0);
+            counted = std::min(error, plain) < nodeError;
+            terms[i] = error < plain ? FansEstimate{estimate, error} : FansEstimate{0.0, plain};
+        }
+        if (counted) {
+            for (int i = 0; i < n; ++i) {
+                out[i].value += terms[i].value, out[i].error += terms[i].error;
+                magnitude[i] += std::fabs(terms[i].value);
+            }
         } else if (node.leaf) {
-            const double fan = fanWinding(p, caps_[node.first]);
-            out.value += fan, magnitude += std::fabs(fan);
+            leaves[count++] = index;
+            if (count == std::size(leaves)) measure();
         } else {
             stack[top++] = node.first + 1;
             stack[top++] = node.first;
         }
     }
+    if (count > 0) measure();
     // The terms' and the running sums' rounding: a few ulps of each.
-    out.error = out.error * (1.0 + 1e-12) + 1e-12 * magnitude;
-    return out;
+    for (int i = 0; i < n; ++i) out[i].error = out[i].error * (1.0 + 1e-12) + 1e-12 * magnitude[i];
 }
 
 void WindingCaps::fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok) const {

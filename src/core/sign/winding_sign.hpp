@@ -309,7 +309,15 @@ public:
     // (a cube's centre, the margin its variation): from an estimate of the fans where that
     // decides either way, else from fans measured lazily, loosest node first, as inside()
     // measures them, until the bounds of the rest decide or every fan is measured.
-    int sideBeyond(const glm::dvec3& p, int ahead, double margin) const;
+    int sideBeyond(const glm::dvec3& p, int ahead, double margin) const {
+        int side = -1;
+        sidesBeyond(&p, &ahead, &margin, 1, &side);
+        return side;
+    }
+    // sideBeyond at n <= kFanPoints points at once (the centres of a cube's children): their
+    // estimates share one pass over the fan tree, and its fans are measured at every point by
+    // the fan kernel.
+    void sidesBeyond(const glm::dvec3* points, const int* ahead, const double* margins, int n, int* sides) const;
     // A bound on how far the mesh's winding number w moves over the ball (centre, reach), which
     // no mesh triangle meets. Its gradient there is minus the fans' (their steps across the fans
     // aside, which the counts ahead cancel): the Biot-Savart field of the caps' loops, whose chords
@@ -393,14 +401,15 @@ private:
         return {estimate, error};
     }
 
-    // The fans' winding number at p within `error`: each node whose dipole (or area's bound)
-    // errs by less than `nodeError` counts as that, the others are opened, down to fans measured
-    // exactly. A pass over the nodes near p, with no heap: cheaper than a walk where a margin
+    // The fans' winding number at each of n <= kFanPoints points within `error`: each node whose
+    // dipole (or area's bound) errs by less than `nodeError` at every point counts as that, the
+    // others are opened, down to fans measured exactly (the fan kernel, at every point at once).
+    // A pass over the nodes near the points, with no heap: cheaper than a walk where a margin
     // well above nodeError is wanted.
     struct FansEstimate {
         double value = 0.0, error = 0.0;
     };
-    FansEstimate estimateFans(const glm::dvec3& p, double nodeError) const;
+    void estimateFans(const glm::dvec3* points, int n, double nodeError, FansEstimate* out) const;
 
     std::vector<Cap> caps_;
     std::uint32_t chords_ = 1; // chord ids run from 1 (Cap::chord)
