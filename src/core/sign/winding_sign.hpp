@@ -307,8 +307,9 @@ public:
     double winding(const glm::dvec3& p, int ahead) const;
     // The side at p (1 inside, 0 outside) where |w| is farther than `margin` from 1/2, else -1
     // (a cube's centre, the margin its variation): from an estimate of the fans where that
-    // decides either way, else from fans measured lazily, loosest node first, as inside()
-    // measures them, until the bounds of the rest decide or every fan is measured.
+    // decides either way, else from a finer one, else from fans measured lazily, loosest node
+    // first, as inside() measures them, until the bounds of the rest decide or every fan is
+    // measured.
     int sideBeyond(const glm::dvec3& p, int ahead, double margin) const {
         int side = -1;
         sidesBeyond(&p, &ahead, &margin, 1, &side);
