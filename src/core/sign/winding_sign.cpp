@@ -1089,21 +1089,25 @@ void WindingCaps::estimateFans(const glm::dvec3* points, int n, double nodeError
     std::uint32_t stack[128];
     int top = 0;
     stack[top++] = 0;
-    FansEstimate terms[kFanPoints];
+    double errors[kFanPoints], plains[kFanPoints];
     while (top > 0) {
         const std::uint32_t index = stack[--top];
         const Node& node = nodes_[index];
         bool counted = true; // every point takes the node's dipole or bound
         for (int i = 0; i < n && counted; ++i) {
-            const auto [estimate, error] = dipole(node, points[i]);
-            const double plain = bound(node, points[i], 0.0);
-            counted = std::min(error, plain) < nodeError;
-            terms[i] = error < plain ? FansEstimate{estimate, error} : FansEstimate{0.0, plain};
+            const double d = boxDistance(node.lo, node.hi, points[i]);
+            errors[i] = dipoleError(node, d), plains[i] = bound(node, points[i], 0.0, d);
+            counted = std::min(errors[i], plains[i]) < nodeError;
         }
         if (counted) {
             for (int i = 0; i < n; ++i) {
-                out[i].value += terms[i].value, out[i].error += terms[i].error;
-                magnitude[i] += std::fabs(terms[i].value);
+                if (errors[i] < plains[i]) {
+                    const double estimate = dipoleEstimate(node, points[i]);
+                    out[i].value += estimate, out[i].error += errors[i];
+                    magnitude[i] += std::fabs(estimate);
+                } else {
+                    out[i].error += plains[i];
+                }
             }
         } else if (node.leaf) {
             leaves[count++] = index;

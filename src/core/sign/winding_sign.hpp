@@ -393,13 +393,18 @@ private:
     static double dipoleErrorFloor(const Node& node, double d) { return node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9); }
     static std::pair<double, double> dipole(const Node& node, const glm::dvec3& p) {
         const double d = boxDistance(node.lo, node.hi, p);
-        if (!(d > 0.0)) return {0.0, std::numeric_limits<double>::infinity()};
+        return {dipoleEstimate(node, p), dipoleError(node, d)};
+    }
+    // dipole()'s parts, d the distance from p to the node's box.
+    static double dipoleEstimate(const Node& node, const glm::dvec3& p) {
         const glm::dvec3 r = node.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
-        const double estimate = glm::dot(node.vectorArea, r) * inverse / (4.0 * M_PI);
+        return glm::dot(node.vectorArea, r) * inverse / (4.0 * M_PI);
+    }
+    static double dipoleError(const Node& node, double d) {
+        if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
         // Its rounding: a few ulps of each term, far below a 1e-12 share of the plain bound.
-        const double error = node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area / (4.0 * M_PI * d * d);
-        return {estimate, error};
+        return node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area / (4.0 * M_PI * d * d);
     }
 
     // The fans' winding number at each of n <= kFanPoints points within `error`: each node whose
