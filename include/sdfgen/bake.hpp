@@ -135,6 +135,7 @@ struct BakeResult {
     double setupSeconds = 0;
     double distanceSeconds = 0; // time spent on distances (and on rays, when the sign needs them)
     double signSeconds = 0;     // time spent on the mesh check and the sign
+    double searchSeconds = 0;   // of that, a band bake's search for its bricks (and the cubes it sides)
     bool onDevice = false;      // whether the compute device measured the distances (and winding signs)
     std::string deviceReason;   // why the bake runs where it does, e.g. "gpu: GL vendor Mesa, renderer llvmpipe ..."
 };

@@ -54,9 +54,9 @@ void runBake(BakeArgs args) {
         char line[512];
         std::snprintf(line, sizeof line,
                       "band: %g voxels each side (background %g): %zu bricks of 8^3, %zu samples in the band, %zu inside boxes; "
-                      "tree and topology %.2f s, distances %.2f s, bricks and sides %.2f s\n",
+                      "tree and topology %.2f s, distances %.2f s, bricks and sides %.2f s (the search for the bricks %.2f s)\n",
                       args.settings.band, double(band.background()), band.bricks().size(), band.activeCount(), band.insideBoxes().size(),
-                      result.setupSeconds, result.distanceSeconds, result.signSeconds);
+                      result.setupSeconds, result.distanceSeconds, result.signSeconds, result.searchSeconds);
         bandLine = line;
     }
     saveAnyField(std::move(result.field), args.output, args.save);

@@ -265,7 +265,8 @@ SparseField bakeBand(const BakeContext& context, BakeResult& result, const RunCo
     std::sort(sides.bricks.begin(), sides.bricks.end(), before);
     std::sort(sides.fanBricks.begin(), sides.fanBricks.end(), before);
     std::sort(sides.sidedBricks.begin(), sides.sidedBricks.end(), [](const auto& a, const auto& b) { return before(a.first, b.first); });
-    result.signSeconds += since(start);
+    result.searchSeconds = since(start);
+    result.signSeconds += result.searchSeconds;
 
     // 2. Their exact distances, as the dense bake measures them (samples past the grid's end: +background).
     start = Clock::now();
