@@ -725,6 +725,64 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
     }
 }
 
+// A band brick near fans is decided from its centre where no fan meets it: the fans' winding
+// number (the count of crossings ahead less the mesh's own w) is harmonic over a ball that misses
+// every fan, with the surface inside or not, so windingVariation bounds its change there, and
+// estimateFans gives it at the centre within its error (shared by up to eight centres). Checked
+// against the reference winding number on balls that hold some of the surface.
+TEST(WindingSign, VariationBoundsTheFansOverBallsThatHoldTheSurface) {
+    const Mesh parts = combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
+                                moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)));
+    for (const Mesh& mesh : {withHoles(test::icosphere(1.0f, 3), 7), heightfield(24, false), parts}) {
+        const MeshTopology topology(mesh);
+        const WindingCaps caps(topology);
+        const Bvh tree(mesh);
+        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+            for (int c = 0; c < 3; ++c) lo = glm::min(lo, glm::dvec3(mesh.vertex(t, c))), hi = glm::max(hi, glm::dvec3(mesh.vertex(t, c)));
+        const double size = glm::length(hi - lo);
+        // The fans' winding number at p: the closed surface's (its count ahead) less the mesh's.
+        auto fansAt = [&](const glm::dvec3& p) { return double(crossingsAhead(mesh, tree, caps, p)) - windingNumber(mesh, p); };
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
+        std::size_t balls = 0, bounded = 0; // balls holding the surface and missing every fan; of those, with a bound below 0.45
+        std::vector<glm::dvec3> centres;
+        for (int tries = 0; balls < 150 && tries < 20000; ++tries) {
+            // A ball around a point of the surface, pushed off it by up to its reach.
+            const std::size_t t = std::size_t(share(rng) * double(mesh.triangleCount())) % mesh.triangleCount();
+            const double a = share(rng), b = share(rng) * (1.0 - a);
+            const glm::dvec3 onSurface = glm::dvec3(mesh.vertex(t, 0)) * (1.0 - a - b) + glm::dvec3(mesh.vertex(t, 1)) * a + glm::dvec3(mesh.vertex(t, 2)) * b;
+            const double reach = size * (0.003 + 0.02 * share(rng));
+            const glm::dvec3 centre = onSurface + 0.7 * reach * glm::dvec3(unit(rng), unit(rng), unit(rng));
+            if (!(distanceToMesh(mesh, centre) < reach) || !caps.fansMiss(centre, reach)) continue;
+            ++balls;
+            const double variation = caps.windingVariation(centre, reach, 0.45);
+            if (!(variation < 0.45)) continue;
+            ++bounded;
+            centres.push_back(centre);
+            const double atCentre = fansAt(centre);
+            for (int m = 0; m < 12; ++m) {
+                glm::dvec3 offset(unit(rng), unit(rng), unit(rng));
+                offset *= (m < 6 ? 1.0 : share(rng)) / glm::length(offset); // on the rim, and within
+                const glm::dvec3 p = centre + offset * reach;
+                ASSERT_LE(std::fabs(fansAt(p) - atCentre), variation * (1.0 + 1e-6) + 1e-9) << mesh.source << " reach " << reach;
+            }
+        }
+        EXPECT_GE(balls, 150u) << mesh.source;
+        EXPECT_GT(bounded, balls / 4) << mesh.source; // the bound is checked on dozens of balls
+        for (std::size_t first = 0; first < centres.size(); first += kFanPoints) {
+            const int n = int(std::min<std::size_t>(kFanPoints, centres.size() - first));
+            WindingCaps::FansEstimate fans[kFanPoints];
+            caps.estimateFans(&centres[first], n, 1e-3, fans);
+            for (int i = 0; i < n; ++i) {
+                const double reference = fansAt(centres[first + std::size_t(i)]);
+                EXPECT_LE(std::fabs(fans[i].value - reference), fans[i].error + 1e-9) << mesh.source;
+                EXPECT_LT(fans[i].error, 0.1) << mesh.source;
+            }
+        }
+    }
+}
+
 // Signed point queries at the samples of the winding bake at `res` (the baked values, as
 // Model::query gives them) and the baked field.
 std::pair<std::vector<float>, Field> queriedAndBaked(const Mesh& mesh, int res) {

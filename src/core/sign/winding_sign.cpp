@@ -987,6 +987,24 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
     decide();
 }
 
+bool WindingCaps::fansMiss(const glm::dvec3& centre, double reach) const {
+    if (nodes_.empty()) return true;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes_[stack[--top]];
+        if (boxDistance(node.lo, node.hi, centre) > reach * (1.0 + 1e-9)) continue;
+        if (node.leaf) {
+            if (!clearOf(caps_[node.first], centre, reach)) return false;
+            continue;
+        }
+        stack[top++] = node.first + 1;
+        stack[top++] = node.first;
+    }
+    return true;
+}
+
 bool WindingCaps::noFanWithin(const glm::dvec3& p, double reach) const {
     if (nodes_.empty()) return true;
     std::uint32_t stack[128];
@@ -1366,11 +1384,14 @@ struct BrickSigns {
         reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
     }
 
-    // Decides the brick: by its counts where no fan can reach it; else by its near fans'
+    // Decides the brick: by its counts where no fan can reach it; else, given the fans' winding
+    // number at its centre (`centreFans`: the band's bricks, estimated a row at a time), by that
+    // where no fan meets it (decideByEstimate); else by its near fans'
     // expansion; the samples left measure the near fans, the whole brick's at once where its ball
     // meets at most kMaxExactFans fans (its expanded cut is smooth), else by octants, each
     // measuring only the fans near it (a brick among many small holes meets dozens).
-    void decide(int ib, int jb, int kb, int ie, int je, int ke, const int* brickCounts, int rowStride) {
+    void decide(int ib, int jb, int kb, int ie, int je, int ke, const int* brickCounts, int rowStride,
+                const WindingCaps::FansEstimate* centreFans = nullptr) {
         i0 = ib, j0 = jb, k0 = kb, i1 = ie, j1 = je, k1 = ke;
         counts = brickCounts;
         stride = rowStride;
@@ -1389,6 +1410,7 @@ struct BrickSigns {
             return;
         }
         region(i0, j0, k0, i1, j1, k1);
+        if (centreFans && decideByEstimate(*centreFans)) return;
         if (decideByExpansion()) return;
         if (expanded.smooth) {
             decideByMeasuring(&expanded);
@@ -1429,6 +1451,25 @@ struct BrickSigns {
             if (++batch == kFanPoints) decideBatch(), batch = 0;
         });
         if (batch > 0) decideBatch(), batch = 0;
+    }
+
+    // Where no fan meets the brick, the fans' winding number is harmonic over it (the surface
+    // inside or not) and moves from its value at the centre, `centreFans`, by at most
+    // windingVariation's bound: each sample whose count keeps |w| off 1/2 by more than that and
+    // the estimate's error is decided. Whether that decides every sample.
+    bool decideByEstimate(const WindingCaps::FansEstimate& centreFans) {
+        constexpr double kMostVariation = 0.45; // beyond, w within 0.05 of an integer is all it could decide
+        if (!caps.fansMiss(centre, reach)) return false;
+        const double variation = caps.windingVariation(centre, reach, kMostVariation);
+        if (!(variation < kMostVariation)) return false;
+        const double spread = (centreFans.error + variation) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
+        forEachUndecided([&](int i, int j, int k) {
+            const double x = std::fabs(double(count(i, j, k)) - centreFans.value) - 0.5; // |w| - 1/2, within spread
+            if (!(std::fabs(x) > spread)) return;
+            output.set(output.index(i, j, k), x > 0.0);
+            row(k) &= ~bit(i - i0, j - j0);
+        });
+        return undecidedCount() == 0;
     }
 
     // The near fans expanded at the centre, the fans the ball may meet measured: whether that
@@ -1761,6 +1802,7 @@ struct BandLayerSigns {
             std::sort(row.begin(), row.end(), [](const Crossing& l, const Crossing& r) { return l.x < r.x; });
             for (const Crossing& c : row) total[r] += c.sign;
         }
+        if (listed) estimateRow();
         runStart = -1;
         for (int bx = 0; bx < shared.brickDims.x; ++bx) {
             const int next = nextListed();
@@ -1776,6 +1818,42 @@ struct BandLayerSigns {
             }
         }
         closeRun(shared.brickDims.x);
+    }
+
+    // The brick row's stored bricks from `stored` on: whether each is clear of the fans, and for
+    // the others the fans' winding number at the centre, estimated kFanPoints at a time (one pass
+    // over the fan tree, the fans measured by the kernel) for BrickSigns::decideByEstimate.
+    std::size_t rowFirst = 0;
+    std::vector<std::uint8_t> rowClear;
+    std::vector<WindingCaps::FansEstimate> rowFans;
+    void estimateRow() {
+        const BandSides& band = shared.band;
+        rowFirst = stored;
+        std::size_t end = stored;
+        while (end < storedEnd && inRow(band.bricks[end])) ++end;
+        rowClear.assign(end - stored, 0);
+        rowFans.assign(end - stored, {});
+        glm::dvec3 centres[kFanPoints];
+        std::size_t at[kFanPoints];
+        int batch = 0;
+        auto flush = [&] {
+            WindingCaps::FansEstimate fans[kFanPoints];
+            if (batch > 0) shared.caps.estimateFans(centres, batch, 1e-3, fans);
+            for (int b = 0; b < batch; ++b) rowFans[at[b]] = fans[b];
+            batch = 0;
+        };
+        for (std::size_t s = stored; s < end; ++s) {
+            const int i0 = band.bricks[s].x * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
+            if (band.signBricks && shared.axes.clearOfFans(shared.caps, i0, j0, k0, i1, j1, k1)) {
+                rowClear[s - stored] = 1;
+                continue;
+            }
+            // The brick's ball, as BrickSigns::region makes it.
+            centres[batch] = 0.5 * (shared.axes.position(i0, j0, k0) + shared.axes.position(i1 - 1, j1 - 1, k1 - 1));
+            at[batch] = s - stored;
+            if (++batch == kFanPoints) flush();
+        }
+        flush();
     }
 
     // The brick row's next brick of the lists (the row's end when none is left).
@@ -1812,7 +1890,7 @@ struct BandLayerSigns {
     }
 
     // Every sample's count of brick bx, and its sides decided as the dense bake decides them.
-    void decide(int bx, const SignOutput& output) {
+    void decide(int bx, const SignOutput& output, const WindingCaps::FansEstimate* centreFans = nullptr) {
         const int i0 = bx * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
         for (int k = k0; k < k1; ++k)
             for (int j = j0; j < j1; ++j) {
@@ -1820,7 +1898,7 @@ struct BandLayerSigns {
                 for (int i = i0; i < i1; ++i) counts[r * kEdge + (i - i0)] = aheadAt(r, i);
             }
         signs.output = output;
-        signs.decide(i0, j0, k0, i1, j1, k1, counts, kEdge);
+        signs.decide(i0, j0, k0, i1, j1, k1, counts, kEdge, centreFans);
     }
 
     // The brick of the lists at bx: its side (1 inside, 0 outside, -1 both).
@@ -1852,7 +1930,7 @@ struct BandLayerSigns {
     void signStored(int bx, float* values, std::ptrdiff_t local) {
         const BandSides& band = shared.band;
         const int i0 = bx * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
-        if (band.signBricks && shared.axes.clearOfFans(shared.caps, i0, j0, k0, i1, j1, k1)) {
+        if (rowClear[stored - rowFirst]) {
             // Clear of the fans (most of the band): negated where the count is not 0, as BrickSigns decides.
             for (int k = k0; k < k1; ++k)
                 for (int j = j0; j < j1; ++j) {
@@ -1871,12 +1949,12 @@ struct BandLayerSigns {
                     }
                 }
         } else if (band.signBricks) {
-            decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge});
+            decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge}, &rowFans[stored - rowFirst]);
         } else {
             // Signed as measured, but for the samples the distance pass skipped (out of the band,
             // still +background): theirs are the winding sign's.
             std::fill(std::begin(flags), std::end(flags), std::uint8_t(0));
-            decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+            decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge}, &rowFans[stored - rowFirst]);
             for (int n = 0; n < SparseField::kBrickSamples; ++n) {
                 if (flags[n] == 1 && values[n] == band.background) values[n] = -band.background;
             }

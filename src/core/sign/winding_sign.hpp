@@ -319,6 +319,18 @@ public:
     // estimates share one pass over the fan tree, and its fans are measured at every point by
     // the fan kernel.
     void sidesBeyond(const glm::dvec3* points, const int* ahead, const double* margins, int n, int* sides) const;
+    // The fans' winding number at each of n <= kFanPoints points within `error`: each node whose
+    // dipole (or area's bound) errs by less than `nodeError` at every point counts as that, the
+    // others are opened, down to fans measured exactly (the fan kernel, at every point at once).
+    // A pass over the nodes near the points, with no heap: cheaper than a walk where a margin
+    // well above nodeError is wanted.
+    struct FansEstimate {
+        double value = 0.0, error = 0.0;
+    };
+    void estimateFans(const glm::dvec3* points, int n, double nodeError, FansEstimate* out) const;
+    // Whether the ball (centre, reach) misses every fan (then the fans' winding number is
+    // harmonic over it, whatever of the mesh it holds, and windingVariation bounds its change).
+    bool fansMiss(const glm::dvec3& centre, double reach) const;
     // A bound on how far the mesh's winding number w moves over the ball (centre, reach), which
     // no mesh triangle meets. Its gradient there is minus the fans' (their steps across the fans
     // aside, which the counts ahead cancel): the Biot-Savart field of the caps' loops, whose chords
@@ -407,15 +419,6 @@ private:
         return node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area / (4.0 * M_PI * d * d);
     }
 
-    // The fans' winding number at each of n <= kFanPoints points within `error`: each node whose
-    // dipole (or area's bound) errs by less than `nodeError` at every point counts as that, the
-    // others are opened, down to fans measured exactly (the fan kernel, at every point at once).
-    // A pass over the nodes near the points, with no heap: cheaper than a walk where a margin
-    // well above nodeError is wanted.
-    struct FansEstimate {
-        double value = 0.0, error = 0.0;
-    };
-    void estimateFans(const glm::dvec3* points, int n, double nodeError, FansEstimate* out) const;
 
     std::vector<Cap> caps_;
     std::uint32_t chords_ = 1; // chord ids run from 1 (Cap::chord)
