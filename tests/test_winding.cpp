@@ -653,6 +653,13 @@ double distanceToMesh(const Mesh& mesh, const glm::dvec3& q) {
     return distance;
 }
 
+// Meshes whose fans matter: a sphere with 7 holes, a terrain sheet, and holes beside a reversed sheet.
+std::vector<Mesh> holesAndSheets() {
+    return {withHoles(test::icosphere(1.0f, 3), 7), heightfield(24, false),
+            combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
+                     moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)))};
+}
+
 // The band bake sides whole cubes off the surface from their centre's w and windingVariation's
 // bound on how far w moves over them. The bound holds against the reference winding number at
 // points throughout balls that miss the mesh, beside many small holes, a long border (whose fans
@@ -661,16 +668,12 @@ double distanceToMesh(const Mesh& mesh, const glm::dvec3& q) {
 // off ±1/2 by more than the margin, and only there; so does sidesBeyond for the same balls taken
 // eight at a time (their estimate shared), and with the same answers.
 TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
-    const Mesh parts = combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
-                                moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)));
-    for (const Mesh& mesh : {withHoles(test::icosphere(1.0f, 3), 7), heightfield(24, false), parts}) {
+    for (const Mesh& mesh : holesAndSheets()) {
         const MeshTopology topology(mesh);
         const WindingCaps caps(topology);
         const Bvh tree(mesh);
         ASSERT_FALSE(caps.empty());
-        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
-            for (int c = 0; c < 3; ++c) lo = glm::min(lo, glm::dvec3(mesh.vertex(t, c))), hi = glm::max(hi, glm::dvec3(mesh.vertex(t, c)));
+        const glm::dvec3 lo(mesh.bounds.min), hi(mesh.bounds.max);
         const double size = glm::length(hi - lo);
         std::mt19937 rng(11);
         std::uniform_real_distribution<double> unit(-1.0, 1.0), share(0.0, 1.0);
@@ -731,15 +734,11 @@ TEST(WindingSign, VariationBoundsHowFarTheWindingNumberMovesOffTheMesh) {
 // estimateFans gives it at the centre within its error (shared by up to eight centres). Checked
 // against the reference winding number on balls that hold some of the surface.
 TEST(WindingSign, VariationBoundsTheFansOverBallsThatHoldTheSurface) {
-    const Mesh parts = combined("holes and a reversed sheet", withHoles(test::icosphere(1.0f, 3), 7),
-                                moved(reversed(heightfield(12, false)), glm::dvec3(0.0, 0.0, 1.6)));
-    for (const Mesh& mesh : {withHoles(test::icosphere(1.0f, 3), 7), heightfield(24, false), parts}) {
+    for (const Mesh& mesh : holesAndSheets()) {
         const MeshTopology topology(mesh);
         const WindingCaps caps(topology);
         const Bvh tree(mesh);
-        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
-            for (int c = 0; c < 3; ++c) lo = glm::min(lo, glm::dvec3(mesh.vertex(t, c))), hi = glm::max(hi, glm::dvec3(mesh.vertex(t, c)));
+        const glm::dvec3 lo(mesh.bounds.min), hi(mesh.bounds.max);
         const double size = glm::length(hi - lo);
         // The fans' winding number at p: the closed surface's (its count ahead) less the mesh's.
         auto fansAt = [&](const glm::dvec3& p) { return double(crossingsAhead(mesh, tree, caps, p)) - windingNumber(mesh, p); };

@@ -987,34 +987,18 @@ void WindingCaps::insideMany(const glm::dvec3* points, const int* ahead, std::si
     decide();
 }
 
-bool WindingCaps::fansMiss(const glm::dvec3& centre, double reach) const {
+bool WindingCaps::clearOfFans(const glm::dvec3& p, double reach, bool byTriangles) const {
     if (nodes_.empty()) return true;
     std::uint32_t stack[128];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         const Node& node = nodes_[stack[--top]];
-        if (boxDistance(node.lo, node.hi, centre) > reach * (1.0 + 1e-9)) continue;
+        if (boxDistance(node.lo, node.hi, p) > reach * (1.0 + 1e-9)) continue;
         if (node.leaf) {
-            if (!clearOf(caps_[node.first], centre, reach)) return false;
+            if (!byTriangles || !clearOf(caps_[node.first], p, reach)) return false;
             continue;
         }
-        stack[top++] = node.first + 1;
-        stack[top++] = node.first;
-    }
-    return true;
-}
-
-bool WindingCaps::noFanWithin(const glm::dvec3& p, double reach) const {
-    if (nodes_.empty()) return true;
-    std::uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const Node& node = nodes_[stack[--top]];
-        const double d = boxDistance(node.lo, node.hi, p);
-        if (d > reach * (1.0 + 1e-9)) continue;
-        if (node.leaf) return false;
         stack[top++] = node.first + 1;
         stack[top++] = node.first;
     }

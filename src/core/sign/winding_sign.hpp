@@ -80,7 +80,7 @@ public:
     // Stanford bunny, the bunny with 1.4k holes, an open terrain and the open-parts corpus).
     static constexpr std::size_t kWalkBudget = 2;
     // Whether no fan's box comes within `reach` of p (then no fan meets that ball).
-    bool noFanWithin(const glm::dvec3& p, double reach) const;
+    bool noFanWithin(const glm::dvec3& p, double reach) const { return clearOfFans(p, reach, false); }
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
@@ -330,7 +330,7 @@ public:
     void estimateFans(const glm::dvec3* points, int n, double nodeError, FansEstimate* out) const;
     // Whether the ball (centre, reach) misses every fan (then the fans' winding number is
     // harmonic over it, whatever of the mesh it holds, and windingVariation bounds its change).
-    bool fansMiss(const glm::dvec3& centre, double reach) const;
+    bool fansMiss(const glm::dvec3& centre, double reach) const { return clearOfFans(centre, reach, true); }
     // A bound on how far the mesh's winding number w moves over the ball (centre, reach), which
     // no mesh triangle meets. Its gradient there is minus the fans' (their steps across the fans
     // aside, which the counts ahead cancel): the Biot-Savart field of the caps' loops, whose chords
@@ -366,6 +366,9 @@ private:
     std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles = false,
                                  std::size_t budget = std::numeric_limits<std::size_t>::max()) const;
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    // Whether no fan's box (byTriangles: no fan's triangle) comes within `reach` of p: one walk
+    // for noFanWithin and fansMiss.
+    bool clearOfFans(const glm::dvec3& p, double reach, bool byTriangles) const;
     // terms[f] = fanTerms of the cap of leaf leaves[f] over the ball, ok[f] its answer, f < n <=
     // kFanPoints: by the fan-terms kernel (fans::activeTerms).
     void fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok) const;
