@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Writes a corpus of messy meshes, one per failure class of real assets, into a folder. Usage:
-bench/messy_meshes.py OUTDIR [--triangles N] [--seed S] [--class NAME ...]
+bench/messy_meshes.py OUTDIR [--triangles N] [--seed S] [--class NAME ...] [--parts KIND]
 
 Each mesh is built from parts (spheres, boxes, cylinders, bent panels), placed at random with
 the seed, and spoilt the way dataset assets are; --triangles sets about how many triangles
@@ -15,6 +15,8 @@ each mesh has (1k to 1M), by the parts' tessellation. The classes:
   thin-panels       double-sided panels: a bent sheet and its reversed copy a hair apart, open
                     along their borders
   interpenetrating  closed and open parts that cross each other
+--parts KIND makes open-parts of one kind of part alone (panels, shells, tubes or spheres, with
+no shared borders), written as open-parts-KIND.obj: which kind costs what.
 No third-party packages: Debian's /usr/bin/python3 alone.
 """
 import argparse
@@ -23,6 +25,7 @@ import os
 import random
 
 CLASSES = ["open-parts", "inverted", "duplicates", "thin-panels", "interpenetrating"]
+PART_KINDS = ["panels", "shells", "tubes", "spheres"]  # open-parts' kinds, in its order
 
 
 class Builder:
@@ -138,12 +141,13 @@ def random_holes(rng, fraction):
     return lambda i, tri: rng.random() < fraction
 
 
-def open_parts(builder, rng, n):
-    """Many disjoint open parts, a quarter inside out, some touching along edges."""
+def open_parts(builder, rng, n, only=None):
+    """Many disjoint open parts, a quarter inside out, some touching along edges (`only`: parts of
+    that kind alone, none touching)."""
     parts = 48
     for k in range(parts):
         centre = (rng.uniform(-4, 4), rng.uniform(-1.5, 1.5), rng.uniform(-1, 1))
-        kind = k % 4
+        kind = k % 4 if only is None else PART_KINDS.index(only)
         flip = rng.random() < 0.25
         stretch = (rng.uniform(0.6, 1.6), rng.uniform(0.6, 1.6), rng.uniform(0.3, 1.2))
         transform = placed(rng, centre, rng.uniform(0.3, 0.8), stretch)
@@ -158,6 +162,8 @@ def open_parts(builder, rng, n):
             builder.add(tube(n), transform, flip)
         else:  # a sphere with a few cells missing
             builder.add(sphere(max(n // 2, 3)), transform, flip, drop=random_holes(rng, 0.02))
+    if only is not None:
+        return
     # Parts that share a border (non-manifold where three meet) and a stitched pair, one flipped.
     hinge = placed(rng, (0.0, 0.0, 2.5), 0.6)
     for angle in (0.0, 2.1, 4.2):
@@ -224,11 +230,15 @@ MAKERS = {"open-parts": open_parts, "inverted": inverted, "duplicates": duplicat
           "interpenetrating": interpenetrating}
 
 
-def build(name, triangles, seed):
-    """The class's mesh with about `triangles` triangles: the tessellation n found by doubling."""
+def build(name, triangles, seed, parts=None):
+    """The class's mesh with about `triangles` triangles: the tessellation n found by doubling
+    (`parts`: open-parts of that kind alone)."""
     def make(n):
         builder = Builder()
-        MAKERS[name](builder, random.Random(seed), n)
+        if parts is not None:
+            open_parts(builder, random.Random(seed), n, parts)
+        else:
+            MAKERS[name](builder, random.Random(seed), n)
         return builder
     n = 2
     mesh = make(n)
@@ -245,11 +255,14 @@ def main():
     parser.add_argument("--triangles", type=int, default=5000, help="about how many triangles each mesh has")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--class", dest="classes", action="append", choices=CLASSES, help="one class (repeatable); all by default")
+    parser.add_argument("--parts", choices=PART_KINDS, help="open-parts of this kind of part alone (no other class)")
     args = parser.parse_args()
+    if args.parts and args.classes:
+        parser.error("--parts makes open-parts alone: leave out --class")
     os.makedirs(args.outdir, exist_ok=True)
-    for name in args.classes or CLASSES:
-        mesh = build(name, args.triangles, args.seed)
-        path = os.path.join(args.outdir, name + ".obj")
+    for name in ["open-parts"] if args.parts else args.classes or CLASSES:
+        mesh = build(name, args.triangles, args.seed, args.parts)
+        path = os.path.join(args.outdir, name + ("-" + args.parts if args.parts else "") + ".obj")
         mesh.write(path)
         print("%s: %d triangles" % (path, len(mesh.faces)))
 
