@@ -1296,11 +1296,16 @@ struct SampleAxes {
     SampleAxes(const Mesh& mesh, const Grid& grid)
         : all(sampleAxes(mesh, grid)), x(all.data()), y(x + grid.dims.x), z(y + grid.dims.y) {}
     glm::dvec3 position(int i, int j, int k) const { return {x[i], y[j], z[k]}; }
-    // Whether no fan can move the winding number of the samples [i0, i1) x [j0, j1) x [k0, k1)
-    // across ±1/2 (a ball around them far from every fan): their counts decide.
-    bool clearOfFans(const WindingCaps& caps, int i0, int j0, int k0, int i1, int j1, int k1) const {
+    // The ball (centre, reach) around the samples [i0, i1) x [j0, j1) x [k0, k1).
+    std::pair<glm::dvec3, double> ball(int i0, int j0, int k0, int i1, int j1, int k1) const {
         const glm::dvec3 lo = position(i0, j0, k0), hi = position(i1 - 1, j1 - 1, k1 - 1);
-        return caps.farFromEveryFan(0.5 * (lo + hi), 0.5 * glm::length(hi - lo) * (1.0 + 1e-9));
+        return {0.5 * (lo + hi), 0.5 * glm::length(hi - lo) * (1.0 + 1e-9)};
+    }
+    // Whether no fan can move the winding number of those samples across ±1/2 (their ball far
+    // from every fan): their counts decide.
+    bool clearOfFans(const WindingCaps& caps, int i0, int j0, int k0, int i1, int j1, int k1) const {
+        const auto [centre, reach] = ball(i0, j0, k0, i1, j1, k1);
+        return caps.farFromEveryFan(centre, reach);
     }
 };
 
@@ -1363,14 +1368,12 @@ struct BrickSigns {
         ka = k, ke = kEnd, mask = 0;
         for (int j = ja; j < je; ++j)
             for (int i = ia; i < ie; ++i) mask |= bit(i - i0, j - j0);
-        const glm::dvec3 lo = axes.position(ia, ja, ka), hi = axes.position(ie - 1, je - 1, ke - 1);
-        centre = 0.5 * (lo + hi);
-        reach = 0.5 * glm::length(hi - lo) * (1.0 + 1e-9);
+        std::tie(centre, reach) = axes.ball(ia, ja, ka, ie, je, ke);
     }
 
     // Decides the brick: by its counts where no fan can reach it; else, given the fans' winding
-    // number at its centre (`centreFans`: the band's bricks, estimated a row at a time), by that
-    // where no fan meets it (decideByEstimate); else by its near fans'
+    // number at its centre (`centreFans`: the band's bricks that fans can reach, estimated a row
+    // at a time), by that where no fan meets it (decideByEstimate); else by its near fans'
     // expansion; the samples left measure the near fans, the whole brick's at once where its ball
     // meets at most kMaxExactFans fans (its expanded cut is smooth), else by octants, each
     // measuring only the fans near it (a brick among many small holes meets dozens).
@@ -1383,7 +1386,7 @@ struct BrickSigns {
         for (int j = 0; j < je - jb; ++j)
             for (int i = 0; i < ie - ib; ++i) layer |= bit(i, j);
         for (int k = 0; k < kEdge; ++k) undecided[k] = k < ke - kb ? layer : 0;
-        if (axes.clearOfFans(caps, i0, j0, k0, i1, j1, k1)) { // the counts decide (as insideNear() would)
+        if (!centreFans && axes.clearOfFans(caps, i0, j0, k0, i1, j1, k1)) { // the counts decide (as insideNear() would)
             const SignOutput out = output; // a local copy: its pointers stay in registers across the stores
             for (int k = k0; k < k1; ++k)
                 for (int j = j0; j < j1; ++j) {
@@ -1806,7 +1809,9 @@ struct BandLayerSigns {
 
     // The brick row's stored bricks from `stored` on: whether each is clear of the fans, and for
     // the others the fans' winding number at the centre, estimated kFanPoints at a time (one pass
-    // over the fan tree, the fans measured by the kernel) for BrickSigns::decideByEstimate.
+    // over the fan tree, the fans measured by the kernel, to kCentreNodeError a node) for
+    // BrickSigns::decideByEstimate.
+    static constexpr double kCentreNodeError = 1e-3;
     std::size_t rowFirst = 0;
     std::vector<std::uint8_t> rowClear;
     std::vector<WindingCaps::FansEstimate> rowFans;
@@ -1822,18 +1827,17 @@ struct BandLayerSigns {
         int batch = 0;
         auto flush = [&] {
             WindingCaps::FansEstimate fans[kFanPoints];
-            if (batch > 0) shared.caps.estimateFans(centres, batch, 1e-3, fans);
+            if (batch > 0) shared.caps.estimateFans(centres, batch, kCentreNodeError, fans);
             for (int b = 0; b < batch; ++b) rowFans[at[b]] = fans[b];
             batch = 0;
         };
         for (std::size_t s = stored; s < end; ++s) {
             const int i0 = band.bricks[s].x * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
-            if (band.signBricks && shared.axes.clearOfFans(shared.caps, i0, j0, k0, i1, j1, k1)) {
+            if (shared.axes.clearOfFans(shared.caps, i0, j0, k0, i1, j1, k1)) {
                 rowClear[s - stored] = 1;
                 continue;
             }
-            // The brick's ball, as BrickSigns::region makes it.
-            centres[batch] = 0.5 * (shared.axes.position(i0, j0, k0) + shared.axes.position(i1 - 1, j1 - 1, k1 - 1));
+            centres[batch] = shared.axes.ball(i0, j0, k0, i1, j1, k1).first; // as BrickSigns::region's
             at[batch] = s - stored;
             if (++batch == kFanPoints) flush();
         }
@@ -1914,7 +1918,9 @@ struct BandLayerSigns {
     void signStored(int bx, float* values, std::ptrdiff_t local) {
         const BandSides& band = shared.band;
         const int i0 = bx * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
-        if (rowClear[stored - rowFirst]) {
+        const bool clear = rowClear[stored - rowFirst];
+        const WindingCaps::FansEstimate* centreFans = clear ? nullptr : &rowFans[stored - rowFirst];
+        if (clear && band.signBricks) {
             // Clear of the fans (most of the band): negated where the count is not 0, as BrickSigns decides.
             for (int k = k0; k < k1; ++k)
                 for (int j = j0; j < j1; ++j) {
@@ -1933,12 +1939,12 @@ struct BandLayerSigns {
                     }
                 }
         } else if (band.signBricks) {
-            decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge}, &rowFans[stored - rowFirst]);
+            decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge}, centreFans);
         } else {
             // Signed as measured, but for the samples the distance pass skipped (out of the band,
             // still +background): theirs are the winding sign's.
             std::fill(std::begin(flags), std::end(flags), std::uint8_t(0));
-            decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge}, &rowFans[stored - rowFirst]);
+            decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge}, centreFans);
             for (int n = 0; n < SparseField::kBrickSamples; ++n) {
                 if (flags[n] == 1 && values[n] == band.background) values[n] = -band.background;
             }

@@ -419,9 +419,8 @@ private:
     static double dipoleError(const Node& node, double d) {
         if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
         // Its rounding: a few ulps of each term, far below a 1e-12 share of the plain bound.
-        return node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9) + 1e-12 * node.area / (4.0 * M_PI * d * d);
+        return dipoleErrorFloor(node, d) + 1e-12 * node.area / (4.0 * M_PI * d * d);
     }
-
 
     std::vector<Cap> caps_;
     std::uint32_t chords_ = 1; // chord ids run from 1 (Cap::chord)
