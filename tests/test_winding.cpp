@@ -71,6 +71,29 @@ Mesh moved(const Mesh& mesh, const glm::dvec3& offset) {
     return buildMesh(mesh.source + " moved", positions, mesh.triangles);
 }
 
+// An open tube (no end caps) of `segments` sides and `rings` rings along `axis` from `base`: two
+// boundary loops of `segments` edges, each closed by several fans.
+Mesh openTube(const glm::dvec3& base, const glm::dvec3& axis, double radius, int segments, int rings) {
+    const glm::dvec3 u = glm::normalize(glm::cross(axis, std::fabs(axis.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    const glm::dvec3 v = glm::normalize(glm::cross(axis, u));
+    std::vector<glm::dvec3> positions;
+    std::vector<glm::uvec3> triangles;
+    for (int r = 0; r <= rings; ++r) {
+        for (int s = 0; s < segments; ++s) {
+            const double a = 2.0 * M_PI * s / segments;
+            positions.push_back(base + axis * (double(r) / rings) + radius * (std::cos(a) * u + std::sin(a) * v));
+        }
+    }
+    auto at = [&](int r, int s) { return unsigned(r * segments + (s % segments)); };
+    for (int r = 0; r < rings; ++r) {
+        for (int s = 0; s < segments; ++s) {
+            triangles.push_back({at(r, s), at(r, s + 1), at(r + 1, s + 1)});
+            triangles.push_back({at(r, s), at(r + 1, s + 1), at(r + 1, s)});
+        }
+    }
+    return buildMesh("open tube", positions, triangles);
+}
+
 // `mesh` with every face flipped: w negated everywhere.
 Mesh reversed(const Mesh& mesh) {
     std::vector<glm::uvec3> triangles = mesh.triangles;
@@ -137,6 +160,24 @@ TEST(WindingSign, CarriedCutsDecideAsTheReferenceDoes) {
     WindingStats stats;
     expectSignsEqualReference(parts, parts, 1.0, 28, &stats);
     EXPECT_GT(stats.carriedSamples, 500u);
+}
+
+// Seen from a brick among open tubes, the other tubes' end fans each bound w by little but
+// together by much: the samples a cut leaves in doubt have those far fans expanded exactly at the
+// brick's centre (WindingCaps::expandFar), and are decided as the reference decides them.
+TEST(WindingSign, FarFansExpandedForTheSamplesLeftInDoubt) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    Mesh tubes = openTube({-1.0, -1.0, -1.0}, {0.3, 0.2, 1.9}, 0.25, 12, 4);
+    for (int n = 1; n < 24; ++n) {
+        const glm::dvec3 base(unit(rng), unit(rng), unit(rng) - 0.5), axis(0.6 * unit(rng), 0.6 * unit(rng), 1.0 + 0.3 * unit(rng));
+        Mesh tube = openTube(base, axis, 0.15 + 0.1 * (unit(rng) + 1.0), 12, 4);
+        tubes = combined("open tubes", tubes, n % 3 == 0 ? reversed(tube) : tube);
+    }
+    ASSERT_EQ(MeshTopology(tubes).boundaryLoops().size(), 48u);
+    WindingStats stats;
+    expectSignsEqualReference(tubes, tubes, 1.0, 40, &stats);
+    EXPECT_GT(stats.farExpansions, 10u);
 }
 
 TEST(WindingSign, CoplanarOverlapsAndFlippedCopies) {
@@ -356,7 +397,7 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
         std::mt19937 rng(9);
         std::uniform_real_distribution<double> unit(-1.0, 1.0), scale(0.0, 1.0);
         WindingCaps::Cut cut;
-        std::size_t bounded = 0, dipoles = 0, expanded = 0;
+        std::size_t bounded = 0, dipoles = 0, expanded = 0, farExpanded = 0;
         for (int n = 0; n < 2000; ++n) {
             const Cap& cap = caps.caps()[std::size_t(rng() % caps.caps().size())];
             const double size = glm::length(cap.hi - cap.lo);
@@ -370,6 +411,8 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
             else if (mode == 1) caps.cut(centre, reach, 0.05, 4, false, cut);
             else if (mode == 2) caps.cut(centre, reach, 1e-3, 4, false, cut, nullptr, false, WindingCaps::kExpandedFanPoints);
             else caps.cut(centre, reach, 0.01, 64, true, cut); // near fans expanded too
+            // Every other cut has its far fans expanded too (as for the samples a brick leaves in doubt).
+            if (n % 8 >= 4) farExpanded += caps.expandFar(cut, 1e-3);
             bounded += !cut.farNodes.empty();
             for (const WindingCaps::Pending& node : cut.farNodes) dipoles += node.dipole, expanded += node.expanded;
             for (int m = 0; m < 8; ++m) {
@@ -392,6 +435,7 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
         EXPECT_GT(bounded, 1000u) << mesh.source;
         EXPECT_GT(dipoles, 100u) << mesh.source;
         EXPECT_GT(expanded, 100u) << mesh.source;
+        EXPECT_GT(farExpanded, 50u) << mesh.source;
     }
 }
 

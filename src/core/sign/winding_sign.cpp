@@ -606,7 +606,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     out.farSorted = false;
     out.farSum = 0.0;
     out.smooth = true;
-    out.curvature = 0.0;
+    out.curvature = out.nearCurvature = 0.0;
     out.slack = 0.0;
     out.farValue = out.nearValue = 0.0;
     out.farGradient = out.nearGradient = glm::dvec3(0.0);
@@ -705,7 +705,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     std::size_t expansions = 0; // far fans expanded (or deferred to be), each half a near fan towards maxNear
     // A near fan of an expanded cut: its expansion joins the near fans' sums.
     auto addExpandedNear = [&](std::uint32_t node, const FanTerms& t) {
-        out.curvature += t.curvature;
+        out.nearCurvature += t.curvature;
         out.nearChords.insert(out.nearChords.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
         out.slack += t.slack;
         out.nearValue += t.value;
@@ -734,29 +734,12 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
                 continue;
             }
             // A far dipole where its expansion bounds it twice as tightly; else measured after all.
-            const double surface = surfaceOf(fan);
-            const double error = t.slack * reach; // the gradient's rounding, at the rim
-            const double spread = error + std::min(surface, t.allCurvature()) * reach * reach;
-            if (!(ok[f] && spread < 0.5 * fan.bound)) {
+            Pending bounded = fan;
+            if (!expandedFan(out, t, ok[f], surfaceOf(fan), 0.5 * fan.bound, bounded)) {
                 --expansions;
                 out.nearNodes.push_back(fan.node);
                 continue;
             }
-            BallDipole expansion;
-            expansion.value = t.value, expansion.gradient = t.gradient, expansion.error = error;
-            // Its edges' bound, its chords' terms apart to cancel with their other sides' where those
-            // are expanded too (chosen with them: the fans beside a far one are mostly measured).
-            if (t.allCurvature() <= surface) {
-                expansion.curvature = t.curvature;
-                expansion.chordFirst = std::uint32_t(out.chordTerms.size()), expansion.chordCount = std::uint32_t(t.chordCount);
-                out.chordTerms.insert(out.chordTerms.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
-            } else {
-                expansion.curvature = surface;
-            }
-            Pending bounded = fan;
-            bounded.bound = spread, bounded.dipole = bounded.expanded = true;
-            bounded.slot = std::uint32_t(out.dipoles.size());
-            out.dipoles.push_back(expansion);
             place(bounded);
         }
     };
@@ -801,6 +784,114 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
     }
     out.smooth = out.exactNodes.size() <= kMaxExactFans;
     pending.forEach([&](const Pending& node) { out.farNodes.push_back(node); });
+    sumFar(out);
+}
+
+bool WindingCaps::expandedFan(Cut& out, const FanTerms& t, bool ok, double surface, double limit, Pending& fan) const {
+    const double error = t.slack * out.reach; // the gradient's rounding, at the rim
+    const double spread = error + std::min(surface, t.allCurvature()) * out.reach * out.reach;
+    if (!(ok && spread < limit)) return false;
+    BallDipole expansion;
+    expansion.value = t.value, expansion.gradient = t.gradient, expansion.error = error;
+    // Its edges' bound, its chords' terms apart to cancel with their other sides' where those
+    // are expanded too (chosen with them: the fans beside a far one are mostly measured).
+    if (t.allCurvature() <= surface) {
+        expansion.curvature = t.curvature;
+        expansion.chordFirst = std::uint32_t(out.chordTerms.size()), expansion.chordCount = std::uint32_t(t.chordCount);
+        out.chordTerms.insert(out.chordTerms.end(), t.chords.begin(), t.chords.begin() + std::ptrdiff_t(t.chordCount));
+    } else {
+        expansion.curvature = surface;
+    }
+    fan.bound = spread, fan.dipole = fan.expanded = true;
+    fan.slot = std::uint32_t(out.dipoles.size());
+    out.dipoles.push_back(expansion);
+    return true;
+}
+
+double WindingCaps::farToExpand(const Cut& cut) const {
+    double sum = 0.0;
+    for (const Pending& far : cut.farNodes) {
+        if (!far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], cut.centre, cut.reach) >= kFarReaches * cut.reach) sum += far.bound;
+    }
+    return sum;
+}
+
+bool WindingCaps::expandFar(Cut& cut, double target) const {
+    const glm::dvec3 centre = cut.centre;
+    const double reach = cut.reach, nearest = kFarReaches * reach;
+    auto opened = [&](const Pending& far) {
+        return !far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], centre, reach) >= nearest;
+    };
+    double sum = 0.0; // of the bounds of the nodes to open
+    for (const Pending& far : cut.farNodes) {
+        if (opened(far)) sum += far.bound;
+    }
+    if (!(sum > target)) return false;
+    // The nodes to open wait (loosest first); the others stay.
+    Waiting& waiting = cut.waiting;
+    waiting.clear();
+    std::size_t kept = 0;
+    for (const Pending& far : cut.farNodes) {
+        if (opened(far)) waiting.push(far);
+        else cut.farNodes[kept++] = far;
+    }
+    cut.farNodes.resize(kept);
+    // Fans to expand, kFanPoints at a time (the fan-terms kernel); their bounds left the sum.
+    std::uint32_t leaves[kFanPoints];
+    Pending deferred[kFanPoints];
+    int count = 0;
+    auto settle = [&] {
+        FanTerms terms[kFanPoints];
+        bool ok[kFanPoints];
+        fanTermsOf(leaves, count, centre, reach, terms, ok);
+        for (int f = 0; f < count; ++f) {
+            Pending fan = deferred[f];
+            const Node& leaf = nodes_[fan.node];
+            if (!expandedFan(cut, terms[f], ok[f], surfaceCurvature(leaf.area, ballDistance(leaf, centre, reach)), fan.bound, fan)) {
+                sum += fan.bound; // stays bounded by its area
+            }
+            cut.farNodes.push_back(fan);
+        }
+        count = 0;
+    };
+    for (;;) {
+        while (!waiting.empty() && sum > target) {
+            const Pending loosest = waiting.loosest();
+            waiting.pop();
+            sum -= loosest.bound;
+            const Node& node = nodes_[loosest.node];
+            if (node.leaf) {
+                leaves[count] = loosest.node, deferred[count] = loosest;
+                if (++count == kFanPoints) settle();
+                continue;
+            }
+            for (const std::uint32_t child : {node.first, node.first + 1}) {
+                const Node& c = nodes_[child];
+                const double d = ballDistance(c, centre, reach);
+                const Pending bounded{bound(c, centre, reach, d), child};
+                if (!(bounded.bound > 0.0)) continue; // no area
+                if (d >= nearest) {
+                    waiting.push(bounded);
+                    sum += bounded.bound;
+                } else {
+                    cut.farNodes.push_back(bounded);
+                }
+            }
+        }
+        if (count == 0) break;
+        settle(); // and on, where fans that kept their bounds leave the sum above the target
+    }
+    waiting.forEach([&](const Pending& node) { cut.farNodes.push_back(node); });
+    sumFar(cut);
+    return true;
+}
+
+void WindingCaps::sumFar(Cut& out) const {
+    out.farSorted = false;
+    out.farValue = 0.0;
+    out.farGradient = glm::dvec3(0.0);
+    out.farSum = 0.0;
+    out.curvature = out.nearCurvature;
     out.farChords.clear();
     for (const Pending& far : out.farNodes) {
         if (far.dipole) {
@@ -1323,10 +1414,12 @@ struct BrickSigns {
     // are WindingCaps's (kNearestFans, kLooseTarget, ...).
     static constexpr double kExpandTarget = 0.01;
     static constexpr std::size_t kExpandedFans = 64;
+    // WindingCaps::expandFar's target, for the samples a cut leaves in doubt.
+    static constexpr double kFarTarget = 0.01;
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
-    std::size_t evaluations = 0, exactDecided = 0, carriedOn = 0;
+    std::size_t evaluations = 0, exactDecided = 0, carriedOn = 0, farExpanded = 0;
     // The brick's expanded cut; the measured cut of the nearest fans, and the loose one;
     // insideNear's heap; a measured cut carried on, and the next.
     WindingCaps::Cut expanded, nearest, loose, scratch, carried[2];
@@ -1345,6 +1438,8 @@ struct BrickSigns {
     const int& count(int i, int j, int k) const { return counts[std::ptrdiff_t((j - j0) + kEdge * (k - k0)) * stride + (i - i0)]; }
     static std::uint64_t bit(int i, int j) { return std::uint64_t(1) << (i + kEdge * j); }
     std::uint64_t& row(int k) { return undecided[k - k0]; }
+    // A sample's index in the brick.
+    int local(const glm::ivec3& q) const { return (q.x - i0) + kEdge * ((q.y - j0) + kEdge * (q.z - k0)); }
     // The region whose samples are decided together: the brick, or an octant (layers [ka, ke),
     // bits `mask` of each).
     int ka = 0, ke = 0;
@@ -1421,10 +1516,32 @@ struct BrickSigns {
         // |w| - 1/2: its distance from 0 bounds w's from both 1/2 and -1/2.
         const double x = std::fabs(double(count(q.x, q.y, q.z)) - fans) - 0.5;
         const double spread = cut.farSum + (cut.curvature * distance + cut.slack) * distance;
-        if (!(std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin)) return false;
+        if (!(std::fabs(x) > spread * (1.0 + 1e-12) + WindingCaps::kDecisionMargin)) {
+            room[local(q)] = std::fabs(x) - (spread - cut.farSum);
+            return false;
+        }
         output.set(output.index(q.x, q.y, q.z), x > 0.0);
         row(q.z) &= ~bit(q.x - i0, q.y - j0);
         return true;
+    }
+
+    // Per sample left in doubt by settle(): how far |w| - 1/2 is from 0 but for the far bounds.
+    double room[kEdge * kEdge * kEdge];
+    // Whether WindingCaps::expandFar would decide enough of the samples left: a quarter of them and
+    // at least kFarExpansionLeast, whose room exceeds the far bounds it would leave. Beside small
+    // holes the samples left are those near |w| = 1/2, which no expansion of far fans decides
+    // (it would cost more than the fans measured at them).
+    static constexpr int kFarExpansionLeast = 8;
+    bool farExpansionPays(const WindingCaps::Cut& cut) {
+        const double opened = caps.farToExpand(cut);
+        if (!(opened > kFarTarget)) return false;
+        const double left = cut.farSum - opened + 2.0 * kFarTarget;
+        int doubtful = 0, decided = 0;
+        forEachUndecided([&](int i, int j, int k) {
+            ++doubtful;
+            decided += room[local({i, j, k})] > left;
+        });
+        return decided >= kFarExpansionLeast && 4 * decided >= doubtful;
     }
 
     // The undecided samples, a batch of up to kFanPoints at a time: their fans are measured together.
@@ -1465,21 +1582,35 @@ struct BrickSigns {
         WindingCaps::Cut& cut = expanded;
         caps.cut(centre, reach, kExpandTarget, kExpandedFans, true, cut);
         if (!cut.smooth) return false;
-        const double near = cut.nearValue + cut.farValue;
-        const glm::dvec3 gradient = cut.nearGradient + cut.farGradient;
         evaluations += cut.nearNodes.size();
-        forEachBatch([&] {
-            double exact[kFanPoints] = {};
-            if (!cut.exactNodes.empty()) {
-                evaluations += caps.fanWindings(cut.exactNodes, points, batch, exact);
-            }
-            for (int s = 0; s < batch; ++s) {
-                const glm::dvec3 offset = points[s] - centre;
-                if (settle(at[s], near + glm::dot(gradient, offset) + exact[s], glm::length(offset), cut)) {
-                    exactDecided += !cut.exactNodes.empty();
+        double exactAt[kEdge * kEdge * kEdge]; // the exact fans' winding number at each sample
+        auto settleAll = [&](bool measure) {
+            const double near = cut.nearValue + cut.farValue;
+            const glm::dvec3 gradient = cut.nearGradient + cut.farGradient;
+            forEachBatch([&] {
+                double exact[kFanPoints] = {};
+                if (!cut.exactNodes.empty()) {
+                    if (measure) evaluations += caps.fanWindings(cut.exactNodes, points, batch, exact);
+                    for (int s = 0; s < batch; ++s) {
+                        double& stored = exactAt[local(at[s])];
+                        if (measure) stored = exact[s];
+                        else exact[s] = stored;
+                    }
                 }
-            }
-        });
+                for (int s = 0; s < batch; ++s) {
+                    const glm::dvec3 offset = points[s] - centre;
+                    if (settle(at[s], near + glm::dot(gradient, offset) + exact[s], glm::length(offset), cut)) {
+                        exactDecided += !cut.exactNodes.empty();
+                    }
+                }
+            });
+        };
+        settleAll(true);
+        // The samples left in doubt, with the far fans expanded too.
+        if (undecidedCount() > 0 && farExpansionPays(cut) && caps.expandFar(cut, kFarTarget)) {
+            ++farExpanded;
+            settleAll(false);
+        }
         return undecidedCount() == 0;
     }
 
@@ -1490,7 +1621,6 @@ struct BrickSigns {
     // samples still in doubt walk the tree on their own.
     void decideByMeasuring(const WindingCaps::Cut* within) {
         double nearAt[kEdge * kEdge * kEdge] = {};
-        auto local = [&](const glm::ivec3& q) { return (q.x - i0) + kEdge * ((q.y - j0) + kEdge * (q.z - k0)); };
         // Measures the cut's near fans from `from` on, adds them to each undecided sample's
         // nearAt and settles the samples that decides.
         auto measure = [&](const WindingCaps::Cut& measured, std::size_t from) {
@@ -1513,6 +1643,14 @@ struct BrickSigns {
             caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, loose, &nearest, false, points);
         }
         measure(*measured, 0);
+        if (undecidedCount() > 0 && farExpansionPays(*measured) && caps.expandFar(*measured, kFarTarget)) { // the samples left, with the far fans expanded too
+            ++farExpanded;
+            forEachUndecided([&](int i, int j, int k) {
+                const glm::dvec3 offset = axes.position(i, j, k) - centre;
+                settle({i, j, k}, nearAt[local({i, j, k})] + measured->farValue + glm::dot(measured->farGradient, offset), glm::length(offset),
+                       *measured);
+            });
+        }
         int flip = 0;
         for (double target : WindingCaps::kCarriedTargets) {
             if (!(measured->spread() > target)) continue; // met already
@@ -1656,7 +1794,7 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
     //    crossings ahead (+x); then, per brick of kBrickEdge³ samples, the fans' winding number is
     //    subtracted wherever it might matter.
     constexpr int kBrickEdge = BrickSigns::kEdge;
-    std::atomic<std::size_t> fanEvaluations{0}, exactFanSamples{0}, carriedSamples{0};
+    std::atomic<std::size_t> fanEvaluations{0}, exactFanSamples{0}, carriedSamples{0}, farExpansions{0};
     const int blocksY = (ny + kBrickEdge - 1) / kBrickEdge, blocksZ = (nz + kBrickEdge - 1) / kBrickEdge;
     parallelFor(std::size_t(blocksY) * std::size_t(blocksZ), control.phase(0.3, 1.0), [&](std::size_t block) {
         const int jb = kBrickEdge * int(block % std::size_t(blocksY)), kb = kBrickEdge * int(block / std::size_t(blocksY));
@@ -1688,12 +1826,14 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
         fanEvaluations += evaluations;
         exactFanSamples += brick.exactDecided;
         carriedSamples += brick.carriedOn;
+        farExpansions += brick.farExpanded;
     });
     if (stats) {
         stats->caps = caps.caps().size();
         stats->fanEvaluations = fanEvaluations;
         stats->exactFanSamples = exactFanSamples;
         stats->carriedSamples = carriedSamples;
+        stats->farExpansions = farExpansions;
     }
 }
 

@@ -210,6 +210,7 @@ public:
         // at offset d. curvature also bounds the far dipoles' expansion (with or without `expand`).
         bool smooth = true;
         double curvature = 0, slack = 0;
+        double nearCurvature = 0; // the near fans' share of curvature, their chords apart
         double nearValue = 0;
         glm::dvec3 nearGradient{0.0};
         // The dipoles' terms over the ball (Pending::slot), computed once for the cut, its sums,
@@ -254,6 +255,19 @@ public:
     // brick of samples among open parts would measure lie dozens of reaches away, and an
     // expansion costs about as much as measuring the fan at a few points.
     static constexpr int kExpandedFanPoints = 24;
+    // The cut's far nodes that lie kFarReaches reaches or more from its ball, bounded by their
+    // area, opened loosest first down to their fans, and each fan expanded exactly at the centre
+    // (as a far dipole) where that bounds it more tightly, until those nodes' bounds sum to at
+    // most `target`. Seen from a brick beside open parts, the fans of the other parts each bound
+    // w by little, yet hundreds of them together bound it by 0.1 to 1; an exact expansion at
+    // kFarReaches reaches errs by a few percent of that bound at most, and shrinks as the square
+    // of the distance. Far cheaper than the fans measured at every point that the samples left
+    // in doubt would need; so it is done only where samples are left in doubt. Whether it
+    // changed the cut.
+    static constexpr double kFarReaches = 2.0;
+    bool expandFar(Cut& cut, double target) const;
+    // The sum of the bounds of the far nodes that expandFar would open.
+    double farToExpand(const Cut& cut) const;
     // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
     // than splitting the brick into octants.
     static constexpr std::size_t kMaxExactFans = 4;
@@ -366,6 +380,13 @@ private:
     std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles = false,
                                  std::size_t budget = std::numeric_limits<std::size_t>::max()) const;
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    // The cut's far sums (farValue, farGradient, farSum) and its curvature (the near fans' and the
+    // far dipoles', with the chords' terms that do not cancel), from its nodes.
+    void sumFar(Cut& out) const;
+    // The far dipole of a fan whose expansion at the ball's centre is `terms`, for a fan bounded
+    // by `bound` and `surface` (surfaceCurvature) there: its bound over the ball (the Pending's),
+    // or no dipole where that is not below `limit`.
+    bool expandedFan(Cut& out, const FanTerms& terms, bool ok, double surface, double limit, Pending& fan) const;
     // Whether no fan's box (byTriangles: no fan's triangle) comes within `reach` of p: one walk
     // for noFanWithin and fansMiss.
     bool clearOfFans(const glm::dvec3& p, double reach, bool byTriangles) const;
@@ -479,6 +500,7 @@ struct WindingStats {
     std::size_t fanEvaluations = 0;
     std::size_t exactFanSamples = 0; // samples decided by a brick's expansion with its exact fans measured at each
     std::size_t carriedSamples = 0; // samples measured again by a cut carried on (each time counted)
+    std::size_t farExpansions = 0;  // cuts whose far fans were expanded for the samples they left in doubt
 };
 
 // The generalized winding number w (Jacobson et al. 2013), inside where |w| > 1/2, computed exactly.
