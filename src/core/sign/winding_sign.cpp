@@ -762,7 +762,9 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
                 push(node.first + 1);
                 continue;
             }
-            if (!touches && (expand || (points >= kExpandedFanPoints && !loosest.expanded && surfaceOf(loosest) * reach * reach < 0.25 * loosest.bound))) {
+            if (!touches && (expand || (points >= kExpandedFanPoints && !loosest.expanded &&
+                                        (surfaceOf(loosest) * reach * reach < 0.25 * loosest.bound ||
+                                         ballDistance(node, centre, reach) >= kFarReaches * reach)))) {
                 expansions += !expand;
                 defer(loosest);
                 continue;
@@ -1614,11 +1616,13 @@ struct BrickSigns {
         return undecidedCount() == 0;
     }
 
-    // The region's samples left measure its near fans: first the nearest few (or, where those leave every
-    // sample in doubt, the fans within the loose target); while those leave samples in doubt, the
-    // cut is carried on to ever tighter targets and only the fans it adds are measured at those
-    // samples (beside an open sheet, where |w| nears 1/2, that costs a fraction of a walk); the
-    // samples still in doubt walk the tree on their own.
+    // The region's samples left measure its near fans: first the nearest few, with the far fans
+    // expanded for the samples those leave in doubt where that pays (WindingCaps::expandFar); where
+    // the nearest left every sample in doubt, the cut is carried on to the loose target (the fans
+    // it adds measured at the samples left, the far ones expanded again); while samples are left
+    // in doubt, the cut is carried on to ever tighter targets and only the fans it adds are
+    // measured at those samples (beside an open sheet, where |w| nears 1/2, that costs a fraction
+    // of a walk); the samples still in doubt walk the tree on their own.
     void decideByMeasuring(const WindingCaps::Cut* within) {
         double nearAt[kEdge * kEdge * kEdge] = {};
         // Measures the cut's near fans from `from` on, adds them to each undecided sample's
@@ -1637,19 +1641,25 @@ struct BrickSigns {
         };
         const int points = undecidedCount();
         caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, nearest, within, false, points);
-        WindingCaps::Cut* measured = &nearest;
-        if (nearest.spread() > WindingCaps::kHopeless) {
-            measured = &loose;
-            caps.cut(centre, reach, WindingCaps::kLooseTarget, WindingCaps::kMeasuredFans, false, loose, &nearest, false, points);
-        }
-        measure(*measured, 0);
-        if (undecidedCount() > 0 && farExpansionPays(*measured) && caps.expandFar(*measured, kFarTarget)) { // the samples left, with the far fans expanded too
+        // The samples left by a measure, with the cut's far fans expanded too.
+        auto expandFar = [&](WindingCaps::Cut& cut) {
+            if (undecidedCount() == 0 || !farExpansionPays(cut) || !caps.expandFar(cut, kFarTarget)) return;
             ++farExpanded;
             forEachUndecided([&](int i, int j, int k) {
                 const glm::dvec3 offset = axes.position(i, j, k) - centre;
-                settle({i, j, k}, nearAt[local({i, j, k})] + measured->farValue + glm::dot(measured->farGradient, offset), glm::length(offset),
-                       *measured);
+                settle({i, j, k}, nearAt[local({i, j, k})] + cut.farValue + glm::dot(cut.farGradient, offset), glm::length(offset), cut);
             });
+        };
+        const bool hopeless = nearest.spread() > WindingCaps::kHopeless;
+        measure(nearest, 0);
+        expandFar(nearest);
+        WindingCaps::Cut* measured = &nearest;
+        if (hopeless && undecidedCount() > 0 && nearest.spread() > WindingCaps::kLooseTarget) {
+            caps.cut(centre, reach, WindingCaps::kLooseTarget, nearest.nearNodes.size() + WindingCaps::kMeasuredFans, false, loose, &nearest, true,
+                     undecidedCount());
+            measure(loose, nearest.nearNodes.size());
+            measured = &loose;
+            expandFar(loose);
         }
         int flip = 0;
         for (double target : WindingCaps::kCarriedTargets) {

@@ -228,10 +228,12 @@ public:
     // (BrickSigns' bricks or octants, insideMany's runs): the nearest kNearestFans with the rest within
     // kTightTarget; where those leave the rest bounded by more than kHopeless (a ball among open
     // parts, whose points are mostly far from |w| = 1/2 but near dozens of fans), the fans that bring
-    // it within kLooseTarget instead, and for the points those leave in doubt, within kTightTarget
-    // and on (that cut carried on to each of kCarriedTargets not met yet: its fans kept, only the
-    // ones added measured); at most kMeasuredFans each time (tuned by time on open sheets, meshes
-    // with many holes and the messy corpus).
+    // it within kLooseTarget (a run of query points takes that cut instead; a brick carries the
+    // nearest on to it for the samples that the nearest and its far fans expanded leave in doubt),
+    // and for the points those leave in doubt, within kTightTarget and on (that cut carried on to
+    // each of kCarriedTargets not met yet: its fans kept, only the ones added measured); at most
+    // kMeasuredFans each time (tuned by time on open sheets, meshes with many holes and the messy
+    // corpus).
     static constexpr double kTightTarget = 0.01, kLooseTarget = 0.1, kHopeless = 0.3;
     // The targets a measured cut is carried on to, in turn, while it leaves points in doubt (up to
     // kMeasuredFans more fans each time): beside an open sheet |w| nears 1/2, and the fans measured
@@ -251,18 +253,21 @@ public:
     // Without `expand`, for a cut whose near fans will be measured at `points` >= kExpandedFanPoints
     // points: a fan about to be measured is bounded by its exact first-order expansion at the
     // centre instead (a far dipole: measured only if opened again) where that bounds it at least
-    // twice as tightly, and counts as half a near fan towards maxNear. Most of the fans that a
-    // brick of samples among open parts would measure lie dozens of reaches away, and an
-    // expansion costs about as much as measuring the fan at a few points.
+    // twice as tightly, and counts as half a near fan towards maxNear. Tried where its surface
+    // bound promises that, or where it lies kFarReaches reaches or more away (its edges' bound may
+    // be far tighter there). Most of the fans that a brick of samples among open parts would
+    // measure lie dozens of reaches away, and an expansion costs about as much as measuring the
+    // fan at a few points.
     static constexpr int kExpandedFanPoints = 24;
     // The cut's far nodes that lie kFarReaches reaches or more from its ball, bounded by their
     // area, opened loosest first down to their fans, and each fan expanded exactly at the centre
     // (as a far dipole) where that bounds it more tightly, until those nodes' bounds sum to at
     // most `target`. Seen from a brick beside open parts, the fans of the other parts each bound
-    // w by little, yet hundreds of them together bound it by 0.1 to 1; an exact expansion at
-    // kFarReaches reaches errs by a few percent of that bound at most, and shrinks as the square
-    // of the distance. Far cheaper than the fans measured at every point that the samples left
-    // in doubt would need; so it is done only where samples are left in doubt. Whether it
+    // w by little, yet hundreds of them together bound it by 0.1 to 1. An exact expansion's rest
+    // is at most 3/4 of a fan's bound at kFarReaches reaches (surfaceCurvature) and shrinks as
+    // the square of the distance: to thousandths of it at the dozens of reaches where most of
+    // those fans lie. Far cheaper than measuring those fans at every point left in doubt, but not
+    // free: BrickSigns calls it only where it would decide enough of the points left. Whether it
     // changed the cut.
     static constexpr double kFarReaches = 2.0;
     bool expandFar(Cut& cut, double target) const;
