@@ -818,7 +818,7 @@ double WindingCaps::farToExpand(const Cut& cut) const {
     return sum;
 }
 
-bool WindingCaps::expandFar(Cut& cut, double target) const {
+bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const {
     const glm::dvec3 centre = cut.centre;
     const double reach = cut.reach, nearest = kFarReaches * reach;
     auto opened = [&](const Pending& far) {
@@ -842,6 +842,7 @@ bool WindingCaps::expandFar(Cut& cut, double target) const {
     std::uint32_t leaves[kFanPoints];
     Pending deferred[kFanPoints];
     int count = 0;
+    std::size_t expanded = 0; // fans taken, settled or deferred
     auto settle = [&] {
         FanTerms terms[kFanPoints];
         bool ok[kFanPoints];
@@ -859,10 +860,12 @@ bool WindingCaps::expandFar(Cut& cut, double target) const {
     for (;;) {
         while (!waiting.empty() && sum > target) {
             const Pending loosest = waiting.loosest();
+            const Node& node = nodes_[loosest.node];
+            if (node.leaf && expanded == maxFans) break;
             waiting.pop();
             sum -= loosest.bound;
-            const Node& node = nodes_[loosest.node];
             if (node.leaf) {
+                ++expanded;
                 leaves[count] = loosest.node, deferred[count] = loosest;
                 if (++count == kFanPoints) settle();
                 continue;
@@ -1534,6 +1537,11 @@ struct BrickSigns {
     // holes the samples left are those near |w| = 1/2, which no expansion of far fans decides
     // (it would cost more than the fans measured at them).
     static constexpr int kFarExpansionLeast = 8;
+    // Where the samples left can still measure their fans (after a brick's expansion), at most
+    // this many fans are expanded for each sample that the expansion would decide: beside many
+    // small holes, the far fans are many and the samples they would decide few.
+    static constexpr std::size_t kFarFansPerSample = 2;
+    std::size_t decidable = 0; // the samples farExpansionPays found it would decide
     bool farExpansionPays(const WindingCaps::Cut& cut) {
         const double opened = caps.farToExpand(cut);
         if (!(opened > kFarTarget)) return false;
@@ -1543,6 +1551,7 @@ struct BrickSigns {
             ++doubtful;
             decided += room[local({i, j, k})] > left;
         });
+        decidable = std::size_t(decided);
         return decided >= kFarExpansionLeast && 4 * decided >= doubtful;
     }
 
@@ -1609,7 +1618,7 @@ struct BrickSigns {
         };
         settleAll(true);
         // The samples left in doubt, with the far fans expanded too.
-        if (undecidedCount() > 0 && farExpansionPays(cut) && caps.expandFar(cut, kFarTarget)) {
+        if (undecidedCount() > 0 && farExpansionPays(cut) && caps.expandFar(cut, kFarTarget, kFarFansPerSample * decidable)) {
             ++farExpanded;
             settleAll(false);
         }
@@ -1643,7 +1652,7 @@ struct BrickSigns {
         caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, nearest, within, false, points);
         // The samples left by a measure, with the cut's far fans expanded too.
         auto expandFar = [&](WindingCaps::Cut& cut) {
-            if (undecidedCount() == 0 || !farExpansionPays(cut) || !caps.expandFar(cut, kFarTarget)) return;
+            if (undecidedCount() == 0 || !farExpansionPays(cut) || !caps.expandFar(cut, kFarTarget, std::numeric_limits<std::size_t>::max())) return;
             ++farExpanded;
             forEachUndecided([&](int i, int j, int k) {
                 const glm::dvec3 offset = axes.position(i, j, k) - centre;

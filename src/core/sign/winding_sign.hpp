@@ -267,10 +267,10 @@ public:
     // is at most 3/4 of a fan's bound at kFarReaches reaches (surfaceCurvature) and shrinks as
     // the square of the distance: to thousandths of it at the dozens of reaches where most of
     // those fans lie. Far cheaper than measuring those fans at every point left in doubt, but not
-    // free: BrickSigns calls it only where it would decide enough of the points left. Whether it
-    // changed the cut.
+    // free: BrickSigns calls it only where it would decide enough of the points left. At most
+    // `maxFans` fans are expanded (the loosest first). Whether it changed the cut.
     static constexpr double kFarReaches = 2.0;
-    bool expandFar(Cut& cut, double target) const;
+    bool expandFar(Cut& cut, double target, std::size_t maxFans) const;
     // The sum of the bounds of the far nodes that expandFar would open.
     double farToExpand(const Cut& cut) const;
     // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
