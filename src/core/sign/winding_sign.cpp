@@ -810,10 +810,14 @@ bool WindingCaps::expandedFan(Cut& out, const FanTerms& t, bool ok, double surfa
     return true;
 }
 
+bool WindingCaps::toExpand(const Cut& cut, const Pending& far) const {
+    return !far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], cut.centre, cut.reach) >= kFarReaches * cut.reach;
+}
+
 double WindingCaps::farToExpand(const Cut& cut) const {
     double sum = 0.0;
     for (const Pending& far : cut.farNodes) {
-        if (!far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], cut.centre, cut.reach) >= kFarReaches * cut.reach) sum += far.bound;
+        if (toExpand(cut, far)) sum += far.bound;
     }
     return sum;
 }
@@ -821,20 +825,14 @@ double WindingCaps::farToExpand(const Cut& cut) const {
 bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const {
     const glm::dvec3 centre = cut.centre;
     const double reach = cut.reach, nearest = kFarReaches * reach;
-    auto opened = [&](const Pending& far) {
-        return !far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], centre, reach) >= nearest;
-    };
-    double sum = 0.0; // of the bounds of the nodes to open
-    for (const Pending& far : cut.farNodes) {
-        if (opened(far)) sum += far.bound;
-    }
+    double sum = farToExpand(cut); // of the bounds of the nodes to open
     if (!(sum > target)) return false;
     // The nodes to open wait (loosest first); the others stay.
     Waiting& waiting = cut.waiting;
     waiting.clear();
     std::size_t kept = 0;
     for (const Pending& far : cut.farNodes) {
-        if (opened(far)) waiting.push(far);
+        if (toExpand(cut, far)) waiting.push(far);
         else cut.farNodes[kept++] = far;
     }
     cut.farNodes.resize(kept);

@@ -388,6 +388,8 @@ private:
     // The cut's far sums (farValue, farGradient, farSum) and its curvature (the near fans' and the
     // far dipoles', with the chords' terms that do not cancel), from its nodes.
     void sumFar(Cut& out) const;
+    // Whether expandFar opens the far node: bounded by its area, kFarReaches reaches or more away.
+    bool toExpand(const Cut& cut, const Pending& far) const;
     // The far dipole of a fan whose expansion at the ball's centre is `terms`, for a fan bounded
     // by `bound` and `surface` (surfaceCurvature) there: its bound over the ball (the Pending's),
     // or no dipole where that is not below `limit`.
