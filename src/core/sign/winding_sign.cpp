@@ -825,17 +825,25 @@ double WindingCaps::farToExpand(const Cut& cut) const {
 bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const {
     const glm::dvec3 centre = cut.centre;
     const double reach = cut.reach, nearest = kFarReaches * reach;
-    double sum = farToExpand(cut); // of the bounds of the nodes to open
-    if (!(sum > target)) return false;
     // The nodes to open wait (loosest first); the others stay.
     Waiting& waiting = cut.waiting;
     waiting.clear();
+    double sum = 0.0; // of the waiting bounds
     std::size_t kept = 0;
     for (const Pending& far : cut.farNodes) {
-        if (toExpand(cut, far)) waiting.push(far);
-        else cut.farNodes[kept++] = far;
+        if (toExpand(cut, far)) {
+            waiting.push(far);
+            sum += far.bound;
+        } else {
+            cut.farNodes[kept++] = far;
+        }
     }
     cut.farNodes.resize(kept);
+    if (!(sum > target)) { // nothing to do: the nodes go back (in another order)
+        waiting.forEach([&](const Pending& node) { cut.farNodes.push_back(node); });
+        cut.farSorted = false;
+        return false;
+    }
     // Fans to expand, kFanPoints at a time (the fan-terms kernel); their bounds left the sum.
     std::uint32_t leaves[kFanPoints];
     Pending deferred[kFanPoints];
@@ -1530,17 +1538,18 @@ struct BrickSigns {
 
     // Per sample left in doubt by settle(): how far |w| - 1/2 is from 0 but for the far bounds.
     double room[kEdge * kEdge * kEdge];
-    // Whether WindingCaps::expandFar would decide enough of the samples left: a quarter of them and
-    // at least kFarExpansionLeast, whose room exceeds the far bounds it would leave. Beside small
-    // holes the samples left are those near |w| = 1/2, which no expansion of far fans decides
-    // (it would cost more than the fans measured at them).
+    // The cut's far fans expanded (WindingCaps::expandFar) for the samples that settle() left in
+    // doubt, where that would decide enough of them: a quarter and at least kFarExpansionLeast,
+    // whose room exceeds the far bounds it would leave. Beside small holes the samples left are
+    // those near |w| = 1/2, which no expansion of far fans decides (it would cost more than the
+    // fans measured at them). With `limited` (where the samples left can still measure their
+    // fans: after a brick's expansion), at most kFarFansPerSample fans are expanded for each
+    // sample it would decide: beside many small holes, the far fans are many and those samples
+    // few. Whether the cut changed (its samples are then settled again by the caller).
     static constexpr int kFarExpansionLeast = 8;
-    // Where the samples left can still measure their fans (after a brick's expansion), at most
-    // this many fans are expanded for each sample that the expansion would decide: beside many
-    // small holes, the far fans are many and the samples they would decide few.
     static constexpr std::size_t kFarFansPerSample = 2;
-    std::size_t decidable = 0; // the samples farExpansionPays found it would decide
-    bool farExpansionPays(const WindingCaps::Cut& cut) {
+    bool expandFarFans(WindingCaps::Cut& cut, bool limited) {
+        if (undecidedCount() == 0) return false;
         const double opened = caps.farToExpand(cut);
         if (!(opened > kFarTarget)) return false;
         const double left = cut.farSum - opened + 2.0 * kFarTarget;
@@ -1549,8 +1558,11 @@ struct BrickSigns {
             ++doubtful;
             decided += room[local({i, j, k})] > left;
         });
-        decidable = std::size_t(decided);
-        return decided >= kFarExpansionLeast && 4 * decided >= doubtful;
+        if (decided < kFarExpansionLeast || 4 * decided < doubtful) return false;
+        const std::size_t maxFans = limited ? kFarFansPerSample * std::size_t(decided) : std::numeric_limits<std::size_t>::max();
+        if (!caps.expandFar(cut, kFarTarget, maxFans)) return false;
+        ++farExpanded;
+        return true;
     }
 
     // The undecided samples, a batch of up to kFanPoints at a time: their fans are measured together.
@@ -1615,11 +1627,7 @@ struct BrickSigns {
             });
         };
         settleAll(true);
-        // The samples left in doubt, with the far fans expanded too.
-        if (undecidedCount() > 0 && farExpansionPays(cut) && caps.expandFar(cut, kFarTarget, kFarFansPerSample * decidable)) {
-            ++farExpanded;
-            settleAll(false);
-        }
+        if (expandFarFans(cut, true)) settleAll(false); // the samples left, with the far fans expanded too
         return undecidedCount() == 0;
     }
 
@@ -1648,10 +1656,9 @@ struct BrickSigns {
         };
         const int points = undecidedCount();
         caps.cut(centre, reach, WindingCaps::kTightTarget, WindingCaps::kNearestFans, false, nearest, within, false, points);
-        // The samples left by a measure, with the cut's far fans expanded too.
-        auto expandFar = [&](WindingCaps::Cut& cut) {
-            if (undecidedCount() == 0 || !farExpansionPays(cut) || !caps.expandFar(cut, kFarTarget, std::numeric_limits<std::size_t>::max())) return;
-            ++farExpanded;
+        // The samples left by a measure, settled again with the cut's far fans expanded too.
+        auto settleExpanded = [&](WindingCaps::Cut& cut) {
+            if (!expandFarFans(cut, false)) return;
             forEachUndecided([&](int i, int j, int k) {
                 const glm::dvec3 offset = axes.position(i, j, k) - centre;
                 settle({i, j, k}, nearAt[local({i, j, k})] + cut.farValue + glm::dot(cut.farGradient, offset), glm::length(offset), cut);
@@ -1659,14 +1666,14 @@ struct BrickSigns {
         };
         const bool hopeless = nearest.spread() > WindingCaps::kHopeless;
         measure(nearest, 0);
-        expandFar(nearest);
+        settleExpanded(nearest);
         WindingCaps::Cut* measured = &nearest;
         if (hopeless && undecidedCount() > 0 && nearest.spread() > WindingCaps::kLooseTarget) {
             caps.cut(centre, reach, WindingCaps::kLooseTarget, nearest.nearNodes.size() + WindingCaps::kMeasuredFans, false, loose, &nearest, true,
                      undecidedCount());
             measure(loose, nearest.nearNodes.size());
             measured = &loose;
-            expandFar(loose);
+            settleExpanded(loose);
         }
         int flip = 0;
         for (double target : WindingCaps::kCarriedTargets) {
