@@ -622,6 +622,39 @@ TEST(WindingSign, FanTermsKernelEqualsEachCapAlone) {
     EXPECT_GT(refused, 100u);
 }
 
+// The fan kernels' own atan2, on each SIMD path: std::atan2's angle to 2 ulps of π, over every
+// octant, magnitudes from 2^-300 to 2^300, ratios at the argument reduction's edge (tan π/8) and
+// on the axes, with std::atan2's sign of zero and of π (the product of a fan's factors on the
+// negative real axis, im = ±0, takes the side that its count of turns took).
+TEST(WindingSign, FanKernelAngleEqualsStdAtan2) {
+    std::vector<double> y, x;
+    std::mt19937_64 rng(12);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), exponent(-300.0, 300.0);
+    for (int n = 0; n < 200000; ++n) {
+        double b = unit(rng), a = unit(rng);
+        if (n % 3 == 1) a *= std::exp2(exponent(rng)), b *= std::exp2(exponent(rng));
+        if (n % 3 == 2) b = a * std::tan(M_PI / 8 * (1.0 + 1e-9 * unit(rng))) * (n % 2 ? 1.0 : -1.0);
+        if (n % 4 == 0) std::swap(a, b);
+        y.push_back(b), x.push_back(a);
+    }
+    for (const double b : {0.0, -0.0, 1.0, -1.0, 1e-300, -1e-300, 5e-324, -5e-324})
+        for (const double a : {0.0, -0.0, 1.0, -1.0, 1e-300, -1e-300, 5e-324, -5e-324}) y.push_back(b), x.push_back(a);
+    const double ulpOfPi = std::nextafter(M_PI, 4.0) - M_PI;
+    const SimdPath chosen = simdPath();
+    for (SimdPath path : kSimdPaths) {
+        if (!simdPathAvailable(path)) continue;
+        setSimdPath(path);
+        std::vector<double> angles(y.size());
+        fans::activeAngles()(y.data(), x.data(), y.size(), angles.data());
+        for (std::size_t s = 0; s < y.size(); ++s) {
+            const double expected = std::atan2(y[s], x[s]);
+            ASSERT_LE(std::fabs(angles[s] - expected), 2.0 * ulpOfPi) << toString(path) << ": atan2(" << y[s] << ", " << x[s] << ")";
+            ASSERT_EQ(std::signbit(angles[s]), std::signbit(expected)) << toString(path) << ": atan2(" << y[s] << ", " << x[s] << ")";
+        }
+    }
+    setSimdPath(chosen);
+}
+
 // The count of crossings ahead through the wide tree's walk (point queries) equals the binary
 // tree's (the bake's reference) at points on vertices, edges and faces of the mesh and its fans as
 // well as off them: a holed sphere, copies of an open sheet (a weighted fan, copies counted once)

@@ -59,9 +59,13 @@ using Kernel = void (*)(const Cap* const* fans, std::size_t count, const glm::dv
 // each cap of at most Cap::kMaxEdges edges, the caps in the lanes of a vector (the same
 // operations, so the same answers but for rounding).
 using TermsKernel = void (*)(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);
+// The kernels' own atan2 (both kernels take it for their angles): out[s] = atan2(y[s], x[s]) for
+// s < n, to a few ulps of π, signed zeros as std::atan2 takes them.
+using AnglesKernel = void (*)(const double* y, const double* x, std::size_t n, double* out);
 #define SDFGEN_FAN_KERNELS                                                                                                      \
     void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);             \
-    void fanTerms(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);
+    void fanTerms(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);           \
+    void angles(const double* y, const double* x, std::size_t n, double* out);
 namespace baseline {
 SDFGEN_FAN_KERNELS
 }
@@ -89,6 +93,7 @@ K forPath(K baseline, K avx2, K avx512) {
 }
 inline Kernel active() { return forPath(baseline::fanWindings, avx2::fanWindings, avx512::fanWindings); }
 inline TermsKernel activeTerms() { return forPath(baseline::fanTerms, avx2::fanTerms, avx512::fanTerms); }
+inline AnglesKernel activeAngles() { return forPath(baseline::angles, avx2::angles, avx512::angles); }
 } // namespace fans
 
 } // namespace sdfgen
