@@ -59,8 +59,9 @@ using Kernel = void (*)(const Cap* const* fans, std::size_t count, const glm::dv
 // each cap of at most Cap::kMaxEdges edges, the caps in the lanes of a vector (the same
 // operations, so the same answers but for rounding).
 using TermsKernel = void (*)(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);
-// The kernels' own atan2 (both kernels take it for their angles): out[s] = atan2(y[s], x[s]) for
-// s < n, to a few ulps of π, signed zeros as std::atan2 takes them.
+// The kernels' own atan2, which both take for their angles, on its own so that each path's copy is
+// tested against std::atan2: out[s] = atan2(y[s], x[s]) for s < n, to a few ulps of π, signed
+// zeros as std::atan2 takes them.
 using AnglesKernel = void (*)(const double* y, const double* x, std::size_t n, double* out);
 #define SDFGEN_FAN_KERNELS                                                                                                      \
     void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);             \
