@@ -192,24 +192,31 @@ type_into field_path "$work/bunny.sdf"
 # --- arrows: each 80 ms tap turns 3 degrees (the frame after idle does not count the idle time);
 # holding turns 90 degrees a second after the first quarter second. The rotation is measured per
 # tap, over four taps: the presses and releases are timed by one xdotool process (separate ones
-# start late on a busy machine, and a tap then reads as a hold).
+# start late on a busy machine, and a tap then reads as a hold). A key event that a busy machine
+# delivers a quarter second late still turns a tap into a hold (about one run in ten on 2 cores
+# under load): the taps are tried once more before they count as failed.
 xdotool mousemove --window "$window" 790 490 click 1 # the scene has the keyboard, not a text box
 sleep 0.5
-shoot
 taps=4
 tap_keys=()
 for _ in $(seq $taps); do tap_keys+=(keydown Left sleep 0.08 keyup Left sleep 0.15); done
-xdotool "${tap_keys[@]}"
-sleep 0.3
-shoot
+taps_turn() { # yaw0 and yaw1 around the taps; whether each turned 3 degrees
+  shoot
+  xdotool "${tap_keys[@]}"
+  sleep 0.3
+  shoot
+  yaw0=$(camera_of $((shots - 2)) | cut -d, -f1)
+  yaw1=$(camera_of $((shots - 1)) | cut -d, -f1)
+  awk -v a="$yaw0" -v b="$yaw1" -v n=$taps 'BEGIN { d = (a - b) / n; exit !(d >= 2.9 && d <= 3.1) }'
+}
+if ! taps_turn; then
+  echo "$taps arrow taps of 80 ms turned from $yaw0 to $yaw1: once more"
+  taps_turn || fail "$taps arrow taps of 80 ms turned from $yaw0 to $yaw1, not 3 degrees each"
+fi
 xdotool keydown Right sleep 1 keyup Right
 sleep 0.3
 shoot
-yaw0=$(camera_of $((shots - 3)) | cut -d, -f1)
-yaw1=$(camera_of $((shots - 2)) | cut -d, -f1)
 yaw2=$(camera_of $((shots - 1)) | cut -d, -f1)
-awk -v a="$yaw0" -v b="$yaw1" -v n=$taps 'BEGIN { d = (a - b) / n; exit !(d >= 2.9 && d <= 3.1) }' ||
-  fail "$taps arrow taps of 80 ms turned from $yaw0 to $yaw1, not 3 degrees each"
 awk -v a="$yaw1" -v b="$yaw2" 'BEGIN { d = b - a; exit !(d >= 60 && d <= 90) }' || fail "a 1 s arrow hold turned from $yaw1 to $yaw2, not 3 + 0.75 * 90 degrees"
 echo "$taps arrow taps of 80 ms: yaw $yaw0 -> $yaw1; held 1 s: -> $yaw2"
 # A double click makes a slider a text box (as Ctrl+click does) without moving it first: Escape
