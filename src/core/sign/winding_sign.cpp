@@ -1686,7 +1686,7 @@ struct BrickSigns {
             measure(next, measured->nearNodes.size());
             measured = &next;
         }
-       
+
         forEachUndecided([&](int i, int j, int k) {
             output.set(output.index(i, j, k),
                        caps.insideNear(axes.position(i, j, k), count(i, j, k), nearAt[local({i, j, k})], *measured, scratch, &evaluations));
