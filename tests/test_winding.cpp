@@ -528,7 +528,7 @@ TEST(WindingSign, WaitingNodesComeLoosestFirstWithinAFactorOfTwo) {
 TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
     const Mesh sheet = withHoles(heightfield(10, false), 9);
     const SimdPath chosen = simdPath();
-    std::size_t nearFans = 0, farFans = 0; // as the kernel measures them (fans::FanReach)
+    std::size_t nearFans = 0, farFans = 0, wideFans = 0; // as the kernel measures them (fans::FanReach)
     for (const Mesh& mesh : {sheet, combined("two copies", sheet, sheet)}) {
         const MeshTopology topology(mesh);
         const WindingCaps caps(topology);
@@ -548,6 +548,7 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
                     for (glm::dvec3& p : points) p = points[0] + 0.01 * glm::dvec3(unit(rng), unit(rng), unit(rng));
                 }
                 if (n % 10 == 0) points[n % kFanPoints] = caps.caps()[std::size_t(n) % caps.caps().size()].loop[0];
+                if (n % 10 == 5) points[n % kFanPoints] += glm::dvec3(2e30, 0.0, -1e30); // every fan Wide: its factors (~1e92) rescaled after each
                 const int count = 1 + n % kFanPoints;
                 caps.cut(points[0], 0.0, 0.0, std::size_t(-1), false, cut); // every fan near (but those of no area)
                 ASSERT_TRUE(cut.farNodes.empty());
@@ -555,7 +556,13 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
                 double windings[kFanPoints];
                 caps.fanWindings(cut.nearNodes, points, count, windings);
                 const fans::FanReach reach(points, count);
-                for (const Cap& cap : caps.caps()) ++(reach.near(cap.lo, cap.hi, cap.loop.size()) ? nearFans : farFans);
+                for (const Cap& cap : caps.caps()) {
+                    switch (reach.seen(cap.lo, cap.hi, cap.loop.size())) {
+                    case fans::FanReach::Seen::Far: ++farFans; break;
+                    case fans::FanReach::Seen::Near: ++nearFans; break;
+                    case fans::FanReach::Seen::Wide: ++wideFans; break;
+                    }
+                }
                 for (int s = 0; s < count; ++s) {
                     const double alone = caps.nearWinding(points[s], cut);
                     ASSERT_NEAR(windings[s], alone, 1e-12) << mesh.source << ", " << toString(path) << ", point " << s << " of " << count;
@@ -566,6 +573,7 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
     setSimdPath(chosen);
     EXPECT_GT(nearFans, 1000u);
     EXPECT_GT(farFans, 1000u);
+    EXPECT_GT(wideFans, 1000u);
 }
 
 // The fan-terms kernel (eight caps to a vector on AVX-512, four on AVX2 and the baseline) gives

@@ -32,25 +32,30 @@ inline bool onFanTriangle(double det, double den, double la, double lb, double l
     return std::fabs(det) <= slack && den <= slack;
 }
 
-// Whether some of a kernel call's points may be near a fan: no farther from the fan's box than
-// the box is across (there its factors may come near 0, and a point may lie on it), or so close to
-// the box or so far from it (beyond the distances of any grid in local coordinates) that a whole
-// fan's factors could leave the range the kernel keeps its product in. Elsewhere each factor of a
-// fan triangle (a, b, c) is at least 2.5 |a||b||c| (the corners are seen within 60 degrees of each
-// other), so a fan of up to 5 factors moves the product by 2^±600 at most.
-// Inline: the kernel asks it of every fan.
+// How a kernel call's points see a fan. Far: no point is nearer the fan's box than the box is
+// across, nor within 1e-12 of it, and the fan has at most kMaxFactors triangles, every corner
+// within 1e6 of every point: each factor of a fan triangle (a, b, c) is at least 2.5 |a||b||c|
+// (the corners are seen within 60 degrees of each other), so the fan's factors move the product by
+// 2^±600 at most. Near: some point may be near the fan, where a factor may come near 0 and a point
+// may lie on it; a factor that does not put a point on it (onFanTriangle) is at least that test's
+// slack (1e-25: lengths count from kOnFanReach) and at most 5 |a||b||c|, so its factors, whose
+// corners are within 1e6 of every point, move the product by 2^±420 at most. Wide: the rest
+// (points or corners beyond the distances of any grid in local coordinates, or more factors),
+// whose product is rescaled after each factor. Inline: the kernel asks it of every fan.
 struct FanReach {
     static constexpr std::size_t kMaxFactors = 5; // the bounds hold for fans of up to that many triangles
     glm::dvec3 lo, hi;                            // the points' box
     FanReach(const glm::dvec3* points, int n) : lo(points[0]), hi(points[0]) {
         for (int s = 1; s < n; ++s) lo = glm::min(lo, points[s]), hi = glm::max(hi, points[s]);
     }
+    enum class Seen { Far, Near, Wide };
     // Of a fan with box [capLo, capHi] and `factors` triangles.
-    bool near(const glm::dvec3& capLo, const glm::dvec3& capHi, std::size_t factors) const {
-        const glm::dvec3 gap = glm::max(glm::max(capLo - hi, lo - capHi), glm::dvec3(0.0)), across = capHi - capLo;
+    Seen seen(const glm::dvec3& capLo, const glm::dvec3& capHi, std::size_t factors) const {
         const glm::dvec3 farthest = glm::max(hi - capLo, capHi - lo);
+        if (!(glm::dot(farthest, farthest) < 1e12) || factors > kMaxFactors) return Seen::Wide;
+        const glm::dvec3 gap = glm::max(glm::max(capLo - hi, lo - capHi), glm::dvec3(0.0)), across = capHi - capLo;
         const double gap2 = glm::dot(gap, gap);
-        return !(gap2 > glm::dot(across, across) && gap2 > 1e-24 && glm::dot(farthest, farthest) < 1e12) || factors > kMaxFactors;
+        return gap2 > glm::dot(across, across) && gap2 > 1e-24 ? Seen::Far : Seen::Near;
     }
 };
 
