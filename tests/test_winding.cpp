@@ -600,6 +600,10 @@ TEST(WindingSign, FanTermsKernelEqualsEachCapAlone) {
                 for (int f = 0; f < count; ++f) batch[f] = &caps.caps()[std::size_t(rng()) % caps.caps().size()];
                 glm::dvec3 centre(unit(rng), unit(rng), 0.5 * unit(rng));
                 if (n % 7 == 0) centre = batch[0]->centre; // on a fan
+                // Factors of ~1e92, the product rescaled after each; edges lost to rounding there (their
+                // terms 0, its chords' kept by the kernel and not by fanTerms).
+                const bool remote = n % 11 == 4;
+                if (remote) centre += glm::dvec3(3e30, -1e30, 2e30);
                 const double reach = n % 3 == 0 ? 0.0 : 0.2 * share(rng);
                 FanTerms terms[kFanPoints];
                 bool ok[kFanPoints];
@@ -613,6 +617,12 @@ TEST(WindingSign, FanTermsKernelEqualsEachCapAlone) {
                     if (!ok[f]) continue;
                     const auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-12 * (1.0 + std::fabs(b)); };
                     EXPECT_TRUE(near(terms[f].value, alone.value)) << where;
+                    if (remote) {
+                        EXPECT_EQ(terms[f].allCurvature(), 0.0) << where;
+                        EXPECT_EQ(alone.allCurvature(), 0.0) << where;
+                        EXPECT_TRUE(near(terms[f].slack, alone.slack)) << where;
+                        continue;
+                    }
                     EXPECT_TRUE(near(terms[f].curvature, alone.curvature)) << where;
                     EXPECT_TRUE(near(terms[f].slack, alone.slack)) << where;
                     EXPECT_LE(glm::length(terms[f].gradient - alone.gradient), 1e-12 * (1.0 + glm::length(alone.gradient))) << where;
