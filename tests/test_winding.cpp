@@ -580,12 +580,13 @@ TEST(WindingSign, FanKernelEqualsEachFanMeasuredAlone) {
 // each cap's expansion as fanTerms computes it alone, on each SIMD path, for batches of 1 to 8 caps
 // of 2 to 5 edges (runs of a long border, their chords' polygons, a strip's quads) around balls of
 // every size: the same answer (false where the ball reaches an edge or its centre lies on the
-// fan), and the same terms but for rounding.
+// fan), and the same terms but for rounding. The fields kernel gives the same terms but the
+// winding number wherever fanTerms does, and answers for centres on a fan as well.
 TEST(WindingSign, FanTermsKernelEqualsEachCapAlone) {
     const Mesh sheet = heightfield(30, false);
     const Mesh panel = combined("double-sided panel", sheet, moved(reversed(sheet), {0.0, 0.0, -0.003}));
     const SimdPath chosen = simdPath();
-    std::size_t answers = 0, refused = 0;
+    std::size_t answers = 0, refused = 0, fieldsOnly = 0;
     for (const Mesh& mesh : {sheet, panel, withHoles(test::icosphere(1.0f, 3), 7)}) {
         const MeshTopology topology(mesh);
         const WindingCaps caps(topology);
@@ -608,13 +609,24 @@ TEST(WindingSign, FanTermsKernelEqualsEachCapAlone) {
                 FanTerms terms[kFanPoints];
                 bool ok[kFanPoints];
                 fans::activeTerms()(batch, count, centre, reach, terms, ok);
+                FanTerms fields[kFanPoints];
+                bool fieldsOk[kFanPoints];
+                fans::activeFields()(batch, count, centre, reach, fields, fieldsOk);
                 for (int f = 0; f < count; ++f) {
                     FanTerms alone;
                     const bool aloneOk = fanTerms(*batch[f], centre, reach, alone);
                     const std::string where = mesh.source + ", " + toString(path) + ", batch " + std::to_string(n) + ", cap " + std::to_string(f);
                     ASSERT_EQ(ok[f], aloneOk) << where;
                     ++(ok[f] ? answers : refused);
+                    fieldsOnly += fieldsOk[f] && !ok[f];
                     if (!ok[f]) continue;
+                    ASSERT_TRUE(fieldsOk[f]) << where;
+                    EXPECT_EQ(fields[f].value, 0.0) << where;
+                    EXPECT_EQ(fields[f].gradient, terms[f].gradient) << where;
+                    EXPECT_EQ(fields[f].curvature, terms[f].curvature) << where;
+                    EXPECT_EQ(fields[f].slack, terms[f].slack) << where;
+                    ASSERT_EQ(fields[f].chordCount, terms[f].chordCount) << where;
+                    for (std::size_t c = 0; c < terms[f].chordCount; ++c) EXPECT_EQ(fields[f].chords[c].curvature, terms[f].chords[c].curvature) << where;
                     const auto near = [](double a, double b) { return std::fabs(a - b) <= 1e-12 * (1.0 + std::fabs(b)); };
                     EXPECT_TRUE(near(terms[f].value, alone.value)) << where;
                     if (remote) {
@@ -638,6 +650,7 @@ TEST(WindingSign, FanTermsKernelEqualsEachCapAlone) {
     setSimdPath(chosen);
     EXPECT_GT(answers, 2000u);
     EXPECT_GT(refused, 100u);
+    EXPECT_GT(fieldsOnly, 10u); // centres on a fan
 }
 
 // The fan kernels' own atan2, on each SIMD path: std::atan2's angle to 2 ulps of π, over every

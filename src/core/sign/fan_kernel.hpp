@@ -64,6 +64,10 @@ using Kernel = void (*)(const Cap* const* fans, std::size_t count, const glm::dv
 // each cap of at most Cap::kMaxEdges edges, the caps in the lanes of a vector (the same
 // operations, so the same answers but for rounding).
 using TermsKernel = void (*)(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);
+// The fields kernel: the fan-terms kernel's terms but the winding number (value 0), for the
+// bounds that need only the loops' field (WindingCaps::windingVariation); ok[f] false only where
+// the ball reaches an edge (the field is smooth across the fan).
+using FieldsKernel = TermsKernel;
 // The kernels' own atan2, which both take for their angles, on its own so that each path's copy is
 // tested against std::atan2: out[s] = atan2(y[s], x[s]) for s < n, to a few ulps of π, signed
 // zeros as std::atan2 takes them.
@@ -71,6 +75,7 @@ using AnglesKernel = void (*)(const double* y, const double* x, std::size_t n, d
 #define SDFGEN_FAN_KERNELS                                                                                                      \
     void fanWindings(const Cap* const* fans, std::size_t count, const glm::dvec3* points, int n, double* windings);             \
     void fanTerms(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);           \
+    void fanFields(const Cap* const* caps, int n, const glm::dvec3& centre, double reach, FanTerms* out, bool* ok);          \
     void angles(const double* y, const double* x, std::size_t n, double* out);
 namespace baseline {
 SDFGEN_FAN_KERNELS
@@ -99,6 +104,7 @@ K forPath(K baseline, K avx2, K avx512) {
 }
 inline Kernel active() { return forPath(baseline::fanWindings, avx2::fanWindings, avx512::fanWindings); }
 inline TermsKernel activeTerms() { return forPath(baseline::fanTerms, avx2::fanTerms, avx512::fanTerms); }
+inline FieldsKernel activeFields() { return forPath(baseline::fanFields, avx2::fanFields, avx512::fanFields); }
 inline AnglesKernel activeAngles() { return forPath(baseline::angles, avx2::angles, avx512::angles); }
 } // namespace fans
 

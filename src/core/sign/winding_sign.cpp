@@ -1226,7 +1226,8 @@ void WindingCaps::estimateFans(const glm::dvec3* points, int n, double nodeError
     for (int i = 0; i < n; ++i) out[i].error = out[i].error * (1.0 + 1e-12) + 1e-12 * magnitude[i];
 }
 
-void WindingCaps::fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok) const {
+void WindingCaps::fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok,
+                             bool angles) const {
     const Cap* fanCaps[kFanPoints];
     bool small = true; // every cap within the kernel's edges
     for (int f = 0; f < n; ++f) {
@@ -1234,7 +1235,7 @@ void WindingCaps::fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec
         small &= fanCaps[f]->loop.size() <= Cap::kMaxEdges;
     }
     if (small) {
-        fans::activeTerms()(fanCaps, n, centre, reach, terms, ok);
+        (angles ? fans::activeTerms() : fans::activeFields())(fanCaps, n, centre, reach, terms, ok);
     } else {
         for (int f = 0; f < n; ++f) ok[f] = fanTerms(*fanCaps[f], centre, reach, terms[f]);
     }
@@ -1256,7 +1257,7 @@ double WindingCaps::windingVariation(const glm::dvec3& centre, double reach, dou
     auto sumCaps = [&] {
         FanTerms terms[kFanPoints];
         bool ok[kFanPoints];
-        fanTermsOf(leaves, count, centre, reach, terms, ok);
+        fanTermsOf(leaves, count, centre, reach, terms, ok, false);
         for (int f = 0; f < count; ++f) {
             if (ok[f]) {
                 // The cap's loop's field at the centre (its chords and rungs cancel those of the

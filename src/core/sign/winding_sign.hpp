@@ -398,8 +398,10 @@ private:
     // for noFanWithin and fansMiss.
     bool clearOfFans(const glm::dvec3& p, double reach, bool byTriangles) const;
     // terms[f] = fanTerms of the cap of leaf leaves[f] over the ball, ok[f] its answer, f < n <=
-    // kFanPoints: by the fan-terms kernel (fans::activeTerms).
-    void fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok) const;
+    // kFanPoints: by the fan-terms kernel (fans::activeTerms); without `angles`, by the fields
+    // kernel (fans::activeFields: no winding number).
+    void fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok,
+                    bool angles = true) const;
     // Sets node's plane (normal, thickness, tilt) from the fans order[begin, end).
     void flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const;
     // The winding-number bound of a node for every point within `reach` of p (infinite when the
