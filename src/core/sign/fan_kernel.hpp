@@ -2,9 +2,10 @@
 // The fan kernels (core/sign/fan_kernel.inc), compiled for AVX-512 (fan_avx512.cpp), AVX2
 // (fan_avx2.cpp) and baseline x86-64 (fan_baseline.cpp): the fan kernel, windings[s] = the summed
 // winding number of `count` fans of weight 1 at points[s], s < n <= kFanPoints, or NaN where a
-// point lies on a fan (onFanTriangle: the caller measures those fans one by one); and the
-// fan-terms kernel, the expansions of up to kFanPoints fans over one ball. The sign stage's own
-// dispatch: the copy for simdPath() (core/simd/path.hpp).
+// point lies on a fan (onFanTriangle: the caller measures those fans one by one); the fan-terms
+// kernel, the expansions of up to kFanPoints fans over one ball; and the fields kernel, those
+// expansions without their winding numbers. The sign stage's own dispatch: the copy for
+// simdPath() (core/simd/path.hpp).
 #include "core/simd/path.hpp"
 
 #include <glm/common.hpp>
