@@ -51,9 +51,12 @@ struct FanReach {
     }
     enum class Seen { Far, Near, Wide };
     // Of a fan with box [capLo, capHi] and `factors` triangles.
-    Seen seen(const glm::dvec3& capLo, const glm::dvec3& capHi, std::size_t factors) const {
+    bool wide(const glm::dvec3& capLo, const glm::dvec3& capHi, std::size_t factors) const {
         const glm::dvec3 farthest = glm::max(hi - capLo, capHi - lo);
-        if (!(glm::dot(farthest, farthest) < 1e12) || factors > kMaxFactors) return Seen::Wide;
+        return !(glm::dot(farthest, farthest) < 1e12) || factors > kMaxFactors;
+    }
+    Seen seen(const glm::dvec3& capLo, const glm::dvec3& capHi, std::size_t factors) const {
+        if (wide(capLo, capHi, factors)) return Seen::Wide;
         const glm::dvec3 gap = glm::max(glm::max(capLo - hi, lo - capHi), glm::dvec3(0.0)), across = capHi - capLo;
         const double gap2 = glm::dot(gap, gap);
         return gap2 > glm::dot(across, across) && gap2 > 1e-24 ? Seen::Far : Seen::Near;
