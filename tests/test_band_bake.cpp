@@ -136,6 +136,35 @@ TEST(BandBake, ShiftedCopiesOfAShellWithManyHoles) {
     expectMatchesDense("shifted holed shells", copies, 96, 2.0, SignMethod::Winding, 2);
 }
 
+// A short, wide tube open at both ends (radius 1, height 2 * halfHeight, n sides).
+Mesh openRing(float halfHeight, int n) {
+    std::vector<glm::dvec3> positions;
+    std::vector<glm::uvec3> triangles;
+    for (int i = 0; i < n; ++i) {
+        const double a = 2.0 * M_PI * i / n;
+        positions.emplace_back(std::cos(a), std::sin(a), -halfHeight);
+        positions.emplace_back(std::cos(a), std::sin(a), halfHeight);
+    }
+    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+        const std::uint32_t next = (i + 1) % std::uint32_t(n);
+        triangles.emplace_back(2 * i, 2 * next, 2 * next + 1);
+        triangles.emplace_back(2 * i, 2 * next + 1, 2 * i + 1);
+    }
+    return buildMesh("open ring", positions, std::move(triangles));
+}
+
+// Inside an open ring the fans over its two ends are counted as a crossing ahead, yet they wind
+// by 0.6-0.9 there, so |w| < 1/2 where the count is 1; a ball at its centre puts the surface there
+// too. Cubes of several bricks that no fan meets are sided by their counts only where the fans'
+// winding number is within 0.45 of 0, in the band and out of it: taking cubes whose fans wind by
+// up to 1.5 gave 360k wrong sides here (41k where only cubes in the band were taken so).
+TEST(BandBake, AnOpenRingWhoseFansWindByMoreThanAHalf) {
+    const Mesh ring = openRing(0.4f, 48);
+    expectMatchesDense("open ring", ring, 160, 2.0, SignMethod::Winding, 2);
+    expectMatchesDense("open ring around a ball", test::combined("ring and ball", ring, test::icosphere(0.2f, 2)), 160, 2.0,
+                       SignMethod::Winding, 2);
+}
+
 // A box with triangles inside whose vertices lie on samples and one of whose edges runs through the
 // centre of a quarter of a brick (the exact kernel's blocks of 4³ samples): at such a centre a
 // triangle's float offset is rounding noise in every direction, and a linear bound that trusted its

@@ -41,7 +41,7 @@ struct BrickFinder {
     const Bvh& rows; // for the count of crossings ahead of a cube's centre
 
     struct Found {
-        std::vector<glm::ivec3> inBand, nearFans;
+        std::vector<glm::ivec3> inBand, nearFans, clearInBand;
         std::vector<std::pair<glm::ivec3, std::uint8_t>> sided;
     };
     static constexpr int kTop = 16; // bricks per edge of the cubes searched in parallel
@@ -93,18 +93,27 @@ struct BrickFinder {
         glm::ivec3 lo;
         int size;
         bool outOfBand;
+        bool fansClear = false;
     };
     // Searches n <= 8 cubes (a cube's children, decided together). A cube out of the band and clear
-    // of the fans is skipped; one near a fan but clear of the surface, where the winding number is
-    // smooth, takes one side throughout where w at its centre is off ±1/2 by more than the bound
-    // on its change (the dense bake decides every sample so); the others are split, down to
-    // bricks. The centres' sides come from one estimate for the cubes together (sidesBeyond).
+    // of the fans is skipped; so is one whose ball no fan meets and where the fans' winding number
+    // stays within 0.45 of 0 (estimated at its centre, to within its error and windingVariation's
+    // bound on its change), for there every sample is inside exactly where its count of crossings
+    // ahead is not 0 (as the dense bake decides) and the count is constant out of the band; such a
+    // cube in the band is split with its bricks marked so (clearInBand). One near a fan but clear
+    // of the surface, where the winding number is smooth, takes one side throughout where w at its
+    // centre is off ±1/2 by more than the bound on its change (the dense bake decides every sample
+    // so); the others are split, down to bricks. The centres' estimates and sides are made for the
+    // cubes together (estimateFans, sidesBeyond).
+    static constexpr double kClearVariation = 0.45, kClearNodeError = 1e-3; // as the band bricks' (BrickSigns)
     void visit(const Cube* cubes, int n, Found& found) const {
         constexpr double kMostVariation = 0.25; // beyond, the centre's w rarely decides the cube
         Cube kept[8];
         glm::dvec3 centres[8];
-        int ahead[8], sides[8], sided[8], split = 0, candidates = 0;
-        double margins[8];
+        double variations[8];
+        int split = 0;
+        glm::dvec3 clearCentres[8];
+        int clearAt[8], clearCandidates = 0;
         for (int c = 0; c < n; ++c) {
             Cube cube = cubes[c];
             const glm::ivec3 hi = glm::min(cube.lo + cube.size, brickDims);
@@ -116,21 +125,38 @@ struct BrickFinder {
                 const double magnitude = std::max({std::fabs(centre.x), std::fabs(centre.y), std::fabs(centre.z)}) + reach + d;
                 cube.outOfBand = d - reach - 1e-5 * magnitude > band * (1.0 + 1e-5);
             }
-            if (cube.outOfBand && caps.farFromEveryFan(centre, reach)) continue;
-            sided[split] = -1;
-            if (cube.outOfBand) {
-                const double variation = caps.windingVariation(centre, reach, kMostVariation);
-                if (variation < kMostVariation) {
-                    centres[candidates] = centre, ahead[candidates] = crossingsAhead(mesh, rows, caps, centre);
-                    margins[candidates] = variation * (1.0 + 1e-9) + 1e-6;
-                    sided[split] = candidates++;
-                }
-            }
+            if (cube.outOfBand && (cube.fansClear || caps.farFromEveryFan(centre, reach))) continue;
+            // A brick in the band takes its estimate with its row's (BandSides::bricks).
+            const bool tryClear = !cube.fansClear && (cube.outOfBand || cube.size > 1) && !caps.caps().empty() && caps.fansMiss(centre, reach);
+            variations[split] = tryClear || cube.outOfBand ? caps.windingVariation(centre, reach, tryClear ? kClearVariation : kMostVariation)
+                                                           : std::numeric_limits<double>::infinity();
+            if (tryClear && variations[split] < kClearVariation) clearCentres[clearCandidates] = centre, clearAt[clearCandidates++] = split;
+            centres[split] = centre;
             kept[split++] = cube;
         }
-        if (candidates > 0) caps.sidesBeyond(centres, ahead, margins, candidates, sides);
+        if (clearCandidates > 0) {
+            WindingCaps::FansEstimate fans[8];
+            caps.estimateFans(clearCentres, clearCandidates, kClearNodeError, fans);
+            for (int c = 0; c < clearCandidates; ++c) {
+                const double spread = (fans[c].error + variations[clearAt[c]]) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
+                kept[clearAt[c]].fansClear = std::fabs(fans[c].value) + spread < 0.5;
+            }
+        }
+        glm::dvec3 sideCentres[8];
+        int ahead[8], sides[8], sided[8], candidates = 0;
+        double margins[8];
+        for (int c = 0; c < split; ++c) {
+            sided[c] = -1;
+            const Cube& cube = kept[c];
+            if (!cube.outOfBand || cube.fansClear || !(variations[c] < kMostVariation)) continue;
+            sideCentres[candidates] = centres[c], ahead[candidates] = crossingsAhead(mesh, rows, caps, centres[c]);
+            margins[candidates] = variations[c] * (1.0 + 1e-9) + 1e-6;
+            sided[c] = candidates++;
+        }
+        if (candidates > 0) caps.sidesBeyond(sideCentres, ahead, margins, candidates, sides);
         for (int c = 0; c < split; ++c) {
             const Cube& cube = kept[c];
+            if (cube.outOfBand && cube.fansClear) continue;
             const glm::ivec3 hi = glm::min(cube.lo + cube.size, brickDims);
             if (sided[c] >= 0 && sides[sided[c]] >= 0) {
                 for (int z = cube.lo.z; z < hi.z; ++z)
@@ -140,6 +166,7 @@ struct BrickFinder {
             }
             if (cube.size == 1) {
                 (cube.outOfBand ? found.nearFans : found.inBand).push_back(cube.lo);
+                if (cube.fansClear) found.clearInBand.push_back(cube.lo);
                 continue;
             }
             const int half = cube.size / 2;
@@ -147,7 +174,7 @@ struct BrickFinder {
             int count = 0;
             for (int dz = 0; dz < cube.size; dz += half)
                 for (int dy = 0; dy < cube.size; dy += half)
-                    for (int dx = 0; dx < cube.size; dx += half) children[count++] = {cube.lo + glm::ivec3(dx, dy, dz), half, cube.outOfBand};
+                    for (int dx = 0; dx < cube.size; dx += half) children[count++] = {cube.lo + glm::ivec3(dx, dy, dz), half, cube.outOfBand, cube.fansClear};
             visit(children, count, found);
         }
     }
@@ -260,10 +287,12 @@ SparseField bakeBand(const BakeContext& context, BakeResult& result, const RunCo
         sides.bricks.insert(sides.bricks.end(), f.inBand.begin(), f.inBand.end());
         sides.fanBricks.insert(sides.fanBricks.end(), f.nearFans.begin(), f.nearFans.end());
         sides.sidedBricks.insert(sides.sidedBricks.end(), f.sided.begin(), f.sided.end());
+        sides.clearBricks.insert(sides.clearBricks.end(), f.clearInBand.begin(), f.clearInBand.end());
         f = {};
     }
     std::sort(sides.bricks.begin(), sides.bricks.end(), before);
     std::sort(sides.fanBricks.begin(), sides.fanBricks.end(), before);
+    std::sort(sides.clearBricks.begin(), sides.clearBricks.end(), before);
     std::sort(sides.sidedBricks.begin(), sides.sidedBricks.end(), [](const auto& a, const auto& b) { return before(a.first, b.first); });
     result.searchSeconds = since(start);
     result.signSeconds += result.searchSeconds;

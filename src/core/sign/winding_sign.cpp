@@ -1428,6 +1428,14 @@ struct BrickSigns {
     static constexpr std::size_t kExpandedFans = 64;
     // WindingCaps::expandFar's target, for the samples a cut leaves in doubt.
     static constexpr double kFarTarget = 0.01;
+    // A brick of the band that no fan meets: the fans' winding number at its centre (estimated),
+    // and windingVariation's bound on its change over the brick's ball (none at or above
+    // kMostVariation, where w within 0.05 of an integer is all it could decide).
+    static constexpr double kMostVariation = 0.45;
+    struct CentreEstimate {
+        WindingCaps::FansEstimate fans;
+        double variation = std::numeric_limits<double>::infinity();
+    };
     const SampleAxes& axes;
     const WindingCaps& caps;
     SignOutput output;
@@ -1485,7 +1493,7 @@ struct BrickSigns {
     // meets at most kMaxExactFans fans (its expanded cut is smooth), else by octants, each
     // measuring only the fans near it (a brick among many small holes meets dozens).
     void decide(int ib, int jb, int kb, int ie, int je, int ke, const int* brickCounts, int rowStride,
-                const WindingCaps::FansEstimate* centreFans = nullptr) {
+                const CentreEstimate* centreFans = nullptr) {
         i0 = ib, j0 = jb, k0 = kb, i1 = ie, j1 = je, k1 = ke;
         counts = brickCounts;
         stride = rowStride;
@@ -1580,17 +1588,14 @@ struct BrickSigns {
     }
 
     // Where no fan meets the brick, the fans' winding number is harmonic over it (the surface
-    // inside or not) and moves from its value at the centre, `centreFans`, by at most
-    // windingVariation's bound: each sample whose count keeps |w| off 1/2 by more than that and
-    // the estimate's error is decided. Whether that decides every sample.
-    bool decideByEstimate(const WindingCaps::FansEstimate& centreFans) {
-        constexpr double kMostVariation = 0.45; // beyond, w within 0.05 of an integer is all it could decide
-        if (!caps.fansMiss(centre, reach)) return false;
-        const double variation = caps.windingVariation(centre, reach, kMostVariation);
-        if (!(variation < kMostVariation)) return false;
-        const double spread = (centreFans.error + variation) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
+    // inside or not) and moves from its value at the centre by at most windingVariation's bound:
+    // each sample whose count keeps |w| off 1/2 by more than that and the estimate's error is
+    // decided. Whether that decides every sample.
+    bool decideByEstimate(const CentreEstimate& estimate) {
+        if (!(estimate.variation < kMostVariation)) return false;
+        const double spread = (estimate.fans.error + estimate.variation) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
         forEachUndecided([&](int i, int j, int k) {
-            const double x = std::fabs(double(count(i, j, k)) - centreFans.value) - 0.5; // |w| - 1/2, within spread
+            const double x = std::fabs(double(count(i, j, k)) - estimate.fans.value) - 0.5; // |w| - 1/2, within spread
             if (!(std::fabs(x) > spread)) return;
             output.set(output.index(i, j, k), x > 0.0);
             row(k) &= ~bit(i - i0, j - j0);
@@ -1866,6 +1871,9 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
 
 namespace {
 
+// Whether brick a comes before b in the band's lists (ordered by z, y, x).
+bool before(const glm::ivec3& a, const glm::ivec3& b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); }
+
 // One layer of bricks (8 planes of samples) of a narrow-band bake: each brick row's stored bricks
 // signed, its fan bricks decided, the sided ones taken as they are, and every other brick sided by
 // its first sample's count, in runs between the first row's crossings (band sides: see
@@ -1881,7 +1889,7 @@ struct BandLayerSigns {
         BandSides& band;
         glm::ivec3 brickDims;
         // Where each layer's stored, fan and sided bricks begin (the lists are ordered by z, y, x).
-        std::vector<std::size_t> storedStart, fanStart, sidedStart;
+        std::vector<std::size_t> storedStart, fanStart, sidedStart, clearStart;
         std::vector<glm::ivec3> sidedCoordinates;
     };
     // What one layer leaves: its inside boxes, and its fan bricks with both sides and their
@@ -1895,8 +1903,8 @@ struct BandLayerSigns {
     const Shared& shared;
     Output& out;
     int bz, k0, k1;
-    std::size_t stored, fan, sided;                 // each list's next brick
-    std::size_t storedEnd, fanEnd, sidedEnd;        // and the layer's end of it
+    std::size_t stored, fan, sided, clear;             // each list's next brick
+    std::size_t storedEnd, fanEnd, sidedEnd, clearEnd; // and the layer's end of it
     std::vector<std::vector<Crossing>> rows;        // (j, k) at (k - k0) * ny + j
     BrickSigns signs;
     // The brick row being signed: its first sample row, whether it has bricks of the lists, and
@@ -1912,7 +1920,9 @@ struct BandLayerSigns {
     BandLayerSigns(const Shared& shared, Output& out, std::size_t layerIndex)
         : shared(shared), out(out), bz(int(layerIndex)), k0(bz * kEdge), k1(std::min(shared.grid.dims.z, k0 + kEdge)),
           stored(shared.storedStart[layerIndex]), fan(shared.fanStart[layerIndex]), sided(shared.sidedStart[layerIndex]),
+          clear(shared.clearStart[layerIndex]),
           storedEnd(shared.storedStart[layerIndex + 1]), fanEnd(shared.fanStart[layerIndex + 1]), sidedEnd(shared.sidedStart[layerIndex + 1]),
+          clearEnd(shared.clearStart[layerIndex + 1]),
           signs(shared.axes, shared.caps, {}) {}
 
     void run() {
@@ -1972,16 +1982,19 @@ struct BandLayerSigns {
         closeRun(shared.brickDims.x);
     }
 
-    // The brick row's stored bricks from `stored` on: whether each is clear of the fans, and for
-    // the others the fans' winding number at the centre, estimated kFanPoints at a time (one pass
-    // over the fan tree, the fans measured by the kernel, to kCentreNodeError a node) for
-    // BrickSigns::decideByEstimate.
+    // The brick row's stored bricks from `stored` on: whether each is clear of the fans (listed in
+    // band.clearBricks, or far from every fan), and for the others that no fan meets the fans'
+    // winding number at the centre, estimated kFanPoints at a time (one pass over the fan tree, the
+    // fans measured by the kernel, to kCentreNodeError a node), with its variation, for
+    // BrickSigns::decideByEstimate. A brick that a fan meets, or where the fans vary too much,
+    // takes no estimate.
     static constexpr double kCentreNodeError = 1e-3;
     std::size_t rowFirst = 0;
     std::vector<std::uint8_t> rowClear;
-    std::vector<WindingCaps::FansEstimate> rowFans;
+    std::vector<BrickSigns::CentreEstimate> rowFans;
     void estimateRow() {
         const BandSides& band = shared.band;
+        const WindingCaps& caps = shared.caps;
         rowFirst = stored;
         std::size_t end = stored;
         while (end < storedEnd && inRow(band.bricks[end])) ++end;
@@ -1992,18 +2005,24 @@ struct BandLayerSigns {
         int batch = 0;
         auto flush = [&] {
             WindingCaps::FansEstimate fans[kFanPoints];
-            if (batch > 0) shared.caps.estimateFans(centres, batch, kCentreNodeError, fans);
-            for (int b = 0; b < batch; ++b) rowFans[at[b]] = fans[b];
+            if (batch > 0) caps.estimateFans(centres, batch, kCentreNodeError, fans);
+            for (int b = 0; b < batch; ++b) rowFans[at[b]].fans = fans[b];
             batch = 0;
         };
         for (std::size_t s = stored; s < end; ++s) {
-            const int i0 = band.bricks[s].x * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
-            if (shared.axes.clearOfFans(shared.caps, i0, j0, k0, i1, j1, k1)) {
+            const glm::ivec3& brick = band.bricks[s];
+            const int i0 = brick.x * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
+            while (clear < clearEnd && before(band.clearBricks[clear], brick)) ++clear;
+            if ((clear < clearEnd && band.clearBricks[clear] == brick) || shared.axes.clearOfFans(caps, i0, j0, k0, i1, j1, k1)) {
                 rowClear[s - stored] = 1;
                 continue;
             }
-            centres[batch] = shared.axes.ball(i0, j0, k0, i1, j1, k1).first; // as BrickSigns::region's
-            at[batch] = s - stored;
+            const auto [centre, reach] = shared.axes.ball(i0, j0, k0, i1, j1, k1); // as BrickSigns::region's
+            if (!caps.fansMiss(centre, reach)) continue;
+            const double variation = caps.windingVariation(centre, reach, BrickSigns::kMostVariation);
+            if (!(variation < BrickSigns::kMostVariation)) continue;
+            rowFans[s - stored].variation = variation;
+            centres[batch] = centre, at[batch] = s - stored;
             if (++batch == kFanPoints) flush();
         }
         flush();
@@ -2043,7 +2062,7 @@ struct BandLayerSigns {
     }
 
     // Every sample's count of brick bx, and its sides decided as the dense bake decides them.
-    void decide(int bx, const SignOutput& output, const WindingCaps::FansEstimate* centreFans = nullptr) {
+    void decide(int bx, const SignOutput& output, const BrickSigns::CentreEstimate* centreFans = nullptr) {
         const int i0 = bx * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
         for (int k = k0; k < k1; ++k)
             for (int j = j0; j < j1; ++j) {
@@ -2084,7 +2103,7 @@ struct BandLayerSigns {
         const BandSides& band = shared.band;
         const int i0 = bx * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
         const bool clear = rowClear[stored - rowFirst];
-        const WindingCaps::FansEstimate* centreFans = clear ? nullptr : &rowFans[stored - rowFirst];
+        const BrickSigns::CentreEstimate* centreFans = clear ? nullptr : &rowFans[stored - rowFirst];
         if (clear && band.signBricks) {
             // Clear of the fans (most of the band): negated where the count is not 0, as BrickSigns decides.
             for (int k = k0; k < k1; ++k)
@@ -2107,9 +2126,16 @@ struct BandLayerSigns {
             decide(bx, {nullptr, values, local, kEdge, kEdge * kEdge}, centreFans);
         } else {
             // Signed as measured, but for the samples the distance pass skipped (out of the band,
-            // still +background): theirs are the winding sign's.
+            // still +background): theirs are the winding sign's (their counts', clear of the fans).
             std::fill(std::begin(flags), std::end(flags), std::uint8_t(0));
-            decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge}, centreFans);
+            const SignOutput sides{flags, nullptr, local, kEdge, kEdge * kEdge};
+            if (clear) {
+                for (int k = k0; k < k1; ++k)
+                    for (int j = j0; j < j1; ++j)
+                        for (int i = i0; i < i1; ++i) sides.set(sides.index(i, j, k), aheadAt((j - j0) + kEdge * (k - k0), i) != 0);
+            } else {
+                decide(bx, sides, centreFans);
+            }
             for (int n = 0; n < SparseField::kBrickSamples; ++n) {
                 if (flags[n] == 1 && values[n] == band.background) values[n] = -band.background;
             }
@@ -2150,7 +2176,6 @@ void mergeMixedBricks(std::vector<BandLayerSigns::Output>& layers, BandSides& ba
     band.bricks.resize(out);
     band.values.resize(out * SparseField::kBrickSamples);
     constexpr std::size_t n = SparseField::kBrickSamples;
-    const auto before = [](const glm::ivec3& l, const glm::ivec3& r) { return std::tie(l.z, l.y, l.x) < std::tie(r.z, r.y, r.x); };
     while (b > 0) {
         --out;
         if (a > 0 && before(mixed[b - 1], band.bricks[a - 1])) {
@@ -2175,9 +2200,10 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
     const glm::ivec3 brickDims = (grid.dims + (kEdge - 1)) / kEdge;
     const SampleAxes axes(mesh, grid);
     const RowCrossings scan(mesh, topology, caps, grid, axes, kEdge, control.phase(0.0, 0.1));
-    BandLayerSigns::Shared shared{grid, axes, caps, scan, band, brickDims, {}, {}, {}, {}};
+    BandLayerSigns::Shared shared{grid, axes, caps, scan, band, brickDims, {}, {}, {}, {}, {}};
     shared.storedStart = layerStarts(band.bricks, brickDims.z);
     shared.fanStart = layerStarts(band.fanBricks, brickDims.z);
+    shared.clearStart = layerStarts(band.clearBricks, brickDims.z);
     shared.sidedCoordinates.resize(band.sidedBricks.size());
     for (std::size_t n = 0; n < band.sidedBricks.size(); ++n) shared.sidedCoordinates[n] = band.sidedBricks[n].first;
     shared.sidedStart = layerStarts(shared.sidedCoordinates, brickDims.z);

@@ -545,13 +545,17 @@ struct BandSides {
     bool signBricks = true;
     // Bricks out of the band that a fan may reach (ordered by z, y, x): decided sample by sample.
     std::vector<glm::ivec3> fanBricks;
+    // Bricks of `bricks` in a ball that no fan meets and where the fans' winding number stays within
+    // 0.45 of 0 (ordered by z, y, x): their samples are sided by their counts alone.
+    std::vector<glm::ivec3> clearBricks;
     // Bricks out of the band near the fans whose side is known already (1 inside, 0 outside), ordered by z, y, x.
     std::vector<std::pair<glm::ivec3, std::uint8_t>> sidedBricks;
     // Out: SparseField::insideBoxes.
     std::vector<std::array<int, 6>> insideBoxes;
 };
 // Every other brick must be out of the band (the surface nowhere in its samples' box) and clear of
-// the fans (WindingCaps::farFromEveryFan over a ball around its samples): its side is its first
+// the fans (WindingCaps::farFromEveryFan over a ball around its samples, or in a ball that no fan
+// meets and where the fans' winding number stays within 0.45 of 0): its side is its first
 // sample's count of crossings ahead. The rows' crossings are counted by layers of 8 planes, in
 // parallel, each layer's once.
 void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const WindingCaps& caps, const Grid& grid, BandSides& band,
