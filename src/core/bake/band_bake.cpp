@@ -105,15 +105,15 @@ struct BrickFinder {
     // centre is off ±1/2 by more than the bound on its change (the dense bake decides every sample
     // so); the others are split, down to bricks. The centres' estimates and sides are made for the
     // cubes together (estimateFans, sidesBeyond).
-    static constexpr double kClearVariation = 0.45, kClearNodeError = 1e-3; // as the band bricks' (BrickSigns)
+    static constexpr double kClearVariation = 0.45; // as the band bricks' (BrickSigns)
     void visit(const Cube* cubes, int n, Found& found) const {
         constexpr double kMostVariation = 0.25; // beyond, the centre's w rarely decides the cube
         Cube kept[8];
         glm::dvec3 centres[8];
         double variations[8];
-        int split = 0;
-        glm::dvec3 clearCentres[8];
-        int clearAt[8], clearCandidates = 0;
+        int split = 0, estimated[8], estimates = 0;
+        bool clearCandidate[8];
+        glm::dvec3 estimateCentres[8];
         for (int c = 0; c < n; ++c) {
             Cube cube = cubes[c];
             const glm::ivec3 hi = glm::min(cube.lo + cube.size, brickDims);
@@ -130,30 +130,34 @@ struct BrickFinder {
             const bool tryClear = !cube.fansClear && (cube.outOfBand || cube.size > 1) && !caps.caps().empty() && caps.fansMiss(centre, reach);
             variations[split] = tryClear || cube.outOfBand ? caps.windingVariation(centre, reach, tryClear ? kClearVariation : kMostVariation)
                                                            : std::numeric_limits<double>::infinity();
-            if (tryClear && variations[split] < kClearVariation) clearCentres[clearCandidates] = centre, clearAt[clearCandidates++] = split;
+            clearCandidate[split] = tryClear && variations[split] < kClearVariation;
+            if (clearCandidate[split] || (cube.outOfBand && variations[split] < kMostVariation)) {
+                estimated[split] = estimates, estimateCentres[estimates++] = centre;
+            }
             centres[split] = centre;
             kept[split++] = cube;
         }
-        if (clearCandidates > 0) {
-            WindingCaps::FansEstimate fans[8];
-            caps.estimateFans(clearCentres, clearCandidates, kClearNodeError, fans);
-            for (int c = 0; c < clearCandidates; ++c) {
-                const double spread = (fans[c].error + variations[clearAt[c]]) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
-                kept[clearAt[c]].fansClear = std::fabs(fans[c].value) + spread < 0.5;
-            }
-        }
+        // The centres' fans estimated together: for the clear cubes, and the first of sidesBeyond's.
+        WindingCaps::FansEstimate fans[8], sideFans[8];
+        if (estimates > 0) caps.estimateFans(estimateCentres, estimates, WindingCaps::kSideNodeErrors[0], fans);
         glm::dvec3 sideCentres[8];
         int ahead[8], sides[8], sided[8], candidates = 0;
         double margins[8];
         for (int c = 0; c < split; ++c) {
             sided[c] = -1;
-            const Cube& cube = kept[c];
+            Cube& cube = kept[c];
+            if (clearCandidate[c]) {
+                const WindingCaps::FansEstimate& estimate = fans[estimated[c]];
+                const double spread = (estimate.error + variations[c]) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
+                cube.fansClear = std::fabs(estimate.value) + spread < 0.5;
+            }
             if (!cube.outOfBand || cube.fansClear || !(variations[c] < kMostVariation)) continue;
             sideCentres[candidates] = centres[c], ahead[candidates] = crossingsAhead(mesh, rows, caps, centres[c]);
             margins[candidates] = variations[c] * (1.0 + 1e-9) + 1e-6;
+            sideFans[candidates] = fans[estimated[c]];
             sided[c] = candidates++;
         }
-        if (candidates > 0) caps.sidesBeyond(sideCentres, ahead, margins, candidates, sides);
+        if (candidates > 0) caps.sidesBeyond(sideCentres, ahead, margins, candidates, sides, sideFans);
         for (int c = 0; c < split; ++c) {
             const Cube& cube = kept[c];
             if (cube.outOfBand && cube.fansClear) continue;

@@ -1147,18 +1147,19 @@ double WindingCaps::winding(const glm::dvec3& p, int ahead) const {
     return w;
 }
 
-void WindingCaps::sidesBeyond(const glm::dvec3* points, const int* ahead, const double* margins, int n, int* sides) const {
+void WindingCaps::sidesBeyond(const glm::dvec3* points, const int* ahead, const double* margins, int n, int* sides,
+                              const FansEstimate* first) const {
     // An estimate to a thousandth a node decides most cubes, and shows where even w itself
     // would leave |w| within the margin of 1/2; one to a ten-thousandth decides most of the rest
     // (with the kernel measuring the fans, more cheaply than a walk); the rest walk.
-    constexpr double kNodeErrors[] = {1e-3, 1e-4};
     int left[kFanPoints], count = n; // the points not decided yet
     for (int i = 0; i < n; ++i) left[i] = i, sides[i] = -1;
-    for (const double nodeError : kNodeErrors) {
+    for (const double nodeError : kSideNodeErrors) {
         glm::dvec3 at[kFanPoints];
         FansEstimate fans[kFanPoints];
         for (int c = 0; c < count; ++c) at[c] = points[left[c]];
-        if (count > 0) estimateFans(at, count, nodeError, fans);
+        if (first && nodeError == kSideNodeErrors[0]) std::copy(first, first + n, fans); // every point left
+        else if (count > 0) estimateFans(at, count, nodeError, fans);
         int next = 0;
         for (int c = 0; c < count; ++c) {
             const int i = left[c];
@@ -1487,8 +1488,8 @@ struct BrickSigns {
     }
 
     // Decides the brick: by its counts where no fan can reach it; else, given the fans' winding
-    // number at its centre (`centreFans`: the band's bricks that fans can reach, estimated a row
-    // at a time), by that where no fan meets it (decideByEstimate); else by its near fans'
+    // number at its centre (`centreFans`: the band's bricks that fans reach, estimated a row at a
+    // time, or none), by that where no fan meets it (decideByEstimate); else by its near fans'
     // expansion; the samples left measure the near fans, the whole brick's at once where its ball
     // meets at most kMaxExactFans fans (its expanded cut is smooth), else by octants, each
     // measuring only the fans near it (a brick among many small holes meets dozens).
@@ -2087,7 +2088,8 @@ struct BandLayerSigns {
         // The fan list's brick (one of the lists has a brick at bx).
         ++fan;
         std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side
-        decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge});
+        static const BrickSigns::CentreEstimate reached; // the search found fans reaching it: no estimate
+        decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge}, &reached);
         bool in = false, outside = false;
         for (const std::uint8_t f : flags) in |= f == 1, outside |= f == 0;
         if (in && outside) {

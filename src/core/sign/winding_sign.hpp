@@ -334,10 +334,6 @@ public:
         sidesBeyond(&p, &ahead, &margin, 1, &side);
         return side;
     }
-    // sideBeyond at n <= kFanPoints points at once (the centres of a cube's children): their
-    // estimates share one pass over the fan tree, and its fans are measured at every point by
-    // the fan kernel.
-    void sidesBeyond(const glm::dvec3* points, const int* ahead, const double* margins, int n, int* sides) const;
     // The fans' winding number at each of n <= kFanPoints points within `error`: each node whose
     // dipole (or area's bound) errs by less than `nodeError` at every point counts as that, the
     // others are opened, down to fans measured exactly (the fan kernel, at every point at once).
@@ -347,6 +343,13 @@ public:
         double value = 0.0, error = 0.0;
     };
     void estimateFans(const glm::dvec3* points, int n, double nodeError, FansEstimate* out) const;
+    // sideBeyond at n <= kFanPoints points at once (the centres of a cube's children): their
+    // estimates share one pass over the fan tree, and its fans are measured at every point by
+    // the fan kernel. `first`, where given, is the points' first estimate (estimateFans to
+    // kSideNodeErrors[0]), made already.
+    static constexpr double kSideNodeErrors[] = {1e-3, 1e-4};
+    void sidesBeyond(const glm::dvec3* points, const int* ahead, const double* margins, int n, int* sides,
+                     const FansEstimate* first = nullptr) const;
     // Whether the ball (centre, reach) misses every fan (then the fans' winding number is
     // harmonic over it, whatever of the mesh it holds, and windingVariation bounds its change).
     bool fansMiss(const glm::dvec3& centre, double reach) const { return clearOfFans(centre, reach, true); }
