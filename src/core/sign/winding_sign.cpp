@@ -2088,7 +2088,7 @@ struct BandLayerSigns {
         // The fan list's brick (one of the lists has a brick at bx).
         ++fan;
         std::fill(std::begin(flags), std::end(flags), std::uint8_t(2)); // past the grid's end: neither side
-        static const BrickSigns::CentreEstimate reached; // the search found fans reaching it: no estimate
+        static constexpr BrickSigns::CentreEstimate reached{}; // the search found fans reaching it: no estimate
         decide(bx, {flags, nullptr, local, kEdge, kEdge * kEdge}, &reached);
         bool in = false, outside = false;
         for (const std::uint8_t f : flags) in |= f == 1, outside |= f == 0;
