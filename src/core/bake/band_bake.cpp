@@ -16,7 +16,6 @@
 #include <cmath>
 #include <cstdio>
 #include <thread>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -105,7 +104,6 @@ struct BrickFinder {
     // centre is off ±1/2 by more than the bound on its change (the dense bake decides every sample
     // so); the others are split, down to bricks. The centres' estimates and sides are made for the
     // cubes together (estimateFans, sidesBeyond).
-    static constexpr double kClearVariation = 0.45; // as the band bricks' (BrickSigns)
     void visit(const Cube* cubes, int n, Found& found) const {
         constexpr double kMostVariation = 0.25; // beyond, the centre's w rarely decides the cube
         Cube kept[8];
@@ -128,9 +126,9 @@ struct BrickFinder {
             if (cube.outOfBand && (cube.fansClear || caps.farFromEveryFan(centre, reach))) continue;
             // A brick in the band takes its estimate with its row's (BandSides::bricks).
             const bool tryClear = !cube.fansClear && (cube.outOfBand || cube.size > 1) && !caps.caps().empty() && caps.fansMiss(centre, reach);
-            variations[split] = tryClear || cube.outOfBand ? caps.windingVariation(centre, reach, tryClear ? kClearVariation : kMostVariation)
+            variations[split] = tryClear || cube.outOfBand ? caps.windingVariation(centre, reach, tryClear ? WindingCaps::kMostEstimateVariation : kMostVariation)
                                                            : std::numeric_limits<double>::infinity();
-            clearCandidate[split] = tryClear && variations[split] < kClearVariation;
+            clearCandidate[split] = tryClear && variations[split] < WindingCaps::kMostEstimateVariation;
             if (clearCandidate[split] || (cube.outOfBand && variations[split] < kMostVariation)) {
                 estimated[split] = estimates, estimateCentres[estimates++] = centre;
             }
@@ -147,9 +145,7 @@ struct BrickFinder {
             sided[c] = -1;
             Cube& cube = kept[c];
             if (clearCandidate[c]) {
-                const WindingCaps::FansEstimate& estimate = fans[estimated[c]];
-                const double spread = (estimate.error + variations[c]) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
-                cube.fansClear = std::fabs(estimate.value) + spread < 0.5;
+                cube.fansClear = fans[estimated[c]].countsDecide(variations[c]);
             }
             if (!cube.outOfBand || cube.fansClear || !(variations[c] < kMostVariation)) continue;
             sideCentres[candidates] = centres[c], ahead[candidates] = crossingsAhead(mesh, rows, caps, centres[c]);
@@ -183,8 +179,6 @@ struct BrickFinder {
         }
     }
 };
-
-bool before(const glm::ivec3& a, const glm::ivec3& b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); }
 
 } // namespace
 
@@ -294,10 +288,10 @@ SparseField bakeBand(const BakeContext& context, BakeResult& result, const RunCo
         sides.clearBricks.insert(sides.clearBricks.end(), f.clearInBand.begin(), f.clearInBand.end());
         f = {};
     }
-    std::sort(sides.bricks.begin(), sides.bricks.end(), before);
-    std::sort(sides.fanBricks.begin(), sides.fanBricks.end(), before);
-    std::sort(sides.clearBricks.begin(), sides.clearBricks.end(), before);
-    std::sort(sides.sidedBricks.begin(), sides.sidedBricks.end(), [](const auto& a, const auto& b) { return before(a.first, b.first); });
+    std::sort(sides.bricks.begin(), sides.bricks.end(), brickBefore);
+    std::sort(sides.fanBricks.begin(), sides.fanBricks.end(), brickBefore);
+    std::sort(sides.clearBricks.begin(), sides.clearBricks.end(), brickBefore);
+    std::sort(sides.sidedBricks.begin(), sides.sidedBricks.end(), [](const auto& a, const auto& b) { return brickBefore(a.first, b.first); });
     result.searchSeconds = since(start);
     result.signSeconds += result.searchSeconds;
 

@@ -1154,12 +1154,12 @@ void WindingCaps::sidesBeyond(const glm::dvec3* points, const int* ahead, const 
     // (with the kernel measuring the fans, more cheaply than a walk); the rest walk.
     int left[kFanPoints], count = n; // the points not decided yet
     for (int i = 0; i < n; ++i) left[i] = i, sides[i] = -1;
-    for (const double nodeError : kSideNodeErrors) {
+    for (std::size_t pass = 0; pass < std::size(kSideNodeErrors); ++pass) {
         glm::dvec3 at[kFanPoints];
         FansEstimate fans[kFanPoints];
         for (int c = 0; c < count; ++c) at[c] = points[left[c]];
-        if (first && nodeError == kSideNodeErrors[0]) std::copy(first, first + n, fans); // every point left
-        else if (count > 0) estimateFans(at, count, nodeError, fans);
+        if (pass == 0 && first) std::copy(first, first + n, fans); // every point left
+        else if (count > 0) estimateFans(at, count, kSideNodeErrors[pass], fans);
         int next = 0;
         for (int c = 0; c < count; ++c) {
             const int i = left[c];
@@ -1431,8 +1431,7 @@ struct BrickSigns {
     static constexpr double kFarTarget = 0.01;
     // A brick of the band that no fan meets: the fans' winding number at its centre (estimated),
     // and windingVariation's bound on its change over the brick's ball (none at or above
-    // kMostVariation, where w within 0.05 of an integer is all it could decide).
-    static constexpr double kMostVariation = 0.45;
+    // WindingCaps::kMostEstimateVariation).
     struct CentreEstimate {
         WindingCaps::FansEstimate fans;
         double variation = std::numeric_limits<double>::infinity();
@@ -1593,8 +1592,8 @@ struct BrickSigns {
     // each sample whose count keeps |w| off 1/2 by more than that and the estimate's error is
     // decided. Whether that decides every sample.
     bool decideByEstimate(const CentreEstimate& estimate) {
-        if (!(estimate.variation < kMostVariation)) return false;
-        const double spread = (estimate.fans.error + estimate.variation) * (1.0 + 1e-12) + WindingCaps::kDecisionMargin;
+        if (!(estimate.variation < WindingCaps::kMostEstimateVariation)) return false;
+        const double spread = estimate.fans.spread(estimate.variation);
         forEachUndecided([&](int i, int j, int k) {
             const double x = std::fabs(double(count(i, j, k)) - estimate.fans.value) - 0.5; // |w| - 1/2, within spread
             if (!(std::fabs(x) > spread)) return;
@@ -1872,9 +1871,6 @@ void windingSigns(const Mesh& mesh, const MeshTopology& topology, const Grid& gr
 
 namespace {
 
-// Whether brick a comes before b in the band's lists (ordered by z, y, x).
-bool before(const glm::ivec3& a, const glm::ivec3& b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); }
-
 // One layer of bricks (8 planes of samples) of a narrow-band bake: each brick row's stored bricks
 // signed, its fan bricks decided, the sided ones taken as they are, and every other brick sided by
 // its first sample's count, in runs between the first row's crossings (band sides: see
@@ -2013,15 +2009,15 @@ struct BandLayerSigns {
         for (std::size_t s = stored; s < end; ++s) {
             const glm::ivec3& brick = band.bricks[s];
             const int i0 = brick.x * kEdge, i1 = std::min(shared.grid.dims.x, i0 + kEdge);
-            while (clear < clearEnd && before(band.clearBricks[clear], brick)) ++clear;
+            while (clear < clearEnd && brickBefore(band.clearBricks[clear], brick)) ++clear;
             if ((clear < clearEnd && band.clearBricks[clear] == brick) || shared.axes.clearOfFans(caps, i0, j0, k0, i1, j1, k1)) {
                 rowClear[s - stored] = 1;
                 continue;
             }
             const auto [centre, reach] = shared.axes.ball(i0, j0, k0, i1, j1, k1); // as BrickSigns::region's
             if (!caps.fansMiss(centre, reach)) continue;
-            const double variation = caps.windingVariation(centre, reach, BrickSigns::kMostVariation);
-            if (!(variation < BrickSigns::kMostVariation)) continue;
+            const double variation = caps.windingVariation(centre, reach, WindingCaps::kMostEstimateVariation);
+            if (!(variation < WindingCaps::kMostEstimateVariation)) continue;
             rowFans[s - stored].variation = variation;
             centres[batch] = centre, at[batch] = s - stored;
             if (++batch == kFanPoints) flush();
@@ -2180,7 +2176,7 @@ void mergeMixedBricks(std::vector<BandLayerSigns::Output>& layers, BandSides& ba
     constexpr std::size_t n = SparseField::kBrickSamples;
     while (b > 0) {
         --out;
-        if (a > 0 && before(mixed[b - 1], band.bricks[a - 1])) {
+        if (a > 0 && brickBefore(mixed[b - 1], band.bricks[a - 1])) {
             --a;
             band.bricks[out] = band.bricks[a];
             std::copy(band.values.begin() + std::ptrdiff_t(a * n), band.values.begin() + std::ptrdiff_t((a + 1) * n),

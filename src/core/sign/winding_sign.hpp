@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -341,7 +342,17 @@ public:
     // well above nodeError is wanted.
     struct FansEstimate {
         double value = 0.0, error = 0.0;
+        // How far the fans' winding number may be from `value` anywhere in a ball no fan meets,
+        // over which it varies by `variation` (windingVariation), with the decisions' margin.
+        double spread(double variation) const { return (error + variation) * (1.0 + 1e-12) + kDecisionMargin; }
+        // Whether it stays within 1/2 of 0 there: every point is then inside exactly where its count
+        // of crossings ahead is not 0.
+        bool countsDecide(double variation) const { return std::fabs(value) + spread(variation) < 0.5; }
     };
+    // The most variation over a ball for which an estimate at its centre is worth making: beyond,
+    // w within 0.05 of an integer is all it could decide (the band's bricks, and its search for
+    // cubes whose counts decide).
+    static constexpr double kMostEstimateVariation = 0.45;
     void estimateFans(const glm::dvec3* points, int n, double nodeError, FansEstimate* out) const;
     // sideBeyond at n <= kFanPoints points at once (the centres of a cube's children): their
     // estimates share one pass over the fan tree, and its fans are measured at every point by
@@ -556,6 +567,8 @@ struct BandSides {
     // Out: SparseField::insideBoxes.
     std::vector<std::array<int, 6>> insideBoxes;
 };
+// Whether brick a comes before b in BandSides' lists (ordered by z, y, x).
+inline bool brickBefore(const glm::ivec3& a, const glm::ivec3& b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); }
 // Every other brick must be out of the band (the surface nowhere in its samples' box) and clear of
 // the fans (WindingCaps::farFromEveryFan over a ball around its samples, or in a ball that no fan
 // meets and where the fans' winding number stays within 0.45 of 0): its side is its first
