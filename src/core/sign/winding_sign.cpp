@@ -1155,11 +1155,14 @@ void WindingCaps::sidesBeyond(const glm::dvec3* points, const int* ahead, const 
     int left[kFanPoints], count = n; // the points not decided yet
     for (int i = 0; i < n; ++i) left[i] = i, sides[i] = -1;
     for (std::size_t pass = 0; pass < std::size(kSideNodeErrors); ++pass) {
-        glm::dvec3 at[kFanPoints];
         FansEstimate fans[kFanPoints];
-        for (int c = 0; c < count; ++c) at[c] = points[left[c]];
-        if (pass == 0 && first) std::copy(first, first + n, fans); // every point left
-        else if (count > 0) estimateFans(at, count, kSideNodeErrors[pass], fans);
+        if (pass == 0 && first) {
+            std::copy(first, first + n, fans); // every point left
+        } else if (count > 0) {
+            glm::dvec3 at[kFanPoints];
+            for (int c = 0; c < count; ++c) at[c] = points[left[c]];
+            estimateFans(at, count, kSideNodeErrors[pass], fans);
+        }
         int next = 0;
         for (int c = 0; c < count; ++c) {
             const int i = left[c];
