@@ -1428,10 +1428,13 @@ struct BrickSigns {
     static constexpr int kEdge = 8;
     // The expanded cut's target (the sum of its far bounds) and its most fans; the measured cuts
     // are WindingCaps's (kNearestFans, kLooseTarget, ...).
-    static constexpr double kExpandTarget = 0.01;
-    static constexpr std::size_t kExpandedFans = 64;
-    // WindingCaps::expandFar's target, for the samples a cut leaves in doubt.
-    static constexpr double kFarTarget = 0.01;
+    // Loose and few: the samples that these leave in doubt have the cut's far fans expanded
+    // (expandFarFans) only where that pays.
+    static constexpr double kExpandTarget = 0.1;
+    static constexpr std::size_t kExpandedFans = 16;
+    // WindingCaps::expandFar's targets, for the samples a cut leaves in doubt: the coarse one, or
+    // the fine one where that decides enough samples more.
+    static constexpr double kFarTarget = 0.01, kFineFarTarget = 0.001;
     // A brick of the band that no fan meets: the fans' winding number at its centre (estimated),
     // and windingVariation's bound on its change over the brick's ball (none at or above
     // WindingCaps::kMostEstimateVariation).
@@ -1552,7 +1555,10 @@ struct BrickSigns {
     double room[kEdge * kEdge * kEdge];
     // The cut's far fans expanded (WindingCaps::expandFar) for the samples that settle() left in
     // doubt, where that would decide enough of them: a quarter and at least kFarExpansionLeast,
-    // whose room exceeds the far bounds it would leave. Beside small holes the samples left are
+    // whose room exceeds the far bounds it would leave. To the fine target where the samples that
+    // decides beyond the coarse one's are enough again (of those the coarse leaves): among open
+    // parts most samples lie within 0.1 of |w| = 1/2, and the fans of the other parts bound them
+    // by hundredths together. Beside small holes the samples left are
     // those near |w| = 1/2, which no expansion of far fans decides (it would cost more than the
     // fans measured at them). With `limited` (where the samples left can still measure their
     // fans: after a brick's expansion), at most kFarFansPerSample fans are expanded for each
@@ -1563,16 +1569,22 @@ struct BrickSigns {
     bool expandFarFans(WindingCaps::Cut& cut, bool limited) {
         if (undecidedCount() == 0) return false;
         const double opened = caps.farToExpand(cut);
-        if (!(opened > kFarTarget)) return false;
-        const double left = cut.farSum - opened + 2.0 * kFarTarget;
-        int doubtful = 0, decided = 0;
+        if (!(opened > kFineFarTarget)) return false;
+        const double rest = cut.farSum - opened;
+        int doubtful = 0, coarse = 0, fine = 0;
         forEachUndecided([&](int i, int j, int k) {
             ++doubtful;
-            decided += room[local({i, j, k})] > left;
+            const double r = room[local({i, j, k})];
+            coarse += r > rest + 2.0 * kFarTarget;
+            fine += r > rest + 2.0 * kFineFarTarget;
         });
-        if (decided < kFarExpansionLeast || 4 * decided < doubtful) return false;
+        auto pays = [&](int decided, int among) { return decided >= kFarExpansionLeast && 4 * decided >= among; };
+        const bool coarsePays = opened > kFarTarget && pays(coarse, doubtful);
+        const bool finer = pays(fine, doubtful) && (!coarsePays || pays(fine - coarse, doubtful - coarse));
+        if (!finer && !coarsePays) return false;
+        const int decided = finer ? fine : coarse;
         const std::size_t maxFans = limited ? kFarFansPerSample * std::size_t(decided) : std::numeric_limits<std::size_t>::max();
-        if (!caps.expandFar(cut, kFarTarget, maxFans)) return false;
+        if (!caps.expandFar(cut, finer ? kFineFarTarget : kFarTarget, maxFans)) return false;
         ++farExpanded;
         return true;
     }
