@@ -1432,9 +1432,9 @@ struct BrickSigns {
     // (expandFarFans) only where that pays.
     static constexpr double kExpandTarget = 0.1;
     static constexpr std::size_t kExpandedFans = 16;
-    // WindingCaps::expandFar's targets, for the samples a cut leaves in doubt: the coarse one, or
-    // the fine one where that decides enough samples more.
-    static constexpr double kFarTarget = 0.01, kFineFarTarget = 0.001;
+    // WindingCaps::expandFar's targets, for the samples a cut leaves in doubt: each finer one
+    // taken where it decides enough samples beyond the one before.
+    static constexpr double kFarTargets[] = {0.01, 1e-3, 1e-4};
     // A brick of the band that no fan meets: the fans' winding number at its centre (estimated),
     // and windingVariation's bound on its change over the brick's ball (none at or above
     // WindingCaps::kMostEstimateVariation).
@@ -1555,36 +1555,37 @@ struct BrickSigns {
     double room[kEdge * kEdge * kEdge];
     // The cut's far fans expanded (WindingCaps::expandFar) for the samples that settle() left in
     // doubt, where that would decide enough of them: a quarter and at least kFarExpansionLeast,
-    // whose room exceeds the far bounds it would leave. To the fine target where the samples that
-    // decides beyond the coarse one's are enough again (of those the coarse leaves): among open
+    // whose room exceeds the far bounds it would leave; to a finer target where the samples that
+    // decides beyond the coarser one's are enough again (of those the coarser leaves): among open
     // parts most samples lie within 0.1 of |w| = 1/2, and the fans of the other parts bound them
-    // by hundredths together. Beside small holes the samples left are
-    // those near |w| = 1/2, which no expansion of far fans decides (it would cost more than the
-    // fans measured at them). With `limited` (where the samples left can still measure their
-    // fans: after a brick's expansion), at most kFarFansPerSample fans are expanded for each
-    // sample it would decide: beside many small holes, the far fans are many and those samples
-    // few. Whether the cut changed (its samples are then settled again by the caller).
+    // by hundredths together. Beside small holes the samples left are those near |w| = 1/2, which
+    // no expansion of far fans decides (it would cost more than the fans measured at them). With
+    // `limited` (where the samples left can still measure their fans: after a brick's expansion),
+    // at most kFarFansPerSample fans are expanded for each sample it would decide: beside many
+    // small holes, the far fans are many and those samples few. Whether the cut changed (its
+    // samples are then settled again by the caller).
     static constexpr int kFarExpansionLeast = 8;
     static constexpr std::size_t kFarFansPerSample = 2;
     bool expandFarFans(WindingCaps::Cut& cut, bool limited) {
         if (undecidedCount() == 0) return false;
         const double opened = caps.farToExpand(cut);
-        if (!(opened > kFineFarTarget)) return false;
+        if (!(opened > kFarTargets[std::size(kFarTargets) - 1])) return false;
         const double rest = cut.farSum - opened;
-        int doubtful = 0, coarse = 0, fine = 0;
+        int doubtful = 0, decidedAt[std::size(kFarTargets)] = {};
         forEachUndecided([&](int i, int j, int k) {
             ++doubtful;
             const double r = room[local({i, j, k})];
-            coarse += r > rest + 2.0 * kFarTarget;
-            fine += r > rest + 2.0 * kFineFarTarget;
+            for (std::size_t t = 0; t < std::size(kFarTargets); ++t) decidedAt[t] += r > rest + 2.0 * kFarTargets[t];
         });
         auto pays = [&](int decided, int among) { return decided >= kFarExpansionLeast && 4 * decided >= among; };
-        const bool coarsePays = opened > kFarTarget && pays(coarse, doubtful);
-        const bool finer = pays(fine, doubtful) && (!coarsePays || pays(fine - coarse, doubtful - coarse));
-        if (!finer && !coarsePays) return false;
-        const int decided = finer ? fine : coarse;
+        double target = 0.0;
+        int decided = 0;
+        for (std::size_t t = 0; t < std::size(kFarTargets); ++t) {
+            if (opened > kFarTargets[t] && pays(decidedAt[t] - decided, doubtful - decided)) target = kFarTargets[t], decided = decidedAt[t];
+        }
+        if (decided == 0) return false;
         const std::size_t maxFans = limited ? kFarFansPerSample * std::size_t(decided) : std::numeric_limits<std::size_t>::max();
-        if (!caps.expandFar(cut, finer ? kFineFarTarget : kFarTarget, maxFans)) return false;
+        if (!caps.expandFar(cut, target, maxFans)) return false;
         ++farExpanded;
         return true;
     }
