@@ -419,6 +419,7 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         for (const glm::dvec3& v : c.loop) node.radius = std::max(node.radius, glm::length(v - node.centroid));
     }
     node.radius *= 1.0 + 1e-12;
+    node.fans = std::uint32_t(end - begin);
     if (end - begin == 1) {
         node.first = order[begin];
         node.leaf = true;
@@ -874,6 +875,28 @@ bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const 
                 ++expanded;
                 leaves[count] = loosest.node, deferred[count] = loosest;
                 if (++count == kFanPoints) settle();
+                continue;
+            }
+            // A node of a few fans has them expanded at once: bounding the nodes between costs
+            // more than the few fans that the target might have left unopened.
+            constexpr std::uint32_t kWholeFans = 4;
+            if (node.fans <= kWholeFans && expanded + node.fans <= maxFans) {
+                std::uint32_t below[2 * kWholeFans];
+                int top = 0;
+                below[top++] = node.first, below[top++] = node.first + 1;
+                while (top > 0) {
+                    const std::uint32_t index = below[--top];
+                    const Node& n = nodes_[index];
+                    if (!n.leaf) {
+                        below[top++] = n.first, below[top++] = n.first + 1;
+                        continue;
+                    }
+                    const Pending fan{bound(n, centre, reach, ballDistance(n, centre, reach)), index};
+                    if (!(fan.bound > 0.0)) continue; // no area
+                    ++expanded;
+                    leaves[count] = index, deferred[count] = fan;
+                    if (++count == kFanPoints) settle();
+                }
                 continue;
             }
             for (const std::uint32_t child : {node.first, node.first + 1}) {

@@ -380,6 +380,7 @@ private:
         double area;         // the sum of |weight| * area below
         std::uint32_t first; // inner: first child (the second is first + 1); leaf: the cap
         bool leaf;
+        std::uint32_t fans = 1; // the caps below
         // The fans below as a near-flat sheet (see bound()): a unit normal n, the box's centre c,
         // and area-weighted means of each triangle's farthest vertex from the plane (c, n) and of
         // the distance of its normal from ±n. tilt 2 (the most it can be) when no plane fits.
