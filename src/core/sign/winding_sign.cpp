@@ -846,11 +846,12 @@ bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const 
         return false;
     }
     // Fans to expand, kFanPoints at a time (the fan-terms kernel); their bounds left the sum.
-    std::uint32_t leaves[kFanPoints];
     Pending deferred[kFanPoints];
     int count = 0;
     std::size_t expanded = 0; // fans taken, settled or deferred
     auto settle = [&] {
+        std::uint32_t leaves[kFanPoints];
+        for (int f = 0; f < count; ++f) leaves[f] = deferred[f].node;
         FanTerms terms[kFanPoints];
         bool ok[kFanPoints];
         fanTermsOf(leaves, count, centre, reach, terms, ok);
@@ -864,6 +865,11 @@ bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const 
         }
         count = 0;
     };
+    auto take = [&](const Pending& fan) {
+        ++expanded;
+        deferred[count] = fan;
+        if (++count == kFanPoints) settle();
+    };
     for (;;) {
         while (!waiting.empty() && sum > target) {
             const Pending loosest = waiting.loosest();
@@ -872,9 +878,7 @@ bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const 
             waiting.pop();
             sum -= loosest.bound;
             if (node.leaf) {
-                ++expanded;
-                leaves[count] = loosest.node, deferred[count] = loosest;
-                if (++count == kFanPoints) settle();
+                take(loosest);
                 continue;
             }
             // A node of a few fans has them expanded at once: bounding the nodes between costs
@@ -892,10 +896,7 @@ bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const 
                         continue;
                     }
                     const Pending fan{bound(n, centre, reach, ballDistance(n, centre, reach)), index};
-                    if (!(fan.bound > 0.0)) continue; // no area
-                    ++expanded;
-                    leaves[count] = index, deferred[count] = fan;
-                    if (++count == kFanPoints) settle();
+                    if (fan.bound > 0.0) take(fan); // else no area
                 }
                 continue;
             }
