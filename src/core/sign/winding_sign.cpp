@@ -1614,6 +1614,23 @@ struct BrickSigns {
         return true;
     }
 
+    // settle() for each undecided sample of the region, given the fans' winding number there as
+    // value(n, offset): n its index in the brick, offset its position less the centre. A loop of
+    // its own: it runs for every sample of every brick that fans reach. Returns the samples decided.
+    template <class Value>
+    int settleEach(const WindingCaps::Cut& cut, const Value& value) {
+        int decided = 0;
+        for (int k = ka; k < ke; ++k) {
+            const double dz = axes.z[k] - centre.z;
+            for (std::uint64_t bits = row(k) & mask; bits; bits &= bits - 1) {
+                const int b = __builtin_ctzll(bits), i = i0 + b % kEdge, j = j0 + b / kEdge;
+                const glm::dvec3 offset(axes.x[i] - centre.x, axes.y[j] - centre.y, dz);
+                decided += settle({i, j, k}, value(b + kEdge * kEdge * (k - k0), offset), glm::length(offset), cut);
+            }
+        }
+        return decided;
+    }
+
     // The undecided samples, a batch of up to kFanPoints at a time: their fans are measured together.
     glm::dvec3 points[kFanPoints];
     glm::ivec3 at[kFanPoints];
@@ -1651,29 +1668,24 @@ struct BrickSigns {
         if (!cut.smooth) return false;
         evaluations += cut.nearNodes.size();
         double exactAt[kEdge * kEdge * kEdge]; // the exact fans' winding number at each sample
-        auto settleAll = [&](bool measure) {
+        const bool exact = !cut.exactNodes.empty();
+        if (exact) {
+            forEachBatch([&] {
+                double measured[kFanPoints];
+                evaluations += caps.fanWindings(cut.exactNodes, points, batch, measured);
+                for (int s = 0; s < batch; ++s) exactAt[local(at[s])] = measured[s];
+            });
+        }
+        auto settleAll = [&] {
             const double near = cut.nearValue + cut.farValue;
             const glm::dvec3 gradient = cut.nearGradient + cut.farGradient;
-            forEachBatch([&] {
-                double exact[kFanPoints] = {};
-                if (!cut.exactNodes.empty()) {
-                    if (measure) evaluations += caps.fanWindings(cut.exactNodes, points, batch, exact);
-                    for (int s = 0; s < batch; ++s) {
-                        double& stored = exactAt[local(at[s])];
-                        if (measure) stored = exact[s];
-                        else exact[s] = stored;
-                    }
-                }
-                for (int s = 0; s < batch; ++s) {
-                    const glm::dvec3 offset = points[s] - centre;
-                    if (settle(at[s], near + glm::dot(gradient, offset) + exact[s], glm::length(offset), cut)) {
-                        exactDecided += !cut.exactNodes.empty();
-                    }
-                }
+            const int decided = settleEach(cut, [&](int n, const glm::dvec3& offset) {
+                return near + glm::dot(gradient, offset) + (exact ? exactAt[n] : 0.0);
             });
+            if (exact) exactDecided += std::size_t(decided);
         };
-        settleAll(true);
-        if (expandFarFans(cut, true)) settleAll(false); // the samples left, with the far fans expanded too
+        settleAll();
+        if (expandFarFans(cut, true)) settleAll(); // the samples left, with the far fans expanded too
         return undecidedCount() == 0;
     }
 
@@ -1705,10 +1717,7 @@ struct BrickSigns {
         // The samples left by a measure, settled again with the cut's far fans expanded too.
         auto settleExpanded = [&](WindingCaps::Cut& cut) {
             if (!expandFarFans(cut, false)) return;
-            forEachUndecided([&](int i, int j, int k) {
-                const glm::dvec3 offset = axes.position(i, j, k) - centre;
-                settle({i, j, k}, nearAt[local({i, j, k})] + cut.farValue + glm::dot(cut.farGradient, offset), glm::length(offset), cut);
-            });
+            settleEach(cut, [&](int n, const glm::dvec3& offset) { return nearAt[n] + cut.farValue + glm::dot(cut.farGradient, offset); });
         };
         const bool hopeless = nearest.spread() > WindingCaps::kHopeless;
         measure(nearest, 0);
