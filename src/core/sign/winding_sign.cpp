@@ -2255,8 +2255,18 @@ void bandWindingSigns(const Mesh& mesh, const MeshTopology& topology, const Wind
     for (std::size_t n = 0; n < band.sidedBricks.size(); ++n) shared.sidedCoordinates[n] = band.sidedBricks[n].first;
     shared.sidedStart = layerStarts(shared.sidedCoordinates, brickDims.z);
     std::vector<BandLayerSigns::Output> layers(std::size_t(brickDims.z));
-    parallelFor(std::size_t(brickDims.z), control.phase(0.1, 1.0), [&](std::size_t layer) {
-        BandLayerSigns(shared, layers[layer], layer).run();
+    // The layers taken costliest first (by their bricks that fans may reach): the last ones to
+    // finish are then cheap, and no thread waits long for the others at the end.
+    std::vector<std::size_t> order(layers.size());
+    std::vector<std::size_t> cost(layers.size());
+    for (std::size_t z = 0; z < layers.size(); ++z) {
+        order[z] = z;
+        cost[z] = (shared.storedStart[z + 1] - shared.storedStart[z]) - (shared.clearStart[z + 1] - shared.clearStart[z]) +
+                  (shared.fanStart[z + 1] - shared.fanStart[z]);
+    }
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+    parallelFor(order.size(), control.phase(0.1, 1.0), [&](std::size_t n) {
+        BandLayerSigns(shared, layers[order[n]], order[n]).run();
     });
     mergeMixedBricks(layers, band);
     band.insideBoxes.clear();
