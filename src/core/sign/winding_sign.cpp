@@ -815,11 +815,12 @@ bool WindingCaps::toExpand(const Cut& cut, const Pending& far) const {
     return !far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], cut.centre, cut.reach) >= kFarReaches * cut.reach;
 }
 
-double WindingCaps::farToExpand(const Cut& cut) const {
+double WindingCaps::farToExpand(Cut& cut) const {
+    const auto first = std::partition(cut.farNodes.begin(), cut.farNodes.end(), [&](const Pending& far) { return !toExpand(cut, far); });
+    cut.toExpandFrom = std::size_t(first - cut.farNodes.begin());
+    cut.farSorted = false;
     double sum = 0.0;
-    for (const Pending& far : cut.farNodes) {
-        if (toExpand(cut, far)) sum += far.bound;
-    }
+    for (auto far = first; far != cut.farNodes.end(); ++far) sum += far->bound;
     return sum;
 }
 
@@ -830,16 +831,11 @@ bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const 
     Waiting& waiting = cut.waiting;
     waiting.clear();
     double sum = 0.0; // of the waiting bounds
-    std::size_t kept = 0;
-    for (const Pending& far : cut.farNodes) {
-        if (toExpand(cut, far)) {
-            waiting.push(far);
-            sum += far.bound;
-        } else {
-            cut.farNodes[kept++] = far;
-        }
+    for (std::size_t n = cut.toExpandFrom; n < cut.farNodes.size(); ++n) {
+        waiting.push(cut.farNodes[n]);
+        sum += cut.farNodes[n].bound;
     }
-    cut.farNodes.resize(kept);
+    cut.farNodes.resize(cut.toExpandFrom);
     if (!(sum > target)) { // nothing to do: the nodes go back (in another order)
         waiting.forEach([&](const Pending& node) { cut.farNodes.push_back(node); });
         cut.farSorted = false;
