@@ -831,6 +831,7 @@ bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const 
     Waiting& waiting = cut.waiting;
     waiting.clear();
     double sum = 0.0; // of the waiting bounds
+    assert(cut.toExpandFrom <= cut.farNodes.size()); // set apart by farToExpand
     for (std::size_t n = cut.toExpandFrom; n < cut.farNodes.size(); ++n) {
         waiting.push(cut.farNodes[n]);
         sum += cut.farNodes[n].bound;
