@@ -412,7 +412,7 @@ TEST(WindingSign, CutBoundsHoldBesideFlatAndBentFans) {
             else if (mode == 2) caps.cut(centre, reach, 1e-3, 4, false, cut, nullptr, false, WindingCaps::kExpandedFanPoints);
             else caps.cut(centre, reach, 0.01, 64, true, cut); // near fans expanded too
             // Every other cut has its far fans expanded too (as for the samples a brick leaves in doubt).
-            if (n % 8 >= 4) farExpanded += caps.expandFar(cut, 1e-3, 1000);
+            if (n % 8 >= 4) farExpanded += caps.expandFar(cut, caps.farToExpand(cut), 1e-3, 1000);
             bounded += !cut.farNodes.empty();
             for (const WindingCaps::Pending& node : cut.farNodes) dipoles += node.dipole, expanded += node.expanded;
             for (int m = 0; m < 8; ++m) {

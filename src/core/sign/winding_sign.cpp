@@ -815,28 +815,23 @@ bool WindingCaps::toExpand(const Cut& cut, const Pending& far) const {
     return !far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], cut.centre, cut.reach) >= kFarReaches * cut.reach;
 }
 
-double WindingCaps::farToExpand(Cut& cut) const {
+WindingCaps::FarToExpand WindingCaps::farToExpand(Cut& cut) const {
     const auto first = std::partition(cut.farNodes.begin(), cut.farNodes.end(), [&](const Pending& far) { return !toExpand(cut, far); });
-    cut.toExpandFrom = std::size_t(first - cut.farNodes.begin());
     cut.farSorted = false;
     double sum = 0.0;
     for (auto far = first; far != cut.farNodes.end(); ++far) sum += far->bound;
-    return sum;
+    return {std::size_t(first - cut.farNodes.begin()), sum};
 }
 
-bool WindingCaps::expandFar(Cut& cut, double target, std::size_t maxFans) const {
+bool WindingCaps::expandFar(Cut& cut, const FarToExpand& opened, double target, std::size_t maxFans) const {
     const glm::dvec3 centre = cut.centre;
     const double reach = cut.reach, nearest = kFarReaches * reach;
     // The nodes to open wait (loosest first); the others stay.
     Waiting& waiting = cut.waiting;
     waiting.clear();
-    double sum = 0.0; // of the waiting bounds
-    assert(cut.toExpandFrom <= cut.farNodes.size()); // set apart by farToExpand
-    for (std::size_t n = cut.toExpandFrom; n < cut.farNodes.size(); ++n) {
-        waiting.push(cut.farNodes[n]);
-        sum += cut.farNodes[n].bound;
-    }
-    cut.farNodes.resize(cut.toExpandFrom);
+    double sum = opened.sum; // of the waiting bounds
+    for (std::size_t n = opened.first; n < cut.farNodes.size(); ++n) waiting.push(cut.farNodes[n]);
+    cut.farNodes.resize(opened.first);
     if (!(sum > target)) { // nothing to do: the nodes go back (in another order)
         waiting.forEach([&](const Pending& node) { cut.farNodes.push_back(node); });
         cut.farSorted = false;
@@ -1589,9 +1584,9 @@ struct BrickSigns {
     static constexpr std::size_t kFarFansPerSample = 2;
     bool expandFarFans(WindingCaps::Cut& cut, bool limited) {
         if (undecidedCount() == 0) return false;
-        const double opened = caps.farToExpand(cut);
-        if (!(opened > kFarTargets[std::size(kFarTargets) - 1])) return false;
-        const double rest = cut.farSum - opened;
+        const WindingCaps::FarToExpand opened = caps.farToExpand(cut);
+        if (!(opened.sum > kFarTargets[std::size(kFarTargets) - 1])) return false;
+        const double rest = cut.farSum - opened.sum;
         int doubtful = 0, decidedAt[std::size(kFarTargets)] = {};
         forEachUndecided([&](int i, int j, int k) {
             ++doubtful;
@@ -1602,11 +1597,11 @@ struct BrickSigns {
         double target = 0.0;
         int decided = 0;
         for (std::size_t t = 0; t < std::size(kFarTargets); ++t) {
-            if (opened > kFarTargets[t] && pays(decidedAt[t] - decided, doubtful - decided)) target = kFarTargets[t], decided = decidedAt[t];
+            if (opened.sum > kFarTargets[t] && pays(decidedAt[t] - decided, doubtful - decided)) target = kFarTargets[t], decided = decidedAt[t];
         }
         if (decided == 0) return false;
         const std::size_t maxFans = limited ? kFarFansPerSample * std::size_t(decided) : std::numeric_limits<std::size_t>::max();
-        if (!caps.expandFar(cut, target, maxFans)) return false;
+        if (!caps.expandFar(cut, opened, target, maxFans)) return false;
         ++farExpanded;
         return true;
     }

@@ -195,7 +195,6 @@ public:
         std::vector<std::uint32_t> exactNodes;
         std::vector<Pending> farNodes; // with their bounds over the ball
         bool farSorted = false; // farNodes loosest first (insideNear sorts them when it first needs them)
-        std::size_t toExpandFrom = 0; // farNodes from here on: those expandFar would open (farToExpand)
         double farSum = 0; // the sum of the far nodes' bounds over the ball
         // The most the far nodes leave in doubt anywhere in the ball: their bounds and their
         // expansions' rest at its rim.
@@ -272,11 +271,15 @@ public:
     // free: BrickSigns calls it only where it would decide enough of the points left. At most
     // `maxFans` fans are expanded (the loosest first). Whether it changed the cut.
     static constexpr double kFarReaches = 2.0;
-    // Call farToExpand first: expandFar takes the nodes it set apart.
-    bool expandFar(Cut& cut, double target, std::size_t maxFans) const;
-    // The sum of the bounds of the far nodes that expandFar would open; they are moved to the end
-    // of the cut's far nodes (Cut::toExpandFrom).
-    double farToExpand(Cut& cut) const;
+    // The far nodes that expandFar would open, moved to the end of the cut's far nodes: from
+    // `first` on, their bounds summing to `sum`.
+    struct FarToExpand {
+        std::size_t first;
+        double sum;
+    };
+    FarToExpand farToExpand(Cut& cut) const;
+    // `opened`: farToExpand's answer for the cut as it is.
+    bool expandFar(Cut& cut, const FarToExpand& opened, double target, std::size_t maxFans) const;
     // Beyond that many exact fans (4 edges each, mostly), measuring them at every point costs more
     // than splitting the brick into octants.
     static constexpr std::size_t kMaxExactFans = 4;
