@@ -6,6 +6,7 @@
 #include "core/sign/row_count.hpp"
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <algorithm>
 #include <cassert>
 #include <atomic>
@@ -419,6 +420,27 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         for (const glm::dvec3& v : c.loop) node.radius = std::max(node.radius, glm::length(v - node.centroid));
     }
     node.radius *= 1.0 + 1e-12;
+    glm::dmat3 moment(0.0);
+    for (std::size_t i = begin; i < end; ++i) {
+        const Cap& c = caps_[order[i]];
+        for (std::size_t v = 0; v < c.loop.size(); ++v) {
+            const glm::dvec3& a = c.loop[(v + 1) % c.loop.size()];
+            const glm::dvec3 cross = glm::cross(c.loop[v] - a, c.centre - a);
+            const double area = 0.5 * glm::length(cross) * std::abs(c.weight);
+            const glm::dvec3 offset = (a + c.loop[v] + c.centre) / 3.0 - node.centroid;
+            moment += glm::outerProduct(0.5 * double(c.weight) * cross, offset);
+            node.firstMoment += area * glm::length(offset);
+            const double farthest = std::max({glm::dot(a - node.centroid, a - node.centroid), glm::dot(c.loop[v] - node.centroid, c.loop[v] - node.centroid),
+                                              glm::dot(c.centre - node.centroid, c.centre - node.centroid)});
+            node.secondMoment += area * farthest;
+        }
+    }
+    // Only the symmetric, traceless part meets the kernel's derivative (symmetric, traceless).
+    const double third = (moment[0][0] + moment[1][1] + moment[2][2]) / 3.0;
+    node.quadrupole[0] = moment[0][0] - third, node.quadrupole[1] = moment[1][1] - third, node.quadrupole[2] = moment[2][2] - third;
+    node.quadrupole[3] = 0.5 * (moment[0][1] + moment[1][0]), node.quadrupole[4] = 0.5 * (moment[0][2] + moment[2][0]);
+    node.quadrupole[5] = 0.5 * (moment[1][2] + moment[2][1]);
+    node.firstMoment *= 1.0 + 1e-12, node.secondMoment *= 1.0 + 1e-12;
     node.fans = std::uint32_t(end - begin);
     if (end - begin == 1) {
         node.first = order[begin];
@@ -448,17 +470,21 @@ WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm:
     BallDipole out;
     if (!(d > 0.0)) return out;
     const glm::dvec3 r = node.centroid - centre;
-    const double length = glm::length(r), inverse3 = 1.0 / (length * length * length);
-    const double dr = glm::dot(node.vectorArea, r);
+    const double length = glm::length(r), inverse2 = 1.0 / (length * length), inverse3 = inverse2 / length, inverse5 = inverse3 * inverse2;
+    const double dr = glm::dot(node.vectorArea, r), rSr = quadrupoleForm(node, r);
     constexpr double k = 1.0 / (4.0 * M_PI);
-    out.value = dr * inverse3 * k;
-    out.gradient = (3.0 * dr * inverse3 / (length * length) * r - inverse3 * node.vectorArea) * k;
+    // The dipole D.r / |r|³ and the quadrupole -3 rᵀSr / |r|⁵, and their gradients in the point
+    // (minus those in r).
+    out.value = (dr * inverse3 - 3.0 * rSr * inverse5) * k;
+    out.gradient = (3.0 * dr * inverse5 * r - inverse3 * node.vectorArea) * k +
+                   (6.0 * inverse5 * quadrupoleTimes(node, r) - 15.0 * rSr * inverse5 * inverse2 * r) * k;
     // Every point between the centre and the ball's rim is at least d from the box, so at least d
-    // from the centroid inside it.
-    const double near = d * (1.0 - 1e-12);
-    out.curvature = 3.0 * glm::length(node.vectorArea) * k / (near * near * near * near) * (1.0 + 1e-9);
-    // The value's and gradient's rounding: a 1e-12 share of the plain bound (a few ulps of each term).
-    out.error = dipoleErrorFloor(node, d) + 1e-12 * node.area * k / (d * d) * (1.0 + reach / d);
+    // from the centroid inside it. The dipole's Hessian is at most 6 |D| / r⁴ (third derivatives of
+    // 1/r), the quadrupole's at most 24 firstMoment / r⁵ (fourth derivatives, at most 24 / r⁵).
+    const double near = d * (1.0 - 1e-12), near4 = near * near * near * near;
+    out.curvature = (3.0 * glm::length(node.vectorArea) + 12.0 * node.firstMoment / near) * k / near4 * (1.0 + 1e-9);
+    // The value's and gradient's rounding: a 1e-12 share of each term's bound.
+    out.error = dipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) * k / (d * d) * (1.0 + reach / d);
     return out;
 }
 
@@ -636,22 +662,9 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         if (std::isfinite(node.bound)) sum += node.bound;
         else ++touching;
     };
-    // A node's bound over the ball: as a dipole expanded at the centre where that is tighter.
     auto push = [&](std::uint32_t index) {
-        const Node& node = nodes_[index];
-        const double d = ballDistance(node, centre, reach);
-        Pending bounded{bound(node, centre, reach, d), index};
-        if (bounded.bound <= 0.0) return; // no area
-        // Below `small`, not worth the dipole's work; nor where its error alone exceeds the bound.
-        if (std::isfinite(bounded.bound) && bounded.bound > small && dipoleErrorFloor(node, d) < bounded.bound) {
-            const BallDipole dipole = dipoleOverBall(node, centre, reach, d);
-            const double spread = dipole.error + dipole.curvature * reach * reach;
-            if (spread < bounded.bound) {
-                bounded.bound = spread, bounded.dipole = true, bounded.slot = std::uint32_t(out.dipoles.size());
-                out.dipoles.push_back(dipole);
-            }
-        }
-        place(bounded);
+        const Pending bounded = boundOverBall(out, index, ballDistance(nodes_[index], centre, reach));
+        if (bounded.bound > 0.0) place(bounded); // else no area
     };
     if (within) { // a ball inside `within`'s: its cut refines that one
         assert(!(keepNear && expand)); // expanded near fans carry curvature that a kept one would lose
@@ -811,8 +824,23 @@ bool WindingCaps::expandedFan(Cut& out, const FanTerms& t, bool ok, double surfa
     return true;
 }
 
+WindingCaps::Pending WindingCaps::boundOverBall(Cut& out, std::uint32_t index, double d) const {
+    const Node& node = nodes_[index];
+    Pending bounded{bound(node, out.centre, out.reach, d), index};
+    // Below the cut's `small`, not worth the multipole's work; nor where its error alone exceeds the bound.
+    if (std::isfinite(bounded.bound) && bounded.bound > out.small && dipoleErrorFloor(node, d) < bounded.bound) {
+        const BallDipole dipole = dipoleOverBall(node, out.centre, out.reach, d);
+        const double spread = dipole.error + dipole.curvature * out.reach * out.reach;
+        if (spread < bounded.bound) {
+            bounded.bound = spread, bounded.dipole = true, bounded.slot = std::uint32_t(out.dipoles.size());
+            out.dipoles.push_back(dipole);
+        }
+    }
+    return bounded;
+}
+
 bool WindingCaps::toExpand(const Cut& cut, const Pending& far) const {
-    return !far.dipole && std::isfinite(far.bound) && ballDistance(nodes_[far.node], cut.centre, cut.reach) >= kFarReaches * cut.reach;
+    return !far.expanded && std::isfinite(far.bound) && ballDistance(nodes_[far.node], cut.centre, cut.reach) >= kFarReaches * cut.reach;
 }
 
 WindingCaps::FarToExpand WindingCaps::farToExpand(Cut& cut) const {
@@ -893,9 +921,8 @@ bool WindingCaps::expandFar(Cut& cut, const FarToExpand& opened, double target, 
                 continue;
             }
             for (const std::uint32_t child : {node.first, node.first + 1}) {
-                const Node& c = nodes_[child];
-                const double d = ballDistance(c, centre, reach);
-                const Pending bounded{bound(c, centre, reach, d), child};
+                const double d = ballDistance(nodes_[child], centre, reach);
+                const Pending bounded = boundOverBall(cut, child, d);
                 if (!(bounded.bound > 0.0)) continue; // no area
                 if (d >= nearest) {
                     waiting.push(bounded);

@@ -85,11 +85,13 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
-    // The node as a dipole over a ball that misses its box: its error there (as dipole()'s, d
-    // the ball's distance from the box), and its first-order expansion at the centre o, whose rest
-    // at o + δ is at most curvature |δ|²: the dipole's potential is D.grad(1/|c - p|), whose
-    // third derivatives are at most 3! / r⁴ in every direction, so its Hessian is at most 6 |D| / r⁴
-    // (r >= |c - o| - reach along the way). Error infinite where the ball reaches the box.
+    // The node as a multipole (dipole and quadrupole) over a ball that misses its box: its error
+    // there (as dipole()'s, d the ball's distance from the box), and its first-order expansion at
+    // the centre o, whose rest at o + δ is at most curvature |δ|²: the dipole's potential is
+    // D.grad(1/|c - p|), whose third derivatives are at most 3! / r⁴ in every direction, so its
+    // Hessian is at most 6 |D| / r⁴; the quadrupole's, with fourth derivatives, at most
+    // 24 firstMoment / r⁵ (r >= |c - o| - reach along the way). Error infinite where the ball
+    // reaches the box. (An expanded fan's terms take the same form.)
     struct BallDipole {
         double value = 0, error = std::numeric_limits<double>::infinity(), curvature = 0;
         glm::dvec3 gradient{0.0};
@@ -392,11 +394,17 @@ private:
         // the distance of its normal from ±n. tilt 2 (the most it can be) when no plane fits.
         glm::dvec3 normal{0.0};
         double thickness = 0, tilt = 2;
-        // The fans below as one dipole (see dipole()): their vector area (each triangle's area
+        // The fans below as one multipole (see dipole()): their vector area (each triangle's area
         // times its unit normal, times its weight) at their area-weighted centroid, and the
-        // farthest of their vertices from that centroid.
+        // farthest of their vertices from that centroid;
         glm::dvec3 vectorArea{0.0}, centroid{0.0};
         double radius = 0;
+        // their quadrupole: the traceless part of the symmetric part of
+        // Σ weight area n (c - centroid)ᵀ over their triangles (n the unit normal, c the
+        // triangle's centroid), as xx, yy, zz, xy, xz, yz; and Σ |weight| area |c - centroid| and
+        // Σ |weight| area max |corner - centroid|², for its bounds.
+        double quadrupole[6] = {};
+        double firstMoment = 0, secondMoment = 0;
     };
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
@@ -411,6 +419,9 @@ private:
     void sumFar(Cut& out) const;
     // Whether expandFar opens the far node: bounded by its area, kFarReaches reaches or more away.
     bool toExpand(const Cut& cut, const Pending& far) const;
+    // A node's bound over the cut's ball, d from it: as its multipole expanded at the centre
+    // (Cut::dipoles) where that is tighter.
+    Pending boundOverBall(Cut& out, std::uint32_t index, double d) const;
     // The far dipole of a fan whose expansion at the ball's centre is `terms`, for a fan bounded
     // by `bound` and `surface` (surfaceCurvature) there: its bound over the ball (the Pending's),
     // or no dipole where that is not below `limit`.
@@ -446,31 +457,47 @@ private:
         return node.area / (4.0 * M_PI * d * d) * std::min(1.0, flat);
     }
 
-    // The node's winding number at p as a dipole, and a bound on that estimate's error: each fan
-    // triangle's solid angle is the integral of K(y) = m.(y - p) / |y - p|³ over it, |grad_y K| <=
-    // 4 / |y - p|³, and y and the centroid both lie in the node's box (d from p), so replacing K(y)
-    // by K(centroid) errs by at most 4 radius / d³ per unit of area: area radius / (π d³) in
-    // winding numbers, where the plain bound has area / (4π d²). Tighter beyond 4 radii, and it
-    // shrinks as 1/d³. Infinite error where p touches the box.
+    // The node's winding number at p as a multipole: its dipole and quadrupole (Barill et al.
+    // 2018's second order), and a bound on that estimate's error. Each fan triangle's solid angle
+    // is the integral of n.K(y - p) over it, K(v) = v / |v|³; expanded in y about the centroid, the
+    // first term is the dipole's, the second the quadrupole's (its derivative J, symmetric and
+    // traceless, against each triangle's area times n (c - centroid)ᵀ: exact, n being constant over
+    // a triangle), and the rest is at most 1/2 |∇²K| |y - centroid|², ∇²K being third derivatives
+    // of 1/r, at most 6 / r⁴ in any unit directions, with y and the centroid both in the node's box
+    // (d from p): 3 secondMoment / (4π d⁴) in winding numbers, where the plain bound has
+    // area / (4π d²) and the dipole alone area radius / (π d³). It shrinks as 1/d⁴. Infinite error
+    // where p touches the box.
     // d: the ball's distance from the node's box (ballDistance).
     static BallDipole dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d);
     // The first term of dipoleOverBall's error: where it is no smaller than the plain bound, the
-    // dipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
-    static double dipoleErrorFloor(const Node& node, double d) { return node.area * node.radius / (M_PI * d * d * d) * (1.0 + 1e-9); }
+    // multipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
+    static double dipoleErrorFloor(const Node& node, double d) {
+        return 3.0 * node.secondMoment / (4.0 * M_PI * d * d * d * d) * (1.0 + 1e-9);
+    }
     static std::pair<double, double> dipole(const Node& node, const glm::dvec3& p) {
         const double d = boxDistance(node.lo, node.hi, p);
         return {dipoleEstimate(node, p), dipoleError(node, d)};
     }
-    // dipole()'s parts, d the distance from p to the node's box.
+    // rᵀ S r and S r for the node's quadrupole S.
+    static double quadrupoleForm(const Node& node, const glm::dvec3& r) {
+        const double* q = node.quadrupole;
+        return q[0] * r.x * r.x + q[1] * r.y * r.y + q[2] * r.z * r.z + 2.0 * (q[3] * r.x * r.y + q[4] * r.x * r.z + q[5] * r.y * r.z);
+    }
+    static glm::dvec3 quadrupoleTimes(const Node& node, const glm::dvec3& r) {
+        const double* q = node.quadrupole;
+        return {q[0] * r.x + q[3] * r.y + q[4] * r.z, q[3] * r.x + q[1] * r.y + q[5] * r.z, q[4] * r.x + q[5] * r.y + q[2] * r.z};
+    }
+    // dipole()'s parts, d the distance from p to the node's box. With r = centroid - p, the
+    // quadrupole's term is S : J(r) = (tr S |r|² - 3 rᵀSr) / |r|⁵, S traceless.
     static double dipoleEstimate(const Node& node, const glm::dvec3& p) {
         const glm::dvec3 r = node.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
-        return glm::dot(node.vectorArea, r) * inverse / (4.0 * M_PI);
+        return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2) * inverse / (4.0 * M_PI);
     }
     static double dipoleError(const Node& node, double d) {
         if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
-        // Its rounding: a few ulps of each term, far below a 1e-12 share of the plain bound.
-        return dipoleErrorFloor(node, d) + 1e-12 * node.area / (4.0 * M_PI * d * d);
+        // Its rounding: a few ulps of each term, far below a 1e-12 share of each term's bound.
+        return dipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) / (4.0 * M_PI * d * d);
     }
 
     std::vector<Cap> caps_;
