@@ -466,7 +466,7 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
 }
 
 
-WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d) {
+WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d) {
     BallDipole out;
     if (!(d > 0.0)) return out;
     const glm::dvec3 r = node.centroid - centre;
@@ -484,7 +484,7 @@ WindingCaps::BallDipole WindingCaps::dipoleOverBall(const Node& node, const glm:
     const double near = d * (1.0 - 1e-12), near4 = near * near * near * near;
     out.curvature = (3.0 * glm::length(node.vectorArea) + 12.0 * node.firstMoment / near) * k / near4 * (1.0 + 1e-9);
     // The value's and gradient's rounding: a 1e-12 share of each term's bound.
-    out.error = dipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) * k / (d * d) * (1.0 + reach / d);
+    out.error = multipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) * k / (d * d) * (1.0 + reach / d);
     return out;
 }
 
@@ -505,7 +505,7 @@ struct WindingCaps::Search {
     // nothing of the others' bounds once it is subtracted, so the sum is then taken afresh.
     double heapSum = 0.0, heapRounding = 0.0;
     std::size_t measured = 0;
-    // Whether a waiting node counts as its dipole where that bounds it more tightly (the bake's
+    // Whether a waiting node counts as its multipole where that bounds it more tightly (the bake's
     // samples in doubt; inside(), the reference, counts waiting nodes as 0).
     bool dipoles = false;
     std::size_t budget = std::numeric_limits<std::size_t>::max(); // fans measured before refine() stops in doubt
@@ -527,7 +527,7 @@ struct WindingCaps::Search {
             if (std::isfinite(b)) {
                 double estimate = 0.0;
                 if (dipoles) {
-                    const auto [e, error] = dipole(node, p);
+                    const auto [e, error] = multipole(node, p);
                     if (error < b) {
                         estimate = e;
                         b = error;
@@ -564,8 +564,8 @@ struct WindingCaps::Search {
     // ball's bound and cost a trip through the heap).
     const Pending* ballNext = nullptr;
     const Pending* ballEnd = nullptr;
-    // The cut they come from: a far node bounded as a dipole counts as its expansion at the
-    // ball's centre (p at `offset` from it), until it is opened.
+    // The cut they come from: a far node bounded as a multipole (or a fan by its expansion) counts
+    // as its expansion at the ball's centre (p at `offset` from it), until it is opened.
     const Cut* ball = nullptr;
     glm::dvec3 offset{0.0};
 
@@ -673,8 +673,8 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
             for (std::uint32_t index : within->nearNodes) push(index);
         for (std::uint32_t index : within->exactNodes) push(index);
         // Over the same ball, a far node keeps its bound and dipole where push() would find them
-        // again: where its dipole was tried (its plain bound above within's `small`) if and only
-        // if it is tried here (above this cut's; dipoleErrorFloor's test is the same over the ball).
+        // again: where its multipole was tried (its plain bound above within's `small`) if and only
+        // if it is tried here (above this cut's; multipoleErrorFloor's test is the same over the ball).
         const bool sameBall = within->centre == centre && within->reach == reach;
         auto boundAsHere = [&](const Pending& far) {
             if (far.expanded) return true; // an expansion holds over the ball for any target
@@ -828,12 +828,12 @@ WindingCaps::Pending WindingCaps::boundOverBall(Cut& out, std::uint32_t index, d
     const Node& node = nodes_[index];
     Pending bounded{bound(node, out.centre, out.reach, d), index};
     // Below the cut's `small`, not worth the multipole's work; nor where its error alone exceeds the bound.
-    if (std::isfinite(bounded.bound) && bounded.bound > out.small && dipoleErrorFloor(node, d) < bounded.bound) {
-        const BallDipole dipole = dipoleOverBall(node, out.centre, out.reach, d);
-        const double spread = dipole.error + dipole.curvature * out.reach * out.reach;
+    if (std::isfinite(bounded.bound) && bounded.bound > out.small && multipoleErrorFloor(node, d) < bounded.bound) {
+        const BallDipole multipole = multipoleOverBall(node, out.centre, out.reach, d);
+        const double spread = multipole.error + multipole.curvature * out.reach * out.reach;
         if (spread < bounded.bound) {
             bounded.bound = spread, bounded.dipole = true, bounded.slot = std::uint32_t(out.dipoles.size());
-            out.dipoles.push_back(dipole);
+            out.dipoles.push_back(multipole);
         }
     }
     return bounded;
@@ -1247,13 +1247,13 @@ void WindingCaps::estimateFans(const glm::dvec3* points, int n, double nodeError
         bool counted = true; // every point takes the node's dipole or bound
         for (int i = 0; i < n && counted; ++i) {
             const double d = boxDistance(node.lo, node.hi, points[i]);
-            errors[i] = dipoleError(node, d), plains[i] = bound(node, points[i], 0.0, d);
+            errors[i] = multipoleError(node, d), plains[i] = bound(node, points[i], 0.0, d);
             counted = std::min(errors[i], plains[i]) < nodeError;
         }
         if (counted) {
             for (int i = 0; i < n; ++i) {
                 if (errors[i] < plains[i]) {
-                    const double estimate = dipoleEstimate(node, points[i]);
+                    const double estimate = multipoleEstimate(node, points[i]);
                     out[i].value += estimate, out[i].error += errors[i];
                     magnitude[i] += std::fabs(estimate);
                 } else {

@@ -65,7 +65,7 @@ public:
     // The inside flags of `count` points given their counts ahead, each as inside() answers, with
     // fewer fans measured (point queries, whose points come in Morton order, neighbours after each
     // other): a point that every fan together cannot move by 0.45 by its count; then a walk whose
-    // waiting nodes count as their dipoles where that bounds them more tightly, measuring at most
+    // waiting nodes count as their multipoles where that bounds them more tightly, measuring at most
     // kWalkBudget fans and deciding only outside kDecisionMargin of 1/2 (skipped, but for one
     // point in eight, where most of the last eight walks were left in doubt); runs of up to
     // kGroupPoints points left within a ball of kGroupSpan of the fans' box share a cut of the
@@ -76,7 +76,7 @@ public:
     void insideMany(const glm::dvec3* points, const int* ahead, std::size_t count, std::uint8_t* flags) const;
     static constexpr double kGroupSpan = 1.0 / 32.0;
     static constexpr int kGroupPoints = 128;
-    // Most points near a few holes are decided by the first fans or dipoles; a point among many
+    // Most points near a few holes are decided by the first fans or multipoles; a point among many
     // open parts needs dozens, measured more cheaply by a run's shared cut (tuned by time on the
     // Stanford bunny, the bunny with 1.4k holes, an open terrain and the open-parts corpus).
     static constexpr std::size_t kWalkBudget = 2;
@@ -86,7 +86,7 @@ public:
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
     // The node as a multipole (dipole and quadrupole) over a ball that misses its box: its error
-    // there (as dipole()'s, d the ball's distance from the box), and its first-order expansion at
+    // there (as multipole()'s, d the ball's distance from the box), and its first-order expansion at
     // the centre o, whose rest at o + δ is at most curvature |δ|²: the dipole's potential is
     // D.grad(1/|c - p|), whose third derivatives are at most 3! / r⁴ in every direction, so its
     // Hessian is at most 6 |D| / r⁴; the quadrupole's, with fourth derivatives, at most
@@ -138,7 +138,7 @@ public:
         double bound;
         std::uint32_t node;
         double estimate = 0; // what the walk counted for the node while it waits (its dipole term, or 0)
-        bool dipole = false; // in a cut: bounded as a dipole expanded at the ball's centre (Cut::farValue)
+        bool dipole = false; // in a cut: bounded as a multipole (or a fan's expansion) expanded at the ball's centre (Cut::farValue)
         std::uint32_t slot = 0; // a dipole's terms in the cut's Cut::dipoles
         bool expanded = false; // in a measured cut: a fan bounded by its exact expansion (Cut's dipoles), measured when opened
         bool operator<(const Pending& other) const { return bound < other.bound; }
@@ -201,7 +201,7 @@ public:
         // The most the far nodes leave in doubt anywhere in the ball: their bounds and their
         // expansions' rest at its rim.
         double spread() const { return farSum + curvature * reach * reach; }
-        // The far nodes bounded as dipoles: their winding number at the ball's centre and its
+        // The far nodes bounded as multipoles: their winding number at the ball's centre and its
         // gradient (their rest over the ball is in farSum, their expansion's in curvature).
         double farValue = 0;
         glm::dvec3 farGradient{0.0};
@@ -298,7 +298,7 @@ public:
     // inside() for a point of the ball that `cut` was made for, given `near`, the near fans'
     // winding number there (fanWindings): the far nodes bounded (the ball's bounds, far dipoles
     // counted as their expansion; then, loosest first, each far node opened and its children
-    // bounded at the point, as dipoles where that is tighter) while |w| is within
+    // bounded at the point, as multipoles where that is tighter) while |w| is within
     // kDecisionMargin of 1/2 plus the bounds; still in doubt, inside() decides. Deciding
     // only outside that margin, it answers as inside() does (their doubles of w differ by
     // rounding, far below the margin), with the tree's top walked once per brick.
@@ -344,7 +344,7 @@ public:
         return side;
     }
     // The fans' winding number at each of n <= kFanPoints points within `error`: each node whose
-    // dipole (or area's bound) errs by less than `nodeError` at every point counts as that, the
+    // multipole (or area's bound) errs by less than `nodeError` at every point counts as that, the
     // others are opened, down to fans measured exactly (the fan kernel, at every point at once).
     // A pass over the nodes near the points, with no heap: cheaper than a walk where a margin
     // well above nodeError is wanted.
@@ -394,7 +394,7 @@ private:
         // the distance of its normal from ±n. tilt 2 (the most it can be) when no plane fits.
         glm::dvec3 normal{0.0};
         double thickness = 0, tilt = 2;
-        // The fans below as one multipole (see dipole()): their vector area (each triangle's area
+        // The fans below as one multipole (see multipole()): their vector area (each triangle's area
         // times its unit normal, times its weight) at their area-weighted centroid, and the
         // farthest of their vertices from that centroid;
         glm::dvec3 vectorArea{0.0}, centroid{0.0};
@@ -409,7 +409,7 @@ private:
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
     // from 1/2 or every fan is measured: w as measured, and whether it is still in doubt.
-    // `dipoles`: waiting nodes count as their dipoles where that bounds them more tightly. The walk
+    // `dipoles`: waiting nodes count as their multipoles where that bounds them more tightly. The walk
     // stops in doubt once it has measured `budget` fans.
     std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles = false,
                                  std::size_t budget = std::numeric_limits<std::size_t>::max()) const;
@@ -417,7 +417,8 @@ private:
     // The cut's far sums (farValue, farGradient, farSum) and its curvature (the near fans' and the
     // far dipoles', with the chords' terms that do not cancel), from its nodes.
     void sumFar(Cut& out) const;
-    // Whether expandFar opens the far node: bounded by its area, kFarReaches reaches or more away.
+    // Whether expandFar opens the far node: bounded by its area or as its multipole (not a fan
+    // expanded already), kFarReaches reaches or more away.
     bool toExpand(const Cut& cut, const Pending& far) const;
     // A node's bound over the cut's ball, d from it: as its multipole expanded at the centre
     // (Cut::dipoles) where that is tighter.
@@ -468,15 +469,15 @@ private:
     // area / (4π d²) and the dipole alone area radius / (π d³). It shrinks as 1/d⁴. Infinite error
     // where p touches the box.
     // d: the ball's distance from the node's box (ballDistance).
-    static BallDipole dipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d);
-    // The first term of dipoleOverBall's error: where it is no smaller than the plain bound, the
+    static BallDipole multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d);
+    // The first term of multipoleOverBall's error: where it is no smaller than the plain bound, the
     // multipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
-    static double dipoleErrorFloor(const Node& node, double d) {
+    static double multipoleErrorFloor(const Node& node, double d) {
         return 3.0 * node.secondMoment / (4.0 * M_PI * d * d * d * d) * (1.0 + 1e-9);
     }
-    static std::pair<double, double> dipole(const Node& node, const glm::dvec3& p) {
+    static std::pair<double, double> multipole(const Node& node, const glm::dvec3& p) {
         const double d = boxDistance(node.lo, node.hi, p);
-        return {dipoleEstimate(node, p), dipoleError(node, d)};
+        return {multipoleEstimate(node, p), multipoleError(node, d)};
     }
     // rᵀ S r and S r for the node's quadrupole S.
     static double quadrupoleForm(const Node& node, const glm::dvec3& r) {
@@ -487,17 +488,17 @@ private:
         const double* q = node.quadrupole;
         return {q[0] * r.x + q[3] * r.y + q[4] * r.z, q[3] * r.x + q[1] * r.y + q[5] * r.z, q[4] * r.x + q[5] * r.y + q[2] * r.z};
     }
-    // dipole()'s parts, d the distance from p to the node's box. With r = centroid - p, the
+    // multipole()'s parts, d the distance from p to the node's box. With r = centroid - p, the
     // quadrupole's term is S : J(r) = (tr S |r|² - 3 rᵀSr) / |r|⁵, S traceless.
-    static double dipoleEstimate(const Node& node, const glm::dvec3& p) {
+    static double multipoleEstimate(const Node& node, const glm::dvec3& p) {
         const glm::dvec3 r = node.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
         return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2) * inverse / (4.0 * M_PI);
     }
-    static double dipoleError(const Node& node, double d) {
+    static double multipoleError(const Node& node, double d) {
         if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
         // Its rounding: a few ulps of each term, far below a 1e-12 share of each term's bound.
-        return dipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) / (4.0 * M_PI * d * d);
+        return multipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) / (4.0 * M_PI * d * d);
     }
 
     std::vector<Cap> caps_;
