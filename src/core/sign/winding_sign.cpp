@@ -344,19 +344,10 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
 
 void WindingCaps::flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const {
     constexpr double kEps = std::numeric_limits<double>::epsilon();
-    // Each fan triangle (loop[i + 1], loop[i], centre) as f(a, b, c, |weight| times its area,
-    // unit normal, cross product); zero-area triangles are left out (they see no solid angle).
+    // Each fan triangle as f(a, b, c, |weight| times its area, unit normal, cross product).
     auto forEachTriangle = [&](const auto& f) {
-        for (std::size_t n = begin; n < end; ++n) {
-            const Cap& cap = caps_[order[n]];
-            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
-                const glm::dvec3& a = cap.loop[(i + 1) % cap.loop.size()];
-                const glm::dvec3& b = cap.loop[i];
-                const glm::dvec3 cross = glm::cross(b - a, cap.centre - a);
-                const double length = glm::length(cross);
-                if (length > 0.0) f(a, b, cap.centre, 0.5 * length * std::abs(cap.weight), cross / length, cross);
-            }
-        }
+        forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross,
+                                                  double length, int weight) { f(a, b, c, 0.5 * length * std::abs(weight), cross / length, cross); });
     };
     // n: the weighted normals summed, each turned to the largest triangle's side.
     glm::dvec3 reference(0.0), sum(0.0);
@@ -400,19 +391,15 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         node.area += std::abs(c.weight) * c.area;
     }
     flatten(node, order, begin, end);
-    // The dipole: the triangles (loop[i + 1], loop[i], centre) as fanSolidAngle measures them.
+    // The dipole.
     double weightedArea = 0.0;
-    for (std::size_t i = begin; i < end; ++i) {
-        const Cap& c = caps_[order[i]];
-        for (std::size_t v = 0; v < c.loop.size(); ++v) {
-            const glm::dvec3& a = c.loop[(v + 1) % c.loop.size()];
-            const glm::dvec3 cross = glm::cross(c.loop[v] - a, c.centre - a);
-            const double area = 0.5 * glm::length(cross) * std::abs(c.weight);
-            node.vectorArea += 0.5 * double(c.weight) * cross;
-            node.centroid += area * (a + c.loop[v] + c.centre) / 3.0;
-            weightedArea += area;
-        }
-    }
+    forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross, double length,
+                                              int weight) {
+        const double area = 0.5 * length * std::abs(weight);
+        node.vectorArea += 0.5 * double(weight) * cross;
+        node.centroid += area * (a + b + c) / 3.0;
+        weightedArea += area;
+    });
     node.centroid = weightedArea > 0.0 ? glm::clamp(node.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
     for (std::size_t i = begin; i < end; ++i) {
         const Cap& c = caps_[order[i]];
@@ -420,21 +407,17 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         for (const glm::dvec3& v : c.loop) node.radius = std::max(node.radius, glm::length(v - node.centroid));
     }
     node.radius *= 1.0 + 1e-12;
+    // The quadrupole, about the centroid.
     glm::dmat3 moment(0.0);
-    for (std::size_t i = begin; i < end; ++i) {
-        const Cap& c = caps_[order[i]];
-        for (std::size_t v = 0; v < c.loop.size(); ++v) {
-            const glm::dvec3& a = c.loop[(v + 1) % c.loop.size()];
-            const glm::dvec3 cross = glm::cross(c.loop[v] - a, c.centre - a);
-            const double area = 0.5 * glm::length(cross) * std::abs(c.weight);
-            const glm::dvec3 offset = (a + c.loop[v] + c.centre) / 3.0 - node.centroid;
-            moment += glm::outerProduct(0.5 * double(c.weight) * cross, offset);
-            node.firstMoment += area * glm::length(offset);
-            const double farthest = std::max({glm::dot(a - node.centroid, a - node.centroid), glm::dot(c.loop[v] - node.centroid, c.loop[v] - node.centroid),
-                                              glm::dot(c.centre - node.centroid, c.centre - node.centroid)});
-            node.secondMoment += area * farthest;
-        }
-    }
+    forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross, double length,
+                                              int weight) {
+        const double area = 0.5 * length * std::abs(weight);
+        const glm::dvec3 offset = (a + b + c) / 3.0 - node.centroid;
+        moment += glm::outerProduct(0.5 * double(weight) * cross, offset);
+        node.firstMoment += area * glm::length(offset);
+        const glm::dvec3 da = a - node.centroid, db = b - node.centroid, dc = c - node.centroid;
+        node.secondMoment += area * std::max({glm::dot(da, da), glm::dot(db, db), glm::dot(dc, dc)});
+    });
     // Only the symmetric, traceless part meets the kernel's derivative (symmetric, traceless).
     const double third = (moment[0][0] + moment[1][1] + moment[2][2]) / 3.0;
     node.quadrupole[0] = moment[0][0] - third, node.quadrupole[1] = moment[1][1] - third, node.quadrupole[2] = moment[2][2] - third;

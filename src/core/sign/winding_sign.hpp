@@ -435,6 +435,22 @@ private:
     // kernel (fans::activeFields: no winding number).
     void fanTermsOf(const std::uint32_t* leaves, int n, const glm::dvec3& centre, double reach, FanTerms* terms, bool* ok,
                     bool angles = true) const;
+    // f(a, b, c, cross, |cross|, weight) for each fan triangle (loop[i + 1], loop[i], centre) of the
+    // caps order[begin, end), as fanSolidAngle measures them, cross = (b - a) x (c - a); zero-area
+    // triangles are left out (they see no solid angle and weigh nothing).
+    template <class F>
+    void forEachFanTriangle(const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end, const F& f) const {
+        for (std::size_t n = begin; n < end; ++n) {
+            const Cap& cap = caps_[order[n]];
+            for (std::size_t i = 0; i < cap.loop.size(); ++i) {
+                const glm::dvec3& a = cap.loop[(i + 1) % cap.loop.size()];
+                const glm::dvec3& b = cap.loop[i];
+                const glm::dvec3 cross = glm::cross(b - a, cap.centre - a);
+                const double length = glm::length(cross);
+                if (length > 0.0) f(a, b, cap.centre, cross, length, cap.weight);
+            }
+        }
+    }
     // Sets node's plane (normal, thickness, tilt) from the fans order[begin, end).
     void flatten(Node& node, const std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) const;
     // The winding-number bound of a node for every point within `reach` of p (infinite when the
