@@ -431,7 +431,30 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         nodes_[index] = node;
         return;
     }
-    // Median split along the centres' longest extent: depth log2(caps), leaves of one cap.
+    node.first = std::uint32_t(nodes_.size());
+    nodes_[index] = node;
+    nodes_.push_back({});
+    nodes_.push_back({});
+    // Fans of very different sizes apart first, at the geometric mean of the largest and the
+    // smallest: beside a big fan (across a hole) the small ones (along its border) would be
+    // bounded by the big one's area and spread, and opened with it, one by one. Only where the
+    // largest spans much of the node: above, the split by place keeps walks from the root short.
+    double largest = 0.0, smallest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = begin; i < end; ++i) {
+        const double size = capSize(caps_[order[i]]);
+        largest = std::max(largest, size);
+        if (size > 0.0) smallest = std::min(smallest, size);
+    }
+    if (largest > kSizeRatio * smallest && largest >= kSizeSpan * glm::length(node.hi - node.lo)) {
+        const double between = std::sqrt(largest * smallest);
+        const auto small = std::stable_partition(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end),
+                                                 [&](std::uint32_t c) { return capSize(caps_[c]) <= between; });
+        const std::size_t split = std::size_t(small - order.begin());
+        build(node.first, order, begin, split);
+        build(node.first + 1, order, split, end);
+        return;
+    }
+    // Else the median split along the centres' longest extent.
     const glm::dvec3 extent = centreHi - centreLo;
     const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
     const std::size_t middle = begin + (end - begin) / 2;
@@ -440,10 +463,6 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
                          const double cl = caps_[l].centre[axis], cr = caps_[r].centre[axis];
                          return cl != cr ? cl < cr : l < r;
                      });
-    node.first = std::uint32_t(nodes_.size());
-    nodes_[index] = node;
-    nodes_.push_back({});
-    nodes_.push_back({});
     build(node.first, order, begin, middle);
     build(node.first + 1, order, middle, end);
 }

@@ -413,7 +413,12 @@ private:
     // stops in doubt once it has measured `budget` fans.
     std::pair<double, bool> walk(const glm::dvec3& p, int ahead, double margin, std::size_t* evaluations, bool dipoles = false,
                                  std::size_t budget = std::numeric_limits<std::size_t>::max()) const;
+    // The tree over caps order[begin, end): fans whose sizes (their boxes' diagonals) differ by more
+    // than kSizeRatio, the largest at least kSizeSpan of the node's diagonal, are split by size
+    // first; the others at the median of their centres.
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    static constexpr double kSizeRatio = 8.0, kSizeSpan = 0.5;
+    static double capSize(const Cap& cap) { return glm::length(cap.hi - cap.lo); }
     // The cut's far sums (farValue, farGradient, farSum) and its curvature (the near fans' and the
     // far dipoles', with the chords' terms that do not cancel), from its nodes.
     void sumFar(Cut& out) const;
