@@ -415,7 +415,8 @@ private:
                                  std::size_t budget = std::numeric_limits<std::size_t>::max()) const;
     // The tree over caps order[begin, end): fans whose sizes (their boxes' diagonals) differ by more
     // than kSizeRatio, the largest at least kSizeSpan of the node's diagonal, are split by size
-    // first; the others at the median of their centres.
+    // first; the others at the median of their centres. A size split halves the log of the sizes'
+    // range, so it adds at most about 10 levels to the median splits' log2(caps) (the walks' stacks).
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
     static constexpr double kSizeRatio = 8.0, kSizeSpan = 0.5;
     static double capSize(const Cap& cap) { return glm::length(cap.hi - cap.lo); }
