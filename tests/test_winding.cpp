@@ -818,10 +818,12 @@ TEST(WindingSign, ExpansionDecidesSheetsAsInsideDoes) {
     EXPECT_GT(insideCount, grid.sampleCount() / 40);
     EXPECT_LT(insideCount, grid.sampleCount() / 2);
     // Under |w| > 1/2 both sides of the sheet are in doubt near it (w near 1/2 on one, -1/2 on the
-    // other), and the blocks' cuts, tuned for one side, measure a little more than inside() does
-    // sample by sample (164 k against 153 k fans here): bounded, not yet below.
-    EXPECT_LT(stats.fanEvaluations, perSampleEvaluations * 5 / 4) << stats.caps << " caps";
-    EXPECT_GT(stats.exactFanSamples, grid.sampleCount() / 200);
+    // other); the bricks measure fewer fans than inside() does sample by sample (about 83 k against
+    // 152 k here).
+    EXPECT_LT(stats.fanEvaluations, perSampleEvaluations * 3 / 4) << stats.caps << " caps";
+    // Some samples (about 1 in 230) are decided with the big fan measured at each: how many
+    // depends on how the fan tree groups the border's fans.
+    EXPECT_GT(stats.exactFanSamples, grid.sampleCount() / 400);
 }
 
 // The distance from q to the nearest triangle of `mesh`, in double (brute force).
