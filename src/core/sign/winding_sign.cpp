@@ -665,7 +665,7 @@ void WindingCaps::cut(const glm::dvec3& centre, double reach, double target, std
         else ++touching;
     };
     auto push = [&](std::uint32_t index) {
-        const Pending bounded = boundOverBall(out, index, ballDistance(nodes_[index], centre, reach));
+        const Pending bounded = boundOverBall(out, index, ballDistance(nodes_[index], centre, reach), small);
         if (bounded.bound > 0.0) place(bounded); // else no area
     };
     if (within) { // a ball inside `within`'s: its cut refines that one
@@ -826,11 +826,11 @@ bool WindingCaps::expandedFan(Cut& out, const FanTerms& t, bool ok, double surfa
     return true;
 }
 
-WindingCaps::Pending WindingCaps::boundOverBall(Cut& out, std::uint32_t index, double d) const {
+WindingCaps::Pending WindingCaps::boundOverBall(Cut& out, std::uint32_t index, double d, double small) const {
     const Node& node = nodes_[index];
     Pending bounded{bound(node, out.centre, out.reach, d), index};
-    // Below the cut's `small`, not worth the multipole's work; nor where its error alone exceeds the bound.
-    if (std::isfinite(bounded.bound) && bounded.bound > out.small && multipoleErrorFloor(node, d) < bounded.bound) {
+    // Below `small`, not worth the multipole's work; nor where its error alone exceeds the bound.
+    if (std::isfinite(bounded.bound) && bounded.bound > small && multipoleErrorFloor(node, d) < bounded.bound) {
         const BallDipole multipole = multipoleOverBall(node, out.centre, out.reach, d);
         const double spread = multipole.error + multipole.curvature * out.reach * out.reach;
         if (spread < bounded.bound) {
@@ -924,7 +924,7 @@ bool WindingCaps::expandFar(Cut& cut, const FarToExpand& opened, double target, 
             }
             for (const std::uint32_t child : {node.first, node.first + 1}) {
                 const double d = ballDistance(nodes_[child], centre, reach);
-                const Pending bounded = boundOverBall(cut, child, d);
+                const Pending bounded = boundOverBall(cut, child, d, kFarMultipoleShare * target);
                 if (!(bounded.bound > 0.0)) continue; // no area
                 if (d >= nearest) {
                     waiting.push(bounded);

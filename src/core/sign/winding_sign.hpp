@@ -271,8 +271,11 @@ public:
     // the square of the distance: to thousandths of it at the dozens of reaches where most of
     // those fans lie. Far cheaper than measuring those fans at every point left in doubt, but not
     // free: BrickSigns calls it only where it would decide enough of the points left. At most
-    // `maxFans` fans are expanded (the loosest first). Whether it changed the cut.
-    static constexpr double kFarReaches = 2.0;
+    // `maxFans` fans are expanded (the loosest first). The nodes it opens are bounded as
+    // multipoles where that is tighter down to kFarMultipoleShare of its target: the cut's own
+    // threshold (a twentieth of its looser target) would leave thousands of small nodes beside
+    // long borders bounded by their area, and opened down to their fans. Whether it changed the cut.
+    static constexpr double kFarReaches = 2.0, kFarMultipoleShare = 0.005;
     // The far nodes that expandFar would open, moved to the end of the cut's far nodes: from
     // `first` on, their bounds summing to `sum`.
     struct FarToExpand {
@@ -427,8 +430,8 @@ private:
     // expanded already), kFarReaches reaches or more away.
     bool toExpand(const Cut& cut, const Pending& far) const;
     // A node's bound over the cut's ball, d from it: as its multipole expanded at the centre
-    // (Cut::dipoles) where that is tighter.
-    Pending boundOverBall(Cut& out, std::uint32_t index, double d) const;
+    // (Cut::dipoles) where that is tighter, tried where its plain bound exceeds `small`.
+    Pending boundOverBall(Cut& out, std::uint32_t index, double d, double small) const;
     // The far dipole of a fan whose expansion at the ball's centre is `terms`, for a fan bounded
     // by `bound` and `surface` (surfaceCurvature) there: its bound over the ball (the Pending's),
     // or no dipole where that is not below `limit`.
