@@ -447,9 +447,9 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
     }
     if (largest > kSizeRatio * smallest && largest >= kSizeSpan * glm::length(node.hi - node.lo)) {
         const double between = std::sqrt(largest * smallest);
-        const auto small = std::stable_partition(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end),
-                                                 [&](std::uint32_t c) { return capSize(caps_[c]) <= between; });
-        const std::size_t split = std::size_t(small - order.begin());
+        const auto firstLarge = std::stable_partition(order.begin() + std::ptrdiff_t(begin), order.begin() + std::ptrdiff_t(end),
+                                                      [&](std::uint32_t c) { return capSize(caps_[c]) <= between; });
+        const std::size_t split = std::size_t(firstLarge - order.begin());
         build(node.first, order, begin, split);
         build(node.first + 1, order, split, end);
         return;
