@@ -401,12 +401,6 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         weightedArea += area;
     });
     node.centroid = weightedArea > 0.0 ? glm::clamp(node.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
-    for (std::size_t i = begin; i < end; ++i) {
-        const Cap& c = caps_[order[i]];
-        node.radius = std::max(node.radius, glm::length(c.centre - node.centroid));
-        for (const glm::dvec3& v : c.loop) node.radius = std::max(node.radius, glm::length(v - node.centroid));
-    }
-    node.radius *= 1.0 + 1e-12;
     // The quadrupole, about the centroid.
     glm::dmat3 moment(0.0);
     forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross, double length,

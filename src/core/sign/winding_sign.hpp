@@ -398,10 +398,8 @@ private:
         glm::dvec3 normal{0.0};
         double thickness = 0, tilt = 2;
         // The fans below as one multipole (see multipole()): their vector area (each triangle's area
-        // times its unit normal, times its weight) at their area-weighted centroid, and the
-        // farthest of their vertices from that centroid;
+        // times its unit normal, times its weight) at their area-weighted centroid;
         glm::dvec3 vectorArea{0.0}, centroid{0.0};
-        double radius = 0;
         // their quadrupole: the traceless part of the symmetric part of
         // Σ weight area n (c - centroid)ᵀ over their triangles (n the unit normal, c the
         // triangle's centroid), as xx, yy, zz, xy, xz, yz; and Σ |weight| area |c - centroid| and
