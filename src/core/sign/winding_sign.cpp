@@ -401,8 +401,9 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         weightedArea += area;
     });
     node.centroid = weightedArea > 0.0 ? glm::clamp(node.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
-    // The quadrupole, about the centroid.
+    // The quadrupole and octupole, about the centroid.
     glm::dmat3 moment(0.0);
+    double nm[3][3][3] = {}; // Σ weight area n ⊗ M
     forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross, double length,
                                               int weight) {
         const double area = 0.5 * length * std::abs(weight);
@@ -410,14 +411,37 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         moment += glm::outerProduct(0.5 * double(weight) * cross, offset);
         node.firstMoment += area * glm::length(offset);
         const glm::dvec3 da = a - node.centroid, db = b - node.centroid, dc = c - node.centroid;
-        node.secondMoment += area * std::max({glm::dot(da, da), glm::dot(db, db), glm::dot(dc, dc)});
+        const double farthest = std::sqrt(std::max({glm::dot(da, da), glm::dot(db, db), glm::dot(dc, dc)}));
+        node.secondMoment += area * farthest * farthest;
+        node.thirdMoment += area * farthest * farthest * farthest;
+        // M, the mean of (y - centroid)(y - centroid)ᵀ over the triangle: its centroid's term and
+        // the triangle's own spread about it, 1/12 Σ (corner - its centroid)(...)ᵀ.
+        const glm::dvec3 ea = a - (a + b + c) / 3.0, eb = b - (a + b + c) / 3.0, ec = c - (a + b + c) / 3.0;
+        const glm::dmat3 spread = glm::outerProduct(offset, offset) +
+                                  (glm::outerProduct(ea, ea) + glm::outerProduct(eb, eb) + glm::outerProduct(ec, ec)) / 12.0;
+        const glm::dvec3 vectorArea = 0.5 * double(weight) * cross;
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k)
+                for (int l = 0; l < 3; ++l) nm[j][k][l] += vectorArea[j] * spread[k][l];
     });
+    {
+        // Its symmetric part T, less the traces that the derivatives of 1/r (traceless) do not
+        // meet: H = T - 1/5 (δ t + ...), t_l = Σ_j T_jjl, so that every trace of H is 0.
+        auto symmetric = [&](int j, int k, int l) { return (nm[j][k][l] + nm[k][l][j] + nm[l][j][k]) / 3.0; };
+        const glm::dvec3 t(symmetric(0, 0, 0) + symmetric(1, 1, 0) + symmetric(2, 2, 0), symmetric(0, 0, 1) + symmetric(1, 1, 1) + symmetric(2, 2, 1),
+                           symmetric(0, 0, 2) + symmetric(1, 1, 2) + symmetric(2, 2, 2));
+        auto detraced = [&](int j, int k, int l) {
+            return symmetric(j, k, l) - ((j == k ? t[l] : 0.0) + (j == l ? t[k] : 0.0) + (k == l ? t[j] : 0.0)) / 5.0;
+        };
+        constexpr int kIndices[10][3] = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {0, 0, 1}, {0, 0, 2}, {0, 1, 1}, {1, 1, 2}, {0, 2, 2}, {1, 2, 2}, {0, 1, 2}};
+        for (int i = 0; i < 10; ++i) node.octupole[i] = detraced(kIndices[i][0], kIndices[i][1], kIndices[i][2]);
+    }
     // Only the symmetric, traceless part meets the kernel's derivative (symmetric, traceless).
     const double third = (moment[0][0] + moment[1][1] + moment[2][2]) / 3.0;
     node.quadrupole[0] = moment[0][0] - third, node.quadrupole[1] = moment[1][1] - third, node.quadrupole[2] = moment[2][2] - third;
     node.quadrupole[3] = 0.5 * (moment[0][1] + moment[1][0]), node.quadrupole[4] = 0.5 * (moment[0][2] + moment[2][0]);
     node.quadrupole[5] = 0.5 * (moment[1][2] + moment[2][1]);
-    node.firstMoment *= 1.0 + 1e-12, node.secondMoment *= 1.0 + 1e-12;
+    node.firstMoment *= 1.0 + 1e-12, node.secondMoment *= 1.0 + 1e-12, node.thirdMoment *= 1.0 + 1e-12;
     node.fans = std::uint32_t(end - begin);
     if (end - begin == 1) {
         node.first = order[begin];
@@ -462,25 +486,33 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
 }
 
 
-WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d) {
+WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d, double limit) {
     BallDipole out;
     if (!(d > 0.0)) return out;
-    const glm::dvec3 r = node.centroid - centre;
-    const double length = glm::length(r), inverse2 = 1.0 / (length * length), inverse3 = inverse2 / length, inverse5 = inverse3 * inverse2;
-    const double dr = glm::dot(node.vectorArea, r), rSr = quadrupoleForm(node, r);
     constexpr double k = 1.0 / (4.0 * M_PI);
-    // The dipole D.r / |r|³ and the quadrupole -3 rᵀSr / |r|⁵, and their gradients in the point
-    // (minus those in r).
-    out.value = (dr * inverse3 - 3.0 * rSr * inverse5) * k;
-    out.gradient = (3.0 * dr * inverse5 * r - inverse3 * node.vectorArea) * k +
-                   (6.0 * inverse5 * quadrupoleTimes(node, r) - 15.0 * rSr * inverse5 * inverse2 * r) * k;
     // Every point between the centre and the ball's rim is at least d from the box, so at least d
     // from the centroid inside it. The dipole's Hessian is at most 6 |D| / r⁴ (third derivatives of
-    // 1/r), the quadrupole's at most 24 firstMoment / r⁵ (fourth derivatives, at most 24 / r⁵).
+    // 1/r), the quadrupole's at most 24 firstMoment / r⁵ (fourth derivatives, at most 24 / r⁵), the
+    // octupole's at most 60 secondMoment / r⁶ (half its fifth derivatives, at most 5! / r⁶).
     const double near = d * (1.0 - 1e-12), near4 = near * near * near * near;
-    out.curvature = (3.0 * glm::length(node.vectorArea) + 12.0 * node.firstMoment / near) * k / near4 * (1.0 + 1e-9);
+    const double curvature = (3.0 * glm::length(node.vectorArea) + (12.0 * node.firstMoment + 30.0 * node.secondMoment / near) / near) * k /
+                             near4 * (1.0 + 1e-9);
     // The value's and gradient's rounding: a 1e-12 share of each term's bound.
-    out.error = multipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) * k / (d * d) * (1.0 + reach / d);
+    const double error =
+        multipoleErrorFloor(node, d) + 1e-12 * (node.area + (node.firstMoment + node.secondMoment / d) / d) * k / (d * d) * (1.0 + reach / d);
+    if (!(error + curvature * reach * reach < limit)) return out;
+    out.curvature = curvature, out.error = error;
+    const glm::dvec3 r = node.centroid - centre;
+    const double length = glm::length(r), inverse2 = 1.0 / (length * length), inverse3 = inverse2 / length, inverse5 = inverse3 * inverse2;
+    const double dr = glm::dot(node.vectorArea, r), rSr = quadrupoleForm(node, r), inverse7 = inverse5 * inverse2;
+    const glm::dvec3 hrr = octupoleTimes(node, r);
+    const double hrrr = glm::dot(hrr, r);
+    // The dipole D.r / |r|³, the quadrupole -3 rᵀSr / |r|⁵ and the octupole 15/2 H(r, r, r) / |r|⁷,
+    // and their gradients in the point (minus those in r).
+    out.value = (dr * inverse3 - 3.0 * rSr * inverse5 + 7.5 * hrrr * inverse7) * k;
+    out.gradient = (3.0 * dr * inverse5 * r - inverse3 * node.vectorArea) * k +
+                   (6.0 * inverse5 * quadrupoleTimes(node, r) - 15.0 * rSr * inverse7 * r) * k +
+                   (52.5 * hrrr * inverse7 * inverse2 * r - 22.5 * inverse7 * hrr) * k;
     return out;
 }
 
@@ -523,11 +555,11 @@ struct WindingCaps::Search {
             if (std::isfinite(b)) {
                 double estimate = 0.0;
                 if (dipoles) {
-                    const auto [e, error] = multipole(node, p);
+                    const double error = multipoleError(node, boxDistance(node.lo, node.hi, p));
                     if (error < b) {
-                        estimate = e;
+                        estimate = multipoleEstimate(node, p);
                         b = error;
-                        w -= e;
+                        w -= estimate;
                     }
                 }
                 pending.push_back({b, index, estimate});
@@ -825,7 +857,7 @@ WindingCaps::Pending WindingCaps::boundOverBall(Cut& out, std::uint32_t index, d
     Pending bounded{bound(node, out.centre, out.reach, d), index};
     // Below `small`, not worth the multipole's work; nor where its error alone exceeds the bound.
     if (std::isfinite(bounded.bound) && bounded.bound > small && multipoleErrorFloor(node, d) < bounded.bound) {
-        const BallDipole multipole = multipoleOverBall(node, out.centre, out.reach, d);
+        const BallDipole multipole = multipoleOverBall(node, out.centre, out.reach, d, bounded.bound);
         const double spread = multipole.error + multipole.curvature * out.reach * out.reach;
         if (spread < bounded.bound) {
             bounded.bound = spread, bounded.dipole = true, bounded.slot = std::uint32_t(out.dipoles.size());

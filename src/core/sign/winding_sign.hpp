@@ -85,12 +85,13 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
-    // The node as a multipole (dipole and quadrupole) over a ball that misses its box: its error
-    // there (as multipole()'s, d the ball's distance from the box), and its first-order expansion at
-    // the centre o, whose rest at o + δ is at most curvature |δ|²: the dipole's potential is
-    // D.grad(1/|c - p|), whose third derivatives are at most 3! / r⁴ in every direction, so its
-    // Hessian is at most 6 |D| / r⁴; the quadrupole's, with fourth derivatives, at most
-    // 24 firstMoment / r⁵ (r >= |c - o| - reach along the way). Error infinite where the ball
+    // The node as a multipole (dipole, quadrupole and octupole) over a ball that misses its box:
+    // its error there (as multipoleError's, d the ball's distance from the box), and its first-order
+    // expansion at the centre o, whose rest at o + δ is at most curvature |δ|²: the dipole's
+    // potential is D.grad(1/|c - p|), whose third derivatives are at most 3! / r⁴ in every
+    // direction, so its Hessian is at most 6 |D| / r⁴; the quadrupole's, with fourth derivatives,
+    // at most 24 firstMoment / r⁵; the octupole's, with fifth derivatives and its half, at most
+    // 60 secondMoment / r⁶ (r >= |c - o| - reach along the way). Error infinite where the ball
     // reaches the box. (An expanded fan's terms take the same form.)
     struct BallDipole {
         double value = 0, error = std::numeric_limits<double>::infinity(), curvature = 0;
@@ -397,15 +398,20 @@ private:
         // the distance of its normal from ±n. tilt 2 (the most it can be) when no plane fits.
         glm::dvec3 normal{0.0};
         double thickness = 0, tilt = 2;
-        // The fans below as one multipole (see multipole()): their vector area (each triangle's area
+        // The fans below as one multipole (see multipoleEstimate()): their vector area (each triangle's area
         // times its unit normal, times its weight) at their area-weighted centroid;
         glm::dvec3 vectorArea{0.0}, centroid{0.0};
         // their quadrupole: the traceless part of the symmetric part of
         // Σ weight area n (c - centroid)ᵀ over their triangles (n the unit normal, c the
-        // triangle's centroid), as xx, yy, zz, xy, xz, yz; and Σ |weight| area |c - centroid| and
-        // Σ |weight| area max |corner - centroid|², for its bounds.
+        // triangle's centroid), as xx, yy, zz, xy, xz, yz;
         double quadrupole[6] = {};
-        double firstMoment = 0, secondMoment = 0;
+        // their octupole: the traceless part of the symmetric part of Σ weight area n ⊗ M over
+        // their triangles, M = the mean of (y - centroid)(y - centroid)ᵀ over the triangle, as
+        // xxx, yyy, zzz, xxy, xxz, xyy, yyz, xzz, yzz, xyz;
+        double octupole[10] = {};
+        // and Σ |weight| area |c - centroid| and Σ |weight| area max |corner - centroid|^k
+        // (k = 2, 3), for its bounds.
+        double firstMoment = 0, secondMoment = 0, thirdMoment = 0;
     };
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
@@ -481,26 +487,28 @@ private:
         return node.area / (4.0 * M_PI * d * d) * std::min(1.0, flat);
     }
 
-    // The node's winding number at p as a multipole: its dipole and quadrupole (Barill et al.
-    // 2018's second order), and a bound on that estimate's error. Each fan triangle's solid angle
-    // is the integral of n.K(y - p) over it, K(v) = v / |v|³; expanded in y about the centroid, the
-    // first term is the dipole's, the second the quadrupole's (its derivative J, symmetric and
-    // traceless, against each triangle's area times n (c - centroid)ᵀ: exact, n being constant over
-    // a triangle), and the rest is at most 1/2 |∇²K| |y - centroid|², ∇²K being third derivatives
-    // of 1/r, at most 6 / r⁴ in any unit directions, with y and the centroid both in the node's box
-    // (d from p): 3 secondMoment / (4π d⁴) in winding numbers, where the plain bound has
-    // area / (4π d²) and the dipole alone area radius / (π d³). It shrinks as 1/d⁴. Infinite error
-    // where p touches the box.
-    // d: the ball's distance from the node's box (ballDistance).
-    static BallDipole multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d);
+    // The node's winding number at p as a multipole: its dipole, quadrupole and octupole (the
+    // three terms of Barill et al. 2018's second order), and a bound on that estimate's error.
+    // Each fan triangle's solid angle is the integral of n.K(y - p) over it, K(v) = v / |v|³ =
+    // -∇(1/|v|); expanded in y about the centroid, the first term is the dipole's, the second the
+    // quadrupole's (the third derivatives of 1/r against each triangle's area times n (c -
+    // centroid)ᵀ), the third the octupole's (the fourth derivatives against its area times n ⊗ M,
+    // halved): exact, n being constant over a triangle. The derivatives of 1/r are symmetric and
+    // traceless, so only the tensors' symmetric, traceless parts count. The rest is at most
+    // 1/6 |∇³K| |y - centroid|³, ∇³K being fourth derivatives of 1/r, at most 4! / r⁵ in any unit
+    // directions (the k-th derivative of 1/r along one direction is k! P_k(cos) / r^(k+1), and a
+    // symmetric multilinear form on a Euclidean space is no larger over several directions than
+    // over one, Banach 1938), with y and the centroid both in the node's box (d from p):
+    // 4 thirdMoment / (4π d⁵) in winding numbers, where the plain bound has area / (4π d²). It
+    // shrinks as 1/d⁵. Infinite error where p touches the box.
+    // d: the ball's distance from the node's box (ballDistance). Its terms are left out (error
+    // infinite) where its bound over the ball would not undercut `limit`.
+    static BallDipole multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d, double limit);
     // The first term of multipoleOverBall's error: where it is no smaller than the plain bound, the
     // multipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
     static double multipoleErrorFloor(const Node& node, double d) {
-        return 3.0 * node.secondMoment / (4.0 * M_PI * d * d * d * d) * (1.0 + 1e-9);
-    }
-    static std::pair<double, double> multipole(const Node& node, const glm::dvec3& p) {
-        const double d = boxDistance(node.lo, node.hi, p);
-        return {multipoleEstimate(node, p), multipoleError(node, d)};
+        const double d2 = d * d;
+        return node.thirdMoment / (M_PI * d2 * d2 * d) * (1.0 + 1e-9);
     }
     // rᵀ S r and S r for the node's quadrupole S.
     static double quadrupoleForm(const Node& node, const glm::dvec3& r) {
@@ -511,17 +519,27 @@ private:
         const double* q = node.quadrupole;
         return {q[0] * r.x + q[3] * r.y + q[4] * r.z, q[3] * r.x + q[1] * r.y + q[5] * r.z, q[4] * r.x + q[5] * r.y + q[2] * r.z};
     }
-    // multipole()'s parts, d the distance from p to the node's box. With r = centroid - p, the
-    // quadrupole's term is S : J(r) = (tr S |r|² - 3 rᵀSr) / |r|⁵, S traceless.
+    // H(r, r, .) for the node's octupole H (H(r, r, r) is its dot product with r).
+    static glm::dvec3 octupoleTimes(const Node& node, const glm::dvec3& r) {
+        const double* o = node.octupole;
+        const double xx = r.x * r.x, yy = r.y * r.y, zz = r.z * r.z, xy = 2.0 * r.x * r.y, xz = 2.0 * r.x * r.z, yz = 2.0 * r.y * r.z;
+        return {o[0] * xx + o[3] * xy + o[4] * xz + o[5] * yy + o[9] * yz + o[7] * zz,
+                o[3] * xx + o[5] * xy + o[9] * xz + o[1] * yy + o[6] * yz + o[8] * zz,
+                o[4] * xx + o[9] * xy + o[7] * xz + o[6] * yy + o[8] * yz + o[2] * zz};
+    }
+    // The multipole at p and its error, d the distance from p to the node's box. With r = centroid - p, the
+    // quadrupole's term is -S : ∇²(1/r) = -3 rᵀSr / |r|⁵ and the octupole's -1/2 H : ∇³(1/r) =
+    // 15/2 H(r, r, r) / |r|⁷ (S, H traceless).
     static double multipoleEstimate(const Node& node, const glm::dvec3& p) {
         const glm::dvec3 r = node.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
-        return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2) * inverse / (4.0 * M_PI);
+        const double octupole = 7.5 * glm::dot(octupoleTimes(node, r), r) / (r2 * r2);
+        return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2 + octupole) * inverse / (4.0 * M_PI);
     }
     static double multipoleError(const Node& node, double d) {
         if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
         // Its rounding: a few ulps of each term, far below a 1e-12 share of each term's bound.
-        return multipoleErrorFloor(node, d) + 1e-12 * (node.area + node.firstMoment / d) / (4.0 * M_PI * d * d);
+        return multipoleErrorFloor(node, d) + 1e-12 * (node.area + (node.firstMoment + node.secondMoment / d) / d) / (4.0 * M_PI * d * d);
     }
 
     std::vector<Cap> caps_;
