@@ -379,6 +379,104 @@ void WindingCaps::flatten(Node& node, const std::vector<std::uint32_t>& order, s
     node.tilt = std::min(2.0, tilt / total * (1.0 + 1e-9));
 }
 
+namespace {
+// Homogeneous polynomials in (x, y, z) of degree 0 to 4, each coefficient by its monomial's
+// exponents (kExponents[degree]); a symmetric tensor T of rank n is the polynomial T(r, ..., r),
+// its component of exponents (a, b, c) the coefficient over the multinomial n! / (a! b! c!). The
+// node's multipoles are kept as tensors in these orders (Node::quadrupole, octupole, hexadecapole).
+constexpr int kMonomials[5] = {1, 3, 6, 10, 15};
+constexpr int kExponents[5][15][3] = {
+    {{0, 0, 0}},
+    {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+    {{2, 0, 0}, {0, 2, 0}, {0, 0, 2}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}},
+    {{3, 0, 0}, {0, 3, 0}, {0, 0, 3}, {2, 1, 0}, {2, 0, 1}, {1, 2, 0}, {0, 2, 1}, {1, 0, 2}, {0, 1, 2}, {1, 1, 1}},
+    {{4, 0, 0}, {0, 4, 0}, {0, 0, 4}, {3, 1, 0}, {3, 0, 1}, {1, 3, 0}, {0, 3, 1}, {1, 0, 3}, {0, 1, 3}, {2, 2, 0}, {2, 0, 2}, {0, 2, 2}, {2, 1, 1}, {1, 2, 1}, {1, 1, 2}}};
+struct MonomialTables {
+    int index[5][5][5] = {}; // by exponents of x, y, z
+    double multinomial[5][15] = {};
+    constexpr MonomialTables() {
+        constexpr double factorial[5] = {1, 1, 2, 6, 24};
+        for (int n = 0; n < 5; ++n)
+            for (int m = 0; m < kMonomials[n]; ++m) {
+                const int* e = kExponents[n][m];
+                index[e[0]][e[1]][e[2]] = m;
+                multinomial[n][m] = factorial[n] / (factorial[e[0]] * factorial[e[1]] * factorial[e[2]]);
+            }
+    }
+};
+constexpr MonomialTables kMonomialTables{};
+
+struct Polynomial {
+    int degree = 0;
+    double c[15] = {};
+};
+Polynomial linear(const glm::dvec3& v) { return {1, {v.x, v.y, v.z}}; }
+Polynomial operator*(const Polynomial& a, const Polynomial& b) {
+    Polynomial out{a.degree + b.degree};
+    for (int i = 0; i < kMonomials[a.degree]; ++i) {
+        const int* ea = kExponents[a.degree][i];
+        for (int j = 0; j < kMonomials[b.degree]; ++j) {
+            const int* eb = kExponents[b.degree][j];
+            out.c[kMonomialTables.index[ea[0] + eb[0]][ea[1] + eb[1]][ea[2] + eb[2]]] += a.c[i] * b.c[j];
+        }
+    }
+    return out;
+}
+// a += scale b (of a's degree).
+void addTo(Polynomial& a, const Polynomial& b, double scale = 1.0) {
+    for (int i = 0; i < kMonomials[a.degree]; ++i) a.c[i] += scale * b.c[i];
+}
+Polynomial fromTensor(const double* tensor, int rank) {
+    Polynomial out{rank};
+    for (int i = 0; i < kMonomials[rank]; ++i) out.c[i] = tensor[i] * kMonomialTables.multinomial[rank][i];
+    return out;
+}
+// The tensor's traceless part (what the derivatives of 1/r, harmonic, meet), into `tensor`: for
+// rank 2, T - tr T δ / 3; for 3, T - 1/5 Σ δ ⊗ T' (three placements; T' its trace); for 4,
+// T - 1/7 Σ δ ⊗ T' + 1/35 Σ δ ⊗ δ T'' (six and three placements; T'' the trace's trace).
+void tracelessTensor(const Polynomial& p, double* tensor) {
+    const int n = p.degree;
+    double t[15];
+    for (int i = 0; i < kMonomials[n]; ++i) t[i] = p.c[i] / kMonomialTables.multinomial[n][i];
+    const auto& index = kMonomialTables.index;
+    if (n == 2) {
+        const double third = (t[0] + t[1] + t[2]) / 3.0;
+        for (int i = 0; i < 6; ++i) tensor[i] = t[i] - (i < 3 ? third : 0.0);
+        return;
+    }
+    // The trace T': over the first two indices, by the others' exponents.
+    double trace[15] = {};
+    for (int m = 0; m < kMonomials[n - 2]; ++m) {
+        const int* e = kExponents[n - 2][m];
+        trace[m] = t[index[e[0] + 2][e[1]][e[2]]] + t[index[e[0]][e[1] + 2][e[2]]] + t[index[e[0]][e[1]][e[2] + 2]];
+    }
+    const double traces = n == 4 ? trace[0] + trace[1] + trace[2] : 0.0;
+    for (int m = 0; m < kMonomials[n]; ++m) {
+        int x[4] = {}, k = 0;
+        for (int axis = 0; axis < 3; ++axis)
+            for (int r = 0; r < kExponents[n][m][axis]; ++r) x[k++] = axis;
+        // T' at the indices left when positions a and b (equal: the δ's) are taken out.
+        auto traceWithout = [&](int a, int b) {
+            if (x[a] != x[b]) return 0.0;
+            int e[3] = {};
+            for (int o = 0; o < n; ++o)
+                if (o != a && o != b) ++e[x[o]];
+            return trace[index[e[0]][e[1]][e[2]]];
+        };
+        double once = 0.0;
+        for (int a = 0; a < n; ++a)
+            for (int b = a + 1; b < n; ++b) once += traceWithout(a, b);
+        if (n == 3) {
+            tensor[m] = t[m] - once / 5.0;
+        } else {
+            auto delta = [&](int a, int b) { return x[a] == x[b] ? 1.0 : 0.0; };
+            const double twice = delta(0, 1) * delta(2, 3) + delta(0, 2) * delta(1, 3) + delta(0, 3) * delta(1, 2);
+            tensor[m] = t[m] - once / 7.0 + twice * traces / 35.0;
+        }
+    }
+}
+} // namespace
+
 void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end) {
     Node node{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max()), 0.0, 0, false};
     glm::dvec3 centreLo = node.lo, centreHi = node.hi;
@@ -401,47 +499,51 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         weightedArea += area;
     });
     node.centroid = weightedArea > 0.0 ? glm::clamp(node.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
-    // The quadrupole and octupole, about the centroid.
-    glm::dmat3 moment(0.0);
-    double nm[3][3][3] = {}; // Σ weight area n ⊗ M
+    // The bounds' moments about the centroid; a leaf's multipole from its triangles (an inner
+    // node's comes from its children's, shiftMultipoles).
+    const bool leaf = end - begin == 1;
+    Polynomial quadrupole{2}, octupole{3}, hexadecapole{4};
     forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross, double length,
                                               int weight) {
         const double area = 0.5 * length * std::abs(weight);
         const glm::dvec3 offset = (a + b + c) / 3.0 - node.centroid;
-        moment += glm::outerProduct(0.5 * double(weight) * cross, offset);
         node.firstMoment += area * glm::length(offset);
         const glm::dvec3 da = a - node.centroid, db = b - node.centroid, dc = c - node.centroid;
         const double farthest = std::sqrt(std::max({glm::dot(da, da), glm::dot(db, db), glm::dot(dc, dc)}));
         node.secondMoment += area * farthest * farthest;
         node.thirdMoment += area * farthest * farthest * farthest;
-        // M, the mean of (y - centroid)(y - centroid)ᵀ over the triangle: its centroid's term and
-        // the triangle's own spread about it, 1/12 Σ (corner - its centroid)(...)ᵀ.
-        const glm::dvec3 ea = a - (a + b + c) / 3.0, eb = b - (a + b + c) / 3.0, ec = c - (a + b + c) / 3.0;
-        const glm::dmat3 spread = glm::outerProduct(offset, offset) +
-                                  (glm::outerProduct(ea, ea) + glm::outerProduct(eb, eb) + glm::outerProduct(ec, ec)) / 12.0;
-        const glm::dvec3 vectorArea = 0.5 * double(weight) * cross;
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 3; ++k)
-                for (int l = 0; l < 3; ++l) nm[j][k][l] += vectorArea[j] * spread[k][l];
+        node.fourthMoment += area * farthest * farthest * farthest * farthest;
+        if (!leaf) return;
+        // Each term is n ⊗ the mean over the triangle of (y - centroid)^⊗k, times its area, as
+        // polynomials: (a.r) times the mean of ((y - centroid).r)^k, a its vector area. With d_i
+        // its corners less the centroid, s their sum, and the means of λ_i λ_j (1/6, 1/12) and
+        // λ_i λ_j λ_k (1/10, 1/30, 1/60 as the barycentric indices repeat):
+        // k = 1: (s.r) / 3; k = 2: ((s.r)² + Σ (d_i.r)²) / 12; k = 3: ((s.r)³ + 3 (s.r) Σ (d_i.r)² +
+        // 2 Σ (d_i.r)³) / 60.
+        const Polynomial vectorArea = linear(0.5 * double(weight) * cross), sum = linear(da + db + dc);
+        const Polynomial corners[3] = {linear(da), linear(db), linear(dc)};
+        Polynomial squares{2}, cubes{3};
+        for (const Polynomial& corner : corners) {
+            const Polynomial square = corner * corner;
+            addTo(squares, square);
+            addTo(cubes, square * corner);
+        }
+        const Polynomial sumSquared = sum * sum;
+        addTo(quadrupole, vectorArea * sum, 1.0 / 3.0);
+        Polynomial second = sumSquared;
+        addTo(second, squares);
+        addTo(octupole, vectorArea * second, 1.0 / 12.0);
+        Polynomial third = sumSquared * sum;
+        addTo(third, sum * squares, 3.0);
+        addTo(third, cubes, 2.0);
+        addTo(hexadecapole, vectorArea * third, 1.0 / 60.0);
     });
-    {
-        // Its symmetric part T, less the traces that the derivatives of 1/r (traceless) do not
-        // meet: H = T - 1/5 (δ t + ...), t_l = Σ_j T_jjl, so that every trace of H is 0.
-        auto symmetric = [&](int j, int k, int l) { return (nm[j][k][l] + nm[k][l][j] + nm[l][j][k]) / 3.0; };
-        const glm::dvec3 t(symmetric(0, 0, 0) + symmetric(1, 1, 0) + symmetric(2, 2, 0), symmetric(0, 0, 1) + symmetric(1, 1, 1) + symmetric(2, 2, 1),
-                           symmetric(0, 0, 2) + symmetric(1, 1, 2) + symmetric(2, 2, 2));
-        auto detraced = [&](int j, int k, int l) {
-            return symmetric(j, k, l) - ((j == k ? t[l] : 0.0) + (j == l ? t[k] : 0.0) + (k == l ? t[j] : 0.0)) / 5.0;
-        };
-        constexpr int kIndices[10][3] = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {0, 0, 1}, {0, 0, 2}, {0, 1, 1}, {1, 1, 2}, {0, 2, 2}, {1, 2, 2}, {0, 1, 2}};
-        for (int i = 0; i < 10; ++i) node.octupole[i] = detraced(kIndices[i][0], kIndices[i][1], kIndices[i][2]);
+    if (leaf) {
+        tracelessTensor(quadrupole, node.quadrupole);
+        tracelessTensor(octupole, node.octupole);
+        tracelessTensor(hexadecapole, node.hexadecapole);
     }
-    // Only the symmetric, traceless part meets the kernel's derivative (symmetric, traceless).
-    const double third = (moment[0][0] + moment[1][1] + moment[2][2]) / 3.0;
-    node.quadrupole[0] = moment[0][0] - third, node.quadrupole[1] = moment[1][1] - third, node.quadrupole[2] = moment[2][2] - third;
-    node.quadrupole[3] = 0.5 * (moment[0][1] + moment[1][0]), node.quadrupole[4] = 0.5 * (moment[0][2] + moment[2][0]);
-    node.quadrupole[5] = 0.5 * (moment[1][2] + moment[2][1]);
-    node.firstMoment *= 1.0 + 1e-12, node.secondMoment *= 1.0 + 1e-12, node.thirdMoment *= 1.0 + 1e-12;
+    node.firstMoment *= 1.0 + 1e-12, node.secondMoment *= 1.0 + 1e-12, node.thirdMoment *= 1.0 + 1e-12, node.fourthMoment *= 1.0 + 1e-12;
     node.fans = std::uint32_t(end - begin);
     if (end - begin == 1) {
         node.first = order[begin];
@@ -470,6 +572,7 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         const std::size_t split = std::size_t(firstLarge - order.begin());
         build(node.first, order, begin, split);
         build(node.first + 1, order, split, end);
+        shiftMultipoles(nodes_[index]);
         return;
     }
     // Else the median split along the centres' longest extent.
@@ -483,6 +586,37 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
                      });
     build(node.first, order, begin, middle);
     build(node.first + 1, order, middle, end);
+    shiftMultipoles(nodes_[index]);
+}
+
+void WindingCaps::shiftMultipoles(Node& node) const {
+    // A child's terms about its centroid c' moved to the node's c: with h = c' - c, the mean of
+    // ((y - c).r)^k is that of ((y - c').r + h.r)^k, expanded binomially. The children's tensors
+    // lack their traces, which the shift keeps as multiples of |r|² and the node's own traces drop.
+    Polynomial quadrupole{2}, octupole{3}, hexadecapole{4};
+    for (const std::uint32_t c : {node.first, node.first + 1}) {
+        const Node& child = nodes_[c];
+        const Polynomial h = linear(child.centroid - node.centroid), dipole = linear(child.vectorArea);
+        const Polynomial second = fromTensor(child.quadrupole, 2), third = fromTensor(child.octupole, 3), fourth = fromTensor(child.hexadecapole, 4);
+        // In Horner's form: the quadrupole's D h + S, the octupole's (D h + 2 S) h + H, the
+        // hexadecapole's ((D h + 3 S) h + 3 H) h + G.
+        const Polynomial dipoleH = dipole * h;
+        addTo(quadrupole, second);
+        addTo(quadrupole, dipoleH);
+        Polynomial inner = dipoleH;
+        addTo(inner, second, 2.0);
+        addTo(octupole, third);
+        addTo(octupole, inner * h);
+        inner = dipoleH;
+        addTo(inner, second, 3.0);
+        Polynomial outer = inner * h;
+        addTo(outer, third, 3.0);
+        addTo(hexadecapole, fourth);
+        addTo(hexadecapole, outer * h);
+    }
+    tracelessTensor(quadrupole, node.quadrupole);
+    tracelessTensor(octupole, node.octupole);
+    tracelessTensor(hexadecapole, node.hexadecapole);
 }
 
 
@@ -493,26 +627,27 @@ WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const g
     // Every point between the centre and the ball's rim is at least d from the box, so at least d
     // from the centroid inside it. The dipole's Hessian is at most 6 |D| / r⁴ (third derivatives of
     // 1/r), the quadrupole's at most 24 firstMoment / r⁵ (fourth derivatives, at most 24 / r⁵), the
-    // octupole's at most 60 secondMoment / r⁶ (half its fifth derivatives, at most 5! / r⁶).
+    // octupole's at most 60 secondMoment / r⁶ (half its fifth derivatives, at most 5! / r⁶), the
+    // hexadecapole's at most 120 thirdMoment / r⁷ (a sixth of its sixth, at most 6! / r⁷).
     const double near = d * (1.0 - 1e-12), near4 = near * near * near * near;
-    const double curvature = (3.0 * glm::length(node.vectorArea) + (12.0 * node.firstMoment + 30.0 * node.secondMoment / near) / near) * k /
-                             near4 * (1.0 + 1e-9);
+    const double curvature =
+        (3.0 * glm::length(node.vectorArea) + (12.0 * node.firstMoment + (30.0 * node.secondMoment + 60.0 * node.thirdMoment / near) / near) / near) *
+        k / near4 * (1.0 + 1e-9);
     // The value's and gradient's rounding: a 1e-12 share of each term's bound.
-    const double error =
-        multipoleErrorFloor(node, d) + 1e-12 * (node.area + (node.firstMoment + node.secondMoment / d) / d) * k / (d * d) * (1.0 + reach / d);
+    const double error = multipoleErrorFloor(node, d) + 1e-12 * momentsOver(node, d) * k / (d * d) * (1.0 + reach / d);
     if (!(error + curvature * reach * reach < limit)) return out;
     out.curvature = curvature, out.error = error;
     const glm::dvec3 r = node.centroid - centre;
     const double length = glm::length(r), inverse2 = 1.0 / (length * length), inverse3 = inverse2 / length, inverse5 = inverse3 * inverse2;
     const double dr = glm::dot(node.vectorArea, r), rSr = quadrupoleForm(node, r), inverse7 = inverse5 * inverse2;
-    const glm::dvec3 hrr = octupoleTimes(node, r);
-    const double hrrr = glm::dot(hrr, r);
-    // The dipole D.r / |r|³, the quadrupole -3 rᵀSr / |r|⁵ and the octupole 15/2 H(r, r, r) / |r|⁷,
-    // and their gradients in the point (minus those in r).
-    out.value = (dr * inverse3 - 3.0 * rSr * inverse5 + 7.5 * hrrr * inverse7) * k;
+    const glm::dvec3 hrr = octupoleTimes(node, r), grrr = hexadecapoleTimes(node, r);
+    const double hrrr = glm::dot(hrr, r), grrrr = glm::dot(grrr, r), inverse9 = inverse7 * inverse2;
+    // The dipole D.r / |r|³, the quadrupole -3 rᵀSr / |r|⁵, the octupole 15/2 H(r, r, r) / |r|⁷ and
+    // the hexadecapole -35/2 G(r, r, r, r) / |r|⁹, and their gradients in the point (minus those in r).
+    out.value = (dr * inverse3 - 3.0 * rSr * inverse5 + 7.5 * hrrr * inverse7 - 17.5 * grrrr * inverse9) * k;
     out.gradient = (3.0 * dr * inverse5 * r - inverse3 * node.vectorArea) * k +
                    (6.0 * inverse5 * quadrupoleTimes(node, r) - 15.0 * rSr * inverse7 * r) * k +
-                   (52.5 * hrrr * inverse7 * inverse2 * r - 22.5 * inverse7 * hrr) * k;
+                   (52.5 * hrrr * inverse9 * r - 22.5 * inverse7 * hrr) * k + (70.0 * inverse9 * grrr - 157.5 * grrrr * inverse9 * inverse2 * r) * k;
     return out;
 }
 

@@ -85,13 +85,14 @@ public:
     // Whether every point within `reach` of p is decided by `ahead` alone: no fan is near enough
     // to move the winding number by 0.45 (then inside() returns ahead != 0 there).
     bool farFromEveryFan(const glm::dvec3& p, double reach) const;
-    // The node as a multipole (dipole, quadrupole and octupole) over a ball that misses its box:
+    // The node as a multipole (dipole to hexadecapole) over a ball that misses its box:
     // its error there (as multipoleError's, d the ball's distance from the box), and its first-order
     // expansion at the centre o, whose rest at o + δ is at most curvature |δ|²: the dipole's
     // potential is D.grad(1/|c - p|), whose third derivatives are at most 3! / r⁴ in every
     // direction, so its Hessian is at most 6 |D| / r⁴; the quadrupole's, with fourth derivatives,
     // at most 24 firstMoment / r⁵; the octupole's, with fifth derivatives and its half, at most
-    // 60 secondMoment / r⁶ (r >= |c - o| - reach along the way). Error infinite where the ball
+    // 60 secondMoment / r⁶; the hexadecapole's, with sixth and its sixth, at most
+    // 120 thirdMoment / r⁷ (r >= |c - o| - reach along the way). Error infinite where the ball
     // reaches the box. (An expanded fan's terms take the same form.)
     struct BallDipole {
         double value = 0, error = std::numeric_limits<double>::infinity(), curvature = 0;
@@ -409,9 +410,13 @@ private:
         // their triangles, M = the mean of (y - centroid)(y - centroid)ᵀ over the triangle, as
         // xxx, yyy, zzz, xxy, xxz, xyy, yyz, xzz, yzz, xyz;
         double octupole[10] = {};
+        // their hexadecapole: the same of Σ weight area n ⊗ Q, Q the mean of (y - centroid)^⊗3
+        // over the triangle, as xxxx, yyyy, zzzz, xxxy, xxxz, xyyy, yyyz, xzzz, yzzz, xxyy,
+        // xxzz, yyzz, xxyz, xyyz, xyzz;
+        double hexadecapole[15] = {};
         // and Σ |weight| area |c - centroid| and Σ |weight| area max |corner - centroid|^k
-        // (k = 2, 3), for its bounds.
-        double firstMoment = 0, secondMoment = 0, thirdMoment = 0;
+        // (k = 2, 3, 4), for its bounds.
+        double firstMoment = 0, secondMoment = 0, thirdMoment = 0, fourthMoment = 0;
     };
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
@@ -425,6 +430,8 @@ private:
     // first; the others at the median of their centres. A size split halves the log of the sizes'
     // range, so it adds at most about 10 levels to the median splits' log2(caps) (the walks' stacks).
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
+    // An inner node's multipole (quadrupole, octupole, hexadecapole) from its children's.
+    void shiftMultipoles(Node& node) const;
     static constexpr double kSizeRatio = 8.0, kSizeSpan = 0.5;
     static double capSize(const Cap& cap) { return glm::length(cap.hi - cap.lo); }
     // The cut's far sums (farValue, farGradient, farSum) and its curvature (the near fans' and the
@@ -487,20 +494,21 @@ private:
         return node.area / (4.0 * M_PI * d * d) * std::min(1.0, flat);
     }
 
-    // The node's winding number at p as a multipole: its dipole, quadrupole and octupole (the
-    // three terms of Barill et al. 2018's second order), and a bound on that estimate's error.
-    // Each fan triangle's solid angle is the integral of n.K(y - p) over it, K(v) = v / |v|³ =
-    // -∇(1/|v|); expanded in y about the centroid, the first term is the dipole's, the second the
-    // quadrupole's (the third derivatives of 1/r against each triangle's area times n (c -
-    // centroid)ᵀ), the third the octupole's (the fourth derivatives against its area times n ⊗ M,
-    // halved): exact, n being constant over a triangle. The derivatives of 1/r are symmetric and
+    // The node's winding number at p as a multipole: its dipole, quadrupole, octupole and
+    // hexadecapole (Barill et al. 2018's expansion, two orders further), and a bound on that
+    // estimate's error. Each fan triangle's solid angle is the integral of n.K(y - p) over it,
+    // K(v) = v / |v|³ = -∇(1/|v|); expanded in y about the centroid, the first term is the
+    // dipole's, the second the quadrupole's (the second derivatives of 1/r against each
+    // triangle's area times n (c - centroid)ᵀ), the third the octupole's (the third derivatives
+    // against its area times n ⊗ M, halved), the fourth the hexadecapole's (the fourth against n ⊗
+    // Q, over 6): exact, n being constant over a triangle. The derivatives of 1/r are symmetric and
     // traceless, so only the tensors' symmetric, traceless parts count. The rest is at most
-    // 1/6 |∇³K| |y - centroid|³, ∇³K being fourth derivatives of 1/r, at most 4! / r⁵ in any unit
+    // 1/24 |∇⁴K| |y - centroid|⁴, ∇⁴K being fifth derivatives of 1/r, at most 5! / r⁶ in any unit
     // directions (the k-th derivative of 1/r along one direction is k! P_k(cos) / r^(k+1), and a
     // symmetric multilinear form on a Euclidean space is no larger over several directions than
     // over one, Banach 1938), with y and the centroid both in the node's box (d from p):
-    // 4 thirdMoment / (4π d⁵) in winding numbers, where the plain bound has area / (4π d²). It
-    // shrinks as 1/d⁵. Infinite error where p touches the box.
+    // 5 fourthMoment / (4π d⁶) in winding numbers, where the plain bound has area / (4π d²). It
+    // shrinks as 1/d⁶. Infinite error where p touches the box.
     // d: the ball's distance from the node's box (ballDistance). Its terms are left out (error
     // infinite) where its bound over the ball would not undercut `limit`.
     static BallDipole multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d, double limit);
@@ -508,7 +516,11 @@ private:
     // multipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
     static double multipoleErrorFloor(const Node& node, double d) {
         const double d2 = d * d;
-        return node.thirdMoment / (M_PI * d2 * d2 * d) * (1.0 + 1e-9);
+        return 5.0 * node.fourthMoment / (4.0 * M_PI * d2 * d2 * d2) * (1.0 + 1e-9);
+    }
+    // The terms' bounds at d, times d²: what a share of their rounding is taken of.
+    static double momentsOver(const Node& node, double d) {
+        return node.area + (node.firstMoment + (node.secondMoment + node.thirdMoment / d) / d) / d;
     }
     // rᵀ S r and S r for the node's quadrupole S.
     static double quadrupoleForm(const Node& node, const glm::dvec3& r) {
@@ -527,19 +539,32 @@ private:
                 o[3] * xx + o[5] * xy + o[9] * xz + o[1] * yy + o[6] * yz + o[8] * zz,
                 o[4] * xx + o[9] * xy + o[7] * xz + o[6] * yy + o[8] * yz + o[2] * zz};
     }
+    // G(r, r, r, .) for the node's hexadecapole G (G(r, r, r, r) is its dot product with r).
+    static glm::dvec3 hexadecapoleTimes(const Node& node, const glm::dvec3& r) {
+        const double* g = node.hexadecapole;
+        const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
+        // Each component times the multinomial count of its index orders among the first three.
+        return {g[0] * xx * x + 3.0 * (g[3] * xx * y + g[4] * xx * z + g[9] * x * yy + g[10] * x * zz) + g[5] * yy * y + g[7] * zz * z +
+                    3.0 * (g[13] * yy * z + g[14] * y * zz) + 6.0 * g[12] * x * y * z,
+                g[1] * yy * y + 3.0 * (g[5] * yy * x + g[6] * yy * z + g[9] * xx * y + g[11] * y * zz) + g[3] * xx * x + g[8] * zz * z +
+                    3.0 * (g[12] * xx * z + g[14] * x * zz) + 6.0 * g[13] * x * y * z,
+                g[2] * zz * z + 3.0 * (g[7] * zz * x + g[8] * zz * y + g[10] * xx * z + g[11] * yy * z) + g[4] * xx * x + g[6] * yy * y +
+                    3.0 * (g[12] * xx * y + g[13] * x * yy) + 6.0 * g[14] * x * y * z};
+    }
     // The multipole at p and its error, d the distance from p to the node's box. With r = centroid - p, the
-    // quadrupole's term is -S : ∇²(1/r) = -3 rᵀSr / |r|⁵ and the octupole's -1/2 H : ∇³(1/r) =
-    // 15/2 H(r, r, r) / |r|⁷ (S, H traceless).
+    // quadrupole's term is -S : ∇²(1/r) = -3 rᵀSr / |r|⁵, the octupole's -1/2 H : ∇³(1/r) =
+    // 15/2 H(r, r, r) / |r|⁷ and the hexadecapole's -1/6 G : ∇⁴(1/r) = -35/2 G(r, r, r, r) / |r|⁹
+    // (S, H, G traceless).
     static double multipoleEstimate(const Node& node, const glm::dvec3& p) {
         const glm::dvec3 r = node.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
-        const double octupole = 7.5 * glm::dot(octupoleTimes(node, r), r) / (r2 * r2);
-        return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2 + octupole) * inverse / (4.0 * M_PI);
+        const double higher = (7.5 * glm::dot(octupoleTimes(node, r), r) - 17.5 * glm::dot(hexadecapoleTimes(node, r), r) / r2) / (r2 * r2);
+        return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2 + higher) * inverse / (4.0 * M_PI);
     }
     static double multipoleError(const Node& node, double d) {
         if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
         // Its rounding: a few ulps of each term, far below a 1e-12 share of each term's bound.
-        return multipoleErrorFloor(node, d) + 1e-12 * (node.area + (node.firstMoment + node.secondMoment / d) / d) / (4.0 * M_PI * d * d);
+        return multipoleErrorFloor(node, d) + 1e-12 * momentsOver(node, d) / (4.0 * M_PI * d * d);
     }
 
     std::vector<Cap> caps_;
