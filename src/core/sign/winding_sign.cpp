@@ -697,7 +697,9 @@ struct WindingCaps::Search {
                         w -= estimate;
                     }
                 }
-                pending.push_back({b, index, estimate});
+                Pending waiting{b, index};
+                waiting.estimate = estimate;
+                pending.push_back(waiting);
                 heapSum += b;
                 heapRounding += kUlp * heapSum;
             } else if (node.leaf) {

@@ -136,12 +136,12 @@ public:
         std::uint32_t stamp_ = 0;
     };
     // A node waiting in a walk, with its bound.
-    struct Pending {
+    struct Pending { // 32 bytes: the walks' heaps move them
         double bound;
         std::uint32_t node;
+        std::uint32_t slot = 0; // a dipole's terms in the cut's Cut::dipoles
         double estimate = 0; // what the walk counted for the node while it waits (its dipole term, or 0)
         bool dipole = false; // in a cut: bounded as a multipole (or a fan's expansion) expanded at the ball's centre (Cut::farValue)
-        std::uint32_t slot = 0; // a dipole's terms in the cut's Cut::dipoles
         bool expanded = false; // in a measured cut: a fan bounded by its exact expansion (Cut's dipoles), measured when opened
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
