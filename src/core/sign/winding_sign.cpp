@@ -338,7 +338,9 @@ WindingCaps::WindingCaps(const MeshTopology& topology) {
     std::vector<std::uint32_t> capOrder(caps_.size());
     std::iota(capOrder.begin(), capOrder.end(), 0u);
     nodes_.reserve(2 * caps_.size());
+    multipoles_.reserve(2 * caps_.size());
     nodes_.push_back({});
+    multipoles_.push_back({});
     build(0, capOrder, 0, capOrder.size());
 }
 
@@ -490,15 +492,16 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
     }
     flatten(node, order, begin, end);
     // The dipole.
+    Multipole m;
     double weightedArea = 0.0;
     forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross, double length,
                                               int weight) {
         const double area = 0.5 * length * std::abs(weight);
-        node.vectorArea += 0.5 * double(weight) * cross;
-        node.centroid += area * (a + b + c) / 3.0;
+        m.vectorArea += 0.5 * double(weight) * cross;
+        m.centroid += area * (a + b + c) / 3.0;
         weightedArea += area;
     });
-    node.centroid = weightedArea > 0.0 ? glm::clamp(node.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
+    m.centroid = weightedArea > 0.0 ? glm::clamp(m.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
     // The bounds' moments about the centroid; a leaf's multipole from its triangles (an inner
     // node's comes from its children's, shiftMultipoles).
     const bool leaf = end - begin == 1;
@@ -506,13 +509,13 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
     forEachFanTriangle(order, begin, end, [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& cross, double length,
                                               int weight) {
         const double area = 0.5 * length * std::abs(weight);
-        const glm::dvec3 offset = (a + b + c) / 3.0 - node.centroid;
-        node.firstMoment += area * glm::length(offset);
-        const glm::dvec3 da = a - node.centroid, db = b - node.centroid, dc = c - node.centroid;
+        const glm::dvec3 offset = (a + b + c) / 3.0 - m.centroid;
+        m.firstMoment += area * glm::length(offset);
+        const glm::dvec3 da = a - m.centroid, db = b - m.centroid, dc = c - m.centroid;
         const double farthest = std::sqrt(std::max({glm::dot(da, da), glm::dot(db, db), glm::dot(dc, dc)}));
-        node.secondMoment += area * farthest * farthest;
-        node.thirdMoment += area * farthest * farthest * farthest;
-        node.fourthMoment += area * farthest * farthest * farthest * farthest;
+        m.secondMoment += area * farthest * farthest;
+        m.thirdMoment += area * farthest * farthest * farthest;
+        m.fourthMoment += area * farthest * farthest * farthest * farthest;
         if (!leaf) return;
         // Each term is n ⊗ the mean over the triangle of (y - centroid)^⊗k, times its area, as
         // polynomials: (a.r) times the mean of ((y - centroid).r)^k, a its vector area. With d_i
@@ -539,22 +542,24 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         addTo(hexadecapole, vectorArea * third, 1.0 / 60.0);
     });
     if (leaf) {
-        tracelessTensor(quadrupole, node.quadrupole);
-        tracelessTensor(octupole, node.octupole);
-        tracelessTensor(hexadecapole, node.hexadecapole);
+        tracelessTensor(quadrupole, m.quadrupole);
+        tracelessTensor(octupole, m.octupole);
+        tracelessTensor(hexadecapole, m.hexadecapole);
     }
-    node.firstMoment *= 1.0 + 1e-12, node.secondMoment *= 1.0 + 1e-12, node.thirdMoment *= 1.0 + 1e-12, node.fourthMoment *= 1.0 + 1e-12;
+    m.firstMoment *= 1.0 + 1e-12, m.secondMoment *= 1.0 + 1e-12, m.thirdMoment *= 1.0 + 1e-12, m.fourthMoment *= 1.0 + 1e-12;
     node.fans = std::uint32_t(end - begin);
     if (end - begin == 1) {
         node.first = order[begin];
         node.leaf = true;
         nodes_[index] = node;
+        multipoles_[index] = m;
         return;
     }
     node.first = std::uint32_t(nodes_.size());
     nodes_[index] = node;
-    nodes_.push_back({});
-    nodes_.push_back({});
+    multipoles_[index] = m;
+    nodes_.insert(nodes_.end(), 2, Node{});
+    multipoles_.insert(multipoles_.end(), 2, Multipole{});
     // Fans of very different sizes apart first, at the geometric mean of the largest and the
     // smallest: beside a big fan (across a hole) the small ones (along its border) would be
     // bounded by the big one's area and spread, and opened with it, one by one. Only where the
@@ -572,7 +577,7 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         const std::size_t split = std::size_t(firstLarge - order.begin());
         build(node.first, order, begin, split);
         build(node.first + 1, order, split, end);
-        shiftMultipoles(nodes_[index]);
+        shiftMultipoles(index);
         return;
     }
     // Else the median split along the centres' longest extent.
@@ -586,16 +591,18 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
                      });
     build(node.first, order, begin, middle);
     build(node.first + 1, order, middle, end);
-    shiftMultipoles(nodes_[index]);
+    shiftMultipoles(index);
 }
 
-void WindingCaps::shiftMultipoles(Node& node) const {
+void WindingCaps::shiftMultipoles(std::uint32_t index) {
+    const std::uint32_t first = nodes_[index].first;
+    Multipole& node = multipoles_[index];
     // A child's terms about its centroid c' moved to the node's c: with h = c' - c, the mean of
     // ((y - c).r)^k is that of ((y - c').r + h.r)^k, expanded binomially. The children's tensors
     // lack their traces, which the shift keeps as multiples of |r|² and the node's own traces drop.
     Polynomial quadrupole{2}, octupole{3}, hexadecapole{4};
-    for (const std::uint32_t c : {node.first, node.first + 1}) {
-        const Node& child = nodes_[c];
+    for (const std::uint32_t c : {first, first + 1}) {
+        const Multipole& child = multipoles_[c];
         const Polynomial h = linear(child.centroid - node.centroid), dipole = linear(child.vectorArea);
         const Polynomial second = fromTensor(child.quadrupole, 2), third = fromTensor(child.octupole, 3), fourth = fromTensor(child.hexadecapole, 4);
         // In Horner's form: the quadrupole's D h + S, the octupole's (D h + 2 S) h + H, the
@@ -620,7 +627,8 @@ void WindingCaps::shiftMultipoles(Node& node) const {
 }
 
 
-WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d, double limit) {
+WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const Multipole& m, const glm::dvec3& centre, double reach, double d,
+                                                       double limit) {
     BallDipole out;
     if (!(d > 0.0)) return out;
     constexpr double k = 1.0 / (4.0 * M_PI);
@@ -629,25 +637,42 @@ WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const g
     // 1/r), the quadrupole's at most 24 firstMoment / r⁵ (fourth derivatives, at most 24 / r⁵), the
     // octupole's at most 60 secondMoment / r⁶ (half its fifth derivatives, at most 5! / r⁶), the
     // hexadecapole's at most 120 thirdMoment / r⁷ (a sixth of its sixth, at most 6! / r⁷).
-    const double near = d * (1.0 - 1e-12), near4 = near * near * near * near;
-    const double curvature =
-        (3.0 * glm::length(node.vectorArea) + (12.0 * node.firstMoment + (30.0 * node.secondMoment + 60.0 * node.thirdMoment / near) / near) / near) *
-        k / near4 * (1.0 + 1e-9);
+    // The terms taken: to the order whose error and curvature over the ball sum the least.
+    const double near = d * (1.0 - 1e-12), near4 = near * near * near * near, scale = k / near4 * (1.0 + 1e-9);
+    const double curvatures[3] = {(3.0 * glm::length(m.vectorArea) + 12.0 * m.firstMoment / near) * scale,
+                                  30.0 * m.secondMoment / (near * near) * scale, 60.0 * m.thirdMoment / (near * near * near) * scale};
+    const double d2 = d * d, d4 = d2 * d2, errors[3] = {3.0 * m.secondMoment / d4 * k * (1.0 + 1e-9), 4.0 * m.thirdMoment / (d4 * d) * k * (1.0 + 1e-9),
+                                                        5.0 * m.fourthMoment / (d4 * d2) * k * (1.0 + 1e-9)};
+    int order = 2;
+    double curvature = curvatures[0], error = errors[0];
+    for (int o = 3; o <= 4; ++o) {
+        const double withTerm = curvature + curvatures[o - 2];
+        if (errors[o - 2] + withTerm * reach * reach < error + curvature * reach * reach) order = o, curvature = withTerm, error = errors[o - 2];
+        else break;
+    }
     // The value's and gradient's rounding: a 1e-12 share of each term's bound.
-    const double error = multipoleErrorFloor(node, d) + 1e-12 * momentsOver(node, d) * k / (d * d) * (1.0 + reach / d);
+    error += 1e-12 * momentsOver(node, m, 1.0 / d) * k / (d * d) * (1.0 + reach / d);
     if (!(error + curvature * reach * reach < limit)) return out;
     out.curvature = curvature, out.error = error;
-    const glm::dvec3 r = node.centroid - centre;
+    const glm::dvec3 r = m.centroid - centre;
     const double length = glm::length(r), inverse2 = 1.0 / (length * length), inverse3 = inverse2 / length, inverse5 = inverse3 * inverse2;
-    const double dr = glm::dot(node.vectorArea, r), rSr = quadrupoleForm(node, r), inverse7 = inverse5 * inverse2;
-    const glm::dvec3 hrr = octupoleTimes(node, r), grrr = hexadecapoleTimes(node, r);
-    const double hrrr = glm::dot(hrr, r), grrrr = glm::dot(grrr, r), inverse9 = inverse7 * inverse2;
+    const double dr = glm::dot(m.vectorArea, r), rSr = quadrupoleForm(m, r), inverse7 = inverse5 * inverse2;
     // The dipole D.r / |r|³, the quadrupole -3 rᵀSr / |r|⁵, the octupole 15/2 H(r, r, r) / |r|⁷ and
     // the hexadecapole -35/2 G(r, r, r, r) / |r|⁹, and their gradients in the point (minus those in r).
-    out.value = (dr * inverse3 - 3.0 * rSr * inverse5 + 7.5 * hrrr * inverse7 - 17.5 * grrrr * inverse9) * k;
-    out.gradient = (3.0 * dr * inverse5 * r - inverse3 * node.vectorArea) * k +
-                   (6.0 * inverse5 * quadrupoleTimes(node, r) - 15.0 * rSr * inverse7 * r) * k +
-                   (52.5 * hrrr * inverse9 * r - 22.5 * inverse7 * hrr) * k + (70.0 * inverse9 * grrr - 157.5 * grrrr * inverse9 * inverse2 * r) * k;
+    out.value = (dr * inverse3 - 3.0 * rSr * inverse5) * k;
+    out.gradient = (3.0 * dr * inverse5 * r - inverse3 * m.vectorArea) * k + (6.0 * inverse5 * quadrupoleTimes(m, r) - 15.0 * rSr * inverse7 * r) * k;
+    if (order >= 3) {
+        const glm::dvec3 hrr = octupoleTimes(m, r);
+        const double hrrr = glm::dot(hrr, r), inverse9 = inverse7 * inverse2;
+        out.value += 7.5 * hrrr * inverse7 * k;
+        out.gradient += (52.5 * hrrr * inverse9 * r - 22.5 * inverse7 * hrr) * k;
+        if (order >= 4) {
+            const glm::dvec3 grrr = hexadecapoleTimes(m, r);
+            const double grrrr = glm::dot(grrr, r);
+            out.value -= 17.5 * grrrr * inverse9 * k;
+            out.gradient += (70.0 * inverse9 * grrr - 157.5 * grrrr * inverse9 * inverse2 * r) * k;
+        }
+    }
     return out;
 }
 
@@ -690,10 +715,11 @@ struct WindingCaps::Search {
             if (std::isfinite(b)) {
                 double estimate = 0.0;
                 if (dipoles) {
-                    const double error = multipoleError(node, boxDistance(node.lo, node.hi, p));
-                    if (error < b) {
-                        estimate = multipoleEstimate(node, p);
-                        b = error;
+                    const Multipole& m = caps.multipoles_[index];
+                    const Truncation t = multipoleError(node, m, boxDistance(node.lo, node.hi, p));
+                    if (t.error < b) {
+                        estimate = multipoleEstimate(m, p, t.order);
+                        b = t.error;
                         w -= estimate;
                     }
                 }
@@ -993,8 +1019,9 @@ WindingCaps::Pending WindingCaps::boundOverBall(Cut& out, std::uint32_t index, d
     const Node& node = nodes_[index];
     Pending bounded{bound(node, out.centre, out.reach, d), index};
     // Below `small`, not worth the multipole's work; nor where its error alone exceeds the bound.
-    if (std::isfinite(bounded.bound) && bounded.bound > small && multipoleErrorFloor(node, d) < bounded.bound) {
-        const BallDipole multipole = multipoleOverBall(node, out.centre, out.reach, d, bounded.bound);
+    const Multipole& m = multipoles_[index];
+    if (std::isfinite(bounded.bound) && bounded.bound > small && multipoleErrorFloor(m, d) < bounded.bound) {
+        const BallDipole multipole = multipoleOverBall(node, m, out.centre, out.reach, d, bounded.bound);
         const double spread = multipole.error + multipole.curvature * out.reach * out.reach;
         if (spread < bounded.bound) {
             bounded.bound = spread, bounded.dipole = true, bounded.slot = std::uint32_t(out.dipoles.size());
@@ -1406,19 +1433,22 @@ void WindingCaps::estimateFans(const glm::dvec3* points, int n, double nodeError
     int top = 0;
     stack[top++] = 0;
     double errors[kFanPoints], plains[kFanPoints];
+    Truncation truncations[kFanPoints];
     while (top > 0) {
         const std::uint32_t index = stack[--top];
         const Node& node = nodes_[index];
+        const Multipole& m = multipoles_[index];
         bool counted = true; // every point takes the node's dipole or bound
         for (int i = 0; i < n && counted; ++i) {
             const double d = boxDistance(node.lo, node.hi, points[i]);
-            errors[i] = multipoleError(node, d), plains[i] = bound(node, points[i], 0.0, d);
+            truncations[i] = multipoleError(node, m, d), plains[i] = bound(node, points[i], 0.0, d);
+            errors[i] = truncations[i].error;
             counted = std::min(errors[i], plains[i]) < nodeError;
         }
         if (counted) {
             for (int i = 0; i < n; ++i) {
                 if (errors[i] < plains[i]) {
-                    const double estimate = multipoleEstimate(node, points[i]);
+                    const double estimate = multipoleEstimate(m, points[i], truncations[i].order);
                     out[i].value += estimate, out[i].error += errors[i];
                     magnitude[i] += std::fabs(estimate);
                 } else {

@@ -399,12 +399,19 @@ private:
         // the distance of its normal from ±n. tilt 2 (the most it can be) when no plane fits.
         glm::dvec3 normal{0.0};
         double thickness = 0, tilt = 2;
-        // The fans below as one multipole (see multipoleEstimate()): their vector area (each triangle's area
-        // times its unit normal, times its weight) at their area-weighted centroid;
+    };
+    // The fans below a node as one multipole (see multipoleEstimate()), apart from the nodes that
+    // every walk reads (multipoles_[i] is nodes_[i]'s); the bounds' moments and the lower terms
+    // first, which most walks' nodes need alone.
+    struct Multipole {
+        // Σ |weight| area |c - centroid| and Σ |weight| area max |corner - centroid|^k (k = 2, 3,
+        // 4) over their triangles (c each one's centroid), for the bounds;
+        double firstMoment = 0, secondMoment = 0, thirdMoment = 0, fourthMoment = 0;
+        // their vector area (each triangle's area times its unit normal n, times its weight) at
+        // their area-weighted centroid;
         glm::dvec3 vectorArea{0.0}, centroid{0.0};
         // their quadrupole: the traceless part of the symmetric part of
-        // Σ weight area n (c - centroid)ᵀ over their triangles (n the unit normal, c the
-        // triangle's centroid), as xx, yy, zz, xy, xz, yz;
+        // Σ weight area n (c - centroid)ᵀ, as xx, yy, zz, xy, xz, yz;
         double quadrupole[6] = {};
         // their octupole: the traceless part of the symmetric part of Σ weight area n ⊗ M over
         // their triangles, M = the mean of (y - centroid)(y - centroid)ᵀ over the triangle, as
@@ -412,11 +419,8 @@ private:
         double octupole[10] = {};
         // their hexadecapole: the same of Σ weight area n ⊗ Q, Q the mean of (y - centroid)^⊗3
         // over the triangle, as xxxx, yyyy, zzzz, xxxy, xxxz, xyyy, yyyz, xzzz, yzzz, xxyy,
-        // xxzz, yyzz, xxyz, xyyz, xyzz;
+        // xxzz, yyzz, xxyz, xyyz, xyzz.
         double hexadecapole[15] = {};
-        // and Σ |weight| area |c - centroid| and Σ |weight| area max |corner - centroid|^k
-        // (k = 2, 3, 4), for its bounds.
-        double firstMoment = 0, secondMoment = 0, thirdMoment = 0, fourthMoment = 0;
     };
     struct Search; // one point's lazy walk of the tree (winding_sign.cpp)
     // The walk from the root at p, until |w| is farther than `margin` plus the bounds of the rest
@@ -431,7 +435,7 @@ private:
     // range, so it adds at most about 10 levels to the median splits' log2(caps) (the walks' stacks).
     void build(std::uint32_t index, std::vector<std::uint32_t>& order, std::size_t begin, std::size_t end);
     // An inner node's multipole (quadrupole, octupole, hexadecapole) from its children's.
-    void shiftMultipoles(Node& node) const;
+    void shiftMultipoles(std::uint32_t index);
     static constexpr double kSizeRatio = 8.0, kSizeSpan = 0.5;
     static double capSize(const Cap& cap) { return glm::length(cap.hi - cap.lo); }
     // The cut's far sums (farValue, farGradient, farSum) and its curvature (the near fans' and the
@@ -511,36 +515,64 @@ private:
     // shrinks as 1/d⁶. Infinite error where p touches the box.
     // d: the ball's distance from the node's box (ballDistance). Its terms are left out (error
     // infinite) where its bound over the ball would not undercut `limit`.
-    static BallDipole multipoleOverBall(const Node& node, const glm::dvec3& centre, double reach, double d, double limit);
-    // The first term of multipoleOverBall's error: where it is no smaller than the plain bound, the
-    // multipole cannot bound the node more tightly (most nodes of a cut, too near for their size).
-    static double multipoleErrorFloor(const Node& node, double d) {
-        const double d2 = d * d;
-        return 5.0 * node.fourthMoment / (4.0 * M_PI * d2 * d2 * d2) * (1.0 + 1e-9);
+    static BallDipole multipoleOverBall(const Node& node, const Multipole& m, const glm::dvec3& centre, double reach, double d, double limit);
+    // Where the multipole is cut off at d: after the quadrupole (order 2), the octupole (3) or the
+    // hexadecapole (4), whichever rest is bounded the least there (3 secondMoment / (4π d⁴),
+    // 4 thirdMoment / (4π d⁵), 5 fourthMoment / (4π d⁶): beside the node, nearer than its spread,
+    // the lower orders' bounds are the tighter).
+    struct Truncation {
+        int order;
+        double error; // without rounding
+    };
+    // (inverse = 1 / d: the walks bound many nodes, and one division costs what a dozen products do.)
+    static Truncation truncation(const Multipole& m, double inverse) {
+        const double inverse2 = inverse * inverse, k = (1.0 + 1e-9) / (4.0 * M_PI) * inverse2 * inverse2;
+        Truncation best{2, 3.0 * m.secondMoment * k};
+        const double third = 4.0 * m.thirdMoment * inverse * k, fourth = 5.0 * m.fourthMoment * inverse2 * k;
+        if (third < best.error) best = {3, third};
+        if (fourth < best.error) best = {4, fourth};
+        return best;
     }
-    // The terms' bounds at d, times d²: what a share of their rounding is taken of.
-    static double momentsOver(const Node& node, double d) {
-        return node.area + (node.firstMoment + (node.secondMoment + node.thirdMoment / d) / d) / d;
+    // The least of those: where it is no smaller than the plain bound, the multipole cannot bound
+    // the node more tightly (most nodes of a cut, too near for their size).
+    static double multipoleErrorFloor(const Multipole& m, double d) { return truncation(m, 1.0 / d).error; }
+    // The terms' bounds at d = 1 / inverse, times d²: what a share of their rounding is taken of.
+    static double momentsOver(const Node& node, const Multipole& m, double inverse) {
+        return node.area + (m.firstMoment + (m.secondMoment + m.thirdMoment * inverse) * inverse) * inverse;
     }
     // rᵀ S r and S r for the node's quadrupole S.
-    static double quadrupoleForm(const Node& node, const glm::dvec3& r) {
+    static double quadrupoleForm(const Multipole& node, const glm::dvec3& r) {
         const double* q = node.quadrupole;
         return q[0] * r.x * r.x + q[1] * r.y * r.y + q[2] * r.z * r.z + 2.0 * (q[3] * r.x * r.y + q[4] * r.x * r.z + q[5] * r.y * r.z);
     }
-    static glm::dvec3 quadrupoleTimes(const Node& node, const glm::dvec3& r) {
+    static glm::dvec3 quadrupoleTimes(const Multipole& node, const glm::dvec3& r) {
         const double* q = node.quadrupole;
         return {q[0] * r.x + q[3] * r.y + q[4] * r.z, q[3] * r.x + q[1] * r.y + q[5] * r.z, q[4] * r.x + q[5] * r.y + q[2] * r.z};
     }
     // H(r, r, .) for the node's octupole H (H(r, r, r) is its dot product with r).
-    static glm::dvec3 octupoleTimes(const Node& node, const glm::dvec3& r) {
+    static glm::dvec3 octupoleTimes(const Multipole& node, const glm::dvec3& r) {
         const double* o = node.octupole;
         const double xx = r.x * r.x, yy = r.y * r.y, zz = r.z * r.z, xy = 2.0 * r.x * r.y, xz = 2.0 * r.x * r.z, yz = 2.0 * r.y * r.z;
         return {o[0] * xx + o[3] * xy + o[4] * xz + o[5] * yy + o[9] * yz + o[7] * zz,
                 o[3] * xx + o[5] * xy + o[9] * xz + o[1] * yy + o[6] * yz + o[8] * zz,
                 o[4] * xx + o[9] * xy + o[7] * xz + o[6] * yy + o[8] * yz + o[2] * zz};
     }
+    // H(r, r, r) and G(r, r, r, r): each component times the count of its index orders.
+    static double octupoleForm(const Multipole& node, const glm::dvec3& r) {
+        const double* o = node.octupole;
+        const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
+        return x * (o[0] * xx + 3.0 * (o[5] * yy + o[7] * zz)) + y * (o[1] * yy + 3.0 * (o[3] * xx + o[8] * zz)) +
+               z * (o[2] * zz + 3.0 * (o[4] * xx + o[6] * yy)) + 6.0 * o[9] * x * y * z;
+    }
+    static double hexadecapoleForm(const Multipole& node, const glm::dvec3& r) {
+        const double* g = node.hexadecapole;
+        const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
+        return g[0] * xx * xx + g[1] * yy * yy + g[2] * zz * zz +
+               4.0 * (x * y * (g[3] * xx + g[5] * yy) + x * z * (g[4] * xx + g[7] * zz) + y * z * (g[6] * yy + g[8] * zz)) +
+               6.0 * (g[9] * xx * yy + g[10] * xx * zz + g[11] * yy * zz) + 12.0 * x * y * z * (g[12] * x + g[13] * y + g[14] * z);
+    }
     // G(r, r, r, .) for the node's hexadecapole G (G(r, r, r, r) is its dot product with r).
-    static glm::dvec3 hexadecapoleTimes(const Node& node, const glm::dvec3& r) {
+    static glm::dvec3 hexadecapoleTimes(const Multipole& node, const glm::dvec3& r) {
         const double* g = node.hexadecapole;
         const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
         // Each component times the multinomial count of its index orders among the first three.
@@ -555,21 +587,28 @@ private:
     // quadrupole's term is -S : ∇²(1/r) = -3 rᵀSr / |r|⁵, the octupole's -1/2 H : ∇³(1/r) =
     // 15/2 H(r, r, r) / |r|⁷ and the hexadecapole's -1/6 G : ∇⁴(1/r) = -35/2 G(r, r, r, r) / |r|⁹
     // (S, H, G traceless).
-    static double multipoleEstimate(const Node& node, const glm::dvec3& p) {
+    static double multipoleEstimate(const Multipole& node, const glm::dvec3& p, int order) {
         const glm::dvec3 r = node.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
-        const double higher = (7.5 * glm::dot(octupoleTimes(node, r), r) - 17.5 * glm::dot(hexadecapoleTimes(node, r), r) / r2) / (r2 * r2);
+        double higher = 0.0;
+        if (order >= 3) higher += 7.5 * octupoleForm(node, r) / (r2 * r2);
+        if (order >= 4) higher -= 17.5 * hexadecapoleForm(node, r) / (r2 * r2 * r2);
         return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2 + higher) * inverse / (4.0 * M_PI);
     }
-    static double multipoleError(const Node& node, double d) {
-        if (!(d > 0.0)) return std::numeric_limits<double>::infinity();
-        // Its rounding: a few ulps of each term, far below a 1e-12 share of each term's bound.
-        return multipoleErrorFloor(node, d) + 1e-12 * momentsOver(node, d) / (4.0 * M_PI * d * d);
+    // The truncation at d, its error with its rounding (a few ulps of each term, far below a 1e-12
+    // share of each term's bound); infinite where p touches the box.
+    static Truncation multipoleError(const Node& node, const Multipole& m, double d) {
+        if (!(d > 0.0)) return {2, std::numeric_limits<double>::infinity()};
+        const double inverse = 1.0 / d;
+        Truncation t = truncation(m, inverse);
+        t.error += 1e-12 / (4.0 * M_PI) * momentsOver(node, m, inverse) * inverse * inverse;
+        return t;
     }
 
     std::vector<Cap> caps_;
     std::uint32_t chords_ = 1; // chord ids run from 1 (Cap::chord)
     std::vector<Node> nodes_;
+    std::vector<Multipole> multipoles_;
 };
 
 // The cap's first-order expansion at the centre of the ball (centre, reach), in one pass over its
