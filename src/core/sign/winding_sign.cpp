@@ -502,6 +502,7 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         weightedArea += area;
     });
     m.centroid = weightedArea > 0.0 ? glm::clamp(m.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
+    m.dipoleLength = glm::length(m.vectorArea);
     // The bounds' moments about the centroid; a leaf's multipole from its triangles (an inner
     // node's comes from its children's, shiftMultipoles).
     const bool leaf = end - begin == 1;
@@ -638,11 +639,14 @@ WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const M
     // octupole's at most 60 secondMoment / r⁶ (half its fifth derivatives, at most 5! / r⁶), the
     // hexadecapole's at most 120 thirdMoment / r⁷ (a sixth of its sixth, at most 6! / r⁷).
     // The terms taken: to the order whose error and curvature over the ball sum the least.
-    const double near = d * (1.0 - 1e-12), near4 = near * near * near * near, scale = k / near4 * (1.0 + 1e-9);
-    const double curvatures[3] = {(3.0 * glm::length(m.vectorArea) + 12.0 * m.firstMoment / near) * scale,
-                                  30.0 * m.secondMoment / (near * near) * scale, 60.0 * m.thirdMoment / (near * near * near) * scale};
-    const double d2 = d * d, d4 = d2 * d2, errors[3] = {3.0 * m.secondMoment / d4 * k * (1.0 + 1e-9), 4.0 * m.thirdMoment / (d4 * d) * k * (1.0 + 1e-9),
-                                                        5.0 * m.fourthMoment / (d4 * d2) * k * (1.0 + 1e-9)};
+    // (Reciprocals once: the cuts bound many nodes, and one division costs what a dozen products do.)
+    const double inverse = 1.0 / d, inverseNear = 1.0 / (d * (1.0 - 1e-12)), inverseNear2 = inverseNear * inverseNear;
+    const double scale = k * (1.0 + 1e-9) * inverseNear2 * inverseNear2;
+    const double curvatures[3] = {(3.0 * m.dipoleLength + 12.0 * m.firstMoment * inverseNear) * scale, 30.0 * m.secondMoment * inverseNear2 * scale,
+                                  60.0 * m.thirdMoment * inverseNear2 * inverseNear * scale};
+    const double inverseD2 = inverse * inverse, errorScale = k * (1.0 + 1e-9) * inverseD2 * inverseD2;
+    const double errors[3] = {3.0 * m.secondMoment * errorScale, 4.0 * m.thirdMoment * inverse * errorScale,
+                              5.0 * m.fourthMoment * inverseD2 * errorScale};
     int order = 2;
     double curvature = curvatures[0], error = errors[0];
     for (int o = 3; o <= 4; ++o) {
@@ -651,7 +655,7 @@ WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const M
         else break;
     }
     // The value's and gradient's rounding: a 1e-12 share of each term's bound.
-    error += 1e-12 * momentsOver(node, m, 1.0 / d) * k / (d * d) * (1.0 + reach / d);
+    error += 1e-12 * momentsOver(node, m, inverse) * k * inverseD2 * (1.0 + reach * inverse);
     if (!(error + curvature * reach * reach < limit)) return out;
     out.curvature = curvature, out.error = error;
     const glm::dvec3 r = m.centroid - centre;

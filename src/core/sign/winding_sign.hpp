@@ -407,9 +407,11 @@ private:
         // Σ |weight| area |c - centroid| and Σ |weight| area max |corner - centroid|^k (k = 2, 3,
         // 4) over their triangles (c each one's centroid), for the bounds;
         double firstMoment = 0, secondMoment = 0, thirdMoment = 0, fourthMoment = 0;
-        // their vector area (each triangle's area times its unit normal n, times its weight) at
-        // their area-weighted centroid;
-        glm::dvec3 vectorArea{0.0}, centroid{0.0};
+        // their vector area (each triangle's area times its unit normal n, times its weight), its
+        // length, and their area-weighted centroid;
+        glm::dvec3 vectorArea{0.0};
+        double dipoleLength = 0;
+        glm::dvec3 centroid{0.0};
         // their quadrupole: the traceless part of the symmetric part of
         // Σ weight area n (c - centroid)ᵀ, as xx, yy, zz, xy, xz, yz;
         double quadrupole[6] = {};
