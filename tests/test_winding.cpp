@@ -454,7 +454,7 @@ TEST(WindingSign, FarNodesCountAsTheirMultipoles) {
         ASSERT_FALSE(caps.empty());
         std::mt19937 rng(13);
         std::uniform_real_distribution<double> unit(-1.0, 1.0);
-        double errors[2] = {}, worst = 0.0;
+        double errors[2] = {}, actual[2] = {}, worst = 0.0;
         std::size_t multipoles = 0; // far nodes of the cuts counted as their multipoles
         for (int n = 0; n < 64; ++n) {
             const glm::dvec3 direction = glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)) + glm::dvec3(1e-3));
@@ -465,6 +465,7 @@ TEST(WindingSign, FarNodesCountAsTheirMultipoles) {
                 const double exact = -caps.winding(p, 0);
                 ASSERT_LE(std::fabs(fans.value - exact), fans.error) << mesh.source << " at " << p.x << "," << p.y << "," << p.z;
                 errors[far] += fans.error;
+                actual[far] += std::fabs(fans.value - exact);
                 worst = std::max(worst, std::fabs(fans.value - exact) / fans.error);
                 // Over a ball around p, as a cut's far node: the multipole's first-order expansion
                 // at p, its rest within the multipole's curvature.
@@ -508,7 +509,22 @@ TEST(WindingSign, FarNodesCountAsTheirMultipoles) {
         }
         EXPECT_GT(compared, 16) << mesh.source;
         EXPECT_GT(errors[0] / errors[1], 48.0) << mesh.source;
+        // The estimates' own errors fall as fast (as the fifth power with a wrong hexadecapole, the
+        // fourth with a wrong octupole), far below their bounds.
+        EXPECT_GT(actual[0] / actual[1], 58.0) << mesh.source; // 64 for the sixth power
         EXPECT_GT(worst, 1e-3) << mesh.source; // the hexadecapole's rest is there to bound
+        // Nearer, where the nodes are cut off after the quadrupole or the octupole (their rests'
+        // bounds the tighter within about a node's spread), and opened where that errs too much.
+        for (double distance : {1.2, 1.5, 2.0, 3.0, 5.0}) {
+            for (int n = 0; n < 32; ++n) {
+                const glm::dvec3 p = distance * glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)) + glm::dvec3(1e-3));
+                for (double nodeError : {1e-2, 1e-4}) {
+                    WindingCaps::FansEstimate fans;
+                    caps.estimateFans(&p, 1, nodeError, &fans);
+                    ASSERT_LE(std::fabs(fans.value - -caps.winding(p, 0)), fans.error) << mesh.source << " at " << distance;
+                }
+            }
+        }
     }
 }
 

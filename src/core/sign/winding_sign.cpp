@@ -597,14 +597,14 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
 
 void WindingCaps::shiftMultipoles(std::uint32_t index) {
     const std::uint32_t first = nodes_[index].first;
-    Multipole& node = multipoles_[index];
+    Multipole& parent = multipoles_[index];
     // A child's terms about its centroid c' moved to the node's c: with h = c' - c, the mean of
     // ((y - c).r)^k is that of ((y - c').r + h.r)^k, expanded binomially. The children's tensors
     // lack their traces, which the shift keeps as multiples of |r|² and the node's own traces drop.
     Polynomial quadrupole{2}, octupole{3}, hexadecapole{4};
     for (const std::uint32_t c : {first, first + 1}) {
         const Multipole& child = multipoles_[c];
-        const Polynomial h = linear(child.centroid - node.centroid), dipole = linear(child.vectorArea);
+        const Polynomial h = linear(child.centroid - parent.centroid), dipole = linear(child.vectorArea);
         const Polynomial second = fromTensor(child.quadrupole, 2), third = fromTensor(child.octupole, 3), fourth = fromTensor(child.hexadecapole, 4);
         // In Horner's form: the quadrupole's D h + S, the octupole's (D h + 2 S) h + H, the
         // hexadecapole's ((D h + 3 S) h + 3 H) h + G.
@@ -622,9 +622,9 @@ void WindingCaps::shiftMultipoles(std::uint32_t index) {
         addTo(hexadecapole, fourth);
         addTo(hexadecapole, outer * h);
     }
-    tracelessTensor(quadrupole, node.quadrupole);
-    tracelessTensor(octupole, node.octupole);
-    tracelessTensor(hexadecapole, node.hexadecapole);
+    tracelessTensor(quadrupole, parent.quadrupole);
+    tracelessTensor(octupole, parent.octupole);
+    tracelessTensor(hexadecapole, parent.hexadecapole);
 }
 
 
@@ -1436,7 +1436,7 @@ void WindingCaps::estimateFans(const glm::dvec3* points, int n, double nodeError
     std::uint32_t stack[128];
     int top = 0;
     stack[top++] = 0;
-    double errors[kFanPoints], plains[kFanPoints];
+    double plains[kFanPoints];
     Truncation truncations[kFanPoints];
     while (top > 0) {
         const std::uint32_t index = stack[--top];
@@ -1446,14 +1446,13 @@ void WindingCaps::estimateFans(const glm::dvec3* points, int n, double nodeError
         for (int i = 0; i < n && counted; ++i) {
             const double d = boxDistance(node.lo, node.hi, points[i]);
             truncations[i] = multipoleError(node, m, d), plains[i] = bound(node, points[i], 0.0, d);
-            errors[i] = truncations[i].error;
-            counted = std::min(errors[i], plains[i]) < nodeError;
+            counted = std::min(truncations[i].error, plains[i]) < nodeError;
         }
         if (counted) {
             for (int i = 0; i < n; ++i) {
-                if (errors[i] < plains[i]) {
+                if (truncations[i].error < plains[i]) {
                     const double estimate = multipoleEstimate(m, points[i], truncations[i].order);
-                    out[i].value += estimate, out[i].error += errors[i];
+                    out[i].value += estimate, out[i].error += truncations[i].error;
                     magnitude[i] += std::fabs(estimate);
                 } else {
                     out[i].error += plains[i];

@@ -145,6 +145,7 @@ public:
         bool expanded = false; // in a measured cut: a fan bounded by its exact expansion (Cut's dipoles), measured when opened
         bool operator<(const Pending& other) const { return bound < other.bound; }
     };
+    static_assert(sizeof(Pending) == 32, "a waiting node's record packs into 32 bytes");
     // A cut's nodes waiting to be opened, taken loosest first to within a factor of two: bucketed
     // by their bounds' binary exponents, which costs less than a heap's order (a cut needs no more).
     class Waiting {
@@ -543,39 +544,39 @@ private:
         return node.area + (m.firstMoment + (m.secondMoment + m.thirdMoment * inverse) * inverse) * inverse;
     }
     // rᵀ S r and S r for the node's quadrupole S.
-    static double quadrupoleForm(const Multipole& node, const glm::dvec3& r) {
-        const double* q = node.quadrupole;
+    static double quadrupoleForm(const Multipole& m, const glm::dvec3& r) {
+        const double* q = m.quadrupole;
         return q[0] * r.x * r.x + q[1] * r.y * r.y + q[2] * r.z * r.z + 2.0 * (q[3] * r.x * r.y + q[4] * r.x * r.z + q[5] * r.y * r.z);
     }
-    static glm::dvec3 quadrupoleTimes(const Multipole& node, const glm::dvec3& r) {
-        const double* q = node.quadrupole;
+    static glm::dvec3 quadrupoleTimes(const Multipole& m, const glm::dvec3& r) {
+        const double* q = m.quadrupole;
         return {q[0] * r.x + q[3] * r.y + q[4] * r.z, q[3] * r.x + q[1] * r.y + q[5] * r.z, q[4] * r.x + q[5] * r.y + q[2] * r.z};
     }
     // H(r, r, .) for the node's octupole H (H(r, r, r) is its dot product with r).
-    static glm::dvec3 octupoleTimes(const Multipole& node, const glm::dvec3& r) {
-        const double* o = node.octupole;
+    static glm::dvec3 octupoleTimes(const Multipole& m, const glm::dvec3& r) {
+        const double* o = m.octupole;
         const double xx = r.x * r.x, yy = r.y * r.y, zz = r.z * r.z, xy = 2.0 * r.x * r.y, xz = 2.0 * r.x * r.z, yz = 2.0 * r.y * r.z;
         return {o[0] * xx + o[3] * xy + o[4] * xz + o[5] * yy + o[9] * yz + o[7] * zz,
                 o[3] * xx + o[5] * xy + o[9] * xz + o[1] * yy + o[6] * yz + o[8] * zz,
                 o[4] * xx + o[9] * xy + o[7] * xz + o[6] * yy + o[8] * yz + o[2] * zz};
     }
     // H(r, r, r) and G(r, r, r, r): each component times the count of its index orders.
-    static double octupoleForm(const Multipole& node, const glm::dvec3& r) {
-        const double* o = node.octupole;
+    static double octupoleForm(const Multipole& m, const glm::dvec3& r) {
+        const double* o = m.octupole;
         const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
         return x * (o[0] * xx + 3.0 * (o[5] * yy + o[7] * zz)) + y * (o[1] * yy + 3.0 * (o[3] * xx + o[8] * zz)) +
                z * (o[2] * zz + 3.0 * (o[4] * xx + o[6] * yy)) + 6.0 * o[9] * x * y * z;
     }
-    static double hexadecapoleForm(const Multipole& node, const glm::dvec3& r) {
-        const double* g = node.hexadecapole;
+    static double hexadecapoleForm(const Multipole& m, const glm::dvec3& r) {
+        const double* g = m.hexadecapole;
         const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
         return g[0] * xx * xx + g[1] * yy * yy + g[2] * zz * zz +
                4.0 * (x * y * (g[3] * xx + g[5] * yy) + x * z * (g[4] * xx + g[7] * zz) + y * z * (g[6] * yy + g[8] * zz)) +
                6.0 * (g[9] * xx * yy + g[10] * xx * zz + g[11] * yy * zz) + 12.0 * x * y * z * (g[12] * x + g[13] * y + g[14] * z);
     }
     // G(r, r, r, .) for the node's hexadecapole G (G(r, r, r, r) is its dot product with r).
-    static glm::dvec3 hexadecapoleTimes(const Multipole& node, const glm::dvec3& r) {
-        const double* g = node.hexadecapole;
+    static glm::dvec3 hexadecapoleTimes(const Multipole& m, const glm::dvec3& r) {
+        const double* g = m.hexadecapole;
         const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
         // Each component times the multinomial count of its index orders among the first three.
         return {g[0] * xx * x + 3.0 * (g[3] * xx * y + g[4] * xx * z + g[9] * x * yy + g[10] * x * zz) + g[5] * yy * y + g[7] * zz * z +
@@ -585,17 +586,17 @@ private:
                 g[2] * zz * z + 3.0 * (g[7] * zz * x + g[8] * zz * y + g[10] * xx * z + g[11] * yy * z) + g[4] * xx * x + g[6] * yy * y +
                     3.0 * (g[12] * xx * y + g[13] * x * yy) + 6.0 * g[14] * x * y * z};
     }
-    // The multipole at p and its error, d the distance from p to the node's box. With r = centroid - p, the
+    // The multipole at p, cut off after `order` (a Truncation's). With r = centroid - p, the
     // quadrupole's term is -S : ∇²(1/r) = -3 rᵀSr / |r|⁵, the octupole's -1/2 H : ∇³(1/r) =
     // 15/2 H(r, r, r) / |r|⁷ and the hexadecapole's -1/6 G : ∇⁴(1/r) = -35/2 G(r, r, r, r) / |r|⁹
     // (S, H, G traceless).
-    static double multipoleEstimate(const Multipole& node, const glm::dvec3& p, int order) {
-        const glm::dvec3 r = node.centroid - p;
+    static double multipoleEstimate(const Multipole& m, const glm::dvec3& p, int order) {
+        const glm::dvec3 r = m.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
         double higher = 0.0;
-        if (order >= 3) higher += 7.5 * octupoleForm(node, r) / (r2 * r2);
-        if (order >= 4) higher -= 17.5 * hexadecapoleForm(node, r) / (r2 * r2 * r2);
-        return (glm::dot(node.vectorArea, r) - 3.0 * quadrupoleForm(node, r) / r2 + higher) * inverse / (4.0 * M_PI);
+        if (order >= 3) higher += 7.5 * octupoleForm(m, r) / (r2 * r2);
+        if (order >= 4) higher -= 17.5 * hexadecapoleForm(m, r) / (r2 * r2 * r2);
+        return (glm::dot(m.vectorArea, r) - 3.0 * quadrupoleForm(m, r) / r2 + higher) * inverse / (4.0 * M_PI);
     }
     // The truncation at d, its error with its rounding (a few ulps of each term, far below a 1e-12
     // share of each term's bound); infinite where p touches the box.
