@@ -385,7 +385,8 @@ namespace {
 // Homogeneous polynomials in (x, y, z) of degree 0 to 4, each coefficient by its monomial's
 // exponents (kExponents[degree]); a symmetric tensor T of rank n is the polynomial T(r, ..., r),
 // its component of exponents (a, b, c) the coefficient over the multinomial n! / (a! b! c!). The
-// node's multipoles are kept as tensors in these orders (Node::quadrupole, octupole, hexadecapole).
+// node's multipoles are kept as tensors in these orders (Multipole::quadrupole, octupole,
+// hexadecapole).
 constexpr int kMonomials[5] = {1, 3, 6, 10, 15};
 constexpr int kExponents[5][15][3] = {
     {{0, 0, 0}},
@@ -502,7 +503,6 @@ void WindingCaps::build(std::uint32_t index, std::vector<std::uint32_t>& order, 
         weightedArea += area;
     });
     m.centroid = weightedArea > 0.0 ? glm::clamp(m.centroid / weightedArea, node.lo, node.hi) : 0.5 * (node.lo + node.hi);
-    m.dipoleLength = glm::length(m.vectorArea);
     // The bounds' moments about the centroid; a leaf's multipole from its triangles (an inner
     // node's comes from its children's, shiftMultipoles).
     const bool leaf = end - begin == 1;
@@ -642,11 +642,10 @@ WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const M
     // (Reciprocals once: the cuts bound many nodes, and one division costs what a dozen products do.)
     const double inverse = 1.0 / d, inverseNear = 1.0 / (d * (1.0 - 1e-12)), inverseNear2 = inverseNear * inverseNear;
     const double scale = k * (1.0 + 1e-9) * inverseNear2 * inverseNear2;
-    const double curvatures[3] = {(3.0 * m.dipoleLength + 12.0 * m.firstMoment * inverseNear) * scale, 30.0 * m.secondMoment * inverseNear2 * scale,
-                                  60.0 * m.thirdMoment * inverseNear2 * inverseNear * scale};
-    const double inverseD2 = inverse * inverse, errorScale = k * (1.0 + 1e-9) * inverseD2 * inverseD2;
-    const double errors[3] = {3.0 * m.secondMoment * errorScale, 4.0 * m.thirdMoment * inverse * errorScale,
-                              5.0 * m.fourthMoment * inverseD2 * errorScale};
+    const double curvatures[3] = {(3.0 * glm::length(m.vectorArea) + 12.0 * m.firstMoment * inverseNear) * scale,
+                                  30.0 * m.secondMoment * inverseNear2 * scale, 60.0 * m.thirdMoment * inverseNear2 * inverseNear * scale};
+    double errors[3];
+    truncationErrors(m, inverse, errors);
     int order = 2;
     double curvature = curvatures[0], error = errors[0];
     for (int o = 3; o <= 4; ++o) {
@@ -655,7 +654,7 @@ WindingCaps::BallDipole WindingCaps::multipoleOverBall(const Node& node, const M
         else break;
     }
     // The value's and gradient's rounding: a 1e-12 share of each term's bound.
-    error += 1e-12 * momentsOver(node, m, inverse) * k * inverseD2 * (1.0 + reach * inverse);
+    error += 1e-12 * momentsOver(node, m, inverse) * k * inverse * inverse * (1.0 + reach * inverse);
     if (!(error + curvature * reach * reach < limit)) return out;
     out.curvature = curvature, out.error = error;
     const glm::dvec3 r = m.centroid - centre;

@@ -408,11 +408,9 @@ private:
         // Σ |weight| area |c - centroid| and Σ |weight| area max |corner - centroid|^k (k = 2, 3,
         // 4) over their triangles (c each one's centroid), for the bounds;
         double firstMoment = 0, secondMoment = 0, thirdMoment = 0, fourthMoment = 0;
-        // their vector area (each triangle's area times its unit normal n, times its weight), its
-        // length, and their area-weighted centroid;
-        glm::dvec3 vectorArea{0.0};
-        double dipoleLength = 0;
-        glm::dvec3 centroid{0.0};
+        // their vector area (each triangle's area times its unit normal n, times its weight) at
+        // their area-weighted centroid;
+        glm::dvec3 vectorArea{0.0}, centroid{0.0};
         // their quadrupole: the traceless part of the symmetric part of
         // Σ weight area n (c - centroid)ᵀ, as xx, yy, zz, xy, xz, yz;
         double quadrupole[6] = {};
@@ -527,13 +525,18 @@ private:
         int order;
         double error; // without rounding
     };
-    // (inverse = 1 / d: the walks bound many nodes, and one division costs what a dozen products do.)
-    static Truncation truncation(const Multipole& m, double inverse) {
+    // The three rests' bounds, errors[order - 2] (inverse = 1 / d: the walks bound many nodes, and
+    // one division costs what a dozen products do).
+    static void truncationErrors(const Multipole& m, double inverse, double* errors) {
         const double inverse2 = inverse * inverse, k = (1.0 + 1e-9) / (4.0 * M_PI) * inverse2 * inverse2;
-        Truncation best{2, 3.0 * m.secondMoment * k};
-        const double third = 4.0 * m.thirdMoment * inverse * k, fourth = 5.0 * m.fourthMoment * inverse2 * k;
-        if (third < best.error) best = {3, third};
-        if (fourth < best.error) best = {4, fourth};
+        errors[0] = 3.0 * m.secondMoment * k, errors[1] = 4.0 * m.thirdMoment * inverse * k, errors[2] = 5.0 * m.fourthMoment * inverse2 * k;
+    }
+    static Truncation truncation(const Multipole& m, double inverse) {
+        double errors[3];
+        truncationErrors(m, inverse, errors);
+        Truncation best{2, errors[0]};
+        if (errors[1] < best.error) best = {3, errors[1]};
+        if (errors[2] < best.error) best = {4, errors[2]};
         return best;
     }
     // The least of those: where it is no smaller than the plain bound, the multipole cannot bound
