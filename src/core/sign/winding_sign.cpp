@@ -1950,7 +1950,7 @@ struct BrickSigns {
         for (double target : WindingCaps::kCarriedTargets) {
             if (!(measured->spread() > target)) continue; // met already
             const int doubtful = undecidedCount();
-            if (doubtful < WindingCaps::kCarriedFrom) break;
+            if (doubtful == 0) break;
             WindingCaps::Cut& next = carried[flip ^= 1];
             carriedOn += std::size_t(doubtful);
             caps.cut(centre, reach, target, measured->nearNodes.size() + WindingCaps::kMeasuredFans, false, next, measured, true, doubtful);

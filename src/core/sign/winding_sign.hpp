@@ -245,7 +245,9 @@ public:
     // kMeasuredFans more fans each time): beside an open sheet |w| nears 1/2, and the fans measured
     // together cost less than the walks they spare.
     static constexpr double kCarriedTargets[] = {kTightTarget, 1e-3, 1e-4, 1e-5};
-    // From that many points in doubt a cut is carried on; fewer walk the tree on their own.
+    // From that many query points in doubt a cut is carried on; fewer walk the tree on their own.
+    // (A brick carries its cut on for a single sample too: the fans it adds are those its ball
+    // needs, measured by the fan kernel, where a walk measures them one by one.)
     static constexpr int kCarriedFrom = 2;
     static constexpr std::size_t kNearestFans = 12, kMeasuredFans = 96;
     // With `expand` (for the near fans' expansion), a fan is near only if the ball misses it and its
