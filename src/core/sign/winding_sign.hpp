@@ -565,20 +565,6 @@ private:
                 o[3] * xx + o[5] * xy + o[9] * xz + o[1] * yy + o[6] * yz + o[8] * zz,
                 o[4] * xx + o[9] * xy + o[7] * xz + o[6] * yy + o[8] * yz + o[2] * zz};
     }
-    // H(r, r, r) and G(r, r, r, r): each component times the count of its index orders.
-    static double octupoleForm(const Multipole& m, const glm::dvec3& r) {
-        const double* o = m.octupole;
-        const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
-        return x * (o[0] * xx + 3.0 * (o[5] * yy + o[7] * zz)) + y * (o[1] * yy + 3.0 * (o[3] * xx + o[8] * zz)) +
-               z * (o[2] * zz + 3.0 * (o[4] * xx + o[6] * yy)) + 6.0 * o[9] * x * y * z;
-    }
-    static double hexadecapoleForm(const Multipole& m, const glm::dvec3& r) {
-        const double* g = m.hexadecapole;
-        const double x = r.x, y = r.y, z = r.z, xx = x * x, yy = y * y, zz = z * z;
-        return g[0] * xx * xx + g[1] * yy * yy + g[2] * zz * zz +
-               4.0 * (x * y * (g[3] * xx + g[5] * yy) + x * z * (g[4] * xx + g[7] * zz) + y * z * (g[6] * yy + g[8] * zz)) +
-               6.0 * (g[9] * xx * yy + g[10] * xx * zz + g[11] * yy * zz) + 12.0 * x * y * z * (g[12] * x + g[13] * y + g[14] * z);
-    }
     // G(r, r, r, .) for the node's hexadecapole G (G(r, r, r, r) is its dot product with r).
     static glm::dvec3 hexadecapoleTimes(const Multipole& m, const glm::dvec3& r) {
         const double* g = m.hexadecapole;
@@ -599,8 +585,8 @@ private:
         const glm::dvec3 r = m.centroid - p;
         const double r2 = glm::dot(r, r), inverse = 1.0 / (r2 * std::sqrt(r2));
         double higher = 0.0;
-        if (order >= 3) higher += 7.5 * octupoleForm(m, r) / (r2 * r2);
-        if (order >= 4) higher -= 17.5 * hexadecapoleForm(m, r) / (r2 * r2 * r2);
+        if (order >= 3) higher += 7.5 * glm::dot(octupoleTimes(m, r), r) / (r2 * r2);
+        if (order >= 4) higher -= 17.5 * glm::dot(hexadecapoleTimes(m, r), r) / (r2 * r2 * r2);
         return (glm::dot(m.vectorArea, r) - 3.0 * quadrupoleForm(m, r) / r2 + higher) * inverse / (4.0 * M_PI);
     }
     // The truncation at d, its error with its rounding (a few ulps of each term, far below a 1e-12
