@@ -13,7 +13,7 @@
 # With BASE=path/to/an/older/sdfgen (or a script that runs one), the same runs of that build are shown beside (before/after)
 # and its band files are compared with this build's array for array (same: identical fields).
 # --timeout S stops any run after S seconds (an old build's sign can take minutes): its figure
-# reads "> S" and its ratios and comparison "-".
+# reads ">S" and its ratios and comparison "-".
 # Builds sdfgen in build/ (Release; BUILD=DIR for another folder); meshes and outputs go to
 # BUILD/messy/.
 set -euo pipefail
@@ -46,8 +46,11 @@ shared=$root/../shared/meshes
 if [ -f "$shared/stanford-bunny.obj" ]; then
   reference=$(cd "$shared" && pwd)/stanford-bunny.obj
   [ -f "$work/hard/bunny-holes.obj" ] || /usr/bin/python3 "$root/bench/hard_meshes.py" "$reference" "$work/hard" >/dev/null
-  for name in spot suzanne teapot; do [ -f "$shared/$name.obj" ] && meshes+=("$(cd "$shared" && pwd)/$name.obj"); done
-  meshes=("$reference" "$work/hard/bunny-holes.obj" "${meshes[@]}" "$work/hard/terrain.obj")
+  meshes+=("$reference" "$work/hard/bunny-holes.obj")
+  for name in spot suzanne teapot; do
+    if [ -f "$shared/$name.obj" ]; then meshes+=("$(cd "$shared" && pwd)/$name.obj"); fi
+  done
+  meshes+=("$work/hard/terrain.obj")
 else
   reference=$root/assets/bunny.obj
   meshes+=("$reference")
@@ -76,7 +79,7 @@ band() {
   case $status in
     0) cat "$3.time" ;;
     124) echo ">$timeout" ;;
-    *) rm -f "$3"; echo failed ;;
+    *) echo failed ;;
   esac
 }
 # ratio A B: A / B with two decimals, or "-" where either is not a number.
