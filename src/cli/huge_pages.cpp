@@ -2,15 +2,15 @@
 // included: operator new is the program's). Where the kernel gives huge pages only to memory that
 // asks (transparent_hugepage "madvise", the default of many distributions), every 4 KiB page of a
 // field, a tree or a band's bricks faults on its first touch, and on a virtual machine each fault
-// is dear: 10-15% of a dense bake (docs/benchmarks.md). Blocks from kHugeFrom up are mapped on
-// their own (a fixed mmap threshold, so never a reused part of the heap) and marked
-// MADV_HUGEPAGE before anything touches them: a 2 MiB page then faults once. glibc's tunable
-// glibc.malloc.hugetlb=1 does the same for every block, but only when set before the process
-// starts. Left out under the sanitizers, which replace operator new themselves.
+// is dear: 10-25% of a bake (docs/benchmarks.md). Blocks from kHugeFrom up (which glibc maps on
+// their own: its mmap threshold is 32 MiB at most) are aligned to 2 MiB and marked
+// MADV_HUGEPAGE before anything touches them: a 2 MiB page then faults once. Smaller blocks stay
+// as they were: the sign's blocks of 4-32 MiB, reused from the heap, were slower as pages of
+// their own. glibc's tunable glibc.malloc.hugetlb=1 does the like for every block, but only when
+// set before the process starts. Left out under the sanitizers, which replace operator new.
 #include <cstdlib> // defines __GLIBC__
 
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__) && defined(__GLIBC__)
-#include <malloc.h>
 #include <sys/mman.h>
 
 #include <cstddef>
@@ -18,10 +18,7 @@
 
 namespace {
 
-constexpr std::size_t kHugePage = std::size_t(2) << 20, kHugeFrom = 2 * kHugePage;
-
-// Before the program's static objects: a block of kHugeFrom or more is a fresh mapping.
-__attribute__((constructor(101))) void mapLargeBlocksAlone() { mallopt(M_MMAP_THRESHOLD, int(kHugeFrom)); }
+constexpr std::size_t kHugePage = std::size_t(2) << 20, kHugeFrom = 16 * kHugePage;
 
 void* tryAllocate(std::size_t size, std::size_t alignment) {
     if (size < kHugeFrom) {
