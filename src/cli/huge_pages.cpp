@@ -2,7 +2,7 @@
 // included: operator new is the program's). Where the kernel gives huge pages only to memory that
 // asks (transparent_hugepage "madvise", the default of many distributions), every 4 KiB page of a
 // field, a tree or a band's bricks faults on its first touch, and on a virtual machine each fault
-// is dear: 10-25% of a bake (docs/benchmarks.md). Blocks from kHugeFrom up (which glibc maps on
+// is dear: 10-20% of a bake (docs/benchmarks.md). Blocks from kHugeFrom up (which glibc maps on
 // their own: its mmap threshold is 32 MiB at most) are aligned to 2 MiB and marked
 // MADV_HUGEPAGE before anything touches them: a 2 MiB page then faults once. Smaller blocks stay
 // as they were: the sign's blocks of 4-32 MiB, reused from the heap, were slower as pages of
