@@ -10,7 +10,16 @@
 // set before the process starts. Left out under the sanitizers, which replace operator new.
 #include <cstdlib> // defines __GLIBC__
 
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__) && defined(__GLIBC__)
+// GCC names the sanitizers by macros, clang by __has_feature.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define SDFGEN_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#define SDFGEN_SANITIZED 1
+#endif
+#endif
+
+#if !defined(SDFGEN_SANITIZED) && defined(__GLIBC__)
 #include <sys/mman.h>
 
 #include <cstddef>
