@@ -1,6 +1,7 @@
 // The control path: a RunControl given to Model's construction reaches the tree build (threads,
 // cancel, progress), bad thread counts are refused, warnings reach RunControl::warn; the cgroup
-// memory reader on fake cgroup trees; memory checks and messages that name the mesh.
+// memory reader on fake cgroup trees; memory checks and messages that name the mesh; large
+// buffers on transparent huge pages.
 #include "core/runtime/memory.hpp"
 #include "sdfgen/error.hpp"
 #include "sdfgen/model.hpp"
@@ -15,7 +16,10 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <mutex>
 #include <set>
 
@@ -172,6 +176,37 @@ TEST_F(CgroupMemoryTest, V1AndHybridAndContainers) {
     EXPECT_EQ(m.room, UINT64_MAX);
     m = cgroupMemory((dir_ / "missing").string(), (dir_ / "root").string());
     EXPECT_EQ(m.limit, UINT64_MAX);
+}
+
+// The VmFlags of the mapping that holds `address` (/proc/self/smaps), or "" where none does.
+std::string mappingFlags(std::uintptr_t address) {
+    std::ifstream smaps("/proc/self/smaps");
+    std::string line;
+    bool holds = false;
+    while (std::getline(smaps, line)) {
+        std::uintptr_t lo = 0, hi = 0;
+        char dash = 0;
+        std::istringstream range(line);
+        if (range >> std::hex >> lo >> dash >> hi && dash == '-') {
+            holds = lo <= address && address < hi;
+        } else if (holds && line.rfind("VmFlags:", 0) == 0) {
+            return line + " ";
+        }
+    }
+    return "";
+}
+
+TEST(HugePages, LargeZeroFilledBuffersAskForThem) {
+    if (!fs::exists("/sys/kernel/mm/transparent_hugepage/enabled")) GTEST_SKIP() << "no transparent huge pages in this kernel";
+    constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;
+    auto firstHugePage = [&](const void* data) { return (std::uintptr_t(data) + kHugePage - 1) / kHugePage * kHugePage; };
+    std::vector<float> large, small;
+    zeroFilled(large, kHugePagesFrom / sizeof(float) + 1, RunControl{});
+    EXPECT_CONTAINS(mappingFlags(firstHugePage(large.data())), " hg ");
+    EXPECT_TRUE(std::all_of(large.begin(), large.end(), [](float v) { return v == 0.0f; }));
+    // Below the threshold a buffer is left as it is (the heap's blocks are reused again and again).
+    zeroFilled(small, kHugePagesFrom / sizeof(float) / 2, RunControl{});
+    EXPECT_EQ(mappingFlags(firstHugePage(small.data())).find(" hg "), std::string::npos);
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 // The distance methods: exact nearest triangle, the report's ray sampling, and the reference.
 #include "core/distance/exact.hpp"
 #include "core/method/methods.hpp"
+#include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "core/accel/ray_generator.hpp"
 #include "core/mesh/sample_positions.hpp"

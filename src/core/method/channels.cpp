@@ -1,4 +1,5 @@
 #include "core/method/channels.hpp"
+#include "core/runtime/memory.hpp"
 #include "core/runtime/parallel.hpp"
 #include "sdfgen/error.hpp"
 

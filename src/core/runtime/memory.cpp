@@ -42,7 +42,19 @@ std::pair<std::uintptr_t, std::uintptr_t> wholePages(void* data, std::size_t byt
 
 } // namespace
 
+void adviseHugePages(void* data, std::size_t bytes) {
+#ifdef MADV_HUGEPAGE
+    if (bytes < kHugePagesFrom) return;
+    constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;
+    const std::uintptr_t begin = (std::uintptr_t(data) + kHugePage - 1) / kHugePage * kHugePage, end = (std::uintptr_t(data) + bytes) / kHugePage * kHugePage;
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)data, (void)bytes;
+#endif
+}
+
 void populatePages(void* data, std::size_t bytes, const RunControl& control) {
+    adviseHugePages(data, bytes);
 #ifdef MADV_POPULATE_WRITE
     const std::pair<std::uintptr_t, std::uintptr_t> pages = wholePages(data, bytes);
     const std::uintptr_t begin = pages.first, end = pages.second; // not a structured binding: the lambda below captures them

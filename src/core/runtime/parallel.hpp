@@ -17,18 +17,6 @@ int arenaSize(const RunControl& control);
 // Throws Cancelled when control.cancel is raised: for the start of work that checks no flag of its own.
 void throwIfCancelled(const RunControl& control);
 
-// `values` grown to `count` zeros in chunks, checking Cancel between them: zeroing a large grid
-// takes seconds, which a cancelled bake would otherwise wait out.
-template <typename T>
-void zeroFilled(std::vector<T>& values, std::size_t count, const RunControl& control) {
-    constexpr std::size_t kChunk = std::size_t(1) << 20;
-    values.reserve(count);
-    for (std::size_t filled = values.size(); filled < count; filled = values.size()) {
-        throwIfCancelled(control);
-        values.resize(std::min(count, filled + kChunk));
-    }
-}
-
 // Runs body(i) for i in [0, count) on control.threads threads (TBB), reporting progress as items
 // finish and checking the cancel flag between items; throws Cancelled if it was raised. Items must
 // be independent so that the result never depends on the thread count or the schedule.
