@@ -34,9 +34,9 @@ std::optional<std::uint64_t> readBytes(const std::filesystem::path& path) {
     return std::uint64_t(value);
 }
 
-// The whole pages within [data, data + bytes), as addresses [begin, end) (empty: end <= begin).
-std::pair<std::uintptr_t, std::uintptr_t> wholePages(void* data, std::size_t bytes) {
-    const std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE));
+// The whole pages of `page` bytes (the system's by default) within [data, data + bytes), as
+// addresses [begin, end) (empty: end <= begin).
+std::pair<std::uintptr_t, std::uintptr_t> wholePages(void* data, std::size_t bytes, std::uintptr_t page = std::uintptr_t(sysconf(_SC_PAGESIZE))) {
     return {(std::uintptr_t(data) + page - 1) / page * page, (std::uintptr_t(data) + bytes) / page * page};
 }
 
@@ -45,8 +45,7 @@ std::pair<std::uintptr_t, std::uintptr_t> wholePages(void* data, std::size_t byt
 void adviseHugePages(void* data, std::size_t bytes) {
 #ifdef MADV_HUGEPAGE
     if (bytes < kHugePagesFrom) return;
-    constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;
-    const std::uintptr_t begin = (std::uintptr_t(data) + kHugePage - 1) / kHugePage * kHugePage, end = (std::uintptr_t(data) + bytes) / kHugePage * kHugePage;
+    const auto [begin, end] = wholePages(data, bytes, std::uintptr_t(2) << 20);
     if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
 #else
     (void)data, (void)bytes;
